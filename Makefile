@@ -1,0 +1,55 @@
+# debrisfoam: every target installs what it needs itself (idempotent).
+SHELL   := /bin/bash
+PYTHON  ?= python3
+VENV    := .venv
+PY      := $(VENV)/bin/python
+STAMP   := $(VENV)/.installed
+# make case-1debris CELL=0.01 runs the 1-debris scene finer (finest cell size in metres).
+CELL    ?=
+OUT     ?= runs/1debris
+CASE_SET := $(if $(CELL),--set mesh.cell_size_m=$(CELL),)
+
+.PHONY: help venv openfoam test test-fast case-1debris synthetic-study bench clean
+
+help:
+	@echo "make case-1debris [CELL=m]  the seed's 1-debris scene, end to end"
+	@echo "make test                   the test suite (installs the venv and OpenFOAM first)"
+	@echo "make synthetic-study        the seed's SDOF/MDOF/ASCE analysis on 22 synthetic records"
+	@echo "make bench                  benchmarks (figures go to benchmarks/*.md)"
+
+venv: $(STAMP)
+$(STAMP): pyproject.toml
+	@test -x $(PY) || $(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install -q --upgrade pip
+	$(PY) -m pip install -q -e '.[test]'
+	@touch $@
+
+# OpenFOAM v1912 from Debian's `openfoam` package, only when it is missing.
+openfoam:
+	@if command -v overInterDyMFoam >/dev/null 2>&1; then \
+	  echo "OpenFOAM found: $$(command -v overInterDyMFoam)"; \
+	elif [ "$$(id -u)" = 0 ]; then \
+	  echo "Installing OpenFOAM (Debian package openfoam)..."; \
+	  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq openfoam >/dev/null; \
+	  command -v overInterDyMFoam >/dev/null || { echo "OpenFOAM install failed: overInterDyMFoam not on PATH" >&2; exit 1; }; \
+	else \
+	  echo "OpenFOAM is missing and this is not root: run 'sudo apt-get install openfoam', then make again" >&2; exit 1; \
+	fi
+
+test: venv openfoam
+	$(PY) -m pytest -q
+
+test-fast: venv
+	$(PY) -m pytest -q -m "not openfoam and not slow"
+
+case-1debris: venv openfoam
+	$(VENV)/bin/debrisfoam case cases/1debris.yaml -o $(OUT) $(CASE_SET)
+
+synthetic-study: venv
+	$(VENV)/bin/debrisfoam analytical study -o docs/synthetic-study
+
+bench: venv
+	$(PY) benchmarks/bench_analytical.py
+
+clean:
+	rm -rf $(VENV) .pytest_cache build *.egg-info

@@ -1,0 +1,425 @@
+"""The `debrisfoam` command line.
+
+Exit codes (DESIGN.md section 6): 0 success; 2 bad input (the message names the
+file and the field); 1 anything else, with a message saying what failed and where
+its log is. `--debug` re-raises instead, for a full traceback.
+
+Every verb is a thin shell over a library call; library code raises, only this
+module prints messages and chooses exit codes.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+from typing import Any, Sequence
+
+from analytical.errors import DebrisfoamError, InputError
+
+EXIT_OK, EXIT_FAILURE, EXIT_BAD_INPUT = 0, 1, 2
+
+
+class _ArgParser(argparse.ArgumentParser):
+    """argparse that reports usage errors as InputError (exit 2 through our handler)."""
+
+    def error(self, message: str) -> None:  # noqa: D401 - argparse API
+        raise InputError("arguments", f"{message} (see `{self.prog} --help`)")
+
+
+# --------------------------------------------------------------------------- helpers
+
+
+def _emit(result: dict[str, Any], as_json: bool, out=sys.stdout) -> None:
+    if as_json:
+        json.dump(result, out, indent=2, default=_json_default)
+        out.write("\n")
+    else:
+        width = max(len(k) for k in result) if result else 0
+        for key, value in result.items():
+            if isinstance(value, float):
+                value = f"{value:.6g}"
+            elif isinstance(value, list):
+                value = ", ".join(f"{v:.6g}" if isinstance(v, float) else str(v) for v in value)
+            out.write(f"{key:<{width}}  {value}\n")
+
+
+def _json_default(obj: Any) -> Any:
+    import numpy as np
+
+    if isinstance(obj, np.generic):
+        return obj.item()
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    raise TypeError(f"not JSON serialisable: {type(obj).__name__}")
+
+
+def parse_set(items: Sequence[str]) -> list[tuple[str, Any]]:
+    """Parse `--set key.path=value` items; values are YAML scalars (null, numbers, lists)."""
+    import yaml
+
+    pairs = []
+    for item in items:
+        key, sep, text = item.partition("=")
+        key = key.strip()
+        if not sep or not key:
+            raise InputError("--set", f"expected key.path=value, got {item!r}")
+        try:
+            value = yaml.safe_load(text) if text.strip() else None
+        except yaml.YAMLError as exc:
+            raise InputError(key, f"value {text!r} is not a YAML scalar: {exc}") from None
+        pairs.append((key, value))
+    return pairs
+
+
+def column_from_args(args: argparse.Namespace):
+    """The column for analytical verbs: the scene's (with --set) or the seed's."""
+    if getattr(args, "scene", None):
+        from orchestrator.scene import column_for_analysis, load_scene
+
+        return column_for_analysis(load_scene(args.scene, list(args.set or [])))
+    from dataclasses import fields, replace
+
+    from analytical.column import Column
+
+    column = Column()
+    names = {f.name for f in fields(Column)}
+    changes = {}
+    for key, value in parse_set(args.set or []):
+        section, _, name = key.partition(".")
+        if section != "column" or name not in names:
+            raise InputError(
+                key,
+                "unknown key for the analytical column (without --scene only column.<field> "
+                f"may be set; fields: {', '.join(sorted(names))})",
+            )
+        changes[name] = value
+    return replace(column, **changes) if changes else column
+
+
+def _time_axis(t_end: float, dt: float):
+    import numpy as np
+
+    n = int(round(t_end / dt))
+    return np.linspace(0.0, n * dt, n + 1)
+
+
+# --------------------------------------------------------------------------- analytical verbs
+
+
+def cmd_asce7(args: argparse.Namespace) -> int:
+    from analytical.asce7 import asce7_impact
+
+    r = asce7_impact(
+        velocity_m_s=args.velocity,
+        mass_kg=args.mass,
+        stiffness_N_m=args.stiffness,
+        importance=args.importance,
+        orientation=args.orientation,
+    )
+    _emit(
+        {
+            "force_N": r.force_N,
+            "nominal_force_N": r.nominal_force_N,
+            "duration_s": r.duration_s,
+            "impulse_Ns": r.impulse_Ns,
+        },
+        args.json,
+    )
+    return EXIT_OK
+
+
+def cmd_modes(args: argparse.Namespace) -> int:
+    from analytical.mdof import column_model
+
+    column = column_from_args(args)
+    model = column_model(column)
+    result: dict[str, Any] = {"frequencies_Hz": [float(f) for f in model.frequencies_Hz[: args.count]]}
+    result["base"] = column.base
+    if model.base_spring_N_m_per_rad is not None:
+        result["base_spring_N_m_per_rad"] = float(model.base_spring_N_m_per_rad)
+    _emit(result, args.json)
+    return EXIT_OK
+
+
+def cmd_response(args: argparse.Namespace) -> int:
+    from analytical.errors import require_positive
+    from analytical.pulses import make_pulse
+
+    magnitude = require_positive("--magnitude", args.magnitude)
+    duration = require_positive("--duration", args.duration)
+    t_end = require_positive("--t-end", args.t_end)
+    column = column_from_args(args)
+    pulse = make_pulse(args.pulse, magnitude, duration)
+    t = _time_axis(t_end, min(1e-5, duration / 50))
+    if args.model == "sdof":
+        from analytical.sdof import SDOF, sdof_response
+
+        sdof = SDOF(column.stiffness_N_m, column.natural_frequency_Hz, column.damping_ratio)
+        response = sdof_response(pulse, sdof, t)
+    else:
+        from analytical.mdof import mdof_response
+
+        height = require_positive("--height", args.height)
+        if height > column.height_m:
+            raise InputError("--height", f"must be <= the column height {column.height_m} m, got {height}")
+        response = mdof_response(pulse, column, height, t)
+    if args.out:
+        import pandas as pd
+
+        out = Path(args.out)
+        out.parent.mkdir(parents=True, exist_ok=True)
+        pd.DataFrame({"time_s": response.time_s, "response_N": response.response_N}).to_csv(out, index=False)
+    _emit({"peak_N": float(response.peak_N), "time_of_peak_s": float(response.time_of_peak_s)}, args.json)
+    return EXIT_OK
+
+
+def cmd_fit(args: argparse.Namespace) -> int:
+    from analytical.fitting import fit_mdof, fit_sdof
+
+    from orchestrator.records import read_force_record
+
+    time_s, force_N = read_force_record(args.record)
+    column = column_from_args(args)
+    try:
+        if args.model == "sdof":
+            fit = fit_sdof(time_s, force_N, column=column, shape=args.pulse)
+        else:
+            fit = fit_mdof(time_s, force_N, column=column, height_m=args.height, shape=args.pulse)
+    except InputError as exc:
+        raise exc.with_source(str(args.record)) from None
+    _emit(
+        {
+            "magnitude_N": fit.magnitude_N,
+            "duration_s": fit.duration_s,
+            "impulse_Ns": fit.impulse_Ns,
+            "rmse_N": fit.rmse_N,
+            "peak_measured_N": fit.peak_measured_N,
+            "peak_model_N": fit.peak_model_N,
+        },
+        args.json,
+    )
+    return EXIT_OK
+
+
+def cmd_dambreak(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from analytical.dambreak import dam_break
+
+    solution = dam_break(args.model, args.h0, hr_m=args.hr, friction=args.friction)
+    if args.arrival is not None:
+        _emit({"arrival_s": float(solution.arrival_time_s(args.arrival))}, args.json)
+        return EXIT_OK
+    if args.profile is None or not args.out:
+        raise InputError("--arrival/--profile", "give --arrival X, or --profile T with --out CSV")
+    t = args.profile
+    x_front = float(solution.front_position_m(t))
+    x_back = -np.sqrt(9.81 * args.h0) * t
+    x = np.linspace(min(x_back * 1.2, -0.1), max(x_front * 1.2, 0.1), args.points)
+    depth, velocity = solution.profile(x, t)
+    import pandas as pd
+
+    out = Path(args.out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    pd.DataFrame({"x_m": x, "depth_m": depth, "velocity_m_s": velocity}).to_csv(out, index=False)
+    _emit({"front_position_m": x_front, "csv": str(out)}, args.json)
+    return EXIT_OK
+
+
+def cmd_study(args: argparse.Namespace) -> int:
+    from orchestrator.study import run_synthetic_study
+
+    summary = run_synthetic_study(Path(args.out), seed=args.seed, n_records=args.records, column_base=args.base)
+    _emit(summary, args.json)
+    return EXIT_OK
+
+
+# --------------------------------------------------------------------------- CFD verbs
+
+
+def _missing(what: str, issue: int) -> int:
+    from orchestrator.errors import MissingFeatureError
+
+    raise MissingFeatureError(f"{what} is not built yet (tracked in issue {issue}); the analytical verbs work today")
+
+
+def cmd_render(args: argparse.Namespace) -> int:
+    try:
+        from orchestrator.render import render_from_file
+    except ImportError:
+        return _missing("`render` (scene schema, planner and templates)", 3)
+    summary = render_from_file(args.scene, Path(args.out), list(args.set or []), force=args.force, mesh=args.mesh)
+    _emit(summary, args.json)
+    return EXIT_OK
+
+
+def cmd_preview(args: argparse.Namespace) -> int:
+    try:
+        from orchestrator.preview import preview_scene_file
+    except ImportError:
+        return _missing("`preview`", 3)
+    preview_scene_file(args.scene, Path(args.out), list(args.set or []))
+    print(f"preview written to {args.out}")
+    return EXIT_OK
+
+
+def cmd_run(args: argparse.Namespace) -> int:
+    return _missing("`run` (the OpenFOAM runner)", 4)
+
+
+def cmd_post(args: argparse.Namespace) -> int:
+    return _missing("`post` (post-processing)", 5)
+
+
+def cmd_case(args: argparse.Namespace) -> int:
+    return _missing("`case` (render + run + post: needs the runner and post-processing)", 5)
+
+
+def cmd_sweep(args: argparse.Namespace) -> int:
+    return _missing("`sweep`", 6)
+
+
+# --------------------------------------------------------------------------- parser
+
+
+def _add_column_args(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--scene", help="scene YAML whose column to use (default: the seed's column)")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a dotted scene key (repeatable)")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _ArgParser(prog="debrisfoam", description=__doc__.splitlines()[0])
+    parser.add_argument("--debug", action="store_true", help="re-raise errors with a full traceback")
+    parser.add_argument("--version", action="version", version="debrisfoam 0.1.0")
+    verbs = parser.add_subparsers(dest="verb", required=True, parser_class=_ArgParser)
+
+    # analytical
+    an = verbs.add_parser("analytical", help="analytical models (ASCE 7-22, SDOF, MDOF, fitting, dam break)")
+    an_verbs = an.add_subparsers(dest="analytical_verb", required=True, parser_class=_ArgParser)
+
+    p = an_verbs.add_parser("asce7", help="ASCE 7-22 6.11 debris impact force, duration and impulse")
+    p.add_argument("--velocity", type=float, required=True, help="impact (max flow) velocity, m/s")
+    p.add_argument("--mass", type=float, required=True, help="debris mass, kg")
+    p.add_argument("--stiffness", type=float, required=True, help="stiffness k (lesser of debris and structure), N/m")
+    p.add_argument("--importance", type=float, default=1.0, help="I_tsu (1.0 for tsunami risk category II)")
+    p.add_argument("--orientation", type=float, default=0.65, help="C_o (0.65 for logs, poles, containers)")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=cmd_asce7)
+
+    p = an_verbs.add_parser("modes", help="natural frequencies of the MDOF column")
+    _add_column_args(p)
+    p.add_argument("--count", type=int, default=6, help="how many frequencies to print (default 6)")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=cmd_modes)
+
+    p = an_verbs.add_parser("response", help="force response (SDOF R = k u, or MDOF base shear) to a pulse")
+    p.add_argument("--model", choices=["sdof", "mdof"], required=True)
+    p.add_argument("--pulse", choices=["half-sine", "rectangular", "triangular"], default="half-sine")
+    p.add_argument("--magnitude", type=float, required=True, help="pulse peak force, N")
+    p.add_argument("--duration", type=float, required=True, help="pulse duration, s")
+    p.add_argument("--height", type=float, default=0.40, help="impact height above the column base, m (mdof)")
+    p.add_argument("--t-end", type=float, default=0.05, help="length of the response record, s (default 0.05)")
+    p.add_argument("--out", help="write the response to this CSV (time_s,response_N)")
+    _add_column_args(p)
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=cmd_response)
+
+    p = an_verbs.add_parser("fit", help="fit an impact pulse to a measured force-response record (CSV time_s,force_N)")
+    p.add_argument("--model", choices=["sdof", "mdof"], required=True)
+    p.add_argument("record", help="CSV with columns time_s,force_N")
+    p.add_argument("--pulse", choices=["half-sine", "rectangular", "triangular"], default="half-sine")
+    p.add_argument("--height", type=float, default=0.40, help="impact height above the column base, m (mdof)")
+    _add_column_args(p)
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=cmd_fit)
+
+    p = an_verbs.add_parser("dambreak", help="dam-break solutions: Ritter, Stoker, Chanson")
+    p.add_argument("--model", choices=["ritter", "stoker", "chanson"], required=True)
+    p.add_argument("--h0", type=float, required=True, help="impoundment depth, m")
+    p.add_argument("--hr", type=float, default=0.0, help="downstream depth (stoker), m")
+    p.add_argument("--friction", type=float, default=None, help="Darcy friction factor f (chanson)")
+    p.add_argument("--arrival", type=float, default=None, help="x of a gauge, m: print the arrival time")
+    p.add_argument("--profile", type=float, default=None, help="time, s: write the profile to --out")
+    p.add_argument("--points", type=int, default=401, help="profile points (default 401)")
+    p.add_argument("--out", help="CSV for --profile (x_m,depth_m,velocity_m_s)")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=cmd_dambreak)
+
+    p = an_verbs.add_parser("study", help="the seed's SDOF/MDOF/ASCE analysis on synthetic records (Table 2, Fig. 7)")
+    p.add_argument("-o", "--out", default="docs/synthetic-study", help="output folder (tables and plots)")
+    p.add_argument("--records", type=int, default=22, help="number of synthetic records (default 22, as the seed)")
+    p.add_argument("--seed", type=int, default=2019, help="random seed")
+    p.add_argument("--base", choices=["rigid", "calibrated"], default="rigid", help="column base model of the records")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=cmd_study)
+
+    # CFD
+    p = verbs.add_parser("render", help="render an OpenFOAM case from a scene YAML")
+    p.add_argument("scene")
+    p.add_argument("-o", "--out", required=True)
+    p.add_argument("--set", action="append", metavar="KEY=VALUE")
+    p.add_argument("--force", action="store_true", help="overwrite a non-empty output folder")
+    p.add_argument("--mesh", action="store_true", help="also build the mesh and print checkMesh's verdict")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=cmd_render)
+
+    p = verbs.add_parser("preview", help="draw the scene (flume, column, debris, gauges) to a PNG")
+    p.add_argument("scene")
+    p.add_argument("-o", "--out", required=True)
+    p.add_argument("--set", action="append", metavar="KEY=VALUE")
+    p.set_defaults(func=cmd_preview)
+
+    p = verbs.add_parser("run", help="run a rendered case (resumable)")
+    p.add_argument("case_dir")
+    p.add_argument("--np", type=int, default=None)
+    p.set_defaults(func=cmd_run)
+
+    p = verbs.add_parser("post", help="post-process a run into results/")
+    p.add_argument("case_dir")
+    p.set_defaults(func=cmd_post)
+
+    p = verbs.add_parser("case", help="render + run + post in one go")
+    p.add_argument("scene")
+    p.add_argument("-o", "--out", default=None)
+    p.add_argument("--set", action="append", metavar="KEY=VALUE")
+    p.set_defaults(func=cmd_case)
+
+    p = verbs.add_parser("sweep", help="run a parameter sweep")
+    p.add_argument("sweep")
+    p.add_argument("--executor", choices=["local", "dask"], default="local")
+    p.add_argument("--scheduler", default=None)
+    p.set_defaults(func=cmd_sweep)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    debug = "--debug" in argv
+    try:
+        args = build_parser().parse_args(argv)
+        return int(args.func(args) or EXIT_OK)
+    except InputError as exc:
+        if debug:
+            raise
+        print(f"debrisfoam: bad input: {exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except DebrisfoamError as exc:
+        if debug:
+            raise
+        print(f"debrisfoam: error: {exc}", file=sys.stderr)
+        return EXIT_FAILURE
+    except KeyboardInterrupt:
+        print("debrisfoam: interrupted", file=sys.stderr)
+        return 130
+    except Exception as exc:  # the contract: never a bare traceback without --debug
+        if debug:
+            raise
+        print(f"debrisfoam: unexpected error: {type(exc).__name__}: {exc} (run with --debug for the traceback)",
+              file=sys.stderr)
+        return EXIT_FAILURE
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,36 @@
+"""Shared fixtures: run the CLI in-process or as the installed console script."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def run_cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
+    """Run `debrisfoam ARGS` as a user would (a separate process)."""
+    return subprocess.run(
+        [sys.executable, "-m", "orchestrator.cli", *args],
+        capture_output=True,
+        text=True,
+        cwd=cwd or ROOT,
+    )
+
+
+def cli_json(*args: str) -> dict:
+    proc = run_cli(*args, "--json")
+    assert proc.returncode == 0, proc.stderr
+    return json.loads(proc.stdout)
+
+
+@pytest.fixture
+def openfoam():
+    """Skip-free guard: tests marked openfoam need the solver; `make test` installs it."""
+    if shutil.which("overInterDyMFoam") is None:
+        pytest.fail("OpenFOAM is not installed: run `make openfoam` (make test does it)")
