@@ -137,8 +137,8 @@ def cmd_modes(args: argparse.Namespace) -> int:
     model = column_model(column)
     result: dict[str, Any] = {"frequencies_Hz": [float(f) for f in model.frequencies_Hz[: args.count]]}
     result["base"] = column.base
-    if model.base_spring_N_m_per_rad is not None:
-        result["base_spring_N_m_per_rad"] = float(model.base_spring_N_m_per_rad)
+    if model.base_spring_Nm_rad is not None:
+        result["base_spring_Nm_per_rad"] = float(model.base_spring_Nm_rad)
     _emit(result, args.json)
     return EXIT_OK
 

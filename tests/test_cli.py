@@ -1,0 +1,135 @@
+"""The CLI contract: verbs, JSON keys, and exit codes (0 ok, 2 bad input, 1 failure)."""
+
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from tests.conftest import cli_json, run_cli
+
+
+def test_asce7_json_keys_and_values():
+    out = cli_json("analytical", "asce7", "--velocity", "1.5", "--mass", "0.236", "--stiffness", "4.685e5")
+    assert set(out) == {"force_N", "nominal_force_N", "duration_s", "impulse_Ns"}
+    assert out["nominal_force_N"] == pytest.approx(1.5 * np.sqrt(4.685e5 * 0.236), rel=1e-12)
+    assert out["force_N"] == pytest.approx(0.65 * out["nominal_force_N"], rel=1e-12)
+    assert out["impulse_Ns"] == pytest.approx(2 * 0.65 * 0.236 * 1.5, rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    "args, field",
+    [
+        (["--velocity", "1.5", "--mass", "-1", "--stiffness", "4e5"], "mass"),
+        (["--velocity", "1.5", "--mass", "0.2", "--stiffness", "0"], "stiffness"),
+        (["--velocity", "1.5", "--mass", "0.2"], "--stiffness"),
+    ],
+)
+def test_asce7_bad_input_exits_2_naming_the_field(args, field):
+    proc = run_cli("analytical", "asce7", *args)
+    assert proc.returncode == 2
+    assert field in proc.stderr
+    assert "Traceback" not in proc.stderr
+
+
+def test_modes_rigid_and_calibrated():
+    rigid = cli_json("analytical", "modes")["frequencies_Hz"]
+    cal = cli_json("analytical", "modes", "--set", "column.base=calibrated")
+    assert len(rigid) >= 3 and rigid == sorted(rigid)
+    assert 80 < rigid[0] < 95  # the seed's rigid-base column: about 88 Hz
+    assert cal["frequencies_Hz"][0] == pytest.approx(70.0, rel=1e-6)
+    assert cal["base_spring_Nm_per_rad"] > 0
+    other = cli_json("analytical", "modes", "--set", "column.base=calibrated", "--set", "column.natural_frequency_Hz=60")
+    assert other["frequencies_Hz"][0] == pytest.approx(60.0, rel=1e-6)
+
+
+def test_unknown_set_key_exits_2():
+    proc = run_cli("analytical", "modes", "--set", "column.colour=red")
+    assert proc.returncode == 2 and "column.colour" in proc.stderr
+    proc = run_cli("analytical", "modes", "--set", "column.base=wobbly")
+    assert proc.returncode == 2 and "column.base" in proc.stderr
+
+
+@pytest.mark.parametrize("model", ["sdof", "mdof"])
+def test_response_json_and_csv(model, tmp_path):
+    csv = tmp_path / "r.csv"
+    out = cli_json("analytical", "response", "--model", model, "--pulse", "half-sine", "--magnitude", "237",
+                   "--duration", "0.0047", "--height", "0.4", "--out", str(csv))
+    assert set(out) == {"peak_N", "time_of_peak_s"}
+    frame = pd.read_csv(csv)
+    assert list(frame.columns) == ["time_s", "response_N"]
+    assert frame["response_N"].max() == pytest.approx(out["peak_N"], rel=1e-9)
+    assert 0 < out["time_of_peak_s"] < 0.05
+
+
+def test_response_bad_duration_exits_2():
+    proc = run_cli("analytical", "response", "--model", "sdof", "--magnitude", "100", "--duration", "-1")
+    assert proc.returncode == 2 and "--duration" in proc.stderr
+
+
+def test_dambreak_arrival_and_profile(tmp_path):
+    out = cli_json("analytical", "dambreak", "--model", "ritter", "--h0", "0.4", "--arrival", "2.4")
+    assert out["arrival_s"] == pytest.approx(2.4 / (2 * np.sqrt(9.81 * 0.4)), rel=1e-9)
+    csv = tmp_path / "p.csv"
+    cli_json("analytical", "dambreak", "--model", "stoker", "--h0", "0.4", "--hr", "0.015",
+             "--profile", "1.0", "--out", str(csv))
+    frame = pd.read_csv(csv)
+    assert list(frame.columns) == ["x_m", "depth_m", "velocity_m_s"]
+    assert frame["depth_m"].max() == pytest.approx(0.4, rel=1e-9)
+    proc = run_cli("analytical", "dambreak", "--model", "chanson", "--h0", "0.4", "--arrival", "2.4")
+    assert proc.returncode == 2 and "friction" in proc.stderr
+
+
+def _write_record(path, t, f):
+    pd.DataFrame({"time_s": t, "force_N": f}).to_csv(path, index=False)
+
+
+def test_fit_recovers_a_known_pulse(tmp_path):
+    t = np.arange(0, 0.06, 1e-4)
+    csv = tmp_path / "resp.csv"
+    proc = run_cli("analytical", "response", "--model", "mdof", "--magnitude", "200", "--duration", "0.005",
+                   "--height", "0.4", "--t-end", "0.05", "--out", str(csv))
+    assert proc.returncode == 0, proc.stderr
+    frame = pd.read_csv(csv)
+    shifted = np.interp(t - 0.01, frame["time_s"], frame["response_N"], left=0.0)
+    _write_record(tmp_path / "rec.csv", t, shifted + 3.0)
+    out = cli_json("analytical", "fit", "--model", "mdof", str(tmp_path / "rec.csv"), "--height", "0.4")
+    assert set(out) == {"magnitude_N", "duration_s", "impulse_Ns", "rmse_N", "peak_measured_N", "peak_model_N"}
+    assert out["magnitude_N"] == pytest.approx(200, rel=0.02)
+    assert out["duration_s"] == pytest.approx(0.005, rel=0.02)
+
+
+@pytest.mark.parametrize(
+    "kind, field",
+    [("nan", "force_N"), ("short", "time_s"), ("backwards", "time_s"), ("flat", "force_N"), ("nocol", "force_N")],
+)
+def test_fit_bad_records_exit_2_naming_file_and_field(tmp_path, kind, field):
+    t = np.arange(0, 0.05, 1e-4)
+    f = np.where((t > 0.01) & (t < 0.015), 100 * np.sin(np.pi * (t - 0.01) / 0.005), 0.0)
+    path = tmp_path / f"{kind}.csv"
+    if kind == "nan":
+        f[100] = np.nan
+        _write_record(path, t, f)
+    elif kind == "short":
+        _write_record(path, t[:5], f[:5])
+    elif kind == "backwards":
+        t[50] = t[10]
+        _write_record(path, t, f)
+    elif kind == "flat":
+        _write_record(path, t, np.random.default_rng(1).normal(0, 1, t.size))
+    else:
+        pd.DataFrame({"time_s": t, "F": f}).to_csv(path, index=False)
+    proc = run_cli("analytical", "fit", "--model", "sdof", str(path))
+    assert proc.returncode == 2, proc.stderr
+    assert str(path) in proc.stderr and field in proc.stderr
+
+
+def test_missing_verbs_exit_1_with_a_message():
+    proc = run_cli("sweep", "nothing.yaml")
+    assert proc.returncode == 1
+    assert "issue" in proc.stderr and "Traceback" not in proc.stderr
+
+
+def test_debug_reraises():
+    proc = run_cli("--debug", "analytical", "asce7", "--velocity", "1", "--mass", "-1", "--stiffness", "1")
+    assert proc.returncode != 0 and "Traceback" in proc.stderr
