@@ -196,14 +196,20 @@ def _result(model, shape, prep, x, a, b, fitted, **structural) -> PulseFit:
     )
 
 
-def fit_sdof(time_s, force_N, column=None, shape: str = "half-sine", window_s: float = 0.04) -> PulseFit:
+def fit_sdof(time_s, force_N, column=None, shape: str = "half-sine", window_s: float = 0.04,
+             mass_kg: float | None = None) -> PulseFit:
     """Fit a pulse with the SDOF model R = k u (seed eq. [6]) to a force record.
 
     Varies magnitude (N), duration (s), start (s), damping ratio and natural
     frequency (Hz) within the seed's bounds around the column's measured values
     (module constants); the stiffness is the column's (it does not change R, see
     the module docstring).
+
+    `mass_kg` (default None: m = k / omega^2, a consistent oscillator) holds the mass
+    fixed while the frequency is fitted, as a literal reading of the seed's eq. [6]
+    with k, m_s and omega as separate inputs does: then R = (k / m_s) q.
     """
+    from .errors import require_positive
     from .sdof import oscillator_response
 
     prep = prepare_record(time_s, force_N, window_s=window_s)
@@ -213,11 +219,13 @@ def fit_sdof(time_s, force_N, column=None, shape: str = "half-sine", window_s: f
     f_lo, f_hi = freq0 - SDOF_FREQUENCY_TOL_HZ, freq0 + SDOF_FREQUENCY_TOL_HZ
     z_lo, z_hi = max(1e-4, zeta0 - SDOF_DAMPING_TOL), min(0.99, zeta0 + SDOF_DAMPING_TOL)
 
+    fixed_gain = None if mass_kg is None else stiffness / require_positive("mass_kg", mass_kg)
+
     def unit(t, duration, start, extra):
         zeta, freq = extra
         omega = 2 * np.pi * freq
         q = oscillator_response(make_pulse(shape, 1.0, duration, start), t, omega, zeta)
-        return omega**2 * q
+        return (omega**2 if fixed_gain is None else fixed_gain) * q
 
     grid = np.geomspace(5e-4, 1.2e-2, 10)
     x, a, b, fitted = _fit(prep, unit, [zeta0, freq0], [(z_lo, z_hi), (f_lo, f_hi)], grid)
