@@ -1,0 +1,877 @@
+"""Planning: decide what a scene needs to be modelled, and say why.
+
+:func:`plan_case` is a pure function ``Scene -> ModelPlan``. It chooses the solver
+(interFoam on a static mesh without debris, overInterDyMFoam with one six-DoF body per
+debris otherwise), 2D or 3D, how much of the reservoir and of the downstream flume to
+model, where cells are fine and how they coarsen, the body meshes, the water to fill,
+the gauges and the domain decomposition. Every choice has a sentence in
+``ModelPlan.reasons``; ``ModelPlan.to_json()`` is written to ``plan.json`` in a case.
+
+Physics used for the extents (shallow-water characteristics, ``c0 = sqrt(g h0)``):
+
+* Reservoir. The negative wave leaves the gate at t = 0 and runs upstream at ``c0``;
+  it reflects at the upstream wall and its head comes back along a C+ characteristic of
+  the simple wave, at ``u + c = (4 c0 + x/t)/3 <= 4/3 c0`` upstream of the gate. So with
+  ``L`` modelled and a guarded region reaching ``d`` upstream of the gate, the reflection
+  arrives no earlier than ``L/c0 + (L - d)/(4/3 c0)``; ``L`` is the smallest length that
+  keeps this after ``SAFETY x end_time``, never more than the scene's reservoir.
+* Downstream. A disturbance from the downstream boundary can only start when the bore
+  front gets there (front speed ``S``: Stoker's bore on a wet bed, ``2 c0`` on a dry one,
+  both upper bounds because friction slows the front) and then has to travel back
+  against the flow. Behind a supercritical front nothing travels upstream, so an outlet
+  need only clear the column's wake; a wall reflects a bore that runs back at no more
+  than ``c0``.
+
+Cell sizes: ``mesh.cell_size_m`` (h) inside the fine region, then growing by at most
+``mesh.growth_ratio`` per cell up to ``h x mesh.coarsening_ratio``.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from itertools import product
+from typing import Any, Literal
+
+import numpy as np
+
+from orchestrator.grid import BoxGrid, Segment, graded_segment
+from orchestrator.scene import Scene, body_rotation, flume_extent
+
+__all__ = [
+    "BodyPlan",
+    "GaugePlan",
+    "ModelPlan",
+    "REASON_KEYS",
+    "SAFETY",
+    "US_PER_CELL_STEP",
+    "WaterBox",
+    "body_inertia",
+    "estimate_wall_time_s",
+    "plan_case",
+]
+
+#: Multiplier on the simulated time when sizing the domain (10 % margin).
+SAFETY = 1.10
+#: Wall time per cell per time step on 2 cores (s), DESIGN.md section 3: interFoam
+#: 2-5 us (mid value); overInterDyMFoam 15.5 us with the tuned overset settings.
+US_PER_CELL_STEP = {"interFoam": 3.5e-6, "overInterDyMFoam": 15.5e-6}
+#: Cores at which US_PER_CELL_STEP was measured.
+_MEASURED_CORES = 2
+#: Every decision the plan records a reason for.
+REASON_KEYS = (
+    "solver",
+    "two_d",
+    "gate",
+    "reservoir_length",
+    "domain_end",
+    "downstream_type",
+    "domain_top",
+    "fine_region",
+    "grading",
+    "bodies",
+    "water",
+    "bed_friction",
+    "gauges",
+    "decomposition",
+    "time_step",
+    "cell_count",
+    "run_controls",
+)
+
+_BG_PATCHES = {
+    "xmin": "upstreamWall",
+    "xmax": "downstream",
+    "ymin": "sideWalls",
+    "ymax": "sideWalls",
+    "zmin": "bed",
+    "zmax": "atmosphere",
+    "hole": "column",
+}
+_SIDES = ("xmin", "xmax", "ymin", "ymax", "zmin", "zmax")
+
+
+# -------------------------------------------------------------------------- results
+
+
+@dataclass(frozen=True)
+class WaterBox:
+    """An axis-aligned box to fill with water (setFields boxToCell), corners in m."""
+
+    name: str
+    min_m: tuple[float, float, float]
+    max_m: tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class GaugePlan:
+    """A wave gauge: a vertical sampling line at (x, y) from the bed to z_top (m)."""
+
+    name: str
+    x: float
+    y: float
+    z_top: float
+
+
+@dataclass(frozen=True)
+class BodyPlan:
+    """One six-DoF debris body on its own overset mesh.
+
+    ``grid`` is in body coordinates (centred on the body, axes along its length, width,
+    height) and placed by its ``origin`` (the centre of mass) and ``rotation``
+    (= ``orientation``). Patches: every outer side ``<name>Overset``, the body ``<name>``.
+    ``moment_of_inertia_kg_m2`` are the principal moments about the body axes through
+    the centre of mass; ``orientation`` maps body axes to scene axes (columns = body axes).
+    """
+
+    name: str
+    grid: BoxGrid
+    mass_kg: float
+    centre_of_mass_m: tuple[float, float, float]
+    moment_of_inertia_kg_m2: tuple[float, float, float]
+    orientation: tuple[tuple[float, float, float], ...]
+    size_m: tuple[float, float, float]
+    on_bed: bool = False
+    cell_size_m: float = 0.0
+
+
+@dataclass(frozen=True)
+class ModelPlan:
+    """What the case will model. Lengths m, times s; ``reasons`` says why for each choice."""
+
+    scene_name: str
+    solver: Literal["interFoam", "overInterDyMFoam"]
+    two_d: bool
+    background: BoxGrid
+    bodies: tuple[BodyPlan, ...]
+    water: tuple[WaterBox, ...]
+    gauges: tuple[GaugePlan, ...]
+    cell_count: int
+    decomposition: tuple[int, int, int]
+    end_time_s: float
+    write_interval_s: float
+    max_courant: float
+    domain_m: tuple[tuple[float, float], tuple[float, float], tuple[float, float]]
+    fine_region_m: tuple[tuple[float, float], tuple[float, float], tuple[float, float]]
+    downstream_type: Literal["wall", "outlet"]
+    bed_friction_factor: float
+    velocity_scale_m_s: float
+    time_step_estimate_s: float
+    reasons: dict[str, str]
+    warnings: tuple[str, ...] = ()
+    estimated_wall_time_s: float = field(default=0.0)
+
+    @property
+    def cores(self) -> int:
+        nx, ny, nz = self.decomposition
+        return nx * ny * nz
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "scene_name": self.scene_name,
+            "solver": self.solver,
+            "two_d": self.two_d,
+            "cell_count": self.cell_count,
+            "estimated_wall_time_s": round(self.estimated_wall_time_s, 1),
+            "time_step_estimate_s": self.time_step_estimate_s,
+            "velocity_scale_m_s": self.velocity_scale_m_s,
+            "decomposition": {"method": "hierarchical", "n": list(self.decomposition)},
+            "end_time_s": self.end_time_s,
+            "write_interval_s": self.write_interval_s,
+            "max_courant": self.max_courant,
+            "domain_m": [list(a) for a in self.domain_m],
+            "fine_region_m": [list(a) for a in self.fine_region_m],
+            "downstream_type": self.downstream_type,
+            "bed_friction_factor": self.bed_friction_factor,
+            "background": _grid_dict(self.background),
+            "bodies": [
+                {
+                    "name": b.name,
+                    "mass_kg": b.mass_kg,
+                    "centre_of_mass_m": list(b.centre_of_mass_m),
+                    "moment_of_inertia_kg_m2": list(b.moment_of_inertia_kg_m2),
+                    "orientation": [list(r) for r in b.orientation],
+                    "size_m": list(b.size_m),
+                    "on_bed": b.on_bed,
+                    "cell_size_m": b.cell_size_m,
+                    "grid": _grid_dict(b.grid),
+                }
+                for b in self.bodies
+            ],
+            "water": [{"name": w.name, "min_m": list(w.min_m), "max_m": list(w.max_m)} for w in self.water],
+            "gauges": [{"name": g.name, "x": g.x, "y": g.y, "z_top": g.z_top} for g in self.gauges],
+            "reasons": dict(self.reasons),
+            "warnings": list(self.warnings),
+        }
+
+    def to_json(self) -> str:
+        """plan.json: every choice, the grids and a reason for each decision."""
+        return json.dumps(self.to_dict(), indent=2)
+
+
+def _grid_dict(grid: BoxGrid) -> dict[str, Any]:
+    def segs(axis):
+        return [
+            {"start_m": s.start_m, "end_m": s.end_m, "cells": s.cells, "grading": s.grading}
+            for s in getattr(grid, axis)
+        ]
+
+    return {
+        "name": grid.name,
+        "cell_count": grid.cell_count(),
+        "x": segs("x"),
+        "y": segs("y"),
+        "z": segs("z"),
+        "holes": sorted(list(h) for h in grid.holes),
+        "patch_names": dict(grid.patch_names),
+        "origin": list(grid.origin),
+        "rotation": [list(r) for r in grid.rotation],
+    }
+
+
+# -------------------------------------------------------------------------- physics
+
+
+def body_inertia(
+    size_m: tuple[float, float, float], mass_kg: float, wall_thickness_m: float | None
+) -> tuple[float, float, float]:
+    """Principal moments of inertia (kg m^2) of a closed box about its body axes.
+
+    A closed box of uniform walls ``wall_thickness_m`` thick (the material density follows
+    from the mass and the wall volume), or a solid box when the thickness is None or at
+    least half the smallest side.
+    """
+    a, b, c = size_m
+    t = wall_thickness_m
+    if t is None or 2 * t >= min(size_m):
+        return (
+            mass_kg * (b * b + c * c) / 12.0,
+            mass_kg * (a * a + c * c) / 12.0,
+            mass_kg * (a * a + b * b) / 12.0,
+        )
+    ai, bi, ci = a - 2 * t, b - 2 * t, c - 2 * t
+    vo, vi = a * b * c, ai * bi * ci
+    rho = mass_kg / (vo - vi)
+    return (
+        rho * (vo * (b * b + c * c) - vi * (bi * bi + ci * ci)) / 12.0,
+        rho * (vo * (a * a + c * c) - vi * (ai * ai + ci * ci)) / 12.0,
+        rho * (vo * (a * a + b * b) - vi * (ai * ai + bi * bi)) / 12.0,
+    )
+
+
+@dataclass(frozen=True)
+class _Front:
+    """The flow behind the dam-break front: front speed, depth and velocity behind it."""
+
+    speed_m_s: float
+    depth_m: float
+    velocity_m_s: float
+    wet: bool
+    g: float
+
+    @property
+    def froude(self) -> float:
+        return math.inf if self.depth_m <= 0 else self.velocity_m_s / math.sqrt(self.g * self.depth_m)
+
+
+def _front(h0: float, wet_depth: float, g: float) -> _Front:
+    """Ritter's dry-bed front, or Stoker's wet-bed intermediate state (no friction)."""
+    c0 = math.sqrt(g * h0)
+    if wet_depth <= 0:
+        return _Front(speed_m_s=2 * c0, depth_m=0.0, velocity_m_s=2 * c0, wet=False, g=g)
+    from analytical.dambreak import stoker_state
+
+    st = stoker_state(h0, wet_depth, g)
+    return _Front(speed_m_s=st.shock_speed_m_s, depth_m=st.h2_m, velocity_m_s=st.u2_m_s, wet=True, g=g)
+
+
+def _reservoir_length(end_time_s: float, h0: float, guard_m: float, g: float) -> float:
+    """Shortest reservoir whose reflected negative wave reaches ``guard_m`` upstream of the
+    gate no earlier than SAFETY x end_time (see the module docstring)."""
+    c0 = math.sqrt(g * h0)
+    return (SAFETY * end_time_s * c0 + 0.75 * guard_m) / 1.75
+
+
+def _length_before_return(end_time_s: float, x_roi: float, front_speed: float, back_speed: float) -> float:
+    """Smallest x_end with x_end/front + (x_end - x_roi)/back >= SAFETY x end_time."""
+    t = SAFETY * end_time_s
+    return (t + x_roi / back_speed) / (1.0 / front_speed + 1.0 / back_speed)
+
+
+# ---------------------------------------------------------------------------- grids
+
+
+def _pick_planes(lo: float, hi: float, wanted: list[tuple[float, int]], h: float) -> list[float]:
+    """Planes lo..hi plus the wanted ones, by priority (2 hard, 1 useful, 0 soft).
+
+    A useful plane closer than h/2 to a kept one, or a soft plane closer than one cell,
+    is dropped (no slivers); hard planes are always kept.
+    """
+    kept = [lo, hi]
+    gaps = {2: 1e-9, 1: 0.5 * h, 0: h}
+    for pos, prio in sorted(wanted, key=lambda p: -p[1]):
+        if not lo < pos < hi:
+            continue
+        if all(abs(pos - k) >= gaps[prio] for k in kept):
+            kept.append(pos)
+    return sorted(kept)
+
+
+def _axis_segments(
+    lo: float,
+    hi: float,
+    fine: tuple[float, float],
+    wanted: list[tuple[float, int]],
+    h: float,
+    h_max: float,
+    growth: float,
+) -> tuple[Segment, ...]:
+    """Segments lo..hi: cells h inside ``fine``, growing by ``growth`` per cell outside, to h_max."""
+    planes = _pick_planes(lo, hi, wanted + [(fine[0], 0), (fine[1], 0)], h)
+    s_sat = (h_max - h) / (growth - 1.0) if h_max > h else 0.0
+
+    def dist(x: float) -> float:
+        return max(fine[0] - x, x - fine[1], 0.0)
+
+    def size(s: float) -> float:
+        return min(h_max, h + (growth - 1.0) * s)
+
+    segs: list[Segment] = []
+    for a, b in zip(planes, planes[1:]):
+        if a >= fine[0] - 1.01 * h and b <= fine[1] + 1.01 * h:
+            segs.append(Segment(a, b, max(1, math.ceil((b - a) / h - 1e-9))))
+            continue
+        sa, sb = dist(a), dist(b)
+        if min(sa, sb) >= s_sat - 1e-12:
+            segs.append(Segment(a, b, max(1, math.ceil((b - a) / h_max - 1e-9))))
+            continue
+        if max(sa, sb) <= s_sat + 1e-12:
+            segs.append(graded_segment(a, b, size(sa), size(sb)))
+            continue
+        # split where the cells reach h_max: graded near the fine region, uniform beyond
+        cut = fine[1] + s_sat if sa < sb else fine[0] - s_sat
+        if cut - a < 0.5 * h_max or b - cut < 0.5 * h_max:
+            segs.append(graded_segment(a, b, size(sa), size(sb)))
+        else:
+            segs.append(graded_segment(a, cut, size(sa), size(dist(cut))))
+            segs.append(graded_segment(cut, b, size(dist(cut)), size(sb)))
+    return tuple(segs)
+
+
+def _indices_within(segs: tuple[Segment, ...], lo: float, hi: float) -> list[int]:
+    return [i for i, s in enumerate(segs) if lo - 1e-9 <= 0.5 * (s.start_m + s.end_m) <= hi + 1e-9]
+
+
+def _cell_centres(seg: Segment) -> np.ndarray:
+    n, r = seg.cells, seg.grading
+    if n == 1 or abs(r - 1.0) < 1e-12:
+        edges = np.linspace(seg.start_m, seg.end_m, n + 1)
+    else:
+        q = r ** (1.0 / (n - 1))
+        sizes = q ** np.arange(n)
+        edges = seg.start_m + np.concatenate([[0.0], np.cumsum(sizes)]) / sizes.sum() * seg.length_m
+    return 0.5 * (edges[:-1] + edges[1:])
+
+
+def _min_cell(segs: tuple[Segment, ...]) -> float:
+    return min(min(s.cell_sizes_m()) for s in segs)
+
+
+# ----------------------------------------------------------------------- the planner
+
+
+def plan_case(scene: Scene) -> ModelPlan:
+    """What ``scene`` needs: solver, dimensions, extents, grids, bodies, water, gauges.
+
+    Pure: reads nothing, writes nothing. See the module docstring for the physics.
+    """
+    reasons: dict[str, str] = {}
+    warnings: list[str] = []
+    g = scene.fluids.gravity_m_s2
+    h0 = scene.reservoir.depth_m
+    c0 = math.sqrt(g * h0)
+    T = scene.run.end_time_s
+    h = scene.mesh.cell_size_m
+    h_max = h * scene.mesh.coarsening_ratio
+    growth = scene.mesh.growth_ratio
+    col = scene.column
+    (fx0, fx1), (fy0, fy1), _ = flume_extent(scene)
+    width = scene.flume.width_m
+    front = _front(h0, scene.bed.wet_depth_m, g)
+    u_ref = 2.0 * c0  # Ritter's dry-bed front speed: no flow in a dam break is faster
+
+    # ---- solver and dimensions
+    has_debris = len(scene.debris) > 0
+    solver = "overInterDyMFoam" if has_debris else "interFoam"
+    if has_debris:
+        reasons["solver"] = (
+            f"{len(scene.debris)} debris bod{'y' if len(scene.debris) == 1 else 'ies'}: overInterDyMFoam with one "
+            "six-DoF solver per body, each body on its own overset mesh"
+        )
+    else:
+        reasons["solver"] = "no debris: interFoam on a static mesh (about 4x cheaper per cell-step than overset)"
+    full_width_col = col is not None and col.size_y_m >= width - 1e-9 and abs(col.y_m) <= 1e-9
+    two_d = not has_debris and (col is None or full_width_col)
+    if two_d:
+        reasons["two_d"] = (
+            "2D: no debris and "
+            + ("no column" if col is None else "the obstacle spans the full width")
+            + ", so nothing varies across the flume; one cell across, frontAndBack empty"
+        )
+    else:
+        why = []
+        if has_debris:
+            why.append("debris bodies move in 3D")
+        if col is not None and not full_width_col:
+            why.append("the column does not span the flume's width")
+        reasons["two_d"] = "3D: " + " and ".join(why)
+    reasons["gate"] = (
+        f"gate '{scene.reservoir.gate}' modelled as instantaneous removal at t = 0"
+        + (
+            " (the swing gate's opening time and its supports, which the seed says constrict the flow, are not modelled)"
+            if scene.reservoir.gate == "swing-gate"
+            else ""
+        )
+    )
+
+    # ---- body geometry (needed for the extents)
+    margin_body = scene.mesh.body_margin_cells * h
+    body_boxes = []  # AABB of each body's overset mesh, scene coordinates
+    for body in scene.debris:
+        rot = body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg)
+        half = np.asarray(body.size_m) / 2.0 + margin_body
+        ext = np.abs(rot) @ half
+        c = np.asarray(body.centre_m)
+        body_boxes.append((c - ext, c + ext))
+
+    # ---- region of interest along x
+    col_x0 = col.x_m - col.size_x_m / 2 if col else None
+    col_x1 = col.x_m + col.size_x_m / 2 if col else None
+    mc = max(0.5 * max(col.size_x_m, col.size_y_m), 3 * h) if col else 3 * h
+    upstream_marks = [-h0] + [gg.x_m for gg in scene.gauges if gg.x_m < 0]
+    upstream_marks += [lo[0] for lo, _ in body_boxes]
+    if col:
+        upstream_marks.append(col_x0 - mc)
+    guard = max(0.0, -min(upstream_marks))
+
+    # ---- reservoir length
+    res_needed = _reservoir_length(T, h0, guard, g)
+    res_floor = guard + max(h0, 4 * h)
+    res_len = min(scene.reservoir.length_m, max(res_needed, res_floor))
+    x_lo = -res_len
+    t_return = res_len / c0 + max(res_len - guard, 0.0) / (4.0 / 3.0 * c0)
+    if res_len < scene.reservoir.length_m - 1e-9:
+        reasons["reservoir_length"] = (
+            f"reservoir truncated to {res_len:.3g} m of {scene.reservoir.length_m:g} m: the negative wave "
+            f"(c0 = sqrt(g h0) = {c0:.3g} m/s upstream, back at <= 4/3 c0) reflected from the upstream wall "
+            f"reaches x = {-guard:.3g} m (gate region, upstream gauges and bodies) no earlier than "
+            f"{t_return:.3g} s >= {SAFETY:g} x end_time ({T:g} s)"
+        )
+    else:
+        reasons["reservoir_length"] = (
+            f"whole reservoir ({res_len:g} m) modelled: a shorter one would let the reflected negative wave reach "
+            f"x = {-guard:.3g} m before {SAFETY:g} x end_time"
+            + (
+                f" (with the full reservoir it arrives at about {t_return:.3g} s, within the run: that is the "
+                "scene's own physics)"
+                if t_return < T
+                else ""
+            )
+        )
+
+    # ---- downstream end
+    if col:
+        path_end = col_x1 + mc
+    else:
+        path_end = max([hi[0] + u_ref * T for _, hi in body_boxes], default=-math.inf)
+        path_end = min(path_end, fx1)
+    roi_end = max([path_end] + [gg.x_m for gg in scene.gauges] + [hi[0] for _, hi in body_boxes] + [0.0])
+    wake = max(5 * col.size_y_m if col else 0.0, 2 * h0, 2 * max((max(b.size_m) for b in scene.debris), default=0.0))
+    supercritical = front.froude > 1.0
+    if supercritical:
+        open_need = roi_end + wake
+        open_why = (
+            f"behind the front the flow is supercritical (Fr = {front.froude:.2g}"
+            f"{', Stoker wet bed' if front.wet else ', Ritter dry bed'}), so nothing travels upstream from an outlet; "
+            f"the domain ends {wake:.3g} m past the region of interest (x = {roi_end:.3g} m) to clear the column's "
+            "wake and passing debris"
+        )
+    else:
+        back = max(math.sqrt(g * front.depth_m) - front.velocity_m_s, 1e-6)
+        open_need = max(roi_end + wake, _length_before_return(T, roi_end, front.speed_m_s, back))
+        open_why = (
+            f"subcritical flow behind the front (Fr = {front.froude:.2g}): a disturbance from the outlet, starting when "
+            f"the front (S = {front.speed_m_s:.3g} m/s) arrives and travelling back at c - u = {back:.3g} m/s, "
+            f"must not reach x = {roi_end:.3g} m before {SAFETY:g} x end_time"
+        )
+    wall_need = max(roi_end + wake, _length_before_return(T, roi_end, front.speed_m_s, c0))
+    if scene.flume.downstream_end == "open":
+        x_hi = min(fx1, open_need)
+        downstream_type = "outlet"
+        reasons["domain_end"] = (
+            f"domain ends at x = {x_hi:.3g} m"
+            + (" (the flume's open end)" if x_hi >= fx1 - 1e-9 else f" of the flume's {fx1:.3g} m: " + open_why)
+        )
+        reasons["downstream_type"] = "outlet: the flume's downstream end is open (free outfall)"
+    else:
+        if wall_need >= fx1 - 1e-9:
+            x_hi = fx1
+            downstream_type = "wall"
+            reasons["domain_end"] = (
+                f"domain runs to the closed end wall (x = {fx1:.3g} m): a bore reflected from it (front at "
+                f"<= {front.speed_m_s:.3g} m/s, back at <= c0 = {c0:.3g} m/s) could reach x = {roi_end:.3g} m "
+                f"before {SAFETY:g} x end_time"
+            )
+            reasons["downstream_type"] = "wall: the flume's closed end is inside the modelled time's reach"
+        else:
+            x_hi = min(fx1, open_need)
+            downstream_type = "outlet"
+            reasons["domain_end"] = (
+                f"domain ends at x = {x_hi:.3g} m, short of the closed end wall ({fx1:.3g} m), whose reflection "
+                f"cannot reach x = {roi_end:.3g} m before {SAFETY:g} x end_time (it needs {wall_need:.3g} m); " + open_why
+            )
+            reasons["downstream_type"] = (
+                "outlet: the domain is cut short of the closed end, whose reflection arrives after the run"
+            )
+
+    # ---- top
+    if scene.mesh.top_m is not None:
+        z_hi = scene.mesh.top_m
+        reasons["domain_top"] = f"air space up to mesh.top_m = {z_hi:g} m (set in the scene)"
+    else:
+        body_top = max((hi[2] for _, hi in body_boxes), default=0.0)
+        z_hi = min(scene.flume.height_m, max(1.5 * h0, body_top))
+        reasons["domain_top"] = (
+            f"air space up to z = {z_hi:.3g} m = min(flume height {scene.flume.height_m:g} m, 1.5 x impoundment"
+            + (", the top of the highest body mesh" if body_top > 1.5 * h0 else "")
+            + "): the free surface never rises above the impoundment except splash-up at the column; water above "
+            "leaves through the open atmosphere patch"
+        )
+
+    # ---- fine region
+    fine_x0 = min([-h0] + [lo[0] for lo, _ in body_boxes] + ([col_x0 - mc] if col else []))
+    if col:
+        fine_x1 = col_x1 + mc
+        travel_end = col_x0
+    else:
+        fine_x1 = x_hi if has_debris else h0  # debris without a column drift to the domain end
+        travel_end = x_hi
+    # the bore's path also reaches every gauge downstream of the gate
+    downstream_gauges = [gg.x_m + 3 * h for gg in scene.gauges if gg.x_m >= 0]
+    fine_x1 = max([fine_x1] + [hi[0] for _, hi in body_boxes] + downstream_gauges)
+    fine_x0, fine_x1 = max(fine_x0, x_lo), min(fine_x1, x_hi)
+    tan_spread = math.tan(math.radians(scene.mesh.debris_spread_deg))
+    ys = []
+    if col:
+        ys += [col.y_m - col.size_y_m / 2 - mc, col.y_m + col.size_y_m / 2 + mc]
+    for lo, hi in body_boxes:
+        travel = max(travel_end - lo[0], 0.0)
+        ys += [lo[1] - tan_spread * travel, hi[1] + tan_spread * travel]
+    fine_y0 = max(fy0, min(ys)) if ys else fy0
+    fine_y1 = min(fy1, max(ys)) if ys else fy1
+    fine_z1 = min(z_hi, max([h0] + [hi[2] for _, hi in body_boxes]))
+    fine = ((fine_x0, fine_x1), (fine_y0, fine_y1), (0.0, fine_z1))
+    reasons["fine_region"] = (
+        f"cells of {h:g} m in x {fine_x0:.3g}..{fine_x1:.3g}, y {fine_y0:.3g}..{fine_y1:.3g}, z 0..{fine_z1:.3g} m: "
+        "the gate region and the bore's path to the furthest gauge"
+        + (", around the column" if col else "")
+        + (
+            f", and the debris paths (each body's mesh, spreading at {scene.mesh.debris_spread_deg:g} deg to "
+            + ("the column" if col else "the domain end")
+            + ")"
+            if has_debris
+            else ""
+        )
+        + "; in z the bed and the bore layer up to the impoundment depth"
+    )
+
+    # ---- background grid
+    wx: list[tuple[float, int]] = [(0.0, 1)]
+    wy: list[tuple[float, int]] = []
+    wz: list[tuple[float, int]] = [(h0, 1)]
+    if scene.bed.wet_depth_m >= 0.2 * h:
+        wz.append((scene.bed.wet_depth_m, 2))  # kept even when thin: the water volume is exact
+    elif scene.bed.wet_depth_m > 0:
+        warnings.append(
+            f"wet bed ({scene.bed.wet_depth_m:g} m) thinner than a fifth of a cell: it fills part of the first cell"
+        )
+    if col:
+        wx += [(col_x0, 2), (col_x1, 2)]
+        if not full_width_col:
+            wy += [(col.y_m - col.size_y_m / 2, 2), (col.y_m + col.size_y_m / 2, 2)]
+        if col.height_m < z_hi:
+            wz.append((col.height_m, 2))
+    xs = _axis_segments(x_lo, x_hi, fine[0], wx, h, h_max, growth)
+    if two_d:
+        ysegs = (Segment(fy0, fy1, 1),)
+    else:
+        ysegs = _axis_segments(fy0, fy1, fine[1], wy, h, h_max, growth)
+    zs = _axis_segments(0.0, z_hi, fine[2], wz, h, h_max, growth)
+    holes: frozenset = frozenset()
+    if col:
+        ii = _indices_within(xs, col_x0, col_x1)
+        jj = list(range(len(ysegs))) if (two_d or full_width_col) else _indices_within(
+            ysegs, col.y_m - col.size_y_m / 2, col.y_m + col.size_y_m / 2
+        )
+        kk = _indices_within(zs, 0.0, min(col.height_m, z_hi))
+        holes = frozenset(product(ii, jj, kk))
+    patches = dict(_BG_PATCHES)
+    if two_d:
+        patches["ymin"] = patches["ymax"] = "frontAndBack"
+    background = BoxGrid("background", xs, ysegs, zs, holes, patches)
+    reasons["grading"] = (
+        f"outside the fine region cells grow by at most {growth:g} per cell up to {h_max:.3g} m "
+        f"({scene.mesh.coarsening_ratio:g} x the finest); planes kept at the gate (x = 0), the impoundment level"
+        + (", the wet-bed surface" if scene.bed.wet_depth_m >= 0.2 * h else "")
+        + (" and the column's faces" if col else "")
+        + f"; background {len(xs)} x {len(ysegs)} x {len(zs)} blocks"
+    )
+
+    # ---- bodies
+    bodies = []
+    for body, (lo, hi) in zip(scene.debris, body_boxes):
+        rot = body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg)
+        hb = min(h, min(body.size_m) / scene.mesh.body_cells_across)
+        segs_by_axis = []
+        for d in range(3):
+            half = body.size_m[d] / 2.0
+            inner = Segment(-half, half, max(1, math.ceil(body.size_m[d] / hb - 1e-9)))
+            before = graded_segment(-half - margin_body, -half, h, hb)
+            after = graded_segment(half, half + margin_body, hb, h)
+            segs_by_axis.append((before, inner, after))
+        grid = BoxGrid(
+            body.name,
+            segs_by_axis[0],
+            segs_by_axis[1],
+            segs_by_axis[2],
+            frozenset({(1, 1, 1)}),
+            {**{s: f"{body.name}Overset" for s in _SIDES}, "hole": body.name},
+            origin=tuple(float(v) for v in body.centre_m),
+            rotation=tuple(tuple(float(v) for v in row) for row in rot),
+        )
+        if body.moment_of_inertia_kg_m2 is not None:
+            inertia = tuple(float(v) for v in body.moment_of_inertia_kg_m2)
+        else:
+            inertia = body_inertia(body.size_m, body.mass_kg, body.wall_thickness_m)
+        corners_z = body.centre_m[2] - float(np.sum(np.abs(rot[2, :]) * np.asarray(body.size_m) / 2))
+        on_bed = corners_z <= 1e-6
+        bodies.append(
+            BodyPlan(
+                name=body.name,
+                grid=grid,
+                mass_kg=body.mass_kg,
+                centre_of_mass_m=tuple(float(v) for v in body.centre_m),
+                moment_of_inertia_kg_m2=inertia,
+                orientation=tuple(tuple(float(v) for v in row) for row in rot),
+                size_m=tuple(float(v) for v in body.size_m),
+                on_bed=on_bed,
+                cell_size_m=hb,
+            )
+        )
+        outside = []
+        if lo[2] < 0:
+            outside.append(f"{-lo[2]:.3g} m below the bed")
+        if lo[1] < fy0 or hi[1] > fy1:
+            outside.append(f"{max(fy0 - lo[1], hi[1] - fy1):.3g} m through a side wall")
+        if outside:
+            warnings.append(
+                f"{body.name}: its overset mesh reaches {' and '.join(outside)} at the start; cells there have no donors"
+            )
+        if on_bed:
+            local = h0 if body.centre_m[0] < 0 else scene.bed.wet_depth_m
+            buoyancy = scene.fluids.water_density_kg_m3 * g * body.size_m[0] * body.size_m[1] * min(local, body.size_m[2])
+            excess = body.mass_kg * g - buoyancy
+            if excess > 0:
+                warnings.append(
+                    f"{body.name} rests on the bed with {excess:.3g} N more weight than buoyancy; v1912 has no contact, "
+                    "so the runner must hold it (or it sinks through the bed) until the bore lifts it"
+                )
+    for i, (lo_a, hi_a) in enumerate(body_boxes):
+        for j in range(i):
+            lo_b, hi_b = body_boxes[j]
+            if np.all(lo_a < hi_b) and np.all(lo_b < hi_a):
+                warnings.append(
+                    f"the overset meshes of {scene.debris[j].name} and {scene.debris[i].name} overlap at the start"
+                )
+    if bodies:
+        b0 = bodies[0]
+        reasons["bodies"] = (
+            f"{len(bodies)} overset body mesh(es): each box extends {scene.mesh.body_margin_cells} finest cells "
+            f"({margin_body:.3g} m) beyond its body so donors lie in fine background cells; cells of "
+            f"{b0.cell_size_m:.3g} m at the body ({scene.mesh.body_cells_across:g} across its smallest side), "
+            f"{h:g} m at the mesh edge; inertia from the box walls (wall_thickness_m) or as given"
+        )
+    else:
+        reasons["bodies"] = "no debris: no body meshes"
+
+    # ---- water, gauges
+    water = [WaterBox("reservoir", (x_lo, fy0, 0.0), (0.0, fy1, h0))]
+    if scene.bed.wet_depth_m > 0:
+        water.append(WaterBox("wetBed", (0.0, fy0, 0.0), (x_hi, fy1, scene.bed.wet_depth_m)))
+    reasons["water"] = (
+        f"water up to {h0:g} m behind the gate"
+        + (f" and a {scene.bed.wet_depth_m:g} m wet bed downstream" if scene.bed.wet_depth_m > 0 else "; dry bed")
+    )
+    reasons["bed_friction"] = (
+        f"Darcy f = {scene.bed.friction_factor:g} on the bed patch: without it the front arrives 15-30 % early "
+        "(DESIGN.md section 3)"
+    )
+    gauges = tuple(GaugePlan(gg.name, gg.x_m, gg.y_m, z_hi) for gg in scene.gauges)
+    reasons["gauges"] = (
+        f"{len(gauges)} gauge line(s) from the bed to z = {z_hi:.3g} m; depth from alpha.water along each"
+        if gauges
+        else "no gauges"
+    )
+
+    # ---- cells, time step
+    cells = background.cell_count() + sum(b.grid.cell_count() for b in bodies)
+    horizontal = [_min_cell(xs)] + ([] if two_d else [_min_cell(ysegs)])
+    for b in bodies:
+        horizontal += [_min_cell(b.grid.x), _min_cell(b.grid.y), _min_cell(b.grid.z)]
+    h_step = min(horizontal)
+    dt = scene.run.max_courant * h_step / u_ref
+    reasons["time_step"] = (
+        f"about {dt:.3g} s: Co = {scene.run.max_courant:g} on the smallest horizontal cell ({h_step:.3g} m) at "
+        f"U = 2 sqrt(g h0) = {u_ref:.3g} m/s (Ritter's front speed, an upper bound of the flow speed)"
+    )
+    reasons["cell_count"] = (
+        f"{cells} cells: background {background.cell_count()}"
+        + (f" + bodies {', '.join(str(b.grid.cell_count()) for b in bodies)}" if bodies else "")
+    )
+    reasons["run_controls"] = (
+        f"end time {T:g} s, writes every {scene.run.write_interval_s:g} s, maxCo = maxAlphaCo = "
+        f"{scene.run.max_courant:g} (from the scene's run section)"
+    )
+
+    decomposition, dreason = _decompose(scene.run.cores, background, bodies, body_boxes, travel_end, tan_spread, fine_z1, two_d, fy0, fy1)
+    reasons["decomposition"] = dreason
+
+    plan = ModelPlan(
+        scene_name=scene.name,
+        solver=solver,
+        two_d=two_d,
+        background=background,
+        bodies=tuple(bodies),
+        water=tuple(water),
+        gauges=gauges,
+        cell_count=cells,
+        decomposition=decomposition,
+        end_time_s=T,
+        write_interval_s=scene.run.write_interval_s,
+        max_courant=scene.run.max_courant,
+        domain_m=((x_lo, x_hi), (fy0, fy1), (0.0, z_hi)),
+        fine_region_m=fine,
+        downstream_type=downstream_type,
+        bed_friction_factor=scene.bed.friction_factor,
+        velocity_scale_m_s=u_ref,
+        time_step_estimate_s=dt,
+        reasons=reasons,
+        warnings=tuple(warnings),
+    )
+    wall = estimate_wall_time_s(plan)
+    reasons["cell_count"] += (
+        f"; about {math.ceil(T / dt)} steps x {US_PER_CELL_STEP[solver] * 1e6:g} us/cell-step on "
+        f"{_MEASURED_CORES} cores -> about {wall / 60:.1f} min on {plan.cores} core(s)"
+    )
+    return _replace(plan, estimated_wall_time_s=wall)
+
+
+def _replace(plan: ModelPlan, **changes) -> ModelPlan:
+    from dataclasses import replace
+
+    return replace(plan, **changes)
+
+
+def estimate_wall_time_s(plan: ModelPlan) -> float:
+    """Solver wall time (s): cells x steps x DESIGN.md section 3's per-cell-step cost.
+
+    Steps = end time / the plan's time-step estimate; the cost per cell-step was
+    measured on 2 cores and is scaled as 2 / cores (ideal speed-up, optimistic above 2).
+    Meshing, decomposition and writing are not included.
+    """
+    steps = math.ceil(plan.end_time_s / plan.time_step_estimate_s)
+    per = US_PER_CELL_STEP[plan.solver] * _MEASURED_CORES / plan.cores
+    return plan.cell_count * steps * per
+
+
+def _weighted_centres(grid: BoxGrid, axis: int) -> tuple[np.ndarray, np.ndarray]:
+    """Cell-centre coordinates along ``axis`` and how many cells sit at each."""
+    segs = (grid.x, grid.y, grid.z)
+    counts: dict[int, float] = {}
+    for i, j, k in grid.blocks():
+        idx = (i, j, k)
+        others = 1
+        for d in range(3):
+            if d != axis:
+                others *= segs[d][idx[d]].cells
+        counts[idx[axis]] = counts.get(idx[axis], 0) + others
+    pos, wts = [], []
+    for s_idx, w in counts.items():
+        c = _cell_centres(segs[axis][s_idx])
+        pos.append(c)
+        wts.append(np.full(c.size, float(w)))
+    return np.concatenate(pos), np.concatenate(wts)
+
+
+def _quantile_cuts(pos: np.ndarray, wts: np.ndarray, n: int) -> list[float]:
+    order = np.argsort(pos)
+    p, w = pos[order], wts[order]
+    cum = np.cumsum(w) / w.sum()
+    return [float(p[np.searchsorted(cum, k / n)]) for k in range(1, n)]
+
+
+def _decompose(cores, background, bodies, body_boxes, travel_end, tan_spread, fine_z1, two_d, fy0, fy1):
+    """hierarchical (nx ny nz) with nx ny nz = cores, keeping body meshes on one rank.
+
+    Cut planes are estimated as cell-count quantiles per axis (hierarchical balances cell
+    counts). Candidates are scored by the bodies whose starting mesh is cut, then the
+    bodies whose path (to the column) is cut, then the processor-boundary area.
+    """
+    if cores == 1:
+        return (1, 1, 1), "1 core: no decomposition"
+    cands = [
+        (nx, ny, cores // (nx * ny))
+        for nx in range(1, cores + 1)
+        for ny in range(1, cores + 1)
+        if cores % (nx * ny) == 0 and (not two_d or ny == 1)
+    ]
+    (x0, x1), (y0, y1), (z0, z1) = [(g[0].start_m, g[-1].end_m) for g in (background.x, background.y, background.z)]
+    dist = []
+    for axis in range(3):
+        pos, wts = _weighted_centres(background, axis)
+        extra_p = [b.centre_of_mass_m[axis] for b in bodies]
+        extra_w = [float(b.grid.cell_count()) for b in bodies]
+        dist.append((np.concatenate([pos, extra_p]), np.concatenate([wts, extra_w])))
+    paths = []
+    for lo, hi in body_boxes:
+        travel = max(travel_end - lo[0], 0.0)
+        paths.append(
+            (
+                np.array([lo[0], max(lo[1] - tan_spread * travel, fy0), 0.0]),
+                np.array([max(hi[0], travel_end), min(hi[1] + tan_spread * travel, fy1), max(fine_z1, hi[2])]),
+            )
+        )
+    best = None
+    for cand in cands:
+        cuts = [_quantile_cuts(*dist[a], cand[a]) for a in range(3)]
+        split_now = sum(any(lo[a] < c < hi[a] for a in range(3) for c in cuts[a]) for lo, hi in body_boxes)
+        split_path = sum(any(lo[a] < c < hi[a] for a in range(3) for c in cuts[a]) for lo, hi in paths)
+        area = (cand[0] - 1) * (y1 - y0) * (z1 - z0) + (cand[1] - 1) * (x1 - x0) * (z1 - z0) + (cand[2] - 1) * (x1 - x0) * (y1 - y0)
+        score = (split_now, split_path, area)
+        if best is None or score < best[0]:
+            best = (score, cand, cuts)
+    (split_now, split_path, _), cand, cuts = best
+    where = "; ".join(
+        f"{'xyz'[a]} cut at {', '.join(f'{c:.3g}' for c in cuts[a])} m" for a in range(3) if cuts[a]
+    )
+    text = f"hierarchical ({cand[0]} {cand[1]} {cand[2]}) over {cores} cores ({where})"
+    if bodies:
+        text += (
+            f": {len(bodies) - split_now} of {len(bodies)} body meshes start on one rank and "
+            f"{len(bodies) - split_path} keep their path to the column on one rank (a split body mesh costs about 19 % "
+            "per step, DESIGN.md section 3)"
+        )
+    else:
+        text += ": the smallest processor boundary"
+    return cand, text

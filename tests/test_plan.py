@@ -1,0 +1,469 @@
+"""The planner: what each scene needs, and that every choice is explained.
+
+Closed-form checks (inertia, the reservoir's reflection time, the wall-time formula),
+structural checks on the grids the templates will write, and hypothesis properties:
+the reservoir grows with the end time and is capped, the cell count falls as cells
+grow, the fine region always holds the column and the debris, every decision has a
+reason.
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import strategies as st
+
+from analytical.errors import InputError
+from orchestrator.plan import (
+    REASON_KEYS,
+    SAFETY,
+    US_PER_CELL_STEP,
+    body_inertia,
+    estimate_wall_time_s,
+    plan_case,
+)
+from orchestrator.scene import body_rotation, load_scene, scene_from_dict
+
+ROOT = Path(__file__).resolve().parent.parent
+CASES = ROOT / "cases"
+VALID = ROOT / "tests" / "data" / "bad_scenes" / "_valid_base.yaml"
+CASE_NAMES = ["nodebris", "1debris", "3debris-3x1", "3debris-1x3", "6debris-2x3"]
+G = 9.81
+
+
+def case(name: str, *overrides: str):
+    return load_scene(CASES / f"{name}.yaml", list(overrides))
+
+
+def valid(*overrides: str):
+    return load_scene(VALID, list(overrides))
+
+
+def all_cell_sizes(segs) -> list[float]:
+    out = []
+    for s in segs:
+        n, r = s.cells, s.grading
+        if n == 1 or abs(r - 1) < 1e-12:
+            out += [s.length_m / n] * n
+        else:
+            q = r ** (1 / (n - 1))
+            sizes = q ** np.arange(n)
+            out += list(sizes / sizes.sum() * s.length_m)
+    return out
+
+
+# ------------------------------------------------------------------ model choices
+
+
+def test_no_debris_is_interfoam_on_a_static_3d_mesh_when_the_column_is_narrow():
+    p = plan_case(case("nodebris"))
+    assert p.solver == "interFoam" and p.bodies == () and not p.two_d
+    assert "no debris" in p.reasons["solver"]
+
+
+@pytest.mark.parametrize("name, n", [("1debris", 1), ("3debris-3x1", 3), ("3debris-1x3", 3), ("6debris-2x3", 6)])
+def test_debris_is_overset_with_one_body_each(name, n):
+    s = case(name)
+    p = plan_case(s)
+    assert p.solver == "overInterDyMFoam" and not p.two_d
+    assert [b.name for b in p.bodies] == [b.name for b in s.debris]
+    assert len(p.bodies) == n
+
+
+def test_laterally_uniform_scene_is_2d():
+    p = plan_case(valid("column=null", "debris=[]"))
+    assert p.two_d and p.solver == "interFoam"
+    assert len(p.background.y) == 1 and p.background.y[0].cells == 1
+    faces = p.background.boundary_faces()
+    assert "frontAndBack" in faces and "sideWalls" not in faces and "column" not in faces
+
+
+def test_fine_region_reaches_the_furthest_downstream_gauge():
+    p = plan_case(valid("column=null", "debris=[]", "gauges.1.x_m=4.0"))
+    assert p.fine_region_m[0][1] >= 4.0
+    assert p.fine_region_m[0][0] == pytest.approx(-0.3)  # one impoundment depth upstream of the gate
+
+
+def test_full_width_obstacle_is_2d_with_a_hole_through_the_width():
+    p = plan_case(valid("debris=[]", "column.size_y_m=1.0", "column.height_m=0.1", "gauges=[]"))
+    assert p.two_d
+    assert p.background.holes and all(j == 0 for _, j, _ in p.background.holes)
+    faces = p.background.boundary_faces()
+    assert "column" in faces and "frontAndBack" in faces
+
+
+def test_background_patch_names():
+    p = plan_case(case("1debris"))
+    assert set(p.background.boundary_faces()) == {
+        "upstreamWall", "downstream", "sideWalls", "bed", "atmosphere", "column",
+    }
+
+
+def test_column_hole_matches_the_column():
+    s = case("1debris")
+    p = plan_case(s)
+    g = p.background
+    col = s.column
+    for i, j, k in g.holes:
+        assert col.x_m - 0.1 - 1e-9 <= g.x[i].start_m and g.x[i].end_m <= col.x_m + 0.1 + 1e-9
+        assert -0.1 - 1e-9 <= g.y[j].start_m and g.y[j].end_m <= 0.1 + 1e-9
+    xs = {g.x[i].start_m for i, _, _ in g.holes} | {g.x[i].end_m for i, _, _ in g.holes}
+    assert min(xs) == pytest.approx(4.9) and max(xs) == pytest.approx(5.1)
+    zs = {g.z[k].end_m for _, _, k in g.holes}
+    assert max(zs) == pytest.approx(p.domain_m[2][1])  # the 0.8 m column reaches above the 0.6 m top
+
+
+# ------------------------------------------------------------------------ bodies
+
+
+def test_body_grid_patches_and_hole():
+    p = plan_case(case("3debris-1x3"))
+    for b in p.bodies:
+        assert b.grid.holes == frozenset({(1, 1, 1)})
+        faces = b.grid.boundary_faces()
+        assert set(faces) == {f"{b.name}Overset", b.name}
+        assert len(faces[b.name]) > 0
+
+
+def test_body_grid_is_placed_on_the_rotated_body():
+    s = valid("debris.0.yaw_deg=30", "debris.0.pitch_deg=20", "debris.0.roll_deg=10", "debris.0.centre_m=[2.0, 0.0, 0.2]")
+    p = plan_case(s)
+    b = p.bodies[0]
+    rot = body_rotation(30, 20, 10)
+    assert np.allclose(b.orientation, rot)
+    g = b.grid
+    verts = g.vertices()
+    # the hole block's corners are the body's corners in the scene
+    hole_corners = verts[list(g.hex_vertices(1, 1, 1))]
+    half = np.asarray(b.size_m) / 2
+    signs = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1], [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]])
+    expected = np.asarray(b.centre_of_mass_m) + (signs * half) @ rot.T
+    assert np.allclose(hole_corners, expected)
+
+
+def test_body_mesh_extends_the_margin_and_is_fine_at_the_body():
+    s = case("1debris")
+    p = plan_case(s)
+    b = p.bodies[0]
+    h = s.mesh.cell_size_m
+    margin = s.mesh.body_margin_cells * h
+    assert b.grid.x[0].start_m == pytest.approx(-0.075 - margin)
+    assert b.grid.z[2].end_m == pytest.approx(0.03 + margin)
+    assert b.cell_size_m == pytest.approx(min(h, 0.06 / s.mesh.body_cells_across))
+    assert max(all_cell_sizes(b.grid.y)) <= h * (1 + 1e-9)
+
+
+def plate_inertia(a, b, c, t, rho):
+    """Closed box as six plates (parallel-axis theorem): an independent route."""
+    plates = []  # ((size x, y, z), centre offset)
+    for s in (-1, 1):
+        plates.append(((t, b, c), (s * (a - t) / 2, 0, 0)))
+        plates.append(((a - 2 * t, t, c), (0, s * (b - t) / 2, 0)))
+        plates.append(((a - 2 * t, b - 2 * t, t), (0, 0, s * (c - t) / 2)))
+    ixx = iyy = izz = 0.0
+    for (sx, sy, sz), (dx, dy, dz) in plates:
+        m = rho * sx * sy * sz
+        ixx += m * (sy**2 + sz**2) / 12 + m * (dy**2 + dz**2)
+        iyy += m * (sx**2 + sz**2) / 12 + m * (dx**2 + dz**2)
+        izz += m * (sx**2 + sy**2) / 12 + m * (dx**2 + dy**2)
+    return ixx, iyy, izz
+
+
+def test_inertia_of_the_seed_container_matches_six_plates():
+    a, b, c, t, m = 0.15, 0.06, 0.06, 0.005, 0.236
+    rho = m / (a * b * c - (a - 2 * t) * (b - 2 * t) * (c - 2 * t))
+    assert body_inertia((a, b, c), m, t) == pytest.approx(plate_inertia(a, b, c, t, rho), rel=1e-12)
+
+
+def test_inertia_solid_and_given():
+    assert body_inertia((0.3, 0.2, 0.1), 6.0, None) == pytest.approx(
+        (6 * (0.04 + 0.01) / 12, 6 * (0.09 + 0.01) / 12, 6 * (0.09 + 0.04) / 12)
+    )
+    p = plan_case(valid("debris.0.wall_thickness_m=null", "debris.0.moment_of_inertia_kg_m2=[1e-4, 2e-4, 3e-4]"))
+    assert p.bodies[0].moment_of_inertia_kg_m2 == (1e-4, 2e-4, 3e-4)
+
+
+def test_hollow_box_has_more_inertia_than_the_solid_one_of_equal_mass():
+    hollow = body_inertia((0.15, 0.06, 0.06), 0.236, 0.005)
+    solid = body_inertia((0.15, 0.06, 0.06), 0.236, None)
+    assert all(h > s for h, s in zip(hollow, solid))
+
+
+# ------------------------------------------------------------ extents and water
+
+
+def test_reservoir_truncation_keeps_the_reflection_out_of_the_gate_region():
+    s = case("1debris")
+    p = plan_case(s)
+    L = -p.domain_m[0][0]
+    c0 = math.sqrt(G * 0.4)
+    guard = 0.4  # the gate region: one impoundment depth upstream (WG1 is at -0.10 m)
+    assert L < s.reservoir.length_m
+    assert L / c0 + (L - guard) / (4 / 3 * c0) == pytest.approx(SAFETY * s.run.end_time_s)
+    assert "truncated" in p.reasons["reservoir_length"]
+
+
+def test_reservoir_is_whole_when_the_run_is_long():
+    s = case("1debris", "run.end_time_s=60")
+    p = plan_case(s)
+    assert p.domain_m[0][0] == pytest.approx(-21.55)
+    assert "whole reservoir" in p.reasons["reservoir_length"]
+
+
+def test_open_end_with_supercritical_flow_ends_past_the_column_wake():
+    p = plan_case(case("1debris"))
+    assert p.downstream_type == "outlet"
+    assert p.domain_m[0][1] == pytest.approx(5.1 + 0.12 + 1.0)  # column face + margin + 5 widths
+    assert "supercritical" in p.reasons["domain_end"]
+
+
+def test_closed_end_is_a_wall_when_its_reflection_could_matter():
+    long = plan_case(case("1debris", "flume.downstream_end=closed", "run.end_time_s=6"))
+    assert long.downstream_type == "wall" and long.domain_m[0][1] == pytest.approx(8.45)
+    short = plan_case(case("1debris", "flume.downstream_end=closed", "run.end_time_s=0.5", "flume.length_m=40"))
+    assert short.downstream_type == "outlet" and short.domain_m[0][1] < 18.45
+
+
+def test_domain_holds_every_gauge_body_and_the_column():
+    for name in CASE_NAMES:
+        s = case(name)
+        p = plan_case(s)
+        (x0, x1), (y0, y1), (z0, z1) = p.domain_m
+        for g in s.gauges:
+            assert x0 <= g.x_m <= x1 and y0 <= g.y_m <= y1
+        assert x0 < s.column.x_m - 0.1 and s.column.x_m + 0.1 < x1
+        for b in s.debris:
+            assert x0 < b.centre_m[0] < x1
+
+
+def test_water_boxes_and_gauges():
+    s = case("1debris")
+    p = plan_case(s)
+    res, bed = p.water
+    assert res.name == "reservoir" and res.max_m[0] == 0.0 and res.max_m[2] == 0.4
+    assert res.min_m[0] == pytest.approx(p.domain_m[0][0])
+    assert bed.name == "wetBed" and bed.max_m[2] == 0.015 and bed.max_m[0] == pytest.approx(p.domain_m[0][1])
+    assert [g.name for g in p.gauges] == ["WG1", "WG2", "WG3", "WG4"]
+    assert all(g.z_top == pytest.approx(p.domain_m[2][1]) for g in p.gauges)
+    dry = plan_case(case("1debris", "bed.wet_depth_m=0"))
+    assert [w.name for w in dry.water] == ["reservoir"]
+
+
+def test_grid_has_planes_at_the_gate_the_impoundment_and_the_wet_bed():
+    p = plan_case(case("1debris"))
+    assert 0.0 in p.background.planes("x")
+    zs = p.background.planes("z")
+    assert 0.4 in zs and 0.015 in zs
+
+
+def test_cells_are_fine_in_the_fine_region_and_never_coarser_than_the_limit():
+    s = case("1debris")
+    p = plan_case(s)
+    h = s.mesh.cell_size_m
+    h_max = h * s.mesh.coarsening_ratio
+    for axis, (lo, hi) in zip("xyz", p.fine_region_m):
+        for seg in getattr(p.background, axis):
+            sizes = all_cell_sizes([seg])
+            assert max(sizes) <= h_max * (1 + 1e-9)
+            if lo - 1e-9 <= seg.start_m and seg.end_m <= hi + 1e-9:
+                assert max(sizes) <= h * (1 + 1e-9)
+
+
+def test_cell_count_is_the_sum_of_the_grids():
+    p = plan_case(case("6debris-2x3"))
+    assert p.cell_count == p.background.cell_count() + sum(b.grid.cell_count() for b in p.bodies)
+
+
+# ------------------------------------------------------------ decomposition, cost
+
+
+@pytest.mark.parametrize("name", CASE_NAMES)
+@pytest.mark.parametrize("cores", [1, 2, 3, 4])
+def test_decomposition_uses_every_core_and_keeps_bodies_whole(name, cores):
+    s = case(name, f"run.cores={cores}")
+    p = plan_case(s)
+    assert p.cores == cores
+    n = len(s.debris)
+    if n and cores in (2, 4):  # with 3 ranks a balanced cut must cross the seed's layouts
+        assert f"{n} of {n} body meshes start on one rank" in p.reasons["decomposition"]
+    if n and cores == 2:
+        assert f"{n} keep their path to the column on one rank" in p.reasons["decomposition"]
+
+
+def test_two_d_decomposition_never_splits_the_single_cell_across():
+    p = plan_case(valid("column=null", "debris=[]", "run.cores=4"))
+    assert p.decomposition[1] == 1
+
+
+def test_wall_time_estimate_is_cells_times_steps_times_cost():
+    p = plan_case(case("1debris"))
+    steps = math.ceil(p.end_time_s / p.time_step_estimate_s)
+    assert estimate_wall_time_s(p) == pytest.approx(p.cell_count * steps * US_PER_CELL_STEP["overInterDyMFoam"])
+    assert p.estimated_wall_time_s == pytest.approx(estimate_wall_time_s(p))
+    p4 = plan_case(case("1debris", "run.cores=4"))
+    assert p4.estimated_wall_time_s == pytest.approx(p.estimated_wall_time_s / 2)
+
+
+def test_default_1debris_runs_well_under_half_an_hour():
+    assert plan_case(case("1debris")).estimated_wall_time_s < 20 * 60
+
+
+def test_time_step_uses_the_ritter_front_speed():
+    s = case("nodebris")
+    p = plan_case(s)
+    assert p.velocity_scale_m_s == pytest.approx(2 * math.sqrt(G * 0.4))
+    assert p.time_step_estimate_s <= s.run.max_courant * s.mesh.cell_size_m / p.velocity_scale_m_s + 1e-12
+
+
+# --------------------------------------------------------------------- reasons, json
+
+
+@pytest.mark.parametrize("name", CASE_NAMES)
+def test_every_decision_has_a_reason_and_the_json_is_complete(name):
+    p = plan_case(case(name))
+    assert set(REASON_KEYS) <= set(p.reasons)
+    assert all(isinstance(v, str) and len(v) > 10 for v in p.reasons.values())
+    data = json.loads(p.to_json())
+    assert data["solver"] == p.solver and data["cell_count"] == p.cell_count
+    assert data["background"]["cell_count"] == p.background.cell_count()
+    assert data["decomposition"] == {"method": "hierarchical", "n": list(p.decomposition)}
+    assert set(data["reasons"]) == set(p.reasons)
+    for b, jb in zip(p.bodies, data["bodies"]):
+        assert jb["grid"]["patch_names"]["hole"] == b.name
+        assert len(jb["orientation"]) == 3
+
+
+def test_plan_warns_about_bodies_resting_on_the_bed():
+    p = plan_case(case("1debris"))
+    assert any("rests on the bed" in w for w in p.warnings)
+    assert p.bodies[0].on_bed
+
+
+def test_plan_is_pure_and_repeatable():
+    s = case("3debris-3x1")
+    assert plan_case(s).to_json() == plan_case(s).to_json()
+
+
+# ------------------------------------------------------------------- properties
+
+BASE = yaml.safe_load(VALID.read_text())
+
+
+def build(**changes) -> dict:
+    data = copy.deepcopy(BASE)
+    for key, value in changes.items():
+        node = data
+        parts = key.split("__")
+        for part in parts[:-1]:
+            node = node[part]
+        node[parts[-1]] = value
+    return data
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.floats(0.05, 20.0),
+    st.floats(0.05, 20.0),
+    st.floats(0.15, 0.55),  # >= 4 cells of the base scene's 0.03 m, below its 0.6 m walls
+)
+def test_reservoir_length_grows_with_end_time_and_is_capped(t1, t2, depth):
+    t1, t2 = sorted((t1, t2))
+    s1 = scene_from_dict(build(run__end_time_s=t1, reservoir__depth_m=depth))
+    s2 = scene_from_dict(build(run__end_time_s=t2, reservoir__depth_m=depth))
+    l1, l2 = -plan_case(s1).domain_m[0][0], -plan_case(s2).domain_m[0][0]
+    assert l1 <= l2 + 1e-12
+    assert l2 <= s2.reservoir.length_m + 1e-12
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.floats(0.012, 0.04), st.floats(1.1, 3.0), st.sampled_from(["nodebris", "1debris", "3debris-1x3"]))
+def test_cell_count_falls_when_cells_grow(h1, factor, name):
+    h2 = h1 * factor
+    assume(h2 <= 0.04)
+    n1 = plan_case(case(name, f"mesh.cell_size_m={h1}")).cell_count
+    n2 = plan_case(case(name, f"mesh.cell_size_m={h2}")).cell_count
+    assert n2 < n1
+
+
+scenes = st.fixed_dictionaries(
+    {
+        "col": st.one_of(st.none(), st.tuples(st.floats(-3.0, 5.5), st.floats(-0.35, 0.35), st.floats(0.1, 0.4))),
+        "bodies": st.lists(
+            st.tuples(st.floats(-5.5, 5.8), st.floats(-0.4, 0.4), st.floats(0, 180), st.floats(-20, 20)),
+            max_size=3,
+        ),
+        "end": st.floats(0.2, 8.0),
+        "cell": st.floats(0.02, 0.04),
+        "wet": st.sampled_from([0.0, 0.01]),
+        "end_kind": st.sampled_from(["open", "closed"]),
+        "cores": st.integers(1, 4),
+    }
+)
+
+
+def random_scene(d):
+    data = build(
+        run__end_time_s=d["end"], mesh__cell_size_m=d["cell"], bed__wet_depth_m=d["wet"],
+        flume__downstream_end=d["end_kind"], run__cores=d["cores"],
+    )
+    if d["col"] is None:
+        data["column"] = None
+        data["gauges"] = [{"name": "WG1", "x_m": -0.1, "y_m": 0.0}]
+    else:
+        data["column"].update(x_m=d["col"][0], y_m=d["col"][1], size_x_m=d["col"][2])
+        data["gauges"] = [{"name": "WG1", "x_m": -0.1, "y_m": 0.45}]
+    data["debris"] = [
+        {"name": f"b{i}", "size_m": [0.15, 0.06, 0.06], "mass_kg": 0.236, "wall_thickness_m": 0.005,
+         "centre_m": [x, y], "yaw_deg": yaw, "pitch_deg": pitch}
+        for i, (x, y, yaw, pitch) in enumerate(d["bodies"])
+    ]
+    try:
+        return scene_from_dict(data)
+    except InputError:
+        assume(False)
+
+
+@settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.filter_too_much, HealthCheck.too_slow])
+@given(scenes)
+def test_fine_region_always_holds_the_column_and_the_debris(d):
+    s = random_scene(d)
+    p = plan_case(s)
+    (fx0, fx1), (fy0, fy1), (fz0, fz1) = p.fine_region_m
+    eps = 1e-9
+    if s.column is not None:
+        c = s.column
+        assert fx0 - eps <= c.x_m - c.size_x_m / 2 and c.x_m + c.size_x_m / 2 <= fx1 + eps
+        assert fy0 - eps <= c.y_m - c.size_y_m / 2 and c.y_m + c.size_y_m / 2 <= fy1 + eps
+    for b in s.debris:
+        rot = body_rotation(b.yaw_deg, b.pitch_deg, b.roll_deg)
+        ext = np.abs(rot) @ (np.asarray(b.size_m) / 2)
+        lo, hi = np.asarray(b.centre_m) - ext, np.asarray(b.centre_m) + ext
+        assert fx0 - eps <= lo[0] and hi[0] <= fx1 + eps
+        assert fy0 - eps <= lo[1] and hi[1] <= fy1 + eps
+        assert fz0 - eps <= lo[2] and hi[2] <= fz1 + eps
+    # and the fine region's cells really are the finest
+    h = s.mesh.cell_size_m
+    for axis, (lo_, hi_) in zip("xyz", p.fine_region_m):
+        for seg in getattr(p.background, axis):
+            if lo_ - eps <= seg.start_m and seg.end_m <= hi_ + eps and not (axis == "y" and p.two_d):
+                assert max(all_cell_sizes([seg])) <= h * (1 + 1e-9)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.filter_too_much, HealthCheck.too_slow])
+@given(scenes)
+def test_every_decision_has_a_reason_for_any_scene(d):
+    s = random_scene(d)
+    p = plan_case(s)
+    assert set(REASON_KEYS) <= set(p.reasons)
+    assert all(p.reasons[k].strip() for k in REASON_KEYS)
+    assert p.cores == s.run.cores
+    assert p.cell_count == p.background.cell_count() + sum(b.grid.cell_count() for b in p.bodies)
+    assert (p.solver == "interFoam") == (not s.debris)
+    json.loads(p.to_json())
