@@ -1,0 +1,507 @@
+"""ModelPlan -> OpenFOAM v1912 case directory, through Jinja templates.
+
+One template per OpenFOAM file under `templates/` (mirroring the case layout:
+`templates/system/controlDict.j2` -> `<case>/system/controlDict`). Templates see
+one *render context* (`build_context`), a plain dict of numbers, words and
+`BoxGrid`s, so they hold layout only; every number is decided here or in the
+planner.
+
+The environment uses delimiters that cannot clash with OpenFOAM's braces and `#`
+directives: blocks `<% %>`, variables `<< >>`, comments `<# #>`; undefined names
+raise (StrictUndefined). Filters format numbers, vectors, lists and tensors the
+way OpenFOAM reads them.
+
+A rendered case (DESIGN.md section 6) holds, beside `system/`, `constant/` and `0/`:
+`bodies/<name>/` (one blockMesh sub-case per debris body, merged into the
+background by `mergeMeshes`), `scene.yaml` (resolved scene), `plan.json` and a
+`README.md` with the exact commands to run it by hand.
+
+Lengths in metres, masses in kg, times in seconds.
+"""
+
+from __future__ import annotations
+
+import math
+import shutil
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import Any, Iterable, Sequence
+
+import numpy as np
+from jinja2 import ChoiceLoader, Environment, FileSystemLoader, StrictUndefined
+
+from analytical.errors import InputError
+from orchestrator.grid import BoxGrid
+
+TEMPLATE_DIR = Path(__file__).resolve().parent.parent / "templates"
+
+#: Background patches and what they are, by the planner's patch names.
+BACKGROUND_PATCH_KINDS = {
+    "upstreamWall": "wall",
+    "downstream": "wall",  # or "outlet": the plan's downstream_type
+    "sideWalls": "wall",
+    "frontAndBack": "empty",
+    "bed": "wall",
+    "atmosphere": "atmosphere",
+    "column": "wall",
+}
+#: blockMesh patch type of each patch kind.
+BLOCKMESH_TYPES = {"wall": "wall", "body": "wall", "atmosphere": "patch", "outlet": "patch",
+                   "empty": "empty", "overset": "overset"}
+#: Name of the empty overset patch put first in the background mesh (as the v1912
+#: floatingBody tutorial does) so that overset interpolation is set up before any
+#: other boundary condition is evaluated.
+OVERSET_DUMMY_PATCH = "oversetPatch"
+COLUMN_PATCH = "column"
+#: Cell zone of the background's first cell layer above the bed (bed friction).
+BED_LAYER_ZONE = "bedLayer"
+#: Sub-directory of a case holding one blockMesh sub-case per body.
+BODIES_DIR = "bodies"
+
+# --------------------------------------------------------------------------- numerics
+
+
+@dataclass(frozen=True)
+class Numerics:
+    """Linear solvers, PIMPLE and overset settings (the levers of DESIGN.md section 3).
+
+    Defaults: interFoam as the v1912 damBreak tutorial (GAMG for p_rgh); overset as
+    measured in DESIGN.md section 3: cellVolumeWeight, PBiCGStab/DILU for p_rgh at
+    tolerance 1e-7 / relTol 0.05 (GAMG fails with overset), one corrector.
+    """
+
+    p_rgh_solver: str
+    p_rgh_tolerance: float = 1e-7
+    p_rgh_rel_tol: float = 0.05
+    #: relTol of the final p_rgh solve; with one outer and one inner corrector the
+    #: only solve is the final one, so this is the one that decides the cost.
+    p_rgh_final_rel_tol: float = 0.0
+    n_outer_correctors: int = 1
+    n_correctors: int = 3
+    momentum_predictor: bool = False
+    n_alpha_correctors: int = 2
+    n_alpha_subcycles: int = 1
+    overset_interpolation: str = "cellVolumeWeight"
+    #: sixDoFRigidBodyMotion relaxation/damping of the body acceleration (tutorial values)
+    acceleration_relaxation: float = 0.6
+    acceleration_damping: float = 0.9
+
+    @classmethod
+    def for_solver(cls, solver: str) -> "Numerics":
+        if solver == "overInterDyMFoam":
+            return cls(p_rgh_solver="PBiCGStab", p_rgh_final_rel_tol=0.05, n_correctors=1)
+        if solver == "interFoam":
+            return cls(p_rgh_solver="GAMG")
+        raise InputError("solver", f"must be interFoam or overInterDyMFoam, got {solver!r}")
+
+
+# --------------------------------------------------------------------------- environment
+
+
+def _number(value: Any) -> str:
+    """A number as OpenFOAM reads it: integers plain, floats with 10 significant digits.
+
+    Values within 1e-12 of zero are written as 0 (rotated vertices otherwise carry
+    round-off such as -1.2e-17 into golden files). Booleans and non-finite values are
+    refused: OpenFOAM would read them as words or garbage.
+    """
+    if isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"not a number: {value!r}")
+    if isinstance(value, (int, np.integer)):
+        return str(int(value))
+    v = float(value)
+    if not math.isfinite(v):
+        raise ValueError(f"not a finite number: {value!r}")
+    if abs(v) < 1e-12:
+        return "0"
+    if v == int(v) and abs(v) < 1e15:
+        return str(int(v))
+    return f"{v:.10g}"
+
+
+def _vector(values: Iterable[Any]) -> str:
+    vals = list(np.asarray(values, dtype=float).ravel())
+    if len(vals) != 3:
+        raise ValueError(f"a vector needs 3 components, got {len(vals)}")
+    return "(" + " ".join(_number(v) for v in vals) + ")"
+
+
+def _tensor(values: Any) -> str:
+    """A 3x3 tensor (nested or flat, row-major) as OpenFOAM's (xx xy xz yx ... zz)."""
+    vals = list(np.asarray(values, dtype=float).ravel())
+    if len(vals) != 9:
+        raise ValueError(f"a tensor needs 9 components, got {len(vals)}")
+    return "(" + " ".join(_number(v) for v in vals) + ")"
+
+
+def _list(values: Iterable[Any]) -> str:
+    """A list of numbers or words: (a b c)."""
+    return "(" + " ".join(v if isinstance(v, str) else _number(v) for v in values) + ")"
+
+
+def _switch(value: bool) -> str:
+    return "yes" if value else "no"
+
+
+def template_environment(extra_dirs: Sequence[str | Path] = ()) -> Environment:
+    """The Jinja environment for OpenFOAM files; `extra_dirs` override bundled templates."""
+    loaders = [FileSystemLoader(str(d)) for d in extra_dirs] + [FileSystemLoader(str(TEMPLATE_DIR))]
+    env = Environment(
+        loader=ChoiceLoader(loaders),
+        undefined=StrictUndefined,
+        trim_blocks=True,
+        lstrip_blocks=True,
+        keep_trailing_newline=True,
+        autoescape=False,
+        block_start_string="<%",
+        block_end_string="%>",
+        variable_start_string="<<",
+        variable_end_string=">>",
+        comment_start_string="<#",
+        comment_end_string="#>",
+    )
+    env.filters.update(foam_number=_number, foam_vector=_vector, foam_tensor=_tensor,
+                       foam_list=_list, foam_switch=_switch)
+    return env
+
+
+# --------------------------------------------------------------------------- context
+
+
+def _first_cell_m(segments) -> float:
+    return min(min(s.cell_sizes_m()) for s in segments)
+
+
+def _mesh_context(grid: BoxGrid, patch_kinds: dict[str, str], zone: str | None,
+                  leading: Sequence[tuple[str, str]] = ()) -> dict[str, Any]:
+    """What blockMeshDict.j2 needs for one BoxGrid."""
+    names = list(grid.boundary_faces())
+    unknown = [n for n in names if n not in patch_kinds]
+    if unknown:
+        raise InputError(f"{grid.name}.patch_names", f"no boundary condition known for patch(es) {unknown}")
+    return {
+        "grid": grid,
+        "zone": zone,
+        "patch_types": {n: BLOCKMESH_TYPES[patch_kinds[n]] for n in names},
+        "leading_patches": [{"name": n, "type": BLOCKMESH_TYPES[k]} for n, k in leading],
+        "patch_names": names,
+    }
+
+
+def _hole_box(grid: BoxGrid) -> tuple[np.ndarray, np.ndarray] | None:
+    """Bounds (min, max) of the union of a grid's holes, in grid coordinates."""
+    if not grid.holes:
+        return None
+    xs, ys, zs = grid.planes("x"), grid.planes("y"), grid.planes("z")
+    lo = np.array([[xs[i], ys[j], zs[k]] for i, j, k in grid.holes]).min(axis=0)
+    hi = np.array([[xs[i + 1], ys[j + 1], zs[k + 1]] for i, j, k in grid.holes]).max(axis=0)
+    return lo, hi
+
+
+def _water_boxes(plan) -> list[dict[str, tuple[float, float, float]]]:
+    boxes = []
+    for i, box in enumerate(plan.water):
+        lo, hi = np.asarray(box.min_m, dtype=float), np.asarray(box.max_m, dtype=float)
+        if not np.all(hi > lo):
+            raise InputError(f"plan.water.{i}", f"box max {tuple(hi)} must exceed min {tuple(lo)}")
+        boxes.append({"name": box.name, "min": tuple(lo), "max": tuple(hi)})
+    return boxes
+
+
+def _decomposition(plan) -> tuple[int, int, int]:
+    n = tuple(int(v) for v in plan.decomposition)
+    if len(n) != 3 or min(n) < 1:
+        raise InputError("plan.decomposition", f"hierarchical n must be 3 counts >= 1, got {n}")
+    return n
+
+
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("debrisfoam")
+    except PackageNotFoundError:  # running from a source tree that is not installed
+        return "0+unknown"
+
+
+def build_context(scene, plan, numerics: Numerics | None = None) -> dict[str, Any]:
+    """The render context: everything every template may use, from the scene and its plan.
+
+    `scene` supplies fluid properties and the sampling interval (None: the scene
+    defaults); everything else comes from `plan`. Keys (lengths m, times s):
+
+    - generator_version; case: solver, overset, two_d, cell_count, bodies_dir
+    - background: a mesh (below) for system/blockMeshDict, with the empty
+      `oversetPatch` first when overset and cell zone "background"
+    - bodies: per body name, zone_id (1..), subcase ("bodies/<name>"), mesh,
+      wall_patch, overset_patch, mass_kg, centre_of_mass_m, moment_of_inertia_kg_m2
+      (principal, body axes), orientation (3x3, body -> global), size_m
+    - mesh = grid (the BoxGrid), zone, patch_types (blockMesh types), leading_patches
+    - patches: [{name, kind}] of the merged mesh in order; kind is one of wall,
+      body, atmosphere, outlet, empty, overset and picks each field's boundary condition
+    - water_boxes: [{name, min, max}]; bed_friction: None or {darcy_f, layer_m, zone,
+      forchheimer_per_m, box_min, box_max}; domain: {min, max}
+    - gauges: [{name, start, end, n_points}] (vertical lines, bed to top);
+      probes: [{name, point}]; column: None or {patch, min, max, centre_of_rotation}
+    - time: end_s, write_interval_s, delta_t_s (first step), max_delta_t_s,
+      max_courant, max_alpha_courant, sample_interval_s (None = every step)
+    - decomposition: {n, n_subdomains}; fluid: water/air rho and nu, sigma, g;
+      numerics: `Numerics` as a dict; motion: inner/outer distance; reasons: lines
+    """
+    solver = plan.solver
+    numerics = numerics or Numerics.for_solver(solver)
+    overset = solver == "overInterDyMFoam"
+    if overset and plan.two_d:
+        raise InputError("plan.two_d", "a 2D case cannot carry six-DoF debris bodies (overset needs 3D)")
+    if overset != bool(plan.bodies):
+        raise InputError("plan.solver", f"{solver} with {len(plan.bodies)} debris bodies")
+
+    from orchestrator.scene import Fluids, Outputs
+
+    # scene None: the scene defaults (golden files and tests render plans directly)
+    fluids = getattr(scene, "fluids", None) or Fluids()
+    outputs = getattr(scene, "outputs", None) or Outputs()
+    bg: BoxGrid = plan.background
+    if plan.downstream_type not in ("wall", "outlet"):
+        raise InputError("plan.downstream_type", f"must be 'wall' or 'outlet', got {plan.downstream_type!r}")
+    kinds = dict(BACKGROUND_PATCH_KINDS, downstream=plan.downstream_type)
+    leading = [(OVERSET_DUMMY_PATCH, "overset")] if overset else []
+    background = _mesh_context(bg, kinds, "background" if overset else None, leading)
+    patches = [{"name": n, "kind": k} for n, k in leading]
+    patches += [{"name": n, "kind": kinds[n]} for n in background["patch_names"]]
+
+    bodies = []
+    for zone_id, body in enumerate(plan.bodies, start=1):
+        wall, outer = body.name, f"{body.name}Overset"
+        body_kinds = {wall: "body", outer: "overset"}
+        mesh = _mesh_context(body.grid, body_kinds, body.name)
+        if set(mesh["patch_names"]) != {wall, outer}:
+            raise InputError(f"plan.bodies[{zone_id - 1}].grid",
+                             f"body mesh patches must be {outer!r} and {wall!r}, got {mesh['patch_names']}")
+        patches += [{"name": outer, "kind": "overset"}, {"name": wall, "kind": "body"}]
+        bodies.append({
+            "name": body.name,
+            "zone_id": zone_id,
+            "subcase": f"{BODIES_DIR}/{body.name}",
+            "mesh": mesh,
+            "wall_patch": wall,
+            "overset_patch": outer,
+            "mass_kg": float(body.mass_kg),
+            "centre_of_mass_m": tuple(float(v) for v in body.centre_of_mass_m),
+            "moment_of_inertia_kg_m2": tuple(float(v) for v in body.moment_of_inertia_kg_m2),
+            "orientation": tuple(tuple(float(v) for v in row) for row in np.asarray(body.orientation, dtype=float)),
+            "size_m": tuple(float(v) for v in body.size_m),
+        })
+
+    lo = np.array([bg.planes(a)[0] for a in "xyz"])
+    hi = np.array([bg.planes(a)[-1] for a in "xyz"])
+    dz_bed = bg.z[0].cell_sizes_m()[0]  # height of the first cell layer above the bed
+    h_min = min(_first_cell_m(bg.x), _first_cell_m(bg.y) if not plan.two_d else np.inf, dz_bed)
+    water_boxes = _water_boxes(plan)
+    depth = max((b["max"][2] - lo[2] for b in water_boxes), default=hi[2] - lo[2])
+
+    column = None
+    hole = _hole_box(bg)
+    if hole is not None and COLUMN_PATCH in background["patch_names"]:
+        c_lo, c_hi = (np.asarray(v) @ np.asarray(bg.rotation).T + np.asarray(bg.origin) for v in hole)
+        base = ((c_lo[0] + c_hi[0]) / 2, (c_lo[1] + c_hi[1]) / 2, c_lo[2])
+        column = {"patch": COLUMN_PATCH, "min": tuple(c_lo), "max": tuple(c_hi), "centre_of_rotation": base}
+
+    y_mid = (lo[1] + hi[1]) / 2
+    gauges, probes = [], []
+    for g in plan.gauges:
+        y = y_mid if plan.two_d else float(g.y)
+        top = min(float(g.z_top), hi[2])
+        n_points = int(min(1000, math.ceil((top - lo[2]) / (dz_bed / 2)) + 1))
+        # a line ending exactly on the bed or the top boundary starts "outside of
+        # the mesh" (a v1912 warning): keep both ends a hair inside
+        eps = 1e-3 * dz_bed
+        gauges.append({"name": g.name, "start": (float(g.x), y, lo[2] + eps), "end": (float(g.x), y, top - eps),
+                       "n_points": n_points})
+        probes.append({"name": f"{g.name}_bed", "point": (float(g.x), y, lo[2] + dz_bed / 2)})
+    if column is not None:
+        x_face = column["min"][0] - h_min / 4
+        yc = column["centre_of_rotation"][1]
+        for n in range(1, 5):
+            z = lo[2] + depth * n / 5
+            probes.append({"name": f"column_face_{n}", "point": (x_face, yc, z)})
+
+    end_s = float(plan.end_time_s)
+    write_s = float(plan.write_interval_s)
+    max_co = float(plan.max_courant)
+    wave_speed = 2 * math.sqrt(fluids.gravity_m_s2 * max(depth, 1e-3))
+    time = {
+        "end_s": end_s,
+        "write_interval_s": write_s,
+        "delta_t_s": float(f"{min(1e-3, 0.1 * max_co * h_min / wave_speed):.2g}"),
+        "max_delta_t_s": float(min(0.01, write_s)),
+        "max_courant": max_co,
+        "max_alpha_courant": max_co,
+        # gauges, forces and probes: every time step when the scene says null
+        "sample_interval_s": None if outputs.probe_interval_s is None else float(outputs.probe_interval_s),
+    }
+
+    # Bed friction (Darcy f): a quadratic drag on the first cell layer above the bed,
+    # as a Darcy-Forchheimer porosity with only the Forchheimer term, horizontal only.
+    # Per unit volume the model's drag is rho |U| F / 2 U; the bed shear
+    # rho (f / 8) |U| U spread over the layer's height dz gives F = f / (4 dz).
+    friction = None
+    f_darcy = float(plan.bed_friction_factor)
+    if f_darcy > 0:
+        friction = {"darcy_f": f_darcy, "layer_m": dz_bed, "zone": BED_LAYER_ZONE,
+                    "forchheimer_per_m": f_darcy / (4 * dz_bed),
+                    "box_min": (lo[0] - 1, lo[1] - 1, lo[2] - 1), "box_max": (hi[0] + 1, hi[1] + 1, lo[2] + dz_bed)}
+
+    n = _decomposition(plan)
+    diag = float(np.linalg.norm(hi - lo))
+    return {
+        "generator_version": _version(),
+        "case": {"solver": solver, "overset": overset, "two_d": bool(plan.two_d),
+                 "cell_count": int(plan.cell_count), "bodies_dir": BODIES_DIR},
+        "background": background,
+        "bodies": bodies,
+        "patches": patches,
+        "water_boxes": water_boxes,
+        "bed_friction": friction,
+        "domain": {"min": tuple(lo), "max": tuple(hi)},
+        "gauges": gauges,
+        "probes": probes,
+        "column": column,
+        "time": time,
+        "decomposition": {"n": n, "n_subdomains": int(np.prod(n))},
+        "fluid": {"water_rho": fluids.water_density_kg_m3, "water_nu": fluids.water_viscosity_m2_s,
+                  "air_rho": fluids.air_density_kg_m3, "air_nu": fluids.air_viscosity_m2_s,
+                  "sigma": fluids.surface_tension_N_m, "g": (0.0, 0.0, -fluids.gravity_m_s2)},
+        "numerics": asdict(numerics),
+        # Points are moved by a body only if connected to its wall patch; the body
+        # meshes are disconnected from the background and from each other, so a
+        # distance beyond the domain moves each body mesh rigidly and nothing else.
+        "motion": {"inner_distance_m": max(100.0, 10 * diag), "outer_distance_m": max(101.0, 10 * diag + 1)},
+        "reasons": [f"{k}: {v}" for k, v in plan.reasons.items()],
+    }
+
+
+# --------------------------------------------------------------------------- files
+
+
+def case_files(context: dict[str, Any]) -> list[tuple[str, str, dict[str, Any]]]:
+    """(template, output path relative to the case, extra variables) for every file."""
+    overset = context["case"]["overset"]
+    files: list[tuple[str, str, dict[str, Any]]] = [
+        ("system/blockMeshDict.j2", "system/blockMeshDict", {"mesh": context["background"]}),
+        ("system/controlDict.j2", "system/controlDict", {}),
+        ("system/fvSchemes.j2", "system/fvSchemes", {}),
+        ("system/fvSolution.j2", "system/fvSolution", {}),
+        ("system/decomposeParDict.j2", "system/decomposeParDict", {}),
+        ("system/setFieldsDict.j2", "system/setFieldsDict", {}),
+        ("constant/g.j2", "constant/g", {}),
+        ("constant/transportProperties.j2", "constant/transportProperties", {}),
+        ("constant/turbulenceProperties.j2", "constant/turbulenceProperties", {}),
+        ("0/alpha.water.j2", "0/alpha.water", {}),
+        ("0/U.j2", "0/U", {}),
+        ("0/p_rgh.j2", "0/p_rgh", {}),
+    ]
+    if overset or context["bed_friction"]:
+        files.append(("system/topoSetDict.j2", "system/topoSetDict", {}))
+    if context["bed_friction"]:
+        files.append(("system/fvOptions.j2", "system/fvOptions", {}))
+    if overset:
+        files += [
+            ("constant/dynamicMeshDict.j2", "constant/dynamicMeshDict", {}),
+            ("0/pointDisplacement.j2", "0/pointDisplacement", {}),
+            ("0/zoneID.j2", "0/zoneID", {}),
+        ]
+        for body in context["bodies"]:
+            files += [
+                ("system/blockMeshDict.j2", f"{body['subcase']}/system/blockMeshDict", {"mesh": body["mesh"]}),
+                ("body/system/controlDict.j2", f"{body['subcase']}/system/controlDict", {"body": body}),
+            ]
+    return files
+
+
+def render_files(context: dict[str, Any], env: Environment | None = None) -> dict[str, str]:
+    """Every OpenFOAM file of the case as text, keyed by path relative to the case."""
+    env = env or template_environment()
+    out = {}
+    for template, path, extra in case_files(context):
+        out[path] = env.get_template(template).render(**context, **extra)
+    return out
+
+
+def _is_empty_dir(path: Path) -> bool:
+    return not path.exists() or (path.is_dir() and not any(path.iterdir()))
+
+
+def render_case(scene, plan, out_dir: str | Path, force: bool = False, overrides: Sequence[str] = ()) -> Path:
+    """Write the OpenFOAM case for `plan` (from `scene`) into `out_dir`; return its path.
+
+    Refuses a non-empty `out_dir` unless `force` (InputError naming "out_dir"). With
+    `force`, a previous debrisfoam case there (it has a plan.json) is removed first so
+    that no stale mesh or results survive; other files are overwritten in place.
+    `overrides` (the `--set` items that produced `scene`) head scene.yaml.
+    """
+    from orchestrator import foam
+
+    out = Path(out_dir)
+    if out.exists() and not out.is_dir():
+        raise InputError("out_dir", f"{out} exists and is not a directory")
+    if not _is_empty_dir(out):
+        if not force:
+            raise InputError("out_dir", f"{out} is not empty (use --force to overwrite it)")
+        if (out / "plan.json").is_file():
+            shutil.rmtree(out)
+    context = build_context(scene, plan)
+    env = template_environment()
+    files = render_files(context, env)
+    files["scene.yaml"] = _scene_yaml(scene, overrides)
+    files["plan.json"] = _plan_json(plan)
+    steps = foam.mesh_steps(out, plan) + foam.solve_steps(out, plan)
+    files["README.md"] = env.get_template("README.md.j2").render(
+        **context, commands=[{"name": s.name, "shell": s.shell(), "what": s.what} for s in steps],
+        env_exports=foam.ENV_EXPORTS)
+    for rel, text in files.items():
+        path = out / rel
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text)
+    return out
+
+
+def _scene_yaml(scene, overrides: Sequence[str] = ()) -> str:
+    """The resolved scene as YAML (a plain dict, e.g. in tests, is dumped as it is)."""
+    import yaml
+
+    from orchestrator.scene import Scene, dump_scene_yaml
+
+    if isinstance(scene, Scene):
+        return dump_scene_yaml(scene, list(overrides))
+    if isinstance(scene, dict):
+        return yaml.safe_dump(dict(scene), sort_keys=False)
+    raise TypeError(f"render_case needs an orchestrator.scene.Scene, got {type(scene).__name__}")
+
+
+def _plan_json(plan) -> str:
+    text = plan.to_json()
+    return text if text.endswith("\n") else text + "\n"
+
+
+def render_from_file(scene_path: str | Path, out_dir: Path, sets: Sequence[str] = (), force: bool = False,
+                     mesh: bool = False) -> dict[str, Any]:
+    """The `debrisfoam render` verb: load and plan the scene, render, optionally mesh.
+
+    Returns a summary for the CLI: case path, solver, planned cell count and, with
+    `mesh`, checkMesh's verdict, cell count and quality figures.
+    """
+    from orchestrator import foam
+    from orchestrator.plan import plan_case
+    from orchestrator.scene import load_scene
+
+    scene = load_scene(scene_path, list(sets))
+    plan = plan_case(scene)
+    case = render_case(scene, plan, out_dir, force=force, overrides=sets)
+    summary: dict[str, Any] = {"case": str(case), "solver": plan.solver, "planned_cells": int(plan.cell_count)}
+    if mesh:
+        for step in foam.mesh_steps(case, plan):
+            foam.run_step(step.name, step.argv, case, np=step.np, done=step.done)
+        check = foam.check_mesh_summary(case / "log.checkMesh")
+        summary.update({f"mesh_{k}": v for k, v in asdict(check).items()})
+    return summary

@@ -1,0 +1,351 @@
+"""Rendering cases from plans: filters, golden files, render_case, and real meshing.
+
+Plans come from `regenerate_golden.flume_plan` (hand-made, ModelPlan-shaped), so these
+tests pin the templates; the scene files in `cases/` are rendered through the planner
+in the tests at the end. Tests marked `openfoam` run real OpenFOAM v1912 on coarse
+meshes (seconds each).
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+from jinja2 import UndefinedError
+
+from analytical.errors import InputError
+from orchestrator import foam
+from orchestrator.render import (
+    Numerics,
+    _number,
+    _tensor,
+    _vector,
+    build_context,
+    render_case,
+    render_files,
+    template_environment,
+)
+
+from regenerate_golden import GOLDEN_DIR, GOLDEN_PLANS, flume_plan, golden_files
+
+ROOT = Path(__file__).resolve().parent.parent
+CASES = ROOT / "cases"
+
+
+# --------------------------------------------------------------------------- filters
+
+
+@pytest.mark.parametrize("value, text", [
+    (3, "3"), (2.0, "2"), (0.1, "0.1"), (-1.5e-7, "-1.5e-07"), (1e-17, "0"), (-2e-13, "0"),
+    (np.float64(0.25), "0.25"), (np.int64(7), "7"), (1.0 / 3.0, "0.3333333333"),
+])
+def test_numbers_are_written_as_openfoam_reads_them(value, text):
+    assert _number(value) == text
+
+
+@pytest.mark.parametrize("bad", [float("nan"), float("inf"), True])
+def test_non_numbers_are_refused(bad):
+    with pytest.raises((TypeError, ValueError)):
+        _number(bad)
+
+
+def test_vectors_and_tensors():
+    assert _vector((1, 0.5, -2)) == "(1 0.5 -2)"
+    assert _tensor(np.eye(3)) == "(1 0 0 0 1 0 0 0 1)"
+    with pytest.raises(ValueError, match="3 components"):
+        _vector((1, 2))
+    with pytest.raises(ValueError, match="9 components"):
+        _tensor((1, 2, 3))
+
+
+def test_delimiters_leave_openfoam_syntax_alone(tmp_path):
+    (tmp_path / "t.j2").write_text('#include "x"\nfoo { bar << v | foam_number >>; } // {{ raw }} {% raw %}\n')
+    env = template_environment([tmp_path])
+    assert env.get_template("t.j2").render(v=2.5) == '#include "x"\nfoo { bar 2.5; } // {{ raw }} {% raw %}\n'
+
+
+def test_undefined_names_raise(tmp_path):
+    (tmp_path / "t.j2").write_text("a << missing >>\n")
+    with pytest.raises(UndefinedError):
+        template_environment([tmp_path]).get_template("t.j2").render()
+
+
+# --------------------------------------------------------------------------- golden
+
+
+@pytest.mark.parametrize("name", sorted(GOLDEN_PLANS))
+def test_rendered_dictionaries_match_golden_files(name):
+    """Rendered text equals tests/golden/<case>/ (regenerate: python tests/regenerate_golden.py)."""
+    files = golden_files(name)
+    root = GOLDEN_DIR / name
+    on_disk = {p.relative_to(root).as_posix() for p in root.rglob("*") if p.is_file()}
+    assert set(files) == on_disk
+    for rel, text in files.items():
+        assert text == (root / rel).read_text(), f"{name}/{rel} differs from its golden file"
+
+
+@pytest.mark.parametrize("name", sorted(GOLDEN_PLANS))
+def test_rendered_dictionaries_parse_with_pyfoam(name):
+    from PyFoam.RunDictionary.ParsedParameterFile import ParsedParameterFile
+
+    for rel in golden_files(name):
+        path = GOLDEN_DIR / name / rel
+        parsed = ParsedParameterFile(str(path), noHeader=False, doMacroExpansion=False)
+        assert parsed.content is not None, rel
+    ctrl = ParsedParameterFile(str(GOLDEN_DIR / name / "system" / "controlDict"))
+    assert ctrl["application"] == GOLDEN_PLANS[name]().solver
+
+
+def test_blockmeshdict_writes_the_box_grid():
+    plan = flume_plan(1)
+    files = render_files(build_context(None, plan))
+    for text, grid in ((files["system/blockMeshDict"], plan.background),
+                       (files["bodies/debris1/system/blockMeshDict"], plan.bodies[0].grid)):
+        vertices = re.search(r"^vertices\n\(\n(.*?)^\);", text, re.S | re.M).group(1)
+        assert len(re.findall(r"^\s+\(", vertices, re.M)) == len(grid.vertices())
+        assert text.count("hex (") == len(grid.blocks())
+        cells = sum(int(a) * int(b) * int(c) for a, b, c in re.findall(r"^\s+\((\d+) (\d+) (\d+)\)$", text, re.M))
+        assert cells == grid.cell_count()
+    body = files["bodies/debris1/system/blockMeshDict"]
+    assert re.search(r"debris1Overset\n\s+\{\n\s+type\s+overset;", body)
+    assert re.search(r"debris1\n\s+\{\n\s+type\s+wall;", body)
+    assert " debris1\n" in body.split("\nblocks\n")[1]  # blocks carry the body's cell zone
+
+
+def test_every_patch_gets_a_boundary_condition_in_every_field():
+    files = render_files(build_context(None, flume_plan(2)))
+    patches = ["oversetPatch", "upstreamWall", "sideWalls", "bed", "atmosphere", "column", "downstream",
+               "debris1Overset", "debris1", "debris2Overset", "debris2"]
+    for field in ("alpha.water", "U", "p_rgh", "pointDisplacement", "zoneID"):
+        text = files[f"0/{field}"]
+        for patch in patches:
+            assert re.search(rf"^    {patch}\n    {{", text, re.M), f"{field}: no entry for {patch}"
+
+
+def test_dynamic_mesh_dict_has_one_solver_per_body():
+    plan = flume_plan(2)
+    text = render_files(build_context(None, plan))["constant/dynamicMeshDict"]
+    for body in plan.bodies:
+        block = text.split(f"    {body.name}\n    {{")[1]
+        assert f"patches         ({body.name});" in block
+        assert f"mass            {_number(body.mass_kg)};" in block
+        assert "centreOfMass    " + _vector(body.centre_of_mass_m) in block
+        assert "orientation     " + _tensor(body.orientation) in block
+    assert "solvers\n{" in text and text.count("motionSolver    sixDoFRigidBodyMotion;") == 2
+
+
+def test_downstream_outlet():
+    from dataclasses import replace
+
+    files = render_files(build_context(None, replace(flume_plan(0), downstream_type="outlet")))
+    assert re.search(r"downstream\n\s+\{\n\s+type\s+patch;", files["system/blockMeshDict"])
+    assert re.search(r"downstream\n    \{\n        type inletOutlet;", files["0/U"])
+    assert re.search(r"downstream\n    \{\n        type prghPressure;", files["0/p_rgh"])
+
+
+def test_two_d_overset_is_refused():
+    from dataclasses import replace
+
+    plan = replace(flume_plan(0, two_d=True), solver="overInterDyMFoam", bodies=flume_plan(1).bodies)
+    with pytest.raises(InputError, match="plan.two_d"):
+        build_context(None, plan)
+
+
+def test_numerics_follow_design_for_overset():
+    n = Numerics.for_solver("overInterDyMFoam")
+    assert (n.p_rgh_solver, n.p_rgh_tolerance, n.p_rgh_rel_tol, n.n_correctors) == ("PBiCGStab", 1e-7, 0.05, 1)
+    assert n.overset_interpolation == "cellVolumeWeight"
+    with pytest.raises(InputError, match="solver"):
+        Numerics.for_solver("simpleFoam")
+
+
+def test_gauge_lines_span_the_water_column_inside_the_mesh():
+    plan = flume_plan(0)
+    ctx = build_context(None, plan)
+    z_top = plan.background.planes("z")[-1]
+    for g, planned in zip(ctx["gauges"], plan.gauges):
+        assert g["start"][:2] == (planned.x, planned.y)
+        assert 0 < g["start"][2] < 1e-3 and z_top - 1e-3 < g["end"][2] < z_top
+        assert g["n_points"] >= z_top / 0.04 * 2
+    assert ctx["column"]["centre_of_rotation"] == pytest.approx((1.29, 0.0, 0.0))
+
+
+# --------------------------------------------------------------------------- render_case
+
+
+def test_render_case_writes_a_self_describing_case(tmp_path):
+    plan = flume_plan(1)
+    case = render_case({"name": "fixture"}, plan, tmp_path / "case")
+    for rel in ("system/controlDict", "constant/dynamicMeshDict", "0/zoneID", "bodies/debris1/system/blockMeshDict",
+                "scene.yaml", "plan.json", "README.md"):
+        assert (case / rel).is_file(), rel
+    readme = (case / "README.md").read_text()
+    for step in foam.mesh_steps(case, plan) + foam.solve_steps(case, plan):
+        assert step.shell() in readme
+    assert "mergeMeshes . bodies/debris1 -overwrite" in readme
+    assert "mpirun -np 2 overInterDyMFoam -parallel" in readme
+    assert "name: fixture" in (case / "scene.yaml").read_text()
+
+
+def test_render_case_refuses_a_non_empty_directory(tmp_path):
+    (tmp_path / "keep.txt").write_text("mine")
+    with pytest.raises(InputError) as err:
+        render_case({}, flume_plan(0), tmp_path)
+    assert err.value.field == "out_dir"
+    assert not (tmp_path / "system").exists()
+
+
+def test_force_replaces_a_previous_case(tmp_path):
+    case = render_case({}, flume_plan(1), tmp_path / "c")
+    (case / "constant" / "polyMesh").mkdir()
+    render_case({}, flume_plan(0), case, force=True)
+    assert not (case / "constant" / "polyMesh").exists()  # no stale mesh survives
+    assert not (case / "bodies").exists()
+    assert "interFoam" in (case / "system" / "controlDict").read_text()
+
+
+# --------------------------------------------------------------------------- real OpenFOAM
+
+
+def _mesh(case: Path, plan) -> dict[str, float]:
+    timings = {}
+    for step in foam.mesh_steps(case, plan):
+        result = foam.run_step(step.name, step.argv, case, np=step.np, done=step.done)
+        timings[step.name] = result.wall_s
+    return timings
+
+
+@pytest.mark.openfoam
+def test_nodebris_case_meshes(tmp_path, openfoam):
+    plan = flume_plan(0, h=0.04)
+    case = render_case({}, plan, tmp_path / "case")
+    _mesh(case, plan)
+    summary = foam.check_mesh_summary(case / "log.checkMesh")
+    assert summary.ok and summary.cells == plan.background.cell_count() == plan.cell_count
+    n_cells = re.search(r"nCells: (\d+)", (case / "log.blockMesh").read_text()).group(1)
+    assert int(n_cells) == plan.background.cell_count()
+    assert foam.patch_names(case) == ["upstreamWall", "sideWalls", "bed", "atmosphere", "column", "downstream"]
+    # the bed layer (bed friction): the first cell layer of the background
+    assert _set_size(case, "bedLayer") == _first_layer_cells(plan.background)
+    assert "bedLayer" in (case / "constant/polyMesh/cellZones").read_text()
+    alpha = (case / "0" / "alpha.water").read_text()
+    assert "nonuniform List<scalar>" in alpha
+    # re-running skips every step (their outputs exist)
+    for step in foam.mesh_steps(case, plan):
+        assert foam.run_step(step.name, step.argv, case, done=step.done).skipped, step.name
+
+
+@pytest.mark.openfoam
+def test_two_d_case_meshes(tmp_path, openfoam):
+    plan = flume_plan(0, h=0.02, two_d=True)
+    case = render_case({}, plan, tmp_path / "case")
+    _mesh(case, plan)
+    summary = foam.check_mesh_summary(case / "log.checkMesh")
+    assert summary.ok and summary.cells == plan.cell_count
+    assert "Mesh has 2 solution (non-empty) directions" in (case / "log.checkMesh").read_text()
+
+
+@pytest.mark.openfoam
+def test_one_debris_case_meshes_with_zones(tmp_path, openfoam):
+    plan = flume_plan(1, h=0.04)
+    case = render_case({}, plan, tmp_path / "case")
+    _mesh(case, plan)
+    summary = foam.check_mesh_summary(case / "log.checkMesh")
+    body_cells = plan.bodies[0].grid.cell_count()
+    assert summary.ok and summary.regions == 2
+    assert summary.cells == plan.background.cell_count() + body_cells == plan.cell_count
+    n_body = re.search(r"nCells: (\d+)", (case / "log.blockMesh.debris1").read_text()).group(1)
+    assert int(n_body) == body_cells
+    assert foam.patch_names(case)[0] == "oversetPatch"
+    assert foam.patch_names(case)[-2:] == ["debris1Overset", "debris1"]
+    assert _set_size(case, "debris1") == body_cells
+    assert _set_size(case, "bedLayer") == _first_layer_cells(plan.background)
+    zone_id = _internal_field(case / "0" / "zoneID")
+    assert (zone_id == 1).sum() == body_cells and (zone_id == 0).sum() == plan.background.cell_count()
+
+
+@pytest.mark.openfoam
+def test_body_mesh_is_placed_and_rotated(tmp_path, openfoam):
+    """The yawed body's mesh in the merged case has the bounding box of the rotated grid."""
+    plan = flume_plan(2, h=0.04)
+    case = render_case({}, plan, tmp_path / "case")
+    _mesh(case, plan)
+    log = (case / "log.checkMesh").read_text()
+    grid = plan.bodies[1].grid
+    pts = grid.vertices()
+    row = re.search(r"^\s+debris2\s+\d+\s+\d+\s+\S+\s+\(([^)]*)\) \(([^)]*)\)", log, re.M)
+    lo, hi = (np.array(row.group(i).split(), dtype=float) for i in (1, 2))
+    np.testing.assert_allclose(lo, pts.min(axis=0), atol=1e-6)
+    np.testing.assert_allclose(hi, pts.max(axis=0), atol=1e-6)
+
+
+def _first_layer_cells(grid) -> int:
+    """Cells of a BoxGrid's first layer above its bottom (holes left out)."""
+    nx, ny = sum(s.cells for s in grid.x), sum(s.cells for s in grid.y)
+    return nx * ny - sum(grid.x[i].cells * grid.y[j].cells for i, j, k in grid.holes if k == 0)
+
+
+def _set_size(case: Path, name: str) -> int:
+    text = (case / "constant" / "polyMesh" / "sets" / name).read_text()
+    return int(re.search(r"^(\d+)\n\(", text, re.M).group(1))
+
+
+def _internal_field(path: Path) -> np.ndarray:
+    text = path.read_text()
+    m = re.search(r"internalField\s+nonuniform List<scalar>\s*\n?(\d+)\s*\n?\((.*?)\)", text, re.S)
+    assert m, f"{path} has no nonuniform internalField"
+    values = np.array(m.group(2).split(), dtype=float)
+    assert len(values) == int(m.group(1))
+    return values
+
+
+# --------------------------------------------------------------------------- scene files
+
+
+SCENES = sorted(CASES.glob("*.yaml"))
+
+
+def test_there_are_scene_files():
+    assert {p.stem for p in SCENES} >= {"nodebris", "1debris", "3debris-3x1", "3debris-1x3", "6debris-2x3"}
+
+
+@pytest.mark.parametrize("scene_file", SCENES, ids=lambda p: p.stem)
+def test_every_scene_file_renders(tmp_path, scene_file):
+    from orchestrator.plan import plan_case
+    from orchestrator.scene import load_scene
+
+    scene = load_scene(scene_file, [])
+    plan = plan_case(scene)
+    case = render_case(scene, plan, tmp_path / "case", overrides=["run.cores=2"])
+    control = (case / "system" / "controlDict").read_text()
+    assert f"application     {plan.solver};" in control
+    assert control.count("type    uniform;") == len(plan.gauges)
+    dynamic = case / "constant" / "dynamicMeshDict"
+    assert dynamic.is_file() == bool(plan.bodies)
+    if plan.bodies:
+        assert dynamic.read_text().count("motionSolver    sixDoFRigidBodyMotion;") == len(plan.bodies)
+    assert "# Overrides applied: run.cores=2" in (case / "scene.yaml").read_text()
+    assert '"solver"' in (case / "plan.json").read_text()
+    readme = (case / "README.md").read_text()
+    assert "## Why the model looks like this" in readme and "- solver: " in readme
+
+
+@pytest.mark.openfoam
+@pytest.mark.parametrize("name", ["nodebris", "1debris"])
+def test_scene_files_mesh_at_a_coarse_cell_size(tmp_path, openfoam, name):
+    """`render --mesh` on the real scenes (0.04 m: the coarsest the debris allows)."""
+    from orchestrator.plan import plan_case
+    from orchestrator.render import render_from_file
+    from orchestrator.scene import load_scene
+
+    sets = ["mesh.cell_size_m=0.04", "run.end_time_s=1.0"]
+    summary = render_from_file(CASES / f"{name}.yaml", tmp_path / name, sets, mesh=True)
+    plan = plan_case(load_scene(CASES / f"{name}.yaml", sets))
+    assert summary["mesh_ok"] is True
+    assert summary["mesh_cells"] == summary["planned_cells"] == plan.cell_count
+    assert summary["mesh_regions"] == 1 + len(plan.bodies)
+    case = tmp_path / name
+    # the bed layer holds background cells only, even where a body mesh dips below the bed
+    assert _set_size(case, "bedLayer") == _first_layer_cells(plan.background)
