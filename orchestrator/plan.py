@@ -714,8 +714,9 @@ def plan_case(scene: Scene) -> ModelPlan:
         + (f" and a {scene.bed.wet_depth_m:g} m wet bed downstream" if scene.bed.wet_depth_m > 0 else "; dry bed")
     )
     reasons["bed_friction"] = (
-        f"Darcy f = {scene.bed.friction_factor:g} on the bed patch: without it the front arrives 15-30 % early "
-        "(DESIGN.md section 3)"
+        f"Darcy f = {scene.bed.friction_factor:g} as a drag rho (f/8)|U|U on the first cell layer above the bed: "
+        "without friction the front arrives 15-30 % early (DESIGN.md section 3); its calibration against "
+        "Chanson's arrival times is measured separately"
     )
     gauges = tuple(GaugePlan(gg.name, gg.x_m, gg.y_m, z_hi) for gg in scene.gauges)
     reasons["gauges"] = (

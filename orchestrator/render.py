@@ -499,6 +499,13 @@ def render_from_file(scene_path: str | Path, out_dir: Path, sets: Sequence[str] 
     plan = plan_case(scene)
     case = render_case(scene, plan, out_dir, force=force, overrides=sets)
     summary: dict[str, Any] = {"case": str(case), "solver": plan.solver, "planned_cells": int(plan.cell_count)}
+    if scene.outputs.preview:
+        from orchestrator.preview import preview_scene
+
+        try:
+            summary["preview"] = str(preview_scene(scene, plan, case / "preview.png"))
+        except Exception as exc:  # a picture must never cost the user the case: say so and go on
+            summary["preview"] = f"not drawn ({type(exc).__name__}: {exc}); the case is complete"
     if mesh:
         for step in foam.mesh_steps(case, plan):
             foam.run_step(step.name, step.argv, case, np=step.np, done=step.done)
