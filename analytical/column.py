@@ -32,7 +32,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from analytical.errors import InputError, require_positive
+from analytical.errors import InputError, require_finite, require_positive
 
 __all__ = ["BASES", "Column"]
 
@@ -116,12 +116,12 @@ class Column:
                 f"got {t!r}",
             )
 
-        nu = _finite("column.poisson_ratio", self.poisson_ratio)
+        nu = require_finite("column.poisson_ratio", self.poisson_ratio)
         if not -1.0 < nu < 0.5:
             raise InputError("column.poisson_ratio", f"must be in (-1, 0.5), got {self.poisson_ratio!r}")
         object.__setattr__(self, "poisson_ratio", nu)
 
-        zeta = _finite("column.damping_ratio", self.damping_ratio)
+        zeta = require_finite("column.damping_ratio", self.damping_ratio)
         if not 0.0 <= zeta < 1.0:
             raise InputError("column.damping_ratio", f"must be in [0, 1), got {self.damping_ratio!r}")
         object.__setattr__(self, "damping_ratio", zeta)
@@ -190,12 +190,3 @@ class Column:
         """Measured first circular frequency 2 pi f1 (rad/s)."""
         return 2.0 * math.pi * self.natural_frequency_Hz
 
-
-def _finite(name: str, value: float) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise InputError(name, f"must be a number, got {value!r}") from None
-    if not math.isfinite(v):
-        raise InputError(name, f"must be finite, got {value!r}")
-    return v

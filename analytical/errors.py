@@ -40,6 +40,19 @@ class InputError(DebrisfoamError, ValueError):
         return InputError(self.field, self.rule, source)
 
 
+def require_finite(name: str, value: float) -> float:
+    """Return ``float(value)``; raise InputError naming ``name`` unless it is a finite number."""
+    import math
+
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InputError(name, f"must be a number, got {value!r}") from None
+    if not math.isfinite(v):
+        raise InputError(name, f"must be finite, got {value!r}")
+    return v
+
+
 def require_positive(name: str, value: float) -> float:
     """Return ``float(value)``; raise InputError naming ``name`` unless it is finite and > 0."""
     import math

@@ -93,7 +93,7 @@ from scipy.linalg import blas, lapack
 from scipy.optimize import brentq
 
 from analytical.column import Column
-from analytical.errors import InputError, require_positive
+from analytical.errors import InputError, require_finite, require_positive
 from analytical.sdof import ForceResponse, oscillator_response
 
 __all__ = [
@@ -507,7 +507,7 @@ def static_deflection(column: Column, load_height_m: float, at_height_m: float, 
     interpolate, which is exact except inside the element that carries the load.
     """
     model = column_model(column)
-    f = model.load_vector(load_height_m)[model.free_dofs] * _finite("force_N", force_N)
+    f = model.load_vector(load_height_m)[model.free_dofs] * require_finite("force_N", force_N)
     u = _static_solve(model, f)
     return _deflection_at(model, u, at_height_m)
 
@@ -527,7 +527,7 @@ def _static_solve(model: ColumnModel, f: np.ndarray) -> np.ndarray:
 
 def _deflection_at(model: ColumnModel, u_free: np.ndarray, z: float) -> float:
     column = model.column
-    z = _finite("at_height_m", z)
+    z = require_finite("at_height_m", z)
     if not 0.0 <= z <= column.height_m * (1 + 1e-12):
         raise InputError("at_height_m", f"must be in [0, {column.height_m:g}] m, got {z!r}")
     n = column.elements
@@ -818,14 +818,14 @@ def newmark_history(
     """
     model = column_model(column)
     f_full = model.load_vector(height_m)
-    end = _finite("end_s", end_s)
+    end = require_finite("end_s", end_s)
     pulse_start = _pulse_start(pulse, None)
     if dt is None:
         dt = _default_dt(model, pulse)
     else:
         dt = require_positive("dt", dt)
     if start_s is not None:
-        start_s = _finite("start_s", start_s)
+        start_s = require_finite("start_s", start_s)
     if pulse_start is None:  # a load without a start time: begin at start_s (or 0), at rest
         first = start_s if start_s is not None else 0.0
     else:  # anchor the grid on the pulse start, one step or more before it
@@ -989,7 +989,7 @@ def _pulse_start(pulse, default):
 
 
 def _load_height(column: Column, height_m: float) -> float:
-    z = _finite("height_m", height_m)
+    z = require_finite("height_m", height_m)
     if not 0.0 < z <= column.height_m * (1 + 1e-12):
         raise InputError("height_m", f"must be in (0, {column.height_m:g}] m (the column height), got {height_m!r}")
     return min(z, column.height_m)
@@ -1009,15 +1009,6 @@ def _times(name: str, t) -> np.ndarray:
     return times
 
 
-def _finite(name: str, value) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise InputError(name, f"must be a number, got {value!r}") from None
-    if not math.isfinite(v):
-        raise InputError(name, f"must be finite, got {value!r}")
-    return v
-
 
 def _positive_or_inf(name: str, value) -> float:
     try:
@@ -1030,7 +1021,7 @@ def _positive_or_inf(name: str, value) -> float:
 
 
 def _non_negative(name: str, value) -> float:
-    v = _finite(name, value)
+    v = require_finite(name, value)
     if v < 0.0:
         raise InputError(name, f"must be >= 0, got {value!r}")
     return v
