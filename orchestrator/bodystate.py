@@ -1,0 +1,359 @@
+"""Six-DoF body states: save every body's state, and restore all of them on a restart.
+
+OpenFOAM v1912 keeps one body's state only: `<t>/uniform/sixDoFRigidBodyMotionState`
+(in every processor directory) holds the first body of dynamicMeshDict's `solvers`,
+and on a restart *every* body reads that file (docs/openfoam-notes.md: both bodies
+jumped to the first body's place and the run died). The recipe verified there, and
+used here (`prepare_restart`):
+
+1. delete `processor*/<t>/uniform/sixDoFRigidBodyMotionState` (and `<t>/uniform/...`
+   of a serial run), so that each body falls back to its own coefficients;
+2. write into each body's `sixDoFRigidBodyMotionCoeffs` in `constant/dynamicMeshDict`
+   its current `centreOfMass`, `orientation`, `velocity`, `angularMomentum` (body
+   frame) and `acceleration`, beside `initialCentreOfMass` / `initialOrientation`:
+   the pose the body mesh was built in (its points0), taken from the coefficients
+   the first time and kept from then on.
+
+Where the states come from: the solver's per-step report in the log (`monitor`), the
+last report of each body at the time the run restarts from; after a contact event,
+the impact model's rebound state. Every restart's states are also recorded in
+`bodystate.json` (time name -> source and states) so that a resumed run uses the
+rebound state of a contact it resolved, and so that a restart can be checked.
+
+Units: m, kg, s, rad. Orientation: the 3x3 rotation from body axes to global axes,
+row-major, as OpenFOAM prints and reads it.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import tempfile
+from dataclasses import asdict, dataclass, replace
+from pathlib import Path
+from typing import Any, Iterable, Sequence
+
+import numpy as np
+
+__all__ = [
+    "BodyProperties",
+    "BodyState",
+    "DYNAMIC_MESH_DICT",
+    "STATE_FILE",
+    "angular_momentum_body",
+    "coefficient_states",
+    "orthonormal",
+    "prepare_restart",
+    "read_body_properties",
+    "read_state_file",
+    "recorded_states",
+    "remove_state_files",
+    "write_dictionary",
+    "write_states",
+    "forget_after",
+]
+
+DYNAMIC_MESH_DICT = Path("constant") / "dynamicMeshDict"
+STATE_FILE = Path("uniform") / "sixDoFRigidBodyMotionState"
+RECORD_FILE = "bodystate.json"
+_COEFFS = "sixDoFRigidBodyMotionCoeffs"
+_IDENTITY = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
+
+Vec = tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class BodyState:
+    """A rigid body's state at `time_s`: pose, linear and angular velocity (global frame).
+
+    `orientation` is row-major (xx xy xz yx ... zz), body axes -> global axes.
+    `centre_of_rotation_m` is None when it is the centre of mass (always so here).
+    """
+
+    name: str
+    time_s: float
+    centre_of_mass_m: Vec
+    orientation: tuple[float, ...] = _IDENTITY
+    velocity_m_s: Vec = (0.0, 0.0, 0.0)
+    angular_velocity_rad_s: Vec = (0.0, 0.0, 0.0)
+    centre_of_rotation_m: Vec | None = None
+    acceleration_m_s2: Vec = (0.0, 0.0, 0.0)
+
+    @property
+    def rotation(self) -> np.ndarray:
+        return np.asarray(self.orientation, dtype=float).reshape(3, 3)
+
+    @property
+    def speed_m_s(self) -> float:
+        return float(math.sqrt(sum(v * v for v in self.velocity_m_s)))
+
+    def to_dict(self) -> dict[str, Any]:
+        return {k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(self).items()}
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> "BodyState":
+        values = dict(data)
+        for key in ("centre_of_mass_m", "orientation", "velocity_m_s", "angular_velocity_rad_s",
+                    "centre_of_rotation_m", "acceleration_m_s2"):
+            if values.get(key) is not None:
+                values[key] = tuple(float(v) for v in values[key])
+        return cls(**values)
+
+    def with_changes(self, **changes) -> "BodyState":
+        return replace(self, **changes)
+
+
+@dataclass(frozen=True)
+class BodyProperties:
+    """What dynamicMeshDict says of a body: mass, principal inertia, and the pose its
+    mesh was built in (`initial_*`: the pose of the points in constant/polyMesh)."""
+
+    name: str
+    mass_kg: float
+    moment_of_inertia_kg_m2: Vec
+    initial_centre_of_mass_m: Vec
+    initial_orientation: tuple[float, ...]
+
+
+# --------------------------------------------------------------------------- dictionaries
+
+
+def _text(values: Iterable[float]) -> str:
+    """A vector/tensor as OpenFOAM reads it, with every digit (repr of each float)."""
+    return "(" + " ".join(repr(float(v)) for v in values) + ")"
+
+
+def _full_precision(node: Any) -> Any:
+    """Replace PyFoam Vector/Tensor/SymmTensor values by full-precision text, in place.
+
+    PyFoam prints those with %g (6 significant digits): rewriting a dictionary it read
+    would silently round every vector in it (inertia, gauge lines...).
+    """
+    from PyFoam.Basics.DataStructures import DictProxy, SymmTensor, Tensor, Vector
+
+    if isinstance(node, (dict, DictProxy)):
+        for key in list(node.keys()):
+            value = node[key]
+            if isinstance(value, (Vector, Tensor, SymmTensor)):
+                node[key] = _text(value.vals)
+            else:
+                _full_precision(value)
+    elif isinstance(node, list):
+        for i, value in enumerate(node):
+            if isinstance(value, (Vector, Tensor, SymmTensor)):
+                node[i] = _text(value.vals)
+            else:
+                _full_precision(value)
+    return node
+
+
+def write_dictionary(parsed, path: str | Path | None = None) -> None:
+    """Write a PyFoam ParsedParameterFile atomically and without loss of precision.
+
+    Atomic (a temporary file renamed over the old one): a running solver re-reads
+    run-time modified files (controlDict) at any moment and must never see half a file.
+    PyFoam's own `writeFile` truncates the file in place and rounds vectors.
+    """
+    target = Path(path or parsed.name)
+    _full_precision(parsed.content)
+    text = str(parsed)
+    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", dir=target.parent)
+    try:
+        with os.fdopen(fd, "w") as fh:
+            fh.write(text)
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, target)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def _parsed(path: Path):
+    from PyFoam.RunDictionary.ParsedParameterFile import ParsedParameterFile
+
+    return ParsedParameterFile(str(path))
+
+
+def _vec(value: Any, default: Sequence[float] | None = None) -> tuple[float, ...]:
+    if value is None:
+        if default is None:
+            raise KeyError("missing vector")
+        return tuple(float(v) for v in default)
+    if hasattr(value, "vals"):
+        return tuple(float(v) for v in value.vals)
+    if isinstance(value, str):
+        return tuple(float(v) for v in value.strip().strip("()").split())
+    return tuple(float(v) for v in value)
+
+
+def _body_dicts(parsed) -> list[tuple[str, Any]]:
+    solvers = parsed["solvers"] if "solvers" in parsed else None
+    if solvers is None:
+        if _COEFFS in parsed:  # a single-body dictionary without `solvers`
+            return [("body", parsed[_COEFFS])]
+        return []
+    return [(str(name), solvers[name][_COEFFS]) for name in solvers.keys() if _COEFFS in solvers[name]]
+
+
+def read_body_properties(case_dir: str | Path) -> list[BodyProperties]:
+    """Every six-DoF body of `constant/dynamicMeshDict`, in `solvers` order ([] if none)."""
+    path = Path(case_dir) / DYNAMIC_MESH_DICT
+    if not path.is_file():
+        return []
+    bodies = []
+    for name, c in _body_dicts(_parsed(path)):
+        centre = _vec(c.get("initialCentreOfMass"), _vec(c["centreOfMass"]))
+        orient = _vec(c.get("initialOrientation"), _vec(c.get("orientation"), _IDENTITY))
+        bodies.append(BodyProperties(name, float(c["mass"]), _vec(c["momentOfInertia"]), centre, orient))
+    return bodies
+
+
+def orthonormal(orientation: Sequence[float]) -> tuple[float, ...]:
+    """The rotation matrix nearest to `orientation` (polar decomposition), row-major.
+
+    The log prints 10 significant digits; this removes the rounding before the matrix
+    is written back, so OpenFOAM is given a proper rotation.
+    """
+    m = np.asarray(orientation, dtype=float).reshape(3, 3)
+    u, _, vt = np.linalg.svd(m)
+    r = u @ vt
+    if np.linalg.det(r) < 0:
+        u[:, -1] *= -1
+        r = u @ vt
+    return tuple(float(v) for v in r.ravel())
+
+
+def angular_momentum_body(props: BodyProperties, state: BodyState) -> Vec:
+    """OpenFOAM's `angularMomentum`: pi = I (Q^T omega), in the body frame (kg m^2/s).
+
+    OpenFOAM reports the angular velocity omega = Q I^-1 pi in the global frame.
+    """
+    q = np.asarray(state.orientation, dtype=float).reshape(3, 3)
+    local = q.T @ np.asarray(state.angular_velocity_rad_s, dtype=float)
+    return tuple(float(v) for v in np.asarray(props.moment_of_inertia_kg_m2) * local)
+
+
+def coefficient_states(case_dir: str | Path, time_s: float = 0.0) -> list[BodyState]:
+    """Every body's state as its coefficients in constant/dynamicMeshDict give it (the start
+    of a run): centreOfMass, orientation, velocity, angularMomentum (-> angular velocity),
+    acceleration."""
+    path = Path(case_dir) / DYNAMIC_MESH_DICT
+    props = {p.name: p for p in read_body_properties(case_dir)}
+    states = []
+    for name, c in _body_dicts(_parsed(path)):
+        p = props[name]
+        q = np.asarray(_vec(c.get("orientation"), _IDENTITY)).reshape(3, 3)
+        pi = np.asarray(_vec(c.get("angularMomentum"), (0.0, 0.0, 0.0)))
+        omega = q @ (pi / np.asarray(p.moment_of_inertia_kg_m2))
+        states.append(BodyState(name, time_s, _vec(c["centreOfMass"]), tuple(float(v) for v in q.ravel()),
+                                _vec(c.get("velocity"), (0.0, 0.0, 0.0)), tuple(float(v) for v in omega), None,
+                                _vec(c.get("acceleration"), (0.0, 0.0, 0.0))))
+    return states
+
+
+def write_states(case_dir: str | Path, states: Sequence[BodyState]) -> None:
+    """Write each body's state into its coefficients in constant/dynamicMeshDict.
+
+    `initialCentreOfMass` / `initialOrientation` are set once, from the coefficients
+    as rendered (the pose the body mesh was built in), and never changed afterwards.
+    Raises KeyError naming a body that the dictionary does not have.
+    """
+    path = Path(case_dir) / DYNAMIC_MESH_DICT
+    parsed = _parsed(path)
+    coeffs = dict(_body_dicts(parsed))
+    props = {p.name: p for p in read_body_properties(case_dir)}
+    for state in states:
+        if state.name not in coeffs:
+            raise KeyError(f"body {state.name!r} is not in {path} (bodies: {', '.join(coeffs)})")
+        c = coeffs[state.name]
+        p = props[state.name]
+        c["initialCentreOfMass"] = _text(p.initial_centre_of_mass_m)
+        c["initialOrientation"] = _text(p.initial_orientation)
+        c["centreOfMass"] = _text(state.centre_of_mass_m)
+        if "centreOfRotation" in c:
+            del c["centreOfRotation"]
+        c["orientation"] = _text(orthonormal(state.orientation))
+        c["velocity"] = _text(state.velocity_m_s)
+        c["acceleration"] = _text(state.acceleration_m_s2)
+        c["angularMomentum"] = _text(angular_momentum_body(p, state))
+    write_dictionary(parsed, path)
+
+
+def state_file_paths(case_dir: str | Path, time_name: str) -> list[Path]:
+    """`<t>/uniform/sixDoFRigidBodyMotionState` of the case and of every processor directory."""
+    case = Path(case_dir)
+    paths = [case / time_name / STATE_FILE]
+    paths += sorted(p / time_name / STATE_FILE for p in case.glob("processor*") if p.is_dir())
+    return [p for p in paths if p.is_file()]
+
+
+def read_state_file(path: str | Path) -> dict[str, tuple[float, ...]]:
+    """The state OpenFOAM wrote (the first body's): centreOfRotation, orientation, velocity..."""
+    parsed = _parsed(Path(path))
+    return {str(k): _vec(parsed[k]) for k in parsed.content.keys()
+            if k in ("centreOfRotation", "orientation", "velocity", "acceleration", "angularMomentum", "torque")}
+
+
+def remove_state_files(case_dir: str | Path, time_name: str) -> list[Path]:
+    """Delete every copy of the (first body's) state file at time `time_name`."""
+    removed = state_file_paths(case_dir, time_name)
+    for p in removed:
+        p.unlink()
+    return removed
+
+
+# --------------------------------------------------------------------------- records
+
+
+def _record_path(case_dir: str | Path) -> Path:
+    return Path(case_dir) / RECORD_FILE
+
+
+def _read_record(case_dir: str | Path) -> dict[str, Any]:
+    path = _record_path(case_dir)
+    if not path.is_file():
+        return {}
+    return json.loads(path.read_text())
+
+
+def record_states(case_dir: str | Path, time_name: str, states: Sequence[BodyState], source: str) -> None:
+    """Remember the states a restart at `time_name` uses, and where they came from
+    ("log": the solver's report; "contact": an impact model's rebound)."""
+    record = _read_record(case_dir)
+    record[time_name] = {"source": source, "bodies": [s.to_dict() for s in states]}
+    path = _record_path(case_dir)
+    tmp = path.with_suffix(".json.tmp")
+    tmp.write_text(json.dumps(record, indent=1))
+    os.replace(tmp, path)
+
+
+def recorded_states(case_dir: str | Path, time_name: str) -> tuple[list[BodyState], str] | None:
+    """The states recorded for a restart at `time_name` and their source, or None."""
+    entry = _read_record(case_dir).get(time_name)
+    if entry is None:
+        return None
+    return [BodyState.from_dict(b) for b in entry["bodies"]], str(entry["source"])
+
+
+def forget_after(case_dir: str | Path, time_s: float) -> None:
+    """Drop the records of restarts later than `time_s` (a run going back to `time_s`
+    will compute that stretch again; its old states must not be reused)."""
+    record = _read_record(case_dir)
+    keep = {k: v for k, v in record.items() if float(k) <= time_s * (1 + 1e-12) + 1e-12}
+    if len(keep) != len(record):
+        path = _record_path(case_dir)
+        tmp = path.with_suffix(".json.tmp")
+        tmp.write_text(json.dumps(keep, indent=1))
+        os.replace(tmp, path)
+
+
+def prepare_restart(case_dir: str | Path, time_name: str, states: Sequence[BodyState], source: str) -> None:
+    """Make a restart at `time_name` start every body from `states` (the v1912 recipe above)."""
+    names = [p.name for p in read_body_properties(case_dir)]
+    missing = sorted(set(names) - {s.name for s in states})
+    if missing:
+        raise KeyError(f"no state for bod{'y' if len(missing) == 1 else 'ies'} {', '.join(missing)} at t = {time_name}")
+    record_states(case_dir, time_name, states, source)
+    remove_state_files(case_dir, time_name)
+    write_states(case_dir, states)

@@ -1,0 +1,1569 @@
+"""Running a rendered case: mesh, decompose, solve with live progress, stop, resume, contact events.
+
+`run_case(case_dir)` takes a case written by `render` to a finished run:
+
+1. the mesh steps of `foam.mesh_steps` (blockMesh, bodies, mergeMeshes, topoSet,
+   setFields, checkMesh), each skipped when its outputs exist;
+2. `decomposePar` (hierarchical, from system/decomposeParDict) when running on more
+   than one rank;
+3. the solver, `mpirun -np N <solver> -parallel`, in *segments*: a segment runs
+   from the latest written time until the end time, a stop request (Ctrl-C,
+   SIGTERM, `stop_event`) or a contact event. The solver's output goes to
+   `log.<solver>`; the log of an earlier segment is kept as `log.<solver>.<k>`
+   (k = 1, 2, ... in order);
+4. `reconstructPar -latestTime -newTimes`: post-processing reads the function
+   objects' output (`postProcessing/`: gauges, column forces, probes), which the
+   master rank writes in the case itself, the body tracks (`bodies.csv`, written by
+   this runner from the solver's report) and contact events; it needs fields only for
+   the final state (plots, checks), so only the latest time is gathered
+   (`reconstruct="all"` gathers every written time, `"none"` none).
+
+Every step writes `log.<step>`; `run.json` records each step's command, start, wall
+time and exit status, the solver segments, the OpenFOAM build, the cell count, the
+time steps taken, the status (`running`, `finished`, `interrupted`, `diverged`,
+`failed`) and the runner's own cost. A finished run returns at once; any other
+resumes from the latest written time (controlDict `startFrom latestTime`).
+
+Stopping a running solver (v1912, measured here): the runner writes `stopAt
+writeNow` into system/controlDict; with `runTimeModifiable yes` the solver re-reads
+it at the start of its next time step (the log says `Re-reading object controlDict`),
+runs that one step, writes it and ends normally, also in parallel (the master reads
+and broadcasts, `timeStampMaster`). v1912 ignores a modification that comes less
+than `fileModificationSkew` (10 s) after the file's previous modification time, so
+before each segment the runner sets the controlDict's modification time an hour
+back, and a stop request dates the file at least 11 s after it. For a contact seen
+coming, the runner instead sets `endTime` to the time the body reaches the gap (and
+one write interval from the segment's start to it): the solver adjusts its step to
+land on that time, writes and ends, so the event time does not depend on how fast
+the runner noticed; `writeNow` remains for stops that cannot wait.
+
+Divergence (NaN/inf in the log, Courant runaway, deltaT collapse, a floating point
+exception, a body leaving the domain): the solver is killed, time directories from
+the first symptom on are deleted, and `DivergenceError` names the cause, the
+simulated time, the last good time and the log.
+
+Contact (v1912 has none; bodies pass through walls silently): after every batch of
+log lines the runner measures each body's distance to the column, the flume walls,
+the other bodies and the bed (`orchestrator.contact`). When a body will be within
+`ContactSettings.gap_m` before the solver can stop (its closing speed times the stop
+latency, a few time steps; the runner polls faster near an obstacle), the runner
+requests `writeNow`; from the written state it resolves the impact
+(`orchestrator.contact.resolve`: the MDOF column, rigid walls, two-body impacts, from
+`analytical.impact`), records the event (`contacts.json`, `impacts.csv`, the force
+history in `contacts/`), writes every body's new state (`bodystate.prepare_restart`:
+v1912 keeps one body's state only) and resumes. Slow contacts (closing slower than
+`min_impact_speed_m_s`) are stopped by a plastic impulse (recorded as "resting"); a
+body sinking into the bed is lifted back onto it (`contact.clamp_to_bed`). No body is
+restarted inside an obstacle: any overlap left is removed along the contact normal.
+
+Files the runner writes in the case: `run.json`; `log.<step>` (and `log.<solver>.<k>`
+for earlier segments); `bodies.csv` (every body's state at every time step: time_s,
+body, x_m.., u_m_s.., omega_*_rad_s, the orientation q_xx..q_zz); `bodystate.json`
+(the states every restart used, and their source); `contacts.json` (every event:
+impacts and resting contacts), `impacts.csv` (one row per impact: time, bodies, point,
+normal, velocities in and out, obliquity, height, peak force, duration, impulse, force
+history file) and `contacts/event<n>-force.csv` (and `-base-shear.csv` for the column).
+The function objects write `postProcessing/<name>/<start time>/`: one folder per
+segment, to be read in time order.
+
+PyFoam: `ParsedParameterFile` reads and edits controlDict and dynamicMeshDict
+(written back atomically and at full precision by `bodystate.write_dictionary`). Not
+used: its runners (`BasicRunner` runs in the current directory, splits a command
+string, names logs `PyFoam.<app>.logfile`, blocks until the end and cannot be asked
+to stop the solver cleanly; `foam.run_step` and the segment loop here do what is
+needed) and its log analysers (see `orchestrator.monitor`).
+
+Units: seconds, metres, kg, N.
+"""
+
+from __future__ import annotations
+
+import csv
+import dataclasses
+import datetime as _dt
+import json
+import math
+import os
+import platform
+import resource
+import shlex
+import signal
+import subprocess
+import sys
+import threading
+import time
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from types import SimpleNamespace
+from typing import Any, Callable, Sequence
+
+import numpy as np
+
+from analytical.errors import DebrisfoamError
+from orchestrator import bodystate, foam
+from orchestrator.bodystate import BodyProperties, BodyState
+from orchestrator.monitor import (
+    Diagnosis,
+    DivergenceLimits,
+    HealthWatch,
+    LogParser,
+    LogTail,
+    Progress,
+    StepRecord,
+    parse_log,
+)
+
+__all__ = [
+    "CaseInfo",
+    "Contact",
+    "ContactError",
+    "ContactSettings",
+    "DivergenceError",
+    "RunError",
+    "RunInterrupted",
+    "RunSummary",
+    "Geometry",
+    "latest_time",
+    "load_case_info",
+    "resting_contact",
+    "run_case",
+    "segment_span",
+]
+
+RUN_JSON = "run.json"
+CONTACTS_JSON = "contacts.json"
+IMPACTS_CSV = "impacts.csv"
+CONTACTS_DIR = "contacts"
+BODY_TRACK_CSV = "bodies.csv"
+#: v1912's etc/controlDict OptimisationSwitches fileModificationSkew (s), printed in every log.
+FILE_MODIFICATION_SKEW_S = 10.0
+#: How long the solver has to act on a stop request (re-read controlDict) before the
+#: runner dates the file later again, and how long in all before it kills the solver.
+STOP_ACK_TIMEOUT_S = 30.0
+STOP_KILL_TIMEOUT_S = 600.0
+_EPS_T = 1e-9
+
+
+# --------------------------------------------------------------------------- errors
+
+
+class RunError(DebrisfoamError):
+    """The run could not go on; the message says why and where the log is."""
+
+
+class DivergenceError(RunError):
+    """The solution diverged: `kind` (nan, courant, delta_t, fpe, left_domain), `cause`
+    in words, the simulated `time_s` it showed at, the `last_good_time` kept and the log."""
+
+    def __init__(self, kind: str, cause: str, time_s: float | None, last_good_time: str | None, log_path: Path):
+        self.kind = kind
+        self.cause = cause
+        self.time_s = time_s
+        self.last_good_time = last_good_time
+        self.log_path = Path(log_path)
+        at = f" at t = {time_s:.6g} s" if time_s is not None else ""
+        keep = f"; kept the last good time {last_good_time} s" if last_good_time is not None else ""
+        super().__init__(f"solution diverged{at}: {cause}{keep}\n  log: {self.log_path}")
+
+
+class RunInterrupted(RunError):
+    """The user stopped the run (Ctrl-C, SIGTERM or a stop request); it can be resumed."""
+
+    def __init__(self, case: Path, signum: int | None, written_time: str | None, clean: bool):
+        self.case = Path(case)
+        self.signum = signum
+        self.written_time = written_time
+        self.clean = clean
+        how = "the solver wrote" if clean else "the solver was killed before writing; the latest written time is"
+        at = f"{how} t = {written_time} s" if written_time is not None else "nothing was written"
+        super().__init__(f"run interrupted: {at}. Resume with: debrisfoam run {shlex.quote(str(case))}")
+
+    @property
+    def exit_code(self) -> int:
+        """128 + the signal number (130 for SIGINT), as a shell reports it."""
+        return 128 + (self.signum or signal.SIGINT)
+
+
+class ContactError(RunError):
+    """A contact event could not be resolved (e.g. a body pinned against an obstacle)."""
+
+
+# --------------------------------------------------------------------------- settings, results
+
+
+@dataclass(frozen=True)
+class ContactSettings:
+    """When and how the runner handles contact between bodies and obstacles.
+
+    gap_m: a body closer than this to the column, a wall or another body is in contact.
+    min_impact_speed_m_s: slower closing speeds are resting contacts: the closing motion
+        is stopped (a plastic impulse, no force history), not resolved as an impact.
+    bed: watch the bed too. Touching the bed is not an impact (orchestrator.contact), but
+        v1912 lets a body sink through it: a body that sinks more than `bed_tolerance_m`
+        (default half the gap) into it is stopped, lifted back onto it and its velocity
+        into it removed (`contact.clamp_to_bed`).
+    max_events / window_s: more than `max_events` contacts of the same pair within
+        `window_s` of simulated time is a resting contact, which this event-driven model
+        cannot represent: ContactError (the bed is exempt).
+    impact: keyword arguments for `analytical.impact.impact` / `pair_impact`
+        (stiffness_N_m, friction_coefficient, damping_ratio, ...).
+    added_mass_coefficient: C_a of the debris for the impact model.
+    """
+
+    enabled: bool = True
+    gap_m: float = 0.005
+    min_impact_speed_m_s: float = 0.05
+    bed: bool = True
+    bed_tolerance_m: float | None = None
+    max_events: int = 6
+    window_s: float = 0.05
+    added_mass_coefficient: float = 0.0
+    impact: dict = field(default_factory=dict)
+
+    @property
+    def bed_sink_m(self) -> float:
+        return self.gap_m / 2 if self.bed_tolerance_m is None else self.bed_tolerance_m
+
+    def __post_init__(self) -> None:
+        if not self.gap_m > 0:
+            raise ValueError(f"gap_m must be > 0, got {self.gap_m}")
+
+
+@dataclass(frozen=True)
+class RunSummary:
+    """What `run_case` did. Times in s; `overhead_fraction` = runner CPU / solver wall time."""
+
+    case: Path
+    status: str
+    already_finished: bool
+    end_time_s: float
+    reached_time_s: float
+    time_steps: int
+    segments: int
+    contacts: int
+    wall_s: float
+    solver_wall_s: float
+    runner_cpu_s: float
+    overhead_fraction: float
+    run_json: Path
+
+    def to_dict(self) -> dict[str, Any]:
+        d = asdict(self)
+        d["case"], d["run_json"] = str(self.case), str(self.run_json)
+        return d
+
+
+# --------------------------------------------------------------------------- the case
+
+
+@dataclass(frozen=True)
+class CaseInfo:
+    """What the runner needs to know of a rendered case (plan.json, controlDict, dynamicMeshDict);
+    `domain_m` and `downstream_type` say where the modelled flume has walls.
+    """
+
+    case: Path
+    solver: str
+    plan: Any  # what foam.mesh_steps / solve_steps read: bodies, bed_friction_factor, decomposition, solver
+    ranks: int
+    planned_cells: int
+    end_time_s: float
+    write_interval_s: float
+    velocity_scale_m_s: float
+    adjustable_time_step: bool
+    max_courant: float
+    delta_t_s: float
+    domain_m: tuple[tuple[float, float], ...]
+    two_d: bool
+    downstream_type: str
+    bodies: tuple[BodyProperties, ...]
+    body_sizes_m: dict[str, tuple[float, float, float]]
+
+    @property
+    def body_names(self) -> tuple[str, ...]:
+        return tuple(b.name for b in self.bodies)
+
+
+def _read_control(case: Path) -> Any:
+    from PyFoam.RunDictionary.ParsedParameterFile import ParsedParameterFile
+
+    path = case / "system" / "controlDict"
+    if not path.is_file():
+        raise RunError(f"{path} is missing: is {case} a case rendered by `debrisfoam render`?")
+    return ParsedParameterFile(str(path))
+
+
+def load_case_info(case_dir: str | Path, np_override: int | None = None) -> CaseInfo:
+    """Read plan.json, system/controlDict and constant/dynamicMeshDict of a rendered case."""
+    case = Path(case_dir).resolve()
+    plan_path = case / "plan.json"
+    if not plan_path.is_file():
+        raise RunError(f"{plan_path} is missing: render the case first (debrisfoam render SCENE -o {case})")
+    plan = json.loads(plan_path.read_text())
+    try:
+        solver = plan["solver"]
+        n = tuple(int(v) for v in plan["decomposition"]["n"])
+        domain = tuple(tuple(float(v) for v in a) for a in plan["domain_m"])
+    except (KeyError, TypeError) as exc:
+        raise RunError(f"{plan_path}: not a debrisfoam plan (missing {exc})") from None
+    control = _read_control(case)
+    ranks = int(np_override) if np_override else n[0] * n[1] * n[2]
+    if ranks < 1:
+        raise RunError(f"--np must be >= 1, got {ranks}")
+    bodies = tuple(bodystate.read_body_properties(case))
+    sizes = {b["name"]: tuple(float(v) for v in b["size_m"]) for b in plan.get("bodies", [])}
+    missing = [b.name for b in bodies if b.name not in sizes]
+    if missing:
+        raise RunError(f"{plan_path}: no size for bodies {missing} of constant/dynamicMeshDict")
+    steps_plan = SimpleNamespace(
+        solver=solver,
+        decomposition=n,
+        bed_friction_factor=float(plan.get("bed_friction_factor", 0.0)),
+        bodies=[SimpleNamespace(name=b.name) for b in bodies],
+    )
+    return CaseInfo(
+        case=case,
+        solver=solver,
+        plan=steps_plan,
+        ranks=ranks,
+        planned_cells=int(plan.get("cell_count", 0)),
+        end_time_s=float(control["endTime"]),
+        write_interval_s=float(control["writeInterval"]),
+        velocity_scale_m_s=float(plan.get("velocity_scale_m_s") or 5.0),
+        adjustable_time_step=str(control["adjustTimeStep"]).lower() in ("yes", "on", "true", "1")
+        if "adjustTimeStep" in control else False,
+        max_courant=float(control["maxCo"]) if "maxCo" in control else 1.0,
+        delta_t_s=float(control["deltaT"]),
+        domain_m=domain,
+        two_d=bool(plan.get("two_d", False)),
+        downstream_type=str(plan.get("downstream_type", "wall")),
+        bodies=bodies,
+        body_sizes_m=sizes,
+    )
+
+
+# --------------------------------------------------------------------------- time directories
+
+
+def _time_names(base: Path) -> list[tuple[float, str]]:
+    out = []
+    if not base.is_dir():
+        return out
+    for p in base.iterdir():
+        if p.is_dir():
+            try:
+                out.append((float(p.name), p.name))
+            except ValueError:
+                continue
+    return sorted(out)
+
+
+def _processor_dirs(case: Path) -> list[Path]:
+    procs = [p for p in case.glob("processor*") if p.is_dir() and p.name[9:].isdigit()]
+    return sorted(procs, key=lambda p: int(p.name[9:]))
+
+
+def _complete(dirs: Sequence[Path]) -> bool:
+    """A written time is complete when every rank wrote it with the same files and uniform/time."""
+    names = None
+    for d in dirs:
+        if not (d / "uniform" / "time").is_file() and d.name != "0" and float(d.name) != 0.0:
+            return False
+        files = sorted(p.name for p in d.iterdir() if p.is_file())
+        if names is None:
+            names = files
+        elif files != names:
+            return False
+    return True
+
+
+def latest_time(case_dir: str | Path, ranks: int, repair: bool = True) -> tuple[float, str]:
+    """The latest time every rank wrote completely, (value, name); (0.0, "0") at the start.
+
+    With `repair`, an incomplete latest time (a write cut short by a kill) is deleted.
+    """
+    case = Path(case_dir)
+    bases = _processor_dirs(case) if ranks > 1 else [case]
+    if not bases:
+        return 0.0, "0"
+    times = _time_names(bases[0])
+    while times:
+        value, name = times[-1]
+        dirs = [b / name for b in bases]
+        if all(d.is_dir() for d in dirs) and _complete(dirs):
+            return value, name
+        if not repair:
+            times.pop()
+            continue
+        for d in dirs:
+            if d.is_dir():
+                _rmtree(d)
+        times.pop()
+    return 0.0, "0"
+
+
+def _rmtree(path: Path) -> None:
+    import shutil
+
+    shutil.rmtree(path, ignore_errors=True)
+
+
+def _remove_times_from(case: Path, ranks: int, t_from: float, keep: float) -> None:
+    """Delete written times >= t_from (never `keep`, the segment's start)."""
+    bases = _processor_dirs(case) if ranks > 1 else [case]
+    for base in bases:
+        for value, name in _time_names(base):
+            if value >= t_from - _EPS_T and value > keep + _EPS_T:
+                _rmtree(base / name)
+
+
+# --------------------------------------------------------------------------- controlDict
+
+
+#: controlDict as last parsed and written here: (text written, the parsed object). PyFoam
+#: builds its parser tables on every ParsedParameterFile (about 25 ms of CPU each), which
+#: would count against the solver at every stop request.
+_CONTROL_CACHE: dict[Path, tuple[str, Any]] = {}
+
+
+def _set_control(case: Path, backdate: bool = False, **entries: Any) -> None:
+    """Set top-level controlDict entries (PyFoam); `backdate` dates the file an hour back."""
+    path = case / "system" / "controlDict"
+    cached = _CONTROL_CACHE.get(path)
+    if cached is not None and path.is_file() and path.read_text() == cached[0]:
+        control = cached[1]
+    else:
+        control = _read_control(case)
+    for key, value in entries.items():
+        control[key] = value
+    bodystate.write_dictionary(control, path)
+    _CONTROL_CACHE[path] = (path.read_text(), control)
+    if backdate:
+        past = time.time() - 3600.0
+        os.utime(path, (past, past))
+
+
+def _request_write_now(case: Path) -> None:
+    """Ask the running solver to write the current time and stop (see the module notes)."""
+    path = case / "system" / "controlDict"
+    before = path.stat().st_mtime
+    _set_control(case, stopAt="writeNow")
+    stamp = max(time.time(), before + FILE_MODIFICATION_SKEW_S + 1.0)
+    os.utime(path, (stamp, stamp))
+
+
+def _request_stop_at(case: Path, t_stop: float, segment_start: float) -> None:
+    """Ask the running solver to stop at `t_stop` and write it (measured here, v1912): with
+    endTime = t_stop and one write interval from the segment's start to t_stop, the
+    solver, re-reading controlDict, adjusts its time step to land on t_stop, writes and
+    ends. Regular writes between the request and t_stop are skipped (a few steps)."""
+    path = case / "system" / "controlDict"
+    before = path.stat().st_mtime
+    _set_control(case, endTime=t_stop, writeInterval=float(f"{t_stop - segment_start:.12g}"))
+    stamp = max(time.time(), before + FILE_MODIFICATION_SKEW_S + 1.0)
+    os.utime(path, (stamp, stamp))
+
+
+def _bump_control_mtime(case: Path) -> None:
+    path = case / "system" / "controlDict"
+    stamp = max(time.time(), path.stat().st_mtime) + FILE_MODIFICATION_SKEW_S + 1.0
+    os.utime(path, (stamp, stamp))
+
+
+# --------------------------------------------------------------------------- contact
+#
+# Geometry and impacts are orchestrator.contact's: the scene's column, walls and bed, exact
+# box-box distances, `resolve` (analytical.impact: the MDOF column, rigid walls, two-body
+# impacts), `clamp_to_bed`. The runner adds what it needs to decide when to stop the
+# solver (each contact's closing speed) and the slow "resting" contacts.
+
+
+@dataclass(frozen=True)
+class Contact:
+    """A body near an obstacle, another body or the bed: signed `distance_m` (< 0:
+    overlapping), the contact point, the unit `normal` from the other thing into the body,
+    and the closing speed of the contact point along it (> 0: approaching). `source` is
+    orchestrator.contact's Contact (None for the bed)."""
+
+    body: str
+    other: str
+    kind: str  # "column", "wall", "body" or "bed"
+    distance_m: float
+    point_m: tuple[float, float, float]
+    normal: tuple[float, float, float]
+    approach_m_s: float
+    source: Any = field(default=None, compare=False, repr=False)
+
+
+class Geometry:
+    """The case's obstacles (from scene.yaml and plan.json) and its bodies, for orchestrator.contact."""
+
+    def __init__(self, info: CaseInfo):
+        from orchestrator import contact as geo
+        from orchestrator.scene import load_scene
+
+        self.geo = geo
+        self.scene = load_scene(info.case / "scene.yaml")
+        # the modelled domain's walls: where the CFD has them (its upstream end is a wall
+        # also when the reservoir is cut short; the downstream end only if it is a wall)
+        self.obstacles = geo.scene_obstacles(
+            self.scene, SimpleNamespace(domain_m=info.domain_m, downstream_type=info.downstream_type))
+        self.props = {p.name: p for p in info.bodies}
+        self.sizes = info.body_sizes_m
+
+    def state(self, s: BodyState):
+        p = self.props[s.name]
+        return self.geo.BodyState(
+            name=s.name, centre_of_mass_m=s.centre_of_mass_m,
+            orientation=np.asarray(bodystate.orthonormal(s.orientation)).reshape(3, 3),
+            velocity_m_s=s.velocity_m_s, angular_velocity_rad_s=s.angular_velocity_rad_s,
+            size_m=self.sizes[s.name], mass_kg=p.mass_kg, inertia_kg_m2=p.moment_of_inertia_kg_m2)
+
+    @staticmethod
+    def back(new, old: BodyState) -> BodyState:
+        """orchestrator.contact's state as the runner's (velocities changed: acceleration unknown)."""
+        moved = not np.allclose(new.velocity_m_s, old.velocity_m_s, rtol=0, atol=1e-15) or not np.allclose(
+            new.angular_velocity_rad_s, old.angular_velocity_rad_s, rtol=0, atol=1e-15)
+        return old.with_changes(
+            centre_of_mass_m=tuple(float(v) for v in new.centre_of_mass_m),
+            orientation=tuple(float(v) for v in np.asarray(new.orientation).ravel()),
+            velocity_m_s=tuple(float(v) for v in new.velocity_m_s),
+            angular_velocity_rad_s=tuple(float(v) for v in new.angular_velocity_rad_s),
+            acceleration_m_s2=(0.0, 0.0, 0.0) if moved else old.acceleration_m_s2)
+
+    def contacts(self, states: Sequence[BodyState], reach_m: float, bed: bool = True) -> list[Contact]:
+        """Every pair closer than `reach_m` (the bed too, if `bed`), with closing speeds."""
+        geo = self.geo
+        cs = {s.name: self.state(s) for s in states}
+        out = []
+        for c in geo.find_contacts(list(cs.values()), self.obstacles, reach_m):
+            u = cs[c.body].point_velocity(c.point)
+            if c.kind == "body":
+                u = u - cs[c.other].point_velocity(c.point)
+            n = np.asarray(c.normal, dtype=float)
+            out.append(Contact(c.body, c.other, c.kind, float(c.distance_m), tuple(float(v) for v in c.point),
+                               tuple(float(v) for v in n), float(-(u @ n)), c))
+        if bed:
+            plane = self.obstacles.bed
+            n = np.asarray(plane.normal, dtype=float)
+            for name, c in cs.items():
+                corners = c.corners()
+                heights = (corners - np.asarray(plane.point_m, dtype=float)) @ n
+                d = float(heights.min())
+                if d < reach_m:
+                    low = corners[heights <= d + 1e-9].mean(axis=0)
+                    out.append(Contact(name, "bed", "bed", d, tuple(float(v) for v in low), tuple(float(v) for v in n),
+                                       float(-(c.point_velocity(low) @ n))))
+        return out
+
+    def resolve(self, contact: Contact, states: dict[str, BodyState], settings: ContactSettings):
+        """The impact of `contact` (orchestrator.contact.resolve): (result or None, new states by body)."""
+        cs = [self.state(s) for s in states.values()]
+        result, new = self.geo.resolve(contact.source, cs, self.scene,
+                                       added_mass_coefficient=settings.added_mass_coefficient, **settings.impact)
+        return result, {n.name: self.back(n, states[n.name]) for n in new}
+
+    def clamp_to_bed(self, state: BodyState) -> BodyState:
+        """The body lifted out of the bed, its velocity into the bed removed (unchanged if above it)."""
+        c = self.state(state)
+        clamped = self.geo.clamp_to_bed(c, self.obstacles)
+        return state if clamped is c else self.back(clamped, state)
+
+
+def resting_contact(geometry: Geometry, contact: Contact, states: dict[str, BodyState]) -> tuple[dict, float]:
+    """A slow contact: the impulse through the contact point that stops the closing motion
+    (perfectly plastic, no force history), and any overlap removed along the normal.
+    Returns (new states by body, impulse in N s)."""
+    n, point = np.asarray(contact.normal), np.asarray(contact.point_m)
+    sides = [(contact.body, 1.0)] + ([(contact.other, -1.0)] if contact.kind == "body" else [])
+    bodies = {name: geometry.state(states[name]) for name, _ in sides}
+
+    def compliance(b) -> np.ndarray:  # velocity change of the contact point per unit impulse there
+        r = point - b.centre_of_mass_m
+        rx = np.array([[0.0, -r[2], r[1]], [r[2], 0.0, -r[0]], [-r[1], r[0], 0.0]])
+        return np.eye(3) / b.mass_kg + rx.T @ b.inverse_inertia() @ rx
+
+    k = sum(compliance(b) for b in bodies.values())
+    j = max(contact.approach_m_s, 0.0) / float(n @ k @ n)  # N s along n, on the body
+    depth = max(-contact.distance_m, 0.0)
+    total_mass = sum(b.mass_kg for b in bodies.values())
+    new = {}
+    for name, sign in sides:
+        b = bodies[name]
+        impulse = sign * j * n
+        v = b.velocity_m_s + impulse / b.mass_kg
+        w = b.angular_velocity_rad_s + b.inverse_inertia() @ np.cross(point - b.centre_of_mass_m, impulse)
+        share = 1.0 if len(sides) == 1 else 1.0 - b.mass_kg / total_mass  # the lighter body moves more
+        centre = b.centre_of_mass_m + sign * share * depth * n
+        new[name] = states[name].with_changes(centre_of_mass_m=tuple(float(x) for x in centre),
+                                              velocity_m_s=tuple(float(x) for x in v),
+                                              angular_velocity_rad_s=tuple(float(x) for x in w),
+                                              acceleration_m_s2=(0.0, 0.0, 0.0))
+    return new, float(j)
+
+
+# --------------------------------------------------------------------------- records
+
+
+def _now() -> str:
+    return _dt.datetime.now(_dt.timezone.utc).astimezone().isoformat(timespec="seconds")
+
+
+class _Record:
+    """run.json, rewritten atomically after every change."""
+
+    def __init__(self, case: Path):
+        self.path = case / RUN_JSON
+        self.data: dict[str, Any] = json.loads(self.path.read_text()) if self.path.is_file() else {}
+        self.data.setdefault("steps", [])
+        self.data.setdefault("segments", [])
+
+    def save(self) -> None:
+        self.data["updated"] = _now()
+        tmp = self.path.with_suffix(".json.tmp")
+        tmp.write_text(json.dumps(self.data, indent=2, default=_jsonable))
+        os.replace(tmp, self.path)
+
+    def step(self, name: str, argv: Sequence[str], start: str, wall_s: float, exit_status: int | None,
+             skipped: bool, log: Path) -> None:
+        self.data["steps"].append({"name": name, "command": shlex.join(argv), "start": start,
+                                   "wall_s": round(wall_s, 3), "exit_status": exit_status,
+                                   "skipped": skipped, "log": log.name})
+        self.save()
+
+
+def _jsonable(obj: Any) -> Any:
+    if isinstance(obj, (np.generic,)):
+        return obj.item()
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    if isinstance(obj, Path):
+        return str(obj)
+    raise TypeError(f"not JSON serialisable: {type(obj).__name__}")
+
+
+def _versions() -> dict[str, str]:
+    from importlib.metadata import PackageNotFoundError, version
+
+    from orchestrator import __version__
+
+    out = {"debrisfoam": __version__, "python": platform.python_version()}
+    for pkg in ("PyFoam", "numpy"):
+        try:
+            out[pkg] = version(pkg)
+        except PackageNotFoundError:  # pragma: no cover
+            pass
+    return out
+
+
+# --------------------------------------------------------------------------- body tracks
+
+
+_TRACK_FIELDS = ["time_s", "body", "x_m", "y_m", "z_m", "u_m_s", "v_m_s", "w_m_s",
+                 "omega_x_rad_s", "omega_y_rad_s", "omega_z_rad_s"] + [f"q_{a}{b}" for a in "xyz" for b in "xyz"]
+
+
+def _append_track(case: Path, steps: Sequence[StepRecord], start_s: float) -> None:
+    """bodies.csv: one row per body per time step; rows after `start_s` (a previous attempt
+    of the same stretch of time) are replaced."""
+    path = case / BODY_TRACK_CSV
+    rows = []
+    if path.is_file():
+        with open(path, newline="") as fh:
+            rows = [r for r in csv.DictReader(fh) if float(r["time_s"]) <= start_s + _EPS_T]
+    for step in steps:
+        for b in step.bodies:
+            rows.append(dict(zip(_TRACK_FIELDS, [repr(step.time_s), b.name, *map(repr, b.centre_of_mass_m),
+                                                 *map(repr, b.velocity_m_s), *map(repr, b.angular_velocity_rad_s),
+                                                 *map(repr, b.orientation)])))
+    if not rows:
+        return
+    tmp = path.with_suffix(".csv.tmp")
+    with open(tmp, "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=_TRACK_FIELDS)
+        w.writeheader()
+        w.writerows(rows)
+    os.replace(tmp, path)
+
+
+def _states_in_logs(case: Path, solver: str, names: Sequence[str], time_name: str) -> list[BodyState] | None:
+    """The bodies' states reported in the step `time_name` of the newest log that has it,
+    with accelerations from the two last steps' velocities."""
+    logs = sorted(case.glob(f"log.{solver}.*"), key=lambda p: int(p.suffix[1:]) if p.suffix[1:].isdigit() else -1)
+    logs = [case / f"log.{solver}"] + logs[::-1]
+    for log in logs:
+        if not log.is_file():
+            continue
+        steps, _ = parse_log(log, names)
+        for i in range(len(steps) - 1, -1, -1):
+            if steps[i].time_name == time_name and len(steps[i].bodies) == len(names):
+                return _with_accelerations(steps[i], steps[i - 1] if i > 0 else None)
+    return None
+
+
+def _with_accelerations(step: StepRecord, previous: StepRecord | None) -> list[BodyState]:
+    if previous is None or len(previous.bodies) != len(step.bodies) or not step.delta_t_s:
+        return list(step.bodies)
+    out = []
+    for b, p in zip(step.bodies, previous.bodies):
+        acc = tuple((v1 - v0) / step.delta_t_s for v1, v0 in zip(b.velocity_m_s, p.velocity_m_s))
+        out.append(b.with_changes(acceleration_m_s2=acc))
+    return out
+
+
+def _on_grid(t: float, interval: float) -> bool:
+    k = t / interval
+    return abs(k - round(k)) < 1e-6
+
+
+def segment_span(start_s: float, end_s: float, interval_s: float) -> tuple[float, float]:
+    """(endTime, writeInterval) of a solver segment starting at `start_s`.
+
+    v1912 counts write times from the time a run starts (`startTime + k writeInterval`)
+    and does not write at endTime unless it is a write time. So a segment from a time
+    off the case's write grid (a stop for Ctrl-C or a contact) runs only to the next grid
+    time, with one write interval spanning it exactly; the following segment is on the
+    grid again and writes at the same times as an uninterrupted run. An end time off
+    the grid gets a last short segment of its own, so the end is always written.
+    """
+    span = _segment_span(start_s, end_s, interval_s)
+    return tuple(float(f"{v:.12g}") for v in span)
+
+
+def _segment_span(start_s: float, end_s: float, interval_s: float) -> tuple[float, float]:
+    eps = 1e-9 * max(1.0, abs(end_s))
+    if not _on_grid(start_s, interval_s):
+        target = min(math.ceil(start_s / interval_s - 1e-6) * interval_s, end_s)
+        return target, target - start_s
+    if _on_grid(end_s, interval_s):
+        return end_s, interval_s
+    last = math.floor(end_s / interval_s + 1e-6) * interval_s
+    if last > start_s + eps:
+        return last, interval_s
+    return end_s, end_s - start_s
+
+
+# --------------------------------------------------------------------------- the runner
+
+
+@dataclass
+class _SegmentResult:
+    start_name: str
+    reason: str  # end, contact, interrupt, diverged
+    returncode: int | None
+    steps: list[StepRecord]
+    parser: LogParser
+    log: Path
+    wall_s: float
+    runner_cpu_s: float
+    diagnosis: Diagnosis | None = None
+    contacts: list[Contact] = field(default_factory=list)
+
+
+class _StopFlag:
+    """Set by SIGINT/SIGTERM handlers or a caller's threading.Event."""
+
+    def __init__(self, event: threading.Event | None):
+        self.event = event
+        self.signum: int | None = None
+        self.count = 0
+
+    def handler(self, signum, frame) -> None:  # noqa: ARG002 - signal API
+        self.signum = signum
+        self.count += 1
+
+    @property
+    def requested(self) -> bool:
+        return self.count > 0 or (self.event is not None and self.event.is_set())
+
+
+def _cpu_s() -> float:
+    r = resource.getrusage(resource.RUSAGE_SELF)
+    return r.ru_utime + r.ru_stime
+
+
+def _set_parent_death_signal() -> None:  # pragma: no cover - runs in the child
+    """Linux: the solver gets SIGTERM if the runner dies, instead of running on orphaned."""
+    try:
+        import ctypes
+
+        ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGTERM)  # PR_SET_PDEATHSIG
+    except Exception:
+        pass
+
+
+class _Runner:
+    def __init__(self, info: CaseInfo, quiet: bool, contact: ContactSettings, limits: DivergenceLimits,
+                 stop: _StopFlag, poll_interval_s: float, stream, on_step: Callable[[StepRecord], None] | None):
+        self.info = info
+        self.case = info.case
+        self.quiet = quiet
+        self.contact = contact
+        defaults = {}
+        if limits.min_delta_t_s is None:
+            defaults["min_delta_t_s"] = 1e-3 * info.delta_t_s
+        if limits.max_body_speed_m_s is None:
+            defaults["max_body_speed_m_s"] = 3.0 * info.velocity_scale_m_s
+        self.limits = DivergenceLimits(**{**asdict(limits), **defaults})
+        self.stop = stop
+        self.end_time_s = info.end_time_s
+        self.write_interval_s = info.write_interval_s
+        self.poll = poll_interval_s
+        self.poll_now = poll_interval_s
+        self.fast_poll = min(poll_interval_s, 0.02)
+        self.stream = stream
+        self.on_step = on_step
+        self.record = _Record(self.case)
+        self._geometry: Geometry | None = None
+        self.progress: Progress | None = None
+        self.last_steps: list[StepRecord] = []
+        #: stop latency in time steps (measured while a segment runs) and the last deltaT
+        self.latency_steps = 4
+        self.last_delta_t_s = info.delta_t_s
+        self.between_s = 0.0
+        self._pair_events: dict[tuple[str, str], list[float]] = {}
+
+    # ---- helpers
+    def say(self, message: str) -> None:
+        if self.quiet:
+            return
+        if self.progress is not None:
+            self.progress.write(message)  # above the bar, not through it
+        else:
+            print(message, file=self.stream or sys.stderr, flush=True)
+
+    def run_step(self, step: foam.Step, np_: int = 1, extra: Sequence[str] = ()) -> foam.StepResult:
+        start = _now()
+        argv = list(step.argv) + list(extra)
+        try:
+            result = foam.run_step(step.name, argv, self.case, np=np_, done=step.done)
+        except foam.StepError as exc:
+            self.record.step(step.name, foam.parallel_argv(argv, np_), start, 0.0, exc.returncode, False,
+                             exc.log_path)
+            self.record.data["status"] = "failed"
+            self.record.data["error"] = str(exc)
+            self.record.save()
+            raise
+        self.record.step(step.name, result.argv, start, result.wall_s, result.returncode, result.skipped,
+                         result.log_path)
+        return result
+
+    @property
+    def geometry(self) -> Geometry:
+        if self._geometry is None:
+            self._geometry = Geometry(self.info)
+        return self._geometry
+
+    # ---- segments
+    def _rotate_log(self) -> Path:
+        log = self.case / f"log.{self.info.solver}"
+        if log.is_file() and log.stat().st_size > 0:
+            k = 1 + max([int(p.suffix[1:]) for p in self.case.glob(f"log.{self.info.solver}.*")
+                         if p.suffix[1:].isdigit()] or [0])
+            log.rename(self.case / f"log.{self.info.solver}.{k}")
+        return log
+
+    def restore_bodies(self, start_name: str) -> list[BodyState]:
+        """Before a segment: give every body its state at `start_name` (the v1912 recipe of
+        `bodystate`); returns the states. Sources, in order: the states recorded for that
+        time (a contact's rebound, or an earlier restart), the last segment's steps, the
+        solver logs."""
+        if not self.info.bodies:
+            return []
+        bodystate.forget_after(self.case, float(start_name))
+        self._forget_events_after(float(start_name))
+        recorded = bodystate.recorded_states(self.case, start_name)
+        if float(start_name) == 0.0 and recorded is None:
+            states = bodystate.coefficient_states(self.case)
+            bodystate.record_states(self.case, start_name, states, "initial")
+            return states
+        if recorded is not None:
+            states, source = recorded
+        else:
+            states, source = self._reported_states(start_name), "log"
+            if states is None:
+                raise RunError(f"cannot restore the bodies' states at t = {start_name} s: no solver log reports "
+                               f"them (v1912 keeps only the first body's state); restart from an earlier time "
+                               f"by deleting the later time directories")
+            _check_against_state_file(self.case, start_name, states)
+        bodystate.prepare_restart(self.case, start_name, states, source)
+        return states
+
+    def _reported_states(self, time_name: str) -> list[BodyState] | None:
+        steps = self.last_steps
+        for i in range(len(steps) - 1, -1, -1):
+            if steps[i].time_name == time_name and len(steps[i].bodies) == len(self.info.bodies):
+                return _with_accelerations(steps[i], steps[i - 1] if i > 0 else None)
+        return _states_in_logs(self.case, self.info.solver, self.info.body_names, time_name)
+
+    def solve_segment(self, start_value: float, start_name: str, progress: Progress) -> _SegmentResult:
+        """Run the solver from `start_name` to the segment's end (see `segment_span`)."""
+        if self.info.adjustable_time_step:
+            seg_end, seg_interval = segment_span(start_value, self.end_time_s, self.write_interval_s)
+        else:  # a fixed deltaT cannot land on the grid times: run to the end as the case says
+            seg_end, seg_interval = self.end_time_s, self.write_interval_s
+        self.record.data["segment_control"] = {"endTime": seg_end, "writeInterval": seg_interval}
+        self.record.save()
+        _set_control(self.case, backdate=True, stopAt="endTime", startFrom="latestTime",
+                     endTime=seg_end, writeInterval=seg_interval)
+        try:
+            return self._solve(start_value, start_name, seg_end, progress)
+        finally:  # the case's own controls back, whatever happened
+            _set_control(self.case, stopAt="endTime", endTime=self.end_time_s, writeInterval=self.write_interval_s)
+            self.record.data.pop("segment_control", None)
+            self.record.save()
+
+    def _solve(self, start_value: float, start_name: str, seg_end: float, progress: Progress) -> _SegmentResult:
+        info = self.info
+        log = self._rotate_log()
+        argv = foam.parallel_argv([info.solver], info.ranks)
+        env = foam.foam_env()
+        env["PWD"] = str(self.case)
+        parser = LogParser(info.body_names)
+        health = HealthWatch(self.limits, info.max_courant, info.domain_m if info.bodies else None)
+        tail = LogTail(log)
+        steps: list[StepRecord] = []
+        arrivals: list[tuple[float, int]] = []
+        stop_reason: str | None = None
+        stop_at: float | None = None
+        diag: Diagnosis | None = None
+        pending: list[Contact] = []
+        killed = False
+        started = _now()
+        t0, cpu0 = time.perf_counter(), _cpu_s()
+        with open(log, "w") as out:
+            try:
+                proc = subprocess.Popen(argv, cwd=self.case, stdout=out, stderr=subprocess.STDOUT, env=env,
+                                        start_new_session=True, preexec_fn=_set_parent_death_signal)
+            except FileNotFoundError:
+                raise RunError(f"{argv[0]!r} not found: is OpenFOAM v1912 installed (make openfoam)?") from None
+        rereads_at_request = 0
+        requested_at: float | None = None  # wall clock of the last controlDict request
+        last_bump = 0.0
+        scheduled: float | None = None  # simulated time of a scheduled contact stop
+        try:
+            while True:
+                rc = proc.poll()
+                lines = tail.read_lines() if rc is None else tail.flush()
+                new = parser.feed(lines)
+                if new:
+                    steps.extend(new)
+                    arrivals.append((time.perf_counter(), len(steps)))
+                    del arrivals[:-8]
+                    if self.on_step is not None:
+                        for s in new:
+                            self.on_step(s)
+                    if diag is None:
+                        for s in new:
+                            diag = health.check_step(s)
+                            if diag:
+                                break
+                    progress.update(steps[-1], note="stopping" if stop_reason else "")
+                if diag is None:
+                    diag = health.check_parser(parser)
+                if rc is not None:
+                    break
+                if diag is not None and not killed:
+                    self._kill(proc)
+                    killed = True
+                    continue
+                if stop_reason is None and self.stop.requested:
+                    stop_reason, requested_at = "interrupt", time.perf_counter()
+                    rereads_at_request = parser.rereads
+                    _request_write_now(self.case)
+                    progress.write("stop requested: the solver will write the current time step and stop "
+                                   "(press Ctrl-C again to kill it without writing)")
+                elif stop_reason is None and new and self.contact.enabled and info.bodies:
+                    ahead = self._contacts_ahead(steps, arrivals)
+                    if ahead:
+                        contact, soonest = min(ahead, key=lambda x: x[1])
+                        now_s, dt = steps[-1].time_s, steps[-1].delta_t_s or info.delta_t_s
+                        margin = dt * (self.latency_steps + 1)  # the solver may get this far before it reads
+                        t_stop = float(f"{now_s + soonest:.8g}")
+                        late = scheduled is None or max(contact.approach_m_s, 0.0) * (
+                            scheduled - t_stop) > 0.5 * self.contact.gap_m
+                        if soonest <= margin and (late or not info.adjustable_time_step):
+                            # too close to schedule, and nothing scheduled in time: stop at the
+                            # next step the solver can (writeNow)
+                            stop_reason, requested_at = "contact", time.perf_counter()
+                            rereads_at_request = parser.rereads
+                            pending = [c for c, _ in ahead]
+                            _request_write_now(self.case)
+                        elif (soonest > margin and info.adjustable_time_step and t_stop < seg_end - _EPS_T
+                              and (scheduled is None or t_stop < scheduled - _EPS_T)):
+                            # stop where the body reaches the gap: the solver lands on that time and
+                            # writes it, whatever the runner's latency
+                            scheduled, requested_at = t_stop, time.perf_counter()
+                            rereads_at_request = parser.rereads
+                            pending = [c for c, _ in ahead]
+                            _request_stop_at(self.case, t_stop, start_value)
+                if requested_at is not None:
+                    if stop_reason == "contact" and self.stop.requested:
+                        stop_reason = "interrupt"  # the write is requested already
+                    if stop_reason == "interrupt" and self.stop.count > 1 and not killed:
+                        self._kill(proc)
+                        killed = True
+                    waited = time.perf_counter() - requested_at
+                    if parser.rereads <= rereads_at_request and waited - last_bump > STOP_ACK_TIMEOUT_S:
+                        _bump_control_mtime(self.case)  # not seen yet: date it later again
+                        last_bump = waited
+                    if stop_reason is not None and waited > STOP_KILL_TIMEOUT_S and not killed:
+                        self._kill(proc)
+                        killed = True
+                time.sleep(self.poll_now)
+        except BaseException:
+            if proc.poll() is None:
+                self._kill(proc)
+            raise
+        if stop_reason is None and scheduled is not None and steps and abs(steps[-1].time_s - scheduled) < 1e-9 + 1e-7 * scheduled:
+            stop_reason = "contact"
+        wall = time.perf_counter() - t0
+        cpu = _cpu_s() - cpu0
+        rc = proc.returncode
+        reason = "diverged" if diag else (stop_reason or "end")
+        if killed and not diag and stop_reason == "interrupt":
+            reason = "killed"
+        seg = {"start": started, "start_time": start_name, "end_time": steps[-1].time_name if steps else start_name,
+               "time_steps": len(steps), "wall_s": round(wall, 3), "exit_status": rc, "stop_reason": reason,
+               "command": shlex.join(argv), "log": log.name, "runner_cpu_s": round(cpu, 3)}
+        if pending:
+            seg["stopped_for"] = [{"body": c.body, "other": c.other, "gap_m": round(c.distance_m, 6),
+                                   "closing_m_s": round(c.approach_m_s, 4)} for c in pending]
+        if diag is not None:
+            seg["diagnosis"] = diag.cause
+        self.record.data["segments"].append(seg)
+        self.record.data["time_steps"] = self.record.data.get("time_steps", 0) + len(steps)
+        if parser.build:
+            self.record.data["openfoam"] = parser.build
+        self.record.save()
+        if info.bodies and steps:
+            _append_track(self.case, steps, start_value)
+        self.last_steps = steps
+        if steps and steps[-1].delta_t_s:
+            self.last_delta_t_s = steps[-1].delta_t_s
+        return _SegmentResult(start_name, reason, rc, steps, parser, log, wall, cpu, diag, pending)
+
+    def _kill(self, proc: subprocess.Popen) -> None:
+        """SIGTERM to the solver's process group (mpirun and its ranks), then SIGKILL."""
+        for sig, wait in ((signal.SIGTERM, 10.0), (signal.SIGKILL, 10.0)):
+            try:
+                os.killpg(proc.pid, sig)
+            except ProcessLookupError:
+                return
+            try:
+                proc.wait(timeout=wait)
+                return
+            except subprocess.TimeoutExpired:
+                continue
+
+    def _contacts_ahead(self, steps: list[StepRecord],
+                        arrivals: list[tuple[float, int]]) -> list[tuple[Contact, float]]:
+        """Contacts the bodies will need within three stop latencies, each with the simulated
+        time from the last reported step until it needs the solver stopped (linear in the
+        present closing speed).
+
+        Stop latency in time steps: the runner sees a step up to one poll interval after
+        the solver printed it (the solver may be that many steps further), and the solver
+        acts on a controlDict request at the start of its next step. Near an obstacle the
+        runner polls faster (20 ms) to keep it short.
+        """
+        last = steps[-1]
+        if not last.bodies:
+            return []
+        wall_per_step = None
+        if len(arrivals) >= 2:
+            (w0, n0), (w1, n1) = arrivals[0], arrivals[-1]
+            if n1 > n0:
+                wall_per_step = (w1 - w0) / (n1 - n0)
+        self.latency_steps = 2 + (math.ceil((self.poll_now + 0.05) / wall_per_step) if wall_per_step else 3)
+        dt = last.delta_t_s or self.info.delta_t_s
+        horizon = dt * self.latency_steps
+        speed = max(b.speed_m_s for b in last.bodies)
+        near = self.geometry.contacts(last.bodies, self.contact.gap_m + 2 * speed * 4 * horizon + 1e-9,
+                                      bed=self.contact.bed)
+        ahead = []
+        for c in near:
+            wait = self.time_to_act(c)
+            if wait is not None and wait <= 3 * (horizon + dt):
+                ahead.append((c, wait))
+        self.poll_now = self.fast_poll if ahead else self.poll
+        return ahead
+
+    def time_to_act(self, c: Contact) -> float | None:
+        """Simulated time until `c` needs the solver stopped (0: now), None if never at this speed:
+        an impact when the gap is reached, a resting contact at a quarter of the gap, the bed
+        when the body has sunk the bed tolerance into it."""
+        closing = c.approach_m_s
+        if c.kind == "bed":
+            limit = -self.contact.bed_sink_m
+        elif closing >= self.contact.min_impact_speed_m_s:
+            limit = self.contact.gap_m
+        else:
+            limit = 0.25 * self.contact.gap_m
+        if c.distance_m <= limit:
+            return 0.0 if closing > 0 or c.kind == "bed" else None
+        if closing <= 0:
+            return None
+        return (c.distance_m - limit) / closing
+
+    def classify(self, c: Contact, horizon_s: float) -> str | None:
+        """What a contact needs before the solver could next stop (`horizon_s`):
+
+        "impact": closing at >= min_impact_speed and within the gap; "resting": closing
+        slower, within a quarter of the gap; "bed": sunk more than the bed tolerance
+        into the bed; None: nothing yet."""
+        closing = max(c.approach_m_s, 0.0)
+        ahead = c.distance_m - closing * horizon_s
+        if c.kind == "bed":
+            return "bed" if ahead <= -self.contact.bed_sink_m else None
+        if closing <= 0:
+            return None
+        if closing >= self.contact.min_impact_speed_m_s and ahead <= self.contact.gap_m:
+            return "impact"
+        if ahead <= 0.25 * self.contact.gap_m:
+            return "resting"
+        return None
+
+    def contacts_now(self, states: Sequence[BodyState]) -> list[Contact]:
+        """Contacts at a restart that would stop the solver at once (the rule used while
+        running, with the last segment's latency), closest first."""
+        horizon = self.last_delta_t_s * self.latency_steps
+        speed = max(s.speed_m_s for s in states)
+        near = self.geometry.contacts(states, self.contact.gap_m + 2 * speed * horizon + 1e-9, bed=False)
+        return sorted((c for c in near if self.classify(c, horizon)), key=lambda c: c.distance_m)
+
+    # ---- contact events
+    def resolve_contacts(self, time_name: str, states: list[BodyState]) -> tuple[int, list[BodyState]]:
+        """At a restart: resolve every contact that would stop the solver at once (impacts
+        with orchestrator.contact.resolve, slow ones as resting contacts), lift bodies out
+        of the bed, and move any body still overlapping an obstacle out of it. Records the
+        events; returns (impacts, the states to restart with)."""
+        geometry = self.geometry
+        by_name = {s.name: s for s in states}
+        horizon = self.last_delta_t_s * self.latency_steps
+        events = 0
+        done: set[str] = set()
+        for c in self.contacts_now(states):
+            if c.body in done or c.other in done:
+                continue  # one impact per body per restart; a second one is found at the next
+            self._guard_resting(c, float(time_name))
+            if self.classify(c, horizon) == "resting":
+                new, impulse = resting_contact(geometry, c, by_name)
+                before = {k: by_name[k] for k in new}
+                by_name.update(new)
+                done.update({c.body, c.other})
+                self._record_resting(time_name, c, before, new, impulse)
+                continue
+            result, new = geometry.resolve(c, by_name, self.contact)
+            before = {k: by_name[k] for k in new}
+            by_name.update(new)
+            if result is None:  # separating after all: only an overlap was removed
+                continue
+            events += 1
+            done.update({c.body, c.other})
+            self._record_event(time_name, c, before, new, result)
+        if self.contact.bed:
+            for name in list(by_name):
+                lifted = geometry.clamp_to_bed(by_name[name])
+                if lifted is not by_name[name]:
+                    by_name[name] = lifted
+                    self.record.data["bed_clamps"] = self.record.data.get("bed_clamps", 0) + 1
+        for c in geometry.contacts(list(by_name.values()), 0.0, bed=False):
+            if c.distance_m < 0:  # never restart a body inside the column, a wall or another body
+                new, _ = resting_contact(geometry, dataclasses.replace(c, approach_m_s=0.0), by_name)
+                by_name.update(new)
+                self.say(f"{c.body} overlapped {c.other} by {-c.distance_m * 1000:.3g} mm at t = {time_name} s: "
+                         "moved out along the contact normal")
+        return events, [by_name[n] for n in self.info.body_names]
+
+    def _guard_resting(self, c: Contact, t: float) -> None:
+        key = (c.body, c.other)
+        times = [x for x in self._pair_events.get(key, []) if x > t - self.contact.window_s]
+        times.append(t)
+        self._pair_events[key] = times
+        if len(times) > self.contact.max_events:
+            raise ContactError(
+                f"{c.body} hit {c.other} {len(times)} times within {self.contact.window_s:g} s of simulated time "
+                f"(t = {t:.6g} s): a resting contact, which event-driven contact cannot model")
+
+    def _record_resting(self, time_name: str, c: Contact, before: dict[str, BodyState],
+                        after: dict[str, BodyState], impulse_Ns: float) -> None:
+        events = self._read_events()
+        event = {"event": len(events) + 1, "type": "resting", "time_s": float(time_name), "body": c.body,
+                 "other": c.other, "kind": c.kind, "gap_m": c.distance_m, "point_m": list(c.point_m),
+                 "normal": list(c.normal), "approach_m_s": c.approach_m_s, "impulse_Ns": impulse_Ns,
+                 "velocity_in_m_s": list(before[c.body].velocity_m_s),
+                 "velocity_out_m_s": list(after[c.body].velocity_m_s)}
+        self._write_events(events + [event])
+        self.record.data["resting_contacts"] = self.record.data.get("resting_contacts", 0) + 1
+
+    def _forget_events_after(self, time_s: float) -> None:
+        """Contact events later than `time_s` belong to a stretch being computed again."""
+        events = self._read_events()
+        keep = [e for e in events if e["time_s"] <= time_s + _EPS_T]
+        if len(keep) == len(events):
+            return
+        self._write_events(keep)
+        impacts = self.case / IMPACTS_CSV
+        if impacts.is_file():
+            with open(impacts, newline="") as fh:
+                rows = [r for r in csv.reader(fh)]
+            kept = [rows[0]] + [r for r in rows[1:] if float(r[1]) <= time_s + _EPS_T]
+            with open(impacts, "w", newline="") as fh:
+                csv.writer(fh).writerows(kept)
+
+    def _read_events(self) -> list[dict]:
+        path = self.case / CONTACTS_JSON
+        return json.loads(path.read_text()) if path.is_file() else []
+
+    def _write_events(self, events: list[dict]) -> None:
+        path = self.case / CONTACTS_JSON
+        tmp = path.with_suffix(".json.tmp")
+        tmp.write_text(json.dumps(events, indent=2))
+        os.replace(tmp, path)
+
+    def _record_event(self, time_name: str, c: Contact, before: dict[str, BodyState], after: dict[str, BodyState],
+                      result) -> None:
+        events = self._read_events()
+        number = len(events) + 1
+        (self.case / CONTACTS_DIR).mkdir(exist_ok=True)
+        history = self.case / CONTACTS_DIR / f"event{number:04d}-force.csv"
+        with open(history, "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(["time_s", "force_N"])
+            for t, f in zip(result.force.time_s, result.force.force_N):
+                w.writerow([repr(float(t)), repr(float(f))])
+        if result.base_shear is not None:
+            shear = self.case / CONTACTS_DIR / f"event{number:04d}-base-shear.csv"
+            with open(shear, "w", newline="") as fh:
+                w = csv.writer(fh)
+                w.writerow(["time_s", "base_shear_x_N"] + (["base_shear_y_N"] if result.base_shear_y else []))
+                ys = result.base_shear_y.response_N if result.base_shear_y is not None else None
+                for i, (t, v) in enumerate(zip(result.base_shear.time_s, result.base_shear.response_N)):
+                    w.writerow([repr(float(t)), repr(float(v))] + ([repr(float(ys[i]))] if ys is not None else []))
+        b0, b1 = before[c.body], after[c.body]
+        event = {
+            "event": number,
+            "type": "impact",
+            "time_s": float(time_name),
+            "body": c.body,
+            "other": c.other,
+            "kind": c.kind,
+            "gap_m": c.distance_m,
+            "point_m": list(c.point_m),
+            "normal": list(c.normal),
+            "velocity_in_m_s": list(b0.velocity_m_s),
+            "velocity_out_m_s": list(b1.velocity_m_s),
+            "angular_velocity_in_rad_s": list(b0.angular_velocity_rad_s),
+            "angular_velocity_out_rad_s": list(b1.angular_velocity_rad_s),
+            "normal_velocity_in_m_s": float(result.normal_velocity_in_m_s),
+            "normal_velocity_out_m_s": float(result.normal_velocity_out_m_s),
+            "restitution": float(result.restitution),
+            "obliquity_deg": float(result.obliquity_deg),
+            "height_m": float(result.contact_height_m) if result.contact_height_m is not None else float(c.point_m[2]),
+            "peak_force_N": float(result.peak_force_N),
+            "duration_s": float(result.duration_s),
+            "impulse_Ns": float(result.impulse_Ns),
+            "force_history": str(history.relative_to(self.case)),
+        }
+        if c.kind == "body":
+            event["other_velocity_in_m_s"] = list(before[c.other].velocity_m_s)
+            event["other_velocity_out_m_s"] = list(after[c.other].velocity_m_s)
+        self._write_events(events + [event])
+        _append_impact_row(self.case / IMPACTS_CSV, event)
+        self.say(f"contact event {number}: {c.body} hit {c.other} at t = {float(time_name):.6g} s, "
+                 f"{abs(result.normal_velocity_in_m_s):.3g} m/s in, {result.normal_velocity_out_m_s:.3g} m/s out, "
+                 f"peak {result.peak_force_N:.4g} N")
+
+
+_IMPACT_COLUMNS = [
+    "event", "time_s", "body", "other", "kind", "point_x_m", "point_y_m", "point_z_m", "normal_x", "normal_y",
+    "normal_z", "u_in_m_s", "v_in_m_s", "w_in_m_s", "u_out_m_s", "v_out_m_s", "w_out_m_s", "normal_velocity_in_m_s",
+    "normal_velocity_out_m_s", "restitution", "obliquity_deg", "height_m", "peak_force_N", "duration_s",
+    "impulse_Ns", "force_history",
+]
+
+
+def _append_impact_row(path: Path, e: dict[str, Any]) -> None:
+    row = [e["event"], e["time_s"], e["body"], e["other"], e["kind"], *e["point_m"], *e["normal"],
+           *e["velocity_in_m_s"], *e["velocity_out_m_s"], e["normal_velocity_in_m_s"], e["normal_velocity_out_m_s"],
+           e["restitution"], e["obliquity_deg"], e["height_m"], e["peak_force_N"], e["duration_s"], e["impulse_Ns"],
+           e["force_history"]]
+    new = not path.is_file()
+    with open(path, "a", newline="") as fh:
+        w = csv.writer(fh)
+        if new:
+            w.writerow(_IMPACT_COLUMNS)
+        w.writerow(row)
+
+
+def _check_against_state_file(case: Path, time_name: str, states: Sequence[BodyState]) -> None:
+    """The first body's state in v1912's own file must match the report used for it."""
+    files = bodystate.state_file_paths(case, time_name)
+    if not files or not states:
+        return
+    saved = bodystate.read_state_file(files[0])
+    centre = saved.get("centreOfRotation")
+    if centre is None:
+        return
+    if math.dist(centre, states[0].centre_of_mass_m) > 1e-6:
+        raise RunError(f"the first body's state in {files[0]} ({centre}) does not match the solver log's report "
+                       f"at t = {time_name} s ({states[0].centre_of_mass_m}); the logs and time directories "
+                       f"disagree (was a log deleted or a time directory copied in?)")
+
+
+# --------------------------------------------------------------------------- public entry
+
+
+def run_case(case_dir: str | Path, np: int | None = None, quiet: bool = False, *,
+             reconstruct: str = "latest", contact: ContactSettings | None = None,
+             limits: DivergenceLimits | None = None, stop_event: threading.Event | None = None,
+             poll_interval_s: float = 0.2, stream=None,
+             on_step: Callable[[StepRecord], None] | None = None) -> RunSummary:
+    """Run a rendered case to its end time; resumable and idempotent (see the module notes).
+
+    np: MPI ranks (default: the plan's decomposition). quiet: no progress bar, no messages.
+    reconstruct: "latest" (default), "all" or "none" written times gathered by reconstructPar.
+    contact: ContactSettings (default on, 5 mm gap). limits: DivergenceLimits.
+    stop_event: set it to stop the run as Ctrl-C would (from another thread).
+    on_step: called with every StepRecord as the log is read (tests, custom monitors).
+
+    Raises RunInterrupted (stopped; resumable), DivergenceError, ContactError, RunError,
+    foam.StepError (a step failed), all DebrisfoamError.
+    """
+    if reconstruct not in ("latest", "all", "none"):
+        raise ValueError(f"reconstruct must be 'latest', 'all' or 'none', got {reconstruct!r}")
+    wall0 = time.perf_counter()
+    lock = _lock_case(Path(case_dir))
+    try:
+        return _run_locked(case_dir, np, quiet, reconstruct, contact, limits, stop_event, poll_interval_s, stream,
+                           on_step, wall0)
+    finally:
+        lock.close()
+
+
+def _lock_case(case: Path):
+    """An exclusive lock on the case (two runners on one case would corrupt it)."""
+    import fcntl
+
+    if not case.is_dir():
+        raise RunError(f"case directory {case} does not exist")
+    fh = open(case / ".debrisfoam-run.lock", "a+")
+    try:
+        fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        fh.close()
+        raise RunError(f"{case} is being run by another debrisfoam process; wait for it or stop it") from None
+    return fh
+
+
+def _run_locked(case_dir, np, quiet, reconstruct, contact, limits, stop_event, poll_interval_s, stream, on_step,
+                wall0) -> RunSummary:
+    info = _original_controls(load_case_info(case_dir, np))
+    case = info.case
+    stop = _StopFlag(stop_event)
+    runner = _Runner(info, quiet, contact or ContactSettings(), limits or DivergenceLimits(), stop,
+                     poll_interval_s, stream, on_step)
+    rec = runner.record
+    data = rec.data
+    data.update({"case": str(case), "solver": info.solver, "ranks": info.ranks, "end_time_s": info.end_time_s,
+                 "scene": "scene.yaml", "plan": "plan.json", "versions": _versions()})
+    data["control"] = {"endTime": info.end_time_s, "writeInterval": info.write_interval_s}
+    data.setdefault("cells", {})["planned"] = info.planned_cells
+    data.setdefault("started", _now())
+    _check_decomposition(case, info.ranks)
+
+    reached, name = latest_time(case, info.ranks)
+    if data.get("status") == "finished" and reached >= info.end_time_s - _EPS_T:
+        return _summary(info, data, True, reached, time.perf_counter() - wall0)
+
+    data["status"] = "running"
+    data.pop("error", None)
+    data.pop("diagnosis", None)
+    rec.save()
+    try:
+        return _run_steps(info, runner, stop, quiet, reconstruct, stream, wall0)
+    except RunInterrupted:
+        raise
+    except DebrisfoamError as exc:  # recorded, then raised for the CLI to report
+        if data.get("status") == "running":
+            data["status"], data["error"] = "failed", str(exc)
+            rec.save()
+        raise
+
+
+def _run_steps(info: CaseInfo, runner: _Runner, stop: _StopFlag, quiet: bool, reconstruct: str, stream,
+               wall0: float) -> RunSummary:
+    case, rec = info.case, runner.record
+    data = rec.data
+
+    for step in foam.mesh_steps(case, info.plan):
+        runner.run_step(step)
+    mesh_log = case / "log.checkMesh"
+    if mesh_log.is_file():
+        try:
+            summary = foam.check_mesh_summary(mesh_log)
+            data["cells"].update({"total": summary.cells, "mesh_ok": summary.ok})
+        except foam.StepError:
+            pass
+    for step in foam.solve_steps(case, info.plan, info.ranks):
+        if step.name == "decomposePar":
+            if not step.done(case):
+                _match_decomposition(case, info.ranks, data)
+            runner.run_step(step)
+
+    if info.bodies:  # scene, obstacles, imports: once, before the solver competes for the cores
+        t_setup = time.perf_counter()
+        runner.geometry
+        runner.between_s += time.perf_counter() - t_setup
+    handlers = _install_handlers(stop)
+    progress = None
+    try:
+        reached, name = latest_time(case, info.ranks)
+        progress = Progress(info.end_time_s, reached, quiet, label=f"{info.solver} {case.name}", stream=stream)
+        runner.progress = progress
+        while reached < info.end_time_s - _EPS_T:
+            states = runner.restore_bodies(name)
+            if states and runner.contact.enabled:
+                t_between = time.perf_counter()
+                events, resolved = runner.resolve_contacts(name, states)
+                if resolved != states:
+                    bodystate.prepare_restart(case, name, resolved, "contact")
+                if events:
+                    data["contacts"] = data.get("contacts", 0) + events
+                runner.between_s += time.perf_counter() - t_between
+            seg = runner.solve_segment(reached, name, progress)
+            if seg.diagnosis is not None or (seg.returncode not in (0, None) and
+                                             (seg.parser.fpe or seg.returncode == 136)):
+                _fail_diverged(runner, seg, reached)
+            if seg.returncode != 0 and seg.reason not in ("interrupt", "killed"):
+                text = seg.log.read_text(errors="replace")
+                err = foam.StepError(info.solver, foam.failure_reason(text), seg.log, seg.returncode)
+                data["status"], data["error"] = "failed", str(err)
+                rec.save()
+                raise err
+            new_reached, new_name = latest_time(case, info.ranks)
+            if seg.reason in ("interrupt", "killed") and new_reached < info.end_time_s - _EPS_T:
+                data["status"] = "interrupted"
+                rec.save()
+                raise RunInterrupted(case, stop.signum, new_name if new_reached > 0 else None,
+                                     clean=seg.reason == "interrupt" and seg.returncode == 0)
+            if new_reached <= reached + _EPS_T:
+                raise RunError(f"the solver ended without writing beyond t = {name} s; see {seg.log}")
+            reached, name = new_reached, new_name
+    finally:
+        if progress is not None:
+            progress.close()
+        runner.progress = None
+        _restore_handlers(handlers)
+
+    if info.bodies:
+        _assert_outside(info, case, name, runner)
+    if info.ranks > 1 and reconstruct != "none":
+        step = foam.Step("reconstructPar", ("reconstructPar",), "gather the time directories")
+        extra = ["-latestTime"] if reconstruct == "latest" else []
+        runner.run_step(step, 1, extra + ["-newTimes"])
+    data["status"] = "finished"
+    data["reached_time_s"] = reached
+    data["finished"] = _now()
+    solver_wall = sum(s["wall_s"] for s in data["segments"])
+    cpu = sum(s.get("runner_cpu_s", 0.0) for s in data["segments"])
+    data.setdefault("runner", {}).update({"solver_wall_s": round(solver_wall, 3), "cpu_s": round(cpu, 3),
+                                          "between_segments_s": round(runner.between_s, 3),
+                                          "overhead_fraction": round(cpu / solver_wall, 5) if solver_wall else 0.0})
+    rec.save()
+    return _summary(info, data, False, reached, time.perf_counter() - wall0)
+
+
+def _original_controls(info: CaseInfo) -> CaseInfo:
+    """The case's own endTime/writeInterval: a runner that died during a segment left the
+    segment's values in controlDict (run.json says which); otherwise controlDict's (a user
+    may have changed endTime to extend a run)."""
+    from dataclasses import replace
+
+    path = info.case / RUN_JSON
+    if not path.is_file():
+        return info
+    data = json.loads(path.read_text())
+    seg, own = data.get("segment_control"), data.get("control")
+    if seg and own and math.isclose(seg["endTime"], info.end_time_s) and math.isclose(
+            seg["writeInterval"], info.write_interval_s):
+        _set_control(info.case, stopAt="endTime", endTime=own["endTime"], writeInterval=own["writeInterval"])
+        return replace(info, end_time_s=float(own["endTime"]), write_interval_s=float(own["writeInterval"]))
+    return info
+
+
+def _summary(info: CaseInfo, data: dict, already: bool, reached: float, wall: float) -> RunSummary:
+    segs = data.get("segments", [])
+    solver_wall = sum(s["wall_s"] for s in segs)
+    cpu = sum(s.get("runner_cpu_s", 0.0) for s in segs)
+    return RunSummary(
+        case=info.case, status=data.get("status", "unknown"), already_finished=already, end_time_s=info.end_time_s,
+        reached_time_s=reached, time_steps=int(data.get("time_steps", 0)), segments=len(segs),
+        contacts=int(data.get("contacts", 0)), wall_s=wall, solver_wall_s=solver_wall, runner_cpu_s=cpu,
+        overhead_fraction=cpu / solver_wall if solver_wall else 0.0, run_json=info.case / RUN_JSON)
+
+
+def _check_decomposition(case: Path, ranks: int) -> None:
+    procs = _processor_dirs(case)
+    if ranks > 1 and procs and len(procs) != ranks:
+        raise RunError(f"{case} is decomposed for {len(procs)} ranks, not {ranks}: run with --np {len(procs)} "
+                       f"(or delete the processor* directories to start again)")
+    if ranks == 1 and procs:
+        raise RunError(f"{case} is decomposed for {len(procs)} ranks: run with --np {len(procs)}")
+
+
+def _match_decomposition(case: Path, ranks: int, data: dict) -> None:
+    """decomposeParDict for `ranks` when --np differs from the plan (split along x, noted in run.json)."""
+    from PyFoam.RunDictionary.ParsedParameterFile import ParsedParameterFile
+
+    path = case / "system" / "decomposeParDict"
+    parsed = ParsedParameterFile(str(path))
+    if int(parsed["numberOfSubdomains"]) == ranks:
+        return
+    planned = parsed["numberOfSubdomains"]
+    parsed["numberOfSubdomains"] = ranks
+    coeffs = parsed["coeffs"] if "coeffs" in parsed else parsed["hierarchicalCoeffs"]
+    coeffs["n"] = f"({ranks} 1 1)"
+    bodystate.write_dictionary(parsed, path)
+    data["decomposition_note"] = (f"--np {ranks} instead of the planned {planned}: hierarchical ({ranks} 1 1); "
+                                  "the plan's split kept body meshes on one rank, this one may not")
+
+
+def _fail_diverged(runner: _Runner, seg: _SegmentResult, start_value: float) -> None:
+    info, case, data = runner.info, runner.case, runner.record.data
+    diag = seg.diagnosis
+    if diag is None:  # the solver died of a floating point exception itself
+        t = seg.parser.current_time_s
+        diag = Diagnosis("fpe", "floating point exception (sigFpe) in the solver", t, t)
+    if diag.since_s is not None:
+        _remove_times_from(case, info.ranks, diag.since_s, start_value)
+    _, good = latest_time(case, info.ranks)
+    data["status"] = "diverged"
+    data["diagnosis"] = {"kind": diag.kind, "cause": diag.cause, "time_s": diag.time_s, "last_good_time": good,
+                         "log": seg.log.name}
+    runner.record.save()
+    raise DivergenceError(diag.kind, diag.cause, diag.time_s, good, seg.log)
+
+
+def _assert_outside(info: CaseInfo, case: Path, name: str, runner: _Runner) -> None:
+    """A finished run must not leave a body inside the column, a wall or another body."""
+    states = _states_in_logs(case, info.solver, info.body_names, name)
+    if states is None:
+        return
+    inside = [c for c in runner.geometry.contacts(states, 0.0, bed=False) if c.distance_m < 0]
+    if inside:
+        c = inside[0]
+        raise ContactError(f"{c.body} ends the run {-c.distance_m * 1000:.3g} mm inside {c.other} at t = {name} s")
+
+
+def _install_handlers(stop: _StopFlag):
+    if threading.current_thread() is not threading.main_thread():
+        return None
+    return {sig: signal.signal(sig, stop.handler) for sig in (signal.SIGINT, signal.SIGTERM)}
+
+
+def _restore_handlers(handlers) -> None:
+    if handlers:
+        for sig, old in handlers.items():
+            signal.signal(sig, old)

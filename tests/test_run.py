@@ -1,0 +1,484 @@
+"""The runner: segments, resume, stop, divergence, contact events, body states.
+
+Geometry, segment spans, time directories and dictionary edits are tested without
+OpenFOAM; the runner itself on real OpenFOAM v1912 (tests marked `openfoam`), on tiny
+cases rendered from the scenes below (2.2 m flume segment, 4 cm cells, 4-5k cells,
+2 ranks): a dam break without debris; one body started 2.5 cm from the column at
+0.6 m/s towards it; the same with a second body drifting elsewhere.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+import signal
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from orchestrator import bodystate
+from orchestrator.bodystate import BodyState
+from orchestrator.monitor import parse_log
+from orchestrator.render import render_from_file
+from orchestrator.run import (
+    ContactSettings,
+    DivergenceError,
+    Geometry,
+    RunError,
+    RunInterrupted,
+    latest_time,
+    load_case_info,
+    resting_contact,
+    run_case,
+    segment_span,
+)
+
+ROOT = Path(__file__).resolve().parent.parent
+
+COLUMN = {"x_m": 1.2, "y_m": 0.0, "size_x_m": 0.1, "size_y_m": 0.1, "height_m": 0.3, "wall_thickness_m": 0.005,
+          "youngs_modulus_Pa": 2.5e9, "density_kg_m3": 1200, "poisson_ratio": 0.375, "shear_coefficient": 0.5}
+BOX = {"size_m": [0.15, 0.06, 0.06], "mass_kg": 0.236, "wall_thickness_m": 0.005, "placement": "floating"}
+
+
+def scene(debris=(), end_time_s=0.2, wet_depth_m=0.03) -> dict:
+    """A tiny dam break: 2.4 m flume (0.5 m reservoir, 0.16 m deep), 0.4 m wide, column at 1.2 m."""
+    return {
+        "name": "tiny",
+        "flume": {"length_m": 2.4, "width_m": 0.4, "height_m": 0.3, "downstream_end": "closed"},
+        "reservoir": {"length_m": 0.5, "depth_m": 0.16},
+        "bed": {"wet_depth_m": wet_depth_m, "friction_factor": 0.0},
+        "column": COLUMN,
+        "debris": [dict(BOX, **d) for d in debris],
+        "gauges": [{"name": "WG1", "x_m": 0.5, "y_m": 0.0}],
+        "mesh": {"cell_size_m": 0.04, "coarsening_ratio": 1, "body_margin_cells": 1},
+        "run": {"end_time_s": end_time_s, "cores": 2, "write_interval_s": 0.05, "max_courant": 0.9},
+        "outputs": {"probe_interval_s": None, "preview": False},
+    }
+
+
+def render(tmp_path: Path, name: str, data: dict) -> Path:
+    path = tmp_path / f"{name}.yaml"
+    path.write_text(yaml.safe_dump(data))
+    case = tmp_path / name
+    render_from_file(path, case)
+    return case
+
+
+def set_velocities(case: Path, velocities: dict[str, tuple[float, float, float]]) -> None:
+    """Start the bodies with these velocities (their t = 0 state in dynamicMeshDict)."""
+    props = {p.name: p for p in bodystate.read_body_properties(case)}
+    bodystate.write_states(case, [BodyState(n, 0.0, props[n].initial_centre_of_mass_m, props[n].initial_orientation, v)
+                                  for n, v in velocities.items()])
+
+
+def force_rows(case: Path) -> dict[float, np.ndarray]:
+    """columnForces force.dat of every segment: time -> (total, pressure, viscous) x, y, z."""
+    rows = {}
+    for path in sorted((case / "postProcessing" / "columnForces").glob("*/force.dat")):
+        for line in path.read_text().splitlines():
+            if line.startswith("#") or not line.strip():
+                continue
+            parts = line.replace("(", " ").replace(")", " ").split()
+            rows[float(parts[0])] = np.array([float(v) for v in parts[1:]])
+    return rows
+
+
+def internal_field(path: Path) -> np.ndarray:
+    text = path.read_text()
+    body = text[text.index("internalField"):]
+    n = body.index("(")
+    return np.array(body[n + 1:body.index(")", n)].split(), dtype=float)
+
+
+def steps_of(case: Path, solver: str, names=()):
+    """Every log of the case in segment order: [(log name, steps)]."""
+    logs = sorted(case.glob(f"log.{solver}.*"), key=lambda p: int(p.suffix[1:])) + [case / f"log.{solver}"]
+    return [(p.name, parse_log(p, names)[0]) for p in logs]
+
+
+# --------------------------------------------------------------------------- without OpenFOAM
+
+
+@pytest.mark.parametrize("start, end, interval, expected", [
+    (0.0, 3.0, 0.05, (3.0, 0.05)),       # on the grid to the end
+    (0.16, 3.0, 0.05, (0.2, 0.04)),      # off the grid (a writeNow): back onto it first
+    (0.2, 0.33, 0.05, (0.3, 0.05)),      # end off the grid: to its last grid time...
+    (0.3, 0.33, 0.05, (0.33, 0.03)),     # ...then a last short segment, so the end is written
+    (0.31, 0.33, 0.05, (0.33, 0.02)),
+    (0.15000001, 0.2, 0.05, (0.2, 0.05)),
+])
+def test_segment_span(start, end, interval, expected):
+    assert segment_span(start, end, interval) == pytest.approx(expected)
+
+
+@pytest.fixture(scope="module")
+def body_case(tmp_path_factory) -> Path:
+    """A rendered (not meshed) case with two bodies: render needs no OpenFOAM."""
+    tmp = tmp_path_factory.mktemp("render")
+    return render(tmp, "bodies", scene([{"name": "debris1", "centre_m": [1.05, 0.0]},
+                                        {"name": "debris2", "centre_m": [0.7, 0.12], "yaw_deg": 30.0}],
+                                       wet_depth_m=0.1))
+
+
+def test_case_info_from_a_rendered_case(body_case):
+    info = load_case_info(body_case)
+    assert info.solver == "overInterDyMFoam" and info.ranks == 2
+    assert info.body_names == ("debris1", "debris2")
+    assert info.end_time_s == 0.2 and info.write_interval_s == 0.05 and info.adjustable_time_step
+    assert info.body_sizes_m["debris2"] == (0.15, 0.06, 0.06)
+    assert info.domain_m[1] == pytest.approx((-0.2, 0.2))
+    assert load_case_info(body_case, np_override=1).ranks == 1
+
+
+def _state(name, centre, velocity=(0.0, 0.0, 0.0), yaw_deg=0.0, omega=(0.0, 0.0, 0.0)):
+    c, s = math.cos(math.radians(yaw_deg)), math.sin(math.radians(yaw_deg))
+    return BodyState(name, 0.1, tuple(centre), (c, -s, 0, s, c, 0, 0, 0, 1), tuple(velocity), tuple(omega))
+
+
+def test_contacts_carry_closing_speeds(body_case):
+    """The runner's view of orchestrator.contact: distances, normals and closing speeds."""
+    geometry = Geometry(load_case_info(body_case))
+    # nose 4 mm from the column's upstream face (x = 1.15), closing at 0.5 m/s
+    body = _state("debris1", (1.15 - 0.075 - 0.004, 0.0, 0.1), (0.5, 0.0, 0.0))
+    c = next(c for c in geometry.contacts([body], 0.01) if c.other == "column")
+    assert c.kind == "column" and c.distance_m == pytest.approx(0.004)
+    assert c.normal == pytest.approx((-1.0, 0.0, 0.0)) and c.point_m[1:] == pytest.approx((0.0, 0.1))
+    assert c.approach_m_s == pytest.approx(0.5)
+    # a wall, another body (closing at 0.3 m/s relative), the bed
+    near_wall = _state("debris1", (0.5, 0.2 - 0.03 - 0.002, 0.1), (0.0, 0.2, 0.0))
+    other = _state("debris2", (0.5, 0.2 - 0.03 - 0.002 - 0.06 - 0.003, 0.1), (0.0, 0.5, -0.1))
+    found = {(c.body, c.kind): c for c in geometry.contacts([near_wall, other], 0.01)}
+    wall = found[("debris1", "wall")]
+    assert wall.distance_m == pytest.approx(0.002) and wall.normal == pytest.approx((0.0, -1.0, 0.0))
+    assert wall.approach_m_s == pytest.approx(0.2)
+    pair = found[("debris1", "body")]
+    assert pair.other == "debris2" and pair.distance_m == pytest.approx(0.003)
+    assert pair.normal == pytest.approx((0.0, 1.0, 0.0)) and pair.approach_m_s == pytest.approx(0.3)
+    assert ("debris2", "bed") not in found
+    low = _state("debris2", (0.5, 0.0, 0.029), (0.0, 0.0, -0.1))
+    bed = next(c for c in geometry.contacts([low], 0.01) if c.kind == "bed")
+    assert bed.distance_m == pytest.approx(-0.001) and bed.approach_m_s == pytest.approx(0.1)
+    assert [c for c in geometry.contacts([low], 0.01, bed=False) if c.kind == "bed"] == []
+
+
+def test_classification_of_contacts(body_case, tmp_path):
+    from orchestrator.run import Contact, ContactSettings, _Runner, _StopFlag
+    from orchestrator.monitor import DivergenceLimits
+
+    runner = _Runner(load_case_info(body_case), True, ContactSettings(gap_m=0.005, min_impact_speed_m_s=0.05),
+                     DivergenceLimits(), _StopFlag(None), 0.2, None, None)
+    runner.record.path = tmp_path / "run.json"
+
+    def contact(d, v, kind="column"):
+        return Contact("debris1", "column", kind, d, (0, 0, 0), (-1, 0, 0), v)
+
+    horizon = 0.01
+    assert runner.classify(contact(0.009, 0.5), horizon) == "impact"  # reaches the gap within the horizon
+    assert runner.classify(contact(0.02, 0.5), horizon) is None
+    assert runner.classify(contact(0.004, -0.5), horizon) is None  # separating
+    assert runner.classify(contact(0.001, 0.02), horizon) == "resting"  # slow, within a quarter of the gap
+    assert runner.classify(contact(0.003, 0.02), horizon) is None
+    assert runner.classify(contact(-0.001, 0.0, "bed"), horizon) is None  # within the bed tolerance (2.5 mm)
+    assert runner.classify(contact(-0.002, 0.1, "bed"), horizon) == "bed"
+
+
+def test_resting_contact_stops_the_closing_motion(body_case):
+    geometry = Geometry(load_case_info(body_case))
+    body = _state("debris1", (1.15 - 0.075 + 0.001, 0.02, 0.11), (0.02, 0.01, -0.01), omega=(0.0, 0.3, 0.1))
+    c = next(c for c in geometry.contacts([body], 0.01) if c.other == "column")
+    assert c.distance_m == pytest.approx(-0.001)
+    new, impulse = resting_contact(geometry, c, {"debris1": body})
+    after = new["debris1"]
+    p = np.asarray(c.point_m)
+    v_point = np.asarray(after.velocity_m_s) + np.cross(after.angular_velocity_rad_s, p - np.asarray(body.centre_of_mass_m))
+    assert v_point @ np.asarray(c.normal) == pytest.approx(0.0, abs=1e-12)
+    assert impulse > 0
+    assert after.centre_of_mass_m[0] == pytest.approx(body.centre_of_mass_m[0] - 0.001)  # out of the column
+    assert all(x.distance_m >= -1e-12 for x in geometry.contacts([after], 0.0) if x.other == "column")
+
+
+def test_write_and_restore_states_in_dynamic_mesh_dict(body_case, tmp_path):
+    import shutil
+
+    case = tmp_path / "case"
+    shutil.copytree(body_case, case)
+    props = {p.name: p for p in bodystate.read_body_properties(case)}
+    before = (case / bodystate.DYNAMIC_MESH_DICT).read_text()
+    assert "momentOfInertia (0.0002213017544" in before
+    q = bodystate.orthonormal([1, 1e-9, 0, -1e-9, 1, 0, 0, 0, 1.0000000001])
+    s1 = BodyState("debris1", 0.3, (1.0123456789012, 0.0011, 0.0987654321), q, (0.1, 0.2, -0.3), (0.5, -0.25, 2.0))
+    s2 = BodyState("debris2", 0.3, (0.75, 0.125, 0.1), props["debris2"].initial_orientation, (0.2, 0.0, 0.0))
+    # a fake decomposed time with v1912's (first body's) state file in each processor
+    for p in ("processor0", "processor1"):
+        (case / p / "0.3" / "uniform").mkdir(parents=True)
+        (case / p / "0.3" / "uniform" / "sixDoFRigidBodyMotionState").write_text("FoamFile{}\n")
+    bodystate.prepare_restart(case, "0.3", [s1, s2], "log")
+    assert bodystate.state_file_paths(case, "0.3") == []
+    from PyFoam.RunDictionary.ParsedParameterFile import ParsedParameterFile
+
+    d = ParsedParameterFile(str(case / bodystate.DYNAMIC_MESH_DICT))
+    c1 = d["solvers"]["debris1"]["sixDoFRigidBodyMotionCoeffs"]
+    assert c1["centreOfMass"].vals == [1.0123456789012, 0.0011, 0.0987654321]  # every digit kept
+    assert c1["initialCentreOfMass"].vals == pytest.approx([1.05, 0.0, 0.1037304927])
+    assert c1["velocity"].vals == [0.1, 0.2, -0.3]
+    # angularMomentum = I (Q^T omega): back to omega
+    pi = np.array(c1["angularMomentum"].vals, dtype=float)
+    omega = np.asarray(q).reshape(3, 3) @ (pi / np.asarray(props["debris1"].moment_of_inertia_kg_m2))
+    assert omega == pytest.approx((0.5, -0.25, 2.0))
+    c2 = d["solvers"]["debris2"]["sixDoFRigidBodyMotionCoeffs"]
+    assert c2["initialOrientation"].vals == pytest.approx(list(props["debris2"].initial_orientation))
+    # untouched entries keep their digits (PyFoam alone would round them to 6)
+    assert "momentOfInertia (0.0002213017544" in (case / bodystate.DYNAMIC_MESH_DICT).read_text()
+    # the initial pose is the mesh's, whatever was written since
+    assert bodystate.read_body_properties(case)[0].initial_centre_of_mass_m == props["debris1"].initial_centre_of_mass_m
+    states, source = bodystate.recorded_states(case, "0.3")
+    assert source == "log" and states == [s1, s2]
+    with pytest.raises(KeyError, match="debris2"):
+        bodystate.prepare_restart(case, "0.4", [s1], "log")
+
+
+def test_latest_time_repairs_an_incomplete_write(tmp_path):
+    case = tmp_path / "case"
+    for p in ("processor0", "processor1"):
+        for t in ("0", "0.05", "0.1"):
+            d = case / p / t
+            (d / "uniform").mkdir(parents=True)
+            for f in ("U", "p_rgh", "alpha.water"):
+                (d / f).write_text("x")
+            if t != "0":
+                (d / "uniform" / "time").write_text("x")
+    (case / "processor1" / "0.1" / "p_rgh").unlink()  # rank 1 was killed while writing
+    assert latest_time(case, 2, repair=False) == (0.05, "0.05")
+    assert (case / "processor0" / "0.1").is_dir()
+    assert latest_time(case, 2) == (0.05, "0.05")
+    assert not (case / "processor0" / "0.1").exists()
+    assert latest_time(tmp_path / "empty", 2) == (0.0, "0")
+
+
+def test_stop_request_dates_control_dict_past_the_skew(body_case, tmp_path):
+    import shutil
+
+    from orchestrator.run import FILE_MODIFICATION_SKEW_S, _request_write_now, _set_control
+
+    case = tmp_path / "case"
+    shutil.copytree(body_case, case)
+    _set_control(case, backdate=True, stopAt="endTime")
+    control = case / "system" / "controlDict"
+    before = control.stat().st_mtime
+    assert before < time.time() - 3000
+    _request_write_now(case)
+    assert control.stat().st_mtime >= before + FILE_MODIFICATION_SKEW_S + 1
+    text = control.read_text()
+    assert "stopAt writeNow;" in text
+    assert "start   (0.5 0 " in text or "start (0.5 0.0 " in text  # the gauge line kept its digits
+
+
+def test_missing_case_is_a_run_error(tmp_path):
+    with pytest.raises(RunError, match="does not exist"):
+        run_case(tmp_path / "nowhere", quiet=True)
+    (tmp_path / "empty").mkdir()
+    with pytest.raises(RunError, match="plan.json"):
+        run_case(tmp_path / "empty", quiet=True)
+
+
+# --------------------------------------------------------------------------- with OpenFOAM
+
+
+@pytest.mark.openfoam
+def test_dam_break_runs_to_completion_and_resumes_after_a_stop(tmp_path, openfoam):
+    """2 ranks to the end; stopped mid-way (stop_event, as Ctrl-C) and resumed, the same end state."""
+    data = scene(end_time_s=0.7)  # the bore reaches the column at about 0.5 s
+    whole = render(tmp_path, "whole", data)
+    summary = run_case(whole, quiet=True)
+    assert summary.status == "finished" and summary.reached_time_s == pytest.approx(0.7)
+    assert summary.segments == 1 and summary.time_steps > 20
+    record = json.loads((whole / "run.json").read_text())
+    assert record["status"] == "finished" and record["openfoam"].startswith("1912")
+    assert record["cells"]["total"] == record["cells"]["planned"] > 4000
+    names = [s["name"] for s in record["steps"]]
+    assert names == ["blockMesh", "setFields", "checkMesh", "decomposePar", "reconstructPar"]
+    assert all(s["exit_status"] == 0 and s["wall_s"] > 0 and s["start"] for s in record["steps"])
+    assert record["segments"][0]["command"] == "mpirun -np 2 interFoam -parallel"
+    assert record["runner"]["overhead_fraction"] < 0.05
+    for log in ("log.blockMesh", "log.setFields", "log.checkMesh", "log.decomposePar", "log.interFoam",
+                "log.reconstructPar"):
+        assert (whole / log).is_file()
+    assert (whole / "0.7" / "alpha.water").is_file()  # the latest time, reconstructed
+    assert not (whole / "0.5").exists()
+    again = run_case(whole, quiet=True)  # idempotent
+    assert again.already_finished and again.status == "finished"
+
+    stopped = render(tmp_path, "stopped", data)
+    stop = threading.Event()
+    with pytest.raises(RunInterrupted) as err:
+        run_case(stopped, quiet=True, stop_event=stop, on_step=lambda s: s.time_s >= 0.33 and stop.set())
+    assert err.value.clean and f"debrisfoam run {stopped}" in str(err.value)
+    written = float(err.value.written_time)
+    assert 0.33 <= written < 0.65  # a few steps after the request (the runner reads the log every 0.2 s)
+    assert json.loads((stopped / "run.json").read_text())["status"] == "interrupted"
+    resumed = run_case(stopped, quiet=True)
+    on_grid = abs(written / 0.05 - round(written / 0.05)) < 1e-6
+    # the stopped segment, a short one back onto the write grid (unless the stop fell on it), the rest
+    assert resumed.status == "finished" and resumed.segments == (2 if on_grid else 3)
+    # the same end state as the uninterrupted run: the column force (the bore hit it at
+    # about 0.5 s) and the water fraction in every cell
+    a, b = force_rows(whole), force_rows(stopped)
+    scale = max(abs(v[0]) for v in a.values())
+    assert scale > 0.1  # N; the hydrostatic force of the wet bed before the bore is 3e-4 N
+    assert np.abs(a[0.7] - b[0.7]).max() < 0.01 * scale
+    assert internal_field(stopped / "0.7" / "alpha.water") == pytest.approx(
+        internal_field(whole / "0.7" / "alpha.water"), abs=0.02)
+    # after the stop the run wrote at the same times as the uninterrupted one
+    times = {p.name for p in (stopped / "processor0").iterdir() if p.name[0].isdigit()}
+    assert {"0.65", "0.7", err.value.written_time} <= times
+
+
+@pytest.mark.openfoam
+def test_ctrl_c_on_the_command_line(tmp_path, openfoam):
+    """SIGINT to `debrisfoam run`: the solver writes, the message says how to resume, exit 130."""
+    case = render(tmp_path, "cli", scene(end_time_s=2.0))
+    proc = subprocess.Popen([sys.executable, "-m", "orchestrator.cli", "run", str(case)], cwd=ROOT,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    log = case / "log.interFoam"
+    deadline = time.time() + 120
+    while time.time() < deadline and not (log.is_file() and log.read_text().count("\nTime = ") >= 5):
+        time.sleep(0.2)
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err
+    assert "interrupted" in err and f"Resume with: debrisfoam run {case}" in err
+    assert "Re-reading object controlDict" in log.read_text()  # stopped by writeNow, not killed
+    t, name = latest_time(case, 2)
+    assert 0 < t < 2.0
+    assert json.loads((case / "run.json").read_text())["segments"][-1]["stop_reason"] == "interrupt"
+    assert "stopAt endTime;" in (case / "system" / "controlDict").read_text()
+
+
+@pytest.mark.openfoam
+def test_unstable_case_stops_with_a_diagnosis(tmp_path, openfoam):
+    case = render(tmp_path, "unstable", scene(end_time_s=2.0))
+    control = case / "system" / "controlDict"
+    text = re.sub(r"^adjustTimeStep .*$", "adjustTimeStep no;", control.read_text(), flags=re.M)
+    control.write_text(re.sub(r"^deltaT .*$", "deltaT 0.04;", text, flags=re.M))  # Co 60-80
+    with pytest.raises(DivergenceError) as err:
+        run_case(case, quiet=True)
+    e = err.value
+    assert e.kind == "courant" and e.time_s < 1.0
+    assert "Courant number runaway" in str(e) and f"t = {e.time_s:.6g} s" in str(e)
+    assert str(case / "log.interFoam") in str(e)
+    record = json.loads((case / "run.json").read_text())
+    assert record["status"] == "diverged" and record["diagnosis"]["kind"] == "courant"
+    # the last good time is kept, nothing written after the first symptom
+    t, name = latest_time(case, 2)
+    assert name == e.last_good_time and t < record["diagnosis"]["time_s"]
+    assert not any(p.name[0].isdigit() and float(p.name) > t for p in (case / "processor0").iterdir())
+    # the CLI's message and exit code
+    proc = subprocess.run([sys.executable, "-m", "orchestrator.cli", "run", str(case), "--quiet"], cwd=ROOT,
+                          capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 1 and "solution diverged" in proc.stderr and "log.interFoam" in proc.stderr
+
+
+def _positions_across_restarts(case: Path, names):
+    """[(time name, last step before, first step after)] at every restart."""
+    segments = steps_of(case, "overInterDyMFoam", names)
+    out = []
+    for (_, before), (_, after) in zip(segments, segments[1:]):
+        if before and after:
+            out.append((before[-1].time_name, before[-1], after[0]))
+    return out
+
+
+def _outside_everything(case: Path, names):
+    last = steps_of(case, "overInterDyMFoam", names)[-1][1][-1]
+    return [c for c in Geometry(load_case_info(case)).contacts(last.bodies, 0.0, bed=False) if c.distance_m < 0]
+
+
+@pytest.mark.openfoam
+def test_body_driven_into_the_column_rebounds(tmp_path, openfoam):
+    case = render(tmp_path, "one", scene([{"name": "debris1", "centre_m": [1.05, 0.0]}], end_time_s=0.08,
+                                         wet_depth_m=0.1))
+    set_velocities(case, {"debris1": (0.6, 0.0, 0.0)})
+    summary = run_case(case, quiet=True)
+    assert summary.status == "finished" and summary.contacts >= 1
+    events = json.loads((case / "contacts.json").read_text())
+    impact = next(e for e in events if e["type"] == "impact")
+    assert impact["body"] == "debris1" and impact["other"] == "column"
+    assert impact["normal"] == pytest.approx([-1.0, 0.0, 0.0])
+    assert impact["normal_velocity_in_m_s"] < -0.3 and impact["normal_velocity_out_m_s"] > 0.1  # a rebound
+    assert impact["velocity_out_m_s"][0] < 0 < impact["velocity_in_m_s"][0]
+    assert impact["peak_force_N"] > 0 and impact["impulse_Ns"] > 0 and 0 < impact["height_m"] < 0.3
+    assert (case / impact["force_history"]).is_file()
+    header = (case / "impacts.csv").read_text().splitlines()[0]
+    for column in ("time_s", "body", "other", "point_x_m", "normal_x", "u_in_m_s", "u_out_m_s", "obliquity_deg",
+                   "height_m", "peak_force_N", "duration_s", "impulse_Ns", "force_history"):
+        assert column in header.split(",")
+    # the body restarted with its rebound velocity, where it was
+    t_event, before, after = _positions_across_restarts(case, ["debris1"])[0]
+    assert float(t_event) == pytest.approx(impact["time_s"])
+    b0, b1 = before.bodies[0], after.bodies[0]
+    assert b1.velocity_m_s[0] == pytest.approx(impact["velocity_out_m_s"][0], abs=0.05)
+    assert math.dist(b0.centre_of_mass_m, b1.centre_of_mass_m) < 1.5 * b1.speed_m_s * after.delta_t_s + 1e-4
+    assert _outside_everything(case, ["debris1"]) == []
+    assert json.loads((case / "run.json").read_text())["runner"]["overhead_fraction"] < 0.05
+
+
+@pytest.mark.openfoam
+def test_two_bodies_keep_their_own_states_across_restarts(tmp_path, openfoam):
+    names = ["debris1", "debris2"]
+    case = render(tmp_path, "two", scene([{"name": "debris1", "centre_m": [1.05, 0.0]},
+                                          {"name": "debris2", "centre_m": [0.6, 0.0]}],
+                                         end_time_s=0.06, wet_depth_m=0.1))
+    set_velocities(case, {"debris1": (0.6, 0.0, 0.0), "debris2": (0.2, 0.0, 0.0)})
+    summary = run_case(case, quiet=True)
+    assert summary.status == "finished" and summary.contacts >= 1 and summary.segments >= 2
+    segments = steps_of(case, "overInterDyMFoam", names)
+    restarts = _positions_across_restarts(case, names)
+    assert restarts
+    for _, before, after in restarts:
+        assert [b.name for b in after.bodies] == names
+        for b0, b1 in zip(before.bodies, after.bodies):
+            # each body continues from its own place (v1912 alone would give both debris1's)
+            moved = math.dist(b0.centre_of_mass_m, b1.centre_of_mass_m)
+            assert moved < 1.5 * max(b0.speed_m_s, b1.speed_m_s) * after.delta_t_s + 1e-4, (b0, b1)
+    # debris2 took no part in the impact: its velocity and position carry on across the restart
+    t_event, before, after = restarts[0]
+    first = segments[0][1]
+    assert first[-1].time_name == t_event
+    prev, last, nxt = first[-2].bodies[1], before.bodies[1], after.bodies[1]
+    change_before = np.subtract(last.velocity_m_s, prev.velocity_m_s)
+    change_across = np.subtract(nxt.velocity_m_s, last.velocity_m_s)
+    assert np.linalg.norm(change_across) < 2 * np.linalg.norm(change_before) + 0.01
+    assert nxt.centre_of_mass_m[0] > last.centre_of_mass_m[0] > 0.6
+    # debris1 rebounded; debris2 kept going downstream
+    assert after.bodies[0].velocity_m_s[0] < 0 < before.bodies[0].velocity_m_s[0]
+    assert nxt.velocity_m_s[0] > 0.1
+    assert _outside_everything(case, names) == []
+    record = json.loads((case / "bodystate.json").read_text())
+    assert {e["source"] for e in record.values()} >= {"initial", "contact"}
+
+
+@pytest.mark.openfoam
+def test_body_on_the_bed_does_not_sink_through_it(tmp_path, openfoam):
+    """v1912 lets a heavy body sink through the bed; the runner lifts it back at restarts."""
+    case = render(tmp_path, "bed", scene([{"name": "debris1", "centre_m": [0.8, 0.0], "placement": "on_bed"}],
+                                         end_time_s=0.06, wet_depth_m=0.015))
+    summary = run_case(case, quiet=True)
+    record = json.loads((case / "run.json").read_text())
+    assert summary.status == "finished" and record["bed_clamps"] >= 1
+    assert any(s.get("stopped_for", [{}])[0].get("other") == "bed" for s in record["segments"])
+    geometry = Geometry(load_case_info(case))
+    tolerance = ContactSettings().bed_sink_m
+    lowest = []
+    for _, steps in steps_of(case, "overInterDyMFoam", ["debris1"]):
+        for step in steps:
+            bed = [c for c in geometry.contacts(step.bodies, 1.0) if c.kind == "bed"]
+            lowest.append(bed[0].distance_m)
+    # it sinks at most the tolerance plus what it covers while the solver stops (a few steps)
+    assert min(lowest) > -(tolerance + 0.003)
