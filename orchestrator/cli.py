@@ -266,15 +266,80 @@ def cmd_preview(args: argparse.Namespace) -> int:
 
 
 def cmd_run(args: argparse.Namespace) -> int:
-    return _missing("`run` (the OpenFOAM runner)", 4)
+    from orchestrator.run import RunInterrupted, run_case
+
+    try:
+        summary = run_case(args.case_dir, np=args.np, quiet=args.quiet, reconstruct=args.reconstruct)
+    except RunInterrupted as exc:  # resumable: say how, exit 128 + signal (130 for Ctrl-C)
+        if args.debug:
+            raise
+        print(f"debrisfoam: {exc}", file=sys.stderr)
+        return exc.exit_code
+    result = summary.to_dict()
+    if not args.json:
+        result = {k: result[k] for k in ("case", "status", "reached_time_s", "time_steps", "segments", "contacts",
+                                         "solver_wall_s", "overhead_fraction", "run_json")}
+        if summary.already_finished:
+            result["status"] = "finished (already; nothing to do)"
+    _emit(result, args.json)
+    return EXIT_OK
 
 
 def cmd_post(args: argparse.Namespace) -> int:
-    return _missing("`post` (post-processing)", 5)
+    from orchestrator.post import post_case
+
+    summary = post_case(args.case_dir, comparisons=not args.tables_only, snapshot=not args.no_snapshot,
+                        arrival_threshold_m=args.arrival_threshold)
+    if args.json:
+        _emit(summary.to_dict(), True)
+        return EXIT_OK
+    h = summary.headline
+    result: dict[str, Any] = {"results": str(summary.results_dir)}
+    if summary.report:
+        result["report"] = str(summary.report)
+    reached, end = h.get("reached_time_s"), h.get("end_time_s")
+    result["status"] = h["status"] if h.get("complete") else f"{h['status']} (post-processed up to t = {reached} s of {end} s)"
+    wall = (h.get("wall_time_s") or {}).get("total_s")
+    result["cells, wall time"] = f"{h.get('cells')}, {wall} s" if wall is not None else f"{h.get('cells')}, unknown"
+    errors = (h.get("comparisons") or {}).get("arrival_errors_s", {})
+    for gauge, g in (h.get("gauges") or {}).items():
+        if g.get("arrival_s") is None:
+            continue
+        text = f"{g['arrival_s']:.3f} s"
+        errs = ", ".join(f"{ref} {err:+.3f} s" for ref, err in errors.get(gauge, {}).items()
+                         if ref.startswith(("Chanson", "seed")))
+        result[f"arrival {gauge} (x = {g['x_m']:g} m)"] = f"{text}; error vs {errs}" if errs else text
+    first = (h.get("impacts") or {}).get("first")
+    if first:
+        result["first impact"] = (f"t = {first['time_s']:.4f} s, {first['body']} on {first['other']} at "
+                                  f"{first['impact_velocity_m_s']:.3f} m/s, peak {first['peak_force_N']:.4g} N, "
+                                  f"{1e3 * first['duration_s']:.3g} ms, {first['impulse_Ns']:.3g} N s")
+    result["impacts"] = (h.get("impacts") or {}).get("count", 0)
+    if h.get("hydro_force"):
+        result["peak hydrodynamic force"] = f"{h['hydro_force']['peak_x_N']:.4g} N"
+    if h.get("column_response"):
+        result["peak base shear"] = f"{h['column_response']['peak_base_shear_N']:.4g} N"
+    if summary.missing:
+        result["missing"] = f"{len(summary.missing)} item(s), listed in summary.json and the report"
+    _emit(result, False)
+    return EXIT_OK
 
 
 def cmd_case(args: argparse.Namespace) -> int:
-    return _missing("`case` (render + run + post: needs the runner and post-processing)", 5)
+    from orchestrator.case import run_full_case
+    from orchestrator.run import RunInterrupted
+
+    try:
+        summary = run_full_case(args.scene, args.out, list(args.set or []), np=args.np, quiet=args.quiet)
+    except RunInterrupted as exc:  # resumable: the same command continues the run
+        if args.debug:
+            raise
+        print(f"debrisfoam: {exc} (or run the same `debrisfoam case` command again)", file=sys.stderr)
+        return exc.exit_code
+    if not args.json:
+        print("\n== summary ==")
+    _emit(summary, args.json)
+    return EXIT_OK
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:
@@ -371,19 +436,33 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--set", action="append", metavar="KEY=VALUE")
     p.set_defaults(func=cmd_preview)
 
-    p = verbs.add_parser("run", help="run a rendered case (resumable)")
+    p = verbs.add_parser("run", help="run a rendered case (resumable: run it again to resume)")
     p.add_argument("case_dir")
-    p.add_argument("--np", type=int, default=None)
+    p.add_argument("--np", type=int, default=None, help="MPI ranks (default: the plan's decomposition)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar or messages (CI, sweeps)")
+    p.add_argument("--reconstruct", choices=["latest", "all", "none"], default="latest",
+                   help="written times gathered by reconstructPar at the end (default: latest)")
+    p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_run)
 
-    p = verbs.add_parser("post", help="post-process a run into results/")
+    p = verbs.add_parser("post", help="post-process a run (finished or not) into DIR/results/: tables, "
+                                      "comparisons, plots, report.md")
     p.add_argument("case_dir")
+    p.add_argument("--tables-only", action="store_true", help="only the tables and summary.json (no comparisons, "
+                                                              "plots or report)")
+    p.add_argument("--no-snapshot", action="store_true", help="skip the pyvista 3D snapshot")
+    p.add_argument("--arrival-threshold", type=float, default=None, metavar="M",
+                   help="rise above the initial level (m) that marks the bore's arrival (default 2 %% of h0)")
+    p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_post)
 
-    p = verbs.add_parser("case", help="render + run + post in one go")
+    p = verbs.add_parser("case", help="render + run + post in one go (run it again to resume)")
     p.add_argument("scene")
-    p.add_argument("-o", "--out", default=None)
+    p.add_argument("-o", "--out", default=None, help="case folder (default: runs/<scene name>)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE")
+    p.add_argument("--np", type=int, default=None, help="MPI ranks (default: the scene's run.cores)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_case)
 
     p = verbs.add_parser("sweep", help="run a parameter sweep")

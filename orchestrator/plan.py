@@ -134,6 +134,7 @@ class BodyPlan:
     size_m: tuple[float, float, float]
     on_bed: bool = False
     cell_size_m: float = 0.0
+    velocity_m_s: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
 
 @dataclass(frozen=True)
@@ -667,6 +668,7 @@ def plan_case(scene: Scene) -> ModelPlan:
                 size_m=tuple(float(v) for v in body.size_m),
                 on_bed=on_bed,
                 cell_size_m=hb,
+                velocity_m_s=tuple(float(v) for v in body.velocity_m_s),
             )
         )
         outside = []

@@ -169,6 +169,9 @@ class DebrisTemplate(_Model):
     yaw_deg: float = 0.0
     pitch_deg: float = 0.0
     roll_deg: float = 0.0
+    velocity_m_s: tuple[float, float, float] = Field(
+        (0.0, 0.0, 0.0), description="initial velocity [u, v, w] of the centre of mass (m/s); default at rest"
+    )
 
 
 class DebrisBody(DebrisTemplate):

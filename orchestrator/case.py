@@ -1,0 +1,104 @@
+"""`debrisfoam case SCENE`: render + run + post in one resumable command.
+
+The case folder is the unit of work. Running the command again on the same scene
+and overrides resumes where it stopped (rendering and meshing are skipped, the
+solver restarts from its latest written time, post-processing is redone). A folder
+that holds a *different* case is never overwritten: that is bad input (exit 2).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from pathlib import Path
+from typing import Any, Sequence
+
+from analytical.errors import InputError
+
+
+def default_case_dir(scene_path: str | Path) -> Path:
+    """runs/<scene file stem>, relative to the current directory."""
+    return Path("runs") / Path(scene_path).stem
+
+
+def _same_case(case: Path, scene_yaml: str) -> bool:
+    existing = case / "scene.yaml"
+    return existing.is_file() and existing.read_text() == scene_yaml
+
+
+def prepare_case(scene_path: str | Path, out_dir: str | Path, sets: Sequence[str] = ()) -> tuple[Path, bool]:
+    """Render the scene into out_dir unless that folder already holds this very case.
+
+    Returns (case folder, rendered now?). Raises InputError when out_dir holds
+    something else.
+    """
+    from orchestrator.render import _scene_yaml, render_from_file
+    from orchestrator.scene import load_scene
+
+    out = Path(out_dir)
+    scene = load_scene(scene_path, list(sets))
+    if out.is_dir() and any(out.iterdir()):
+        if _same_case(out, _scene_yaml(scene, list(sets))):
+            return out, False
+        raise InputError(
+            "-o/--out",
+            f"{out} already holds a different case (its scene.yaml differs from {scene_path} with these "
+            "overrides); choose another folder, or remove it to start again",
+        )
+    render_from_file(scene_path, out, list(sets))
+    return out, True
+
+
+def run_full_case(scene_path: str | Path, out_dir: str | Path | None = None, sets: Sequence[str] = (),
+                  np: int | None = None, quiet: bool = False) -> dict[str, Any]:
+    """Render (if needed), run (resuming), post-process; returns the final summary."""
+    from orchestrator.post import post_case
+    from orchestrator.run import run_case
+
+    t0 = time.perf_counter()
+    case, rendered = prepare_case(scene_path, out_dir or default_case_dir(scene_path), sets)
+    if not quiet:
+        print(f"debrisfoam: {'rendered' if rendered else 'resuming'} {case}", flush=True)
+    run = run_case(case, np=np, quiet=quiet)
+    post = post_case(case)
+    summary = final_summary(post.headline)
+    summary["results"] = str(post.results_dir)
+    summary["report"] = str(post.report) if post.report else None
+    summary["wall_time_s"] = round(time.perf_counter() - t0, 1)
+    summary["solver_wall_s"] = round(run.solver_wall_s, 1)
+    return summary
+
+
+def _num(value: Any, fmt: str = ".3f") -> str:
+    if value is None or (isinstance(value, float) and not math.isfinite(value)):
+        return "-"
+    return format(value, fmt)
+
+
+def final_summary(headline: dict[str, Any]) -> dict[str, Any]:
+    """The figures `make case-1debris` ends with (from post's summary.json), flat for printing."""
+    out: dict[str, Any] = {
+        "status": headline.get("status"),
+        "cells": headline.get("cells"),
+        "reached_time_s": headline.get("reached_time_s"),
+    }
+    impacts = headline.get("impacts") or {}
+    first = impacts.get("first") or {}
+    if first:
+        out["first_impact"] = (f"{first.get('body')} on the {first.get('other')} at t = {_num(first.get('time_s'))} s, "
+                               f"{_num(first.get('height_m'), '.2f')} m up")
+        out["impact_velocity_m_s"] = first.get("impact_velocity_m_s")
+        out["peak_impact_force_N"] = first.get("peak_force_N")
+        out["impact_duration_s"] = first.get("duration_s")
+        out["impact_impulse_Ns"] = first.get("impulse_Ns")
+    else:
+        out["first_impact"] = "none: no debris reached the column in the simulated time"
+    response = headline.get("column_response") or {}
+    if response.get("peak_base_shear_N") is not None:
+        out["peak_base_shear_N"] = response["peak_base_shear_N"]
+    for gauge, row in (headline.get("gauges") or {}).items():
+        if row.get("arrival_s") is not None:
+            out[f"{gauge}_arrival_s"] = row["arrival_s"]
+    for gauge, errors in ((headline.get("comparisons") or {}).get("arrival_errors_s") or {}).items():
+        out[f"{gauge}_arrival_error_s"] = ", ".join(f"{k} {v:+.3f}" for k, v in errors.items())
+    return out
