@@ -73,8 +73,13 @@ __all__ = [
     "resolve",
 ]
 
-#: Relative tolerance on lengths (times the larger box size) for "equally close" features.
+#: Relative tolerance on lengths (times the larger box size) for coincident points.
 _REL_TOL = 1e-9
+#: Box-plane contacts (bed, walls): corners closer than the nearest by less than this (times
+#: the box size) share the contact, so a face within 0.1 % of parallel is a face contact, not
+#: a corner contact (a body rolled by 1e-6 rad must not pick up a spurious yaw from one
+#: corner). Box-box contacts stay exact (their point lies on both surfaces).
+_FEATURE_REL_TOL = 1e-3
 
 ContactKind = Literal["column", "wall", "body"]
 
@@ -604,7 +609,7 @@ def _box_plane(box: _Box, point: np.ndarray, n: np.ndarray) -> Proximity:
     corners = box.corners()
     dist = (corners - point) @ n
     d = float(dist.min())
-    near = dist <= d + _REL_TOL * box.scale()
+    near = dist <= d + _FEATURE_REL_TOL * box.scale()
     feature = corners[near].mean(axis=0)  # a vertex, an edge midpoint or a face centre
     p = feature - 0.5 * d * n
     return _proximity(d, p, n)

@@ -410,3 +410,11 @@ def test_obstacles_container(obstacles):
     assert isinstance(obstacles, Obstacles)
     assert obstacles.targets[0] is obstacles.column
     assert all(isinstance(w, PlaneObstacle) for w in obstacles.targets[1:])
+
+
+def test_a_hair_of_tilt_keeps_a_bed_contact_centred():
+    # a body rolled by ~1.7e-6 rad meets the bed with its whole face, not with one edge:
+    # no spurious moment when it is put back onto the bed
+    rolled = body_rotation(0, 0, 1e-4)  # degrees
+    w = box_plane_proximity((0, 0, 0.1), rolled, (0.15, 0.06, 0.06), (0, 0, 0), (0, 0, 1))
+    assert abs(w.point[1]) < 1e-4
