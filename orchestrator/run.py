@@ -711,6 +711,11 @@ def _with_accelerations(step: StepRecord, previous: StepRecord | None) -> list[B
     return out
 
 
+#: A segment back onto the write grid shorter than this fraction of the write interval is
+#: extended to the next grid time (see `_segment_span`).
+_MIN_SEGMENT_FRACTION = 0.1
+
+
 def _on_grid(t: float, interval: float) -> bool:
     k = t / interval
     return abs(k - round(k)) < 1e-6
@@ -733,7 +738,12 @@ def segment_span(start_s: float, end_s: float, interval_s: float) -> tuple[float
 def _segment_span(start_s: float, end_s: float, interval_s: float) -> tuple[float, float]:
     eps = 1e-9 * max(1.0, abs(end_s))
     if not _on_grid(start_s, interval_s):
-        target = min(math.ceil(start_s / interval_s - 1e-6) * interval_s, end_s)
+        target = math.ceil(start_s / interval_s - 1e-6) * interval_s
+        if target - start_s < _MIN_SEGMENT_FRACTION * interval_s:
+            # v1912 stops a run once less than half a time step remains: a segment this short
+            # may take no step at all (seen: 0.09977 -> 0.1 s did nothing), so aim one further
+            target += interval_s
+        target = min(target, end_s)
         return target, target - start_s
     if _on_grid(end_s, interval_s):
         return end_s, interval_s
@@ -1449,6 +1459,9 @@ def _run_steps(info: CaseInfo, runner: _Runner, stop: _StopFlag, quiet: bool, re
                 raise RunInterrupted(case, stop.signum, new_name if new_reached > 0 else None,
                                      clean=seg.reason == "interrupt" and seg.returncode == 0)
             if new_reached <= reached + _EPS_T:
+                if not seg.steps and info.end_time_s - reached < _MIN_SEGMENT_FRACTION * runner.write_interval_s:
+                    # v1912's half-step rule: what remains of the end time is less than a step
+                    break
                 raise RunError(f"the solver ended without writing beyond t = {name} s; see {seg.log}")
             reached, name = new_reached, new_name
     finally:

@@ -113,6 +113,8 @@ def steps_of(case: Path, solver: str, names=()):
     (0.3, 0.33, 0.05, (0.33, 0.03)),     # ...then a last short segment, so the end is written
     (0.31, 0.33, 0.05, (0.33, 0.02)),
     (0.15000001, 0.2, 0.05, (0.2, 0.05)),
+    (0.099771307, 3.5, 0.1, (0.2, 0.100228693)),  # just short of a grid time: v1912 would take no step
+    (0.3497, 0.35, 0.05, (0.35, 0.0003)),          # ...unless that is the end time itself
 ])
 def test_segment_span(start, end, interval, expected):
     assert segment_span(start, end, interval) == pytest.approx(expected)
