@@ -25,7 +25,7 @@ from typing import Iterable
 
 import numpy as np
 
-from analytical.errors import InputError, require_positive
+from analytical.errors import InputError, require_finite, require_positive
 
 __all__ = [
     "Atom",
@@ -38,15 +38,6 @@ __all__ = [
     "atoms_force",
 ]
 
-
-def _require_finite(name: str, value: float) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise InputError(name, f"must be a number, got {value!r}") from None
-    if not math.isfinite(v):
-        raise InputError(name, f"must be a finite number, got {value!r}")
-    return v
 
 
 def _as_time_array(t) -> tuple[np.ndarray, bool]:
@@ -94,7 +85,7 @@ class Atom:
 
     def __post_init__(self):
         for name in ("t0", "a", "b", "c", "d", "omega"):
-            _require_finite(name, getattr(self, name))
+            require_finite(name, getattr(self, name))
         if self.omega < 0.0:
             raise InputError("omega", f"must be >= 0, got {self.omega!r}")
 
@@ -111,11 +102,11 @@ class Atom:
 
     def shifted(self, dt: float) -> "Atom":
         """The same term switched on ``dt`` seconds later."""
-        return replace(self, t0=self.t0 + _require_finite("dt", dt))
+        return replace(self, t0=self.t0 + require_finite("dt", dt))
 
     def scaled(self, factor: float) -> "Atom":
         """The term multiplied by ``factor``."""
-        f = _require_finite("factor", factor)
+        f = require_finite("factor", factor)
         return replace(self, a=self.a * f, b=self.b * f, c=self.c * f, d=self.d * f)
 
 
@@ -164,9 +155,9 @@ class _ShapedPulse:
     start_s: float
 
     def _validate_common(self) -> None:
-        object.__setattr__(self, "magnitude_N", _require_finite("magnitude_N", self.magnitude_N))
+        object.__setattr__(self, "magnitude_N", require_finite("magnitude_N", self.magnitude_N))
         object.__setattr__(self, "duration_s", require_positive("duration_s", self.duration_s))
-        object.__setattr__(self, "start_s", _require_finite("start_s", self.start_s))
+        object.__setattr__(self, "start_s", require_finite("start_s", self.start_s))
 
     @property
     def end_s(self) -> float:
@@ -185,11 +176,11 @@ class _ShapedPulse:
 
     def scaled(self, factor: float):
         """The same pulse with its force multiplied by ``factor`` (may be negative)."""
-        return replace(self, magnitude_N=self.magnitude_N * _require_finite("factor", factor))
+        return replace(self, magnitude_N=self.magnitude_N * require_finite("factor", factor))
 
     def shifted(self, dt: float):
         """The same pulse starting ``dt`` seconds later."""
-        return replace(self, start_s=self.start_s + _require_finite("dt", dt))
+        return replace(self, start_s=self.start_s + require_finite("dt", dt))
 
 
 @dataclass(frozen=True)
@@ -307,7 +298,7 @@ class Triangular(_ShapedPulse):
 
     def __post_init__(self):
         self._validate_common()
-        p = _require_finite("peak_fraction", self.peak_fraction)
+        p = require_finite("peak_fraction", self.peak_fraction)
         if not 0.0 <= p <= 1.0:
             raise InputError("peak_fraction", f"must be in [0, 1], got {self.peak_fraction!r}")
         object.__setattr__(self, "peak_fraction", p)
@@ -438,11 +429,11 @@ class Tabulated:
 
     def scaled(self, factor: float) -> "Tabulated":
         """The same load multiplied by ``factor``."""
-        return Tabulated(self.time_s, self.force_N * _require_finite("factor", factor))
+        return Tabulated(self.time_s, self.force_N * require_finite("factor", factor))
 
     def shifted(self, dt: float) -> "Tabulated":
         """The same load ``dt`` seconds later."""
-        return Tabulated(self.time_s + _require_finite("dt", dt), self.force_N)
+        return Tabulated(self.time_s + require_finite("dt", dt), self.force_N)
 
 
 # --------------------------------------------------------------------------------------------

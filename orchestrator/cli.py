@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any, Sequence
 
 from analytical.errors import DebrisfoamError, InputError
+from orchestrator.jsonio import json_default
 
 EXIT_OK, EXIT_FAILURE, EXIT_BAD_INPUT = 0, 1, 2
 
@@ -33,7 +34,7 @@ class _ArgParser(argparse.ArgumentParser):
 
 def _emit(result: dict[str, Any], as_json: bool, out=sys.stdout) -> None:
     if as_json:
-        json.dump(result, out, indent=2, default=_json_default)
+        json.dump(result, out, indent=2, default=json_default)
         out.write("\n")
     else:
         width = max(len(k) for k in result) if result else 0
@@ -43,16 +44,6 @@ def _emit(result: dict[str, Any], as_json: bool, out=sys.stdout) -> None:
             elif isinstance(value, list):
                 value = ", ".join(f"{v:.6g}" if isinstance(v, float) else str(v) for v in value)
             out.write(f"{key:<{width}}  {value}\n")
-
-
-def _json_default(obj: Any) -> Any:
-    import numpy as np
-
-    if isinstance(obj, np.generic):
-        return obj.item()
-    if isinstance(obj, np.ndarray):
-        return obj.tolist()
-    raise TypeError(f"not JSON serialisable: {type(obj).__name__}")
 
 
 def parse_set(items: Sequence[str]) -> list[tuple[str, Any]]:

@@ -26,10 +26,8 @@ missing file. Only the snapshot needs fields on disk; without them it says why.
 
 from __future__ import annotations
 
-import contextlib
 import os
 from pathlib import Path
-from typing import Iterator
 
 import numpy as np
 
@@ -341,21 +339,6 @@ def plot_tracks(results, comp, path: Path) -> Path:
 # --------------------------------------------------------------------------- snapshot
 
 
-@contextlib.contextmanager
-def _quiet_vtk() -> Iterator[None]:
-    """Silence VTK's warnings (off-screen, VTK first tries an X display and says it found none)."""
-    from vtkmodules.vtkCommonCore import vtkLogger, vtkObject
-
-    cutoff = vtkLogger.GetCurrentVerbosityCutoff()
-    shown = vtkObject.GetGlobalWarningDisplay()
-    vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_ERROR)
-    vtkObject.GlobalWarningDisplayOff()
-    try:
-        yield
-    finally:
-        vtkLogger.SetStderrVerbosity(cutoff)
-        vtkObject.SetGlobalWarningDisplay(shown)
-
 
 def _snapshot_time(results) -> tuple[float | None, str]:
     imp = results.impacts
@@ -393,6 +376,8 @@ def snapshot(results, path: Path) -> tuple[Path, str | None]:
         note = "snapshot: the case has no system/controlDict, so its fields cannot be read"
         return _placeholder(path, note), note
     decomposed = any(p.is_dir() for p in case.glob("processor*"))
+    from orchestrator.preview import _quiet_vtk
+
     with _quiet_vtk():
         try:
             reader = pv.POpenFOAMReader(str(case / "system" / "controlDict"))

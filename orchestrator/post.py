@@ -72,6 +72,7 @@ import numpy as np
 import pandas as pd
 
 from analytical.errors import DebrisfoamError, InputError
+from orchestrator.jsonio import json_default
 
 __all__ = [
     "ARRIVAL_FRACTION",
@@ -1082,18 +1083,8 @@ def post_case(case_dir: str | Path, *, comparisons: bool = True, snapshot: bool 
     figures["plots"] = {k: p.name for k, p in plots.items()}
     summary_path = out_dir / "summary.json"
     tmp = summary_path.with_name(".summary.json.tmp")
-    tmp.write_text(json.dumps(figures, indent=2, default=_json_default))
+    tmp.write_text(json.dumps(figures, indent=2, default=json_default))
     tmp.replace(summary_path)
     written["summary"] = summary_path
     return PostSummary(data.case, out_dir, figures["status"], figures["reached_time_s"], figures["end_time_s"],
                        written, plots, report_path, tuple(figures["missing"]), figures)
-
-
-def _json_default(obj: Any) -> Any:
-    if isinstance(obj, np.generic):
-        return obj.item()
-    if isinstance(obj, np.ndarray):
-        return obj.tolist()
-    if isinstance(obj, Path):
-        return str(obj)
-    raise TypeError(f"not JSON serialisable: {type(obj).__name__}")

@@ -101,6 +101,7 @@ import numpy as np
 
 from analytical.errors import DebrisfoamError
 from orchestrator import bodystate, foam
+from orchestrator.jsonio import json_default
 from orchestrator.bodystate import BodyProperties, BodyState
 from orchestrator.monitor import (
     Diagnosis,
@@ -621,7 +622,7 @@ class _Record:
     def save(self) -> None:
         self.data["updated"] = _now()
         tmp = self.path.with_suffix(".json.tmp")
-        tmp.write_text(json.dumps(self.data, indent=2, default=_jsonable))
+        tmp.write_text(json.dumps(self.data, indent=2, default=json_default))
         os.replace(tmp, self.path)
 
     def step(self, name: str, argv: Sequence[str], start: str, wall_s: float, exit_status: int | None,
@@ -631,15 +632,6 @@ class _Record:
                                    "skipped": skipped, "log": log.name})
         self.save()
 
-
-def _jsonable(obj: Any) -> Any:
-    if isinstance(obj, (np.generic,)):
-        return obj.item()
-    if isinstance(obj, np.ndarray):
-        return obj.tolist()
-    if isinstance(obj, Path):
-        return str(obj)
-    raise TypeError(f"not JSON serialisable: {type(obj).__name__}")
 
 
 def _versions() -> dict[str, str]:
