@@ -357,3 +357,23 @@ def prepare_restart(case_dir: str | Path, time_name: str, states: Sequence[BodyS
     record_states(case_dir, time_name, states, source)
     remove_state_files(case_dir, time_name)
     write_states(case_dir, states)
+
+
+def release_holds(case_dir: str | Path, names: Sequence[str]) -> list[str]:
+    """Remove the on-bed `constraints` of the named bodies from constant/dynamicMeshDict.
+
+    Returns the bodies released now (already free ones are skipped), so calling it again
+    on a resumed run does nothing.
+    """
+    if not names:
+        return []
+    path = Path(case_dir) / DYNAMIC_MESH_DICT
+    parsed = _parsed(path)
+    released = []
+    for name, coeffs in _body_dicts(parsed):
+        if name in names and "constraints" in coeffs:
+            del coeffs["constraints"]
+            released.append(name)
+    if released:
+        write_dictionary(parsed, path)
+    return released

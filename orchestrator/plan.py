@@ -135,6 +135,9 @@ class BodyPlan:
     on_bed: bool = False
     cell_size_m: float = 0.0
     velocity_m_s: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    #: > 0: the body is held on the bed (sixDoF constraints: it slides and yaws, but cannot
+    #: sink or tip) until this time, when the bore is deep enough to lift it (s)
+    hold_until_s: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -195,6 +198,7 @@ class ModelPlan:
                     "orientation": [list(r) for r in b.orientation],
                     "size_m": list(b.size_m),
                     "on_bed": b.on_bed,
+                    "hold_until_s": b.hold_until_s,
                     "cell_size_m": b.cell_size_m,
                     "grid": _grid_dict(b.grid),
                 }
@@ -631,6 +635,7 @@ def plan_case(scene: Scene) -> ModelPlan:
 
     # ---- bodies
     bodies = []
+    holds: list[str] = []
     for body, (lo, hi) in zip(scene.debris, body_boxes):
         rot = body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg)
         hb = min(h, min(body.size_m) / scene.mesh.body_cells_across)
@@ -657,6 +662,9 @@ def plan_case(scene: Scene) -> ModelPlan:
             inertia = body_inertia(body.size_m, body.mass_kg, body.wall_thickness_m)
         corners_z = body.centre_m[2] - float(np.sum(np.abs(rot[2, :]) * np.asarray(body.size_m) / 2))
         on_bed = corners_z <= 1e-6
+        hold = _hold_until_s(scene, body, rot) if on_bed else 0.0
+        if hold > 0:
+            holds.append(f"{body.name} until {hold:.3g} s")
         bodies.append(
             BodyPlan(
                 name=body.name,
@@ -669,6 +677,7 @@ def plan_case(scene: Scene) -> ModelPlan:
                 on_bed=on_bed,
                 cell_size_m=hb,
                 velocity_m_s=tuple(float(v) for v in body.velocity_m_s),
+                hold_until_s=hold,
             )
         )
         outside = []
@@ -680,15 +689,6 @@ def plan_case(scene: Scene) -> ModelPlan:
             warnings.append(
                 f"{body.name}: its overset mesh reaches {' and '.join(outside)} at the start; cells there have no donors"
             )
-        if on_bed:
-            local = h0 if body.centre_m[0] < 0 else scene.bed.wet_depth_m
-            buoyancy = scene.fluids.water_density_kg_m3 * g * body.size_m[0] * body.size_m[1] * min(local, body.size_m[2])
-            excess = body.mass_kg * g - buoyancy
-            if excess > 0:
-                warnings.append(
-                    f"{body.name} rests on the bed with {excess:.3g} N more weight than buoyancy; v1912 has no contact, "
-                    "so the runner must hold it (or it sinks through the bed) until the bore lifts it"
-                )
     for i, (lo_a, hi_a) in enumerate(body_boxes):
         for j in range(i):
             lo_b, hi_b = body_boxes[j]
@@ -697,6 +697,13 @@ def plan_case(scene: Scene) -> ModelPlan:
                     f"the overset meshes of {scene.debris[j].name} and {scene.debris[i].name} overlap at the start"
                 )
     if bodies:
+        reasons["hold_on_bed"] = (
+            "held on the bed by sixDoF constraints (free to slide and yaw, not to sink or tip: v1912 has no "
+            "contact, so a body heavier than its buoyancy would sink through the floor) until the analytical "
+            "dam-break depth at the body's centre (Chanson with the scene's f; Ritter if f = 0) reaches its "
+            "draft; the runner then removes the constraints: " + ", ".join(holds)
+            if holds else "no body rests on the bed: none is held"
+        )
         b0 = bodies[0]
         reasons["bodies"] = (
             f"{len(bodies)} overset body mesh(es): each box extends {scene.mesh.body_margin_cells} finest cells "
@@ -878,3 +885,34 @@ def _decompose(cores, background, bodies, body_boxes, travel_end, tan_spread, fi
     else:
         text += ": the smallest processor boundary"
     return cand, text
+
+
+def _hold_until_s(scene, body, rot) -> float:
+    """When a body resting on the bed should be released (s; 0 = it floats from the start).
+
+    The body is released once the dam-break depth at its centre reaches its draft (its
+    mass over the water displaced per metre of immersion by its footprint). The depth
+    is the analytical dry-bed solution: Chanson with the scene's friction factor, or
+    Ritter without friction; the thin wet bed is neglected (it only makes the release
+    earlier). Bodies behind the gate (x < 0) float or not at once: no hold when the
+    still water already floats them. Capped at the end time (held throughout).
+    """
+    from analytical.dambreak import dam_break
+    from scipy.optimize import brentq
+
+    footprint = float(np.prod(np.asarray(body.size_m)[:2]))  # the body's length x width
+    draft = body.mass_kg / (scene.fluids.water_density_kg_m3 * footprint)
+    x, h0, end = float(body.centre_m[0]), float(scene.reservoir.depth_m), float(scene.run.end_time_s)
+    if x < 0 or draft <= scene.bed.wet_depth_m:
+        return 0.0 if (h0 if x < 0 else scene.bed.wet_depth_m) >= draft else end
+    f = scene.bed.friction_factor
+    solution = dam_break("chanson", h0, friction=f) if f > 0 else dam_break("ritter", h0)
+
+    def excess(t: float) -> float:
+        return float(solution.profile(np.array([x]), t).depth_m[0]) - draft
+
+    t_arrive = float(solution.arrival_time_s(x))
+    if not np.isfinite(t_arrive) or t_arrive >= end or excess(end) < 0:
+        return end
+    lo = max(t_arrive, 1e-6)
+    return float(brentq(excess, lo, end)) if excess(lo) < 0 else lo

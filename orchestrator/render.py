@@ -292,6 +292,7 @@ def build_context(scene, plan, numerics: Numerics | None = None) -> dict[str, An
             "orientation": tuple(tuple(float(v) for v in row) for row in np.asarray(body.orientation, dtype=float)),
             "size_m": tuple(float(v) for v in body.size_m),
             "velocity_m_s": tuple(float(v) for v in getattr(body, "velocity_m_s", (0.0, 0.0, 0.0))),
+            "hold_until_s": float(getattr(body, "hold_until_s", 0.0)),
         })
 
     lo = np.array([bg.planes(a)[0] for a in "xyz"])

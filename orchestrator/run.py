@@ -279,6 +279,8 @@ class CaseInfo:
     downstream_type: str
     bodies: tuple[BodyProperties, ...]
     body_sizes_m: dict[str, tuple[float, float, float]]
+    #: (body, time) of bodies held on the bed until that time (plan.json hold_until_s)
+    holds: tuple[tuple[str, float], ...] = ()
 
     @property
     def body_names(self) -> tuple[str, ...]:
@@ -340,6 +342,8 @@ def load_case_info(case_dir: str | Path, np_override: int | None = None) -> Case
         downstream_type=str(plan.get("downstream_type", "wall")),
         bodies=bodies,
         body_sizes_m=sizes,
+        holds=tuple((str(b["name"]), float(b["hold_until_s"])) for b in plan.get("bodies", [])
+                    if float(b.get("hold_until_s") or 0.0) > 0.0),
     )
 
 
@@ -904,6 +908,10 @@ class _Runner:
             seg_end, seg_interval = segment_span(start_value, self.end_time_s, self.write_interval_s)
         else:  # a fixed deltaT cannot land on the grid times: run to the end as the case says
             seg_end, seg_interval = self.end_time_s, self.write_interval_s
+        soon = _MIN_SEGMENT_FRACTION * self.write_interval_s  # closer releases are due now (see run_case)
+        release = min((t for _, t in self.info.holds if start_value + soon < t < seg_end - _EPS_T), default=None)
+        if release is not None:  # stop (and write) when a body held on the bed is to be let go
+            seg_end, seg_interval = release, release - start_value
         self.record.data["segment_control"] = {"endTime": seg_end, "writeInterval": seg_interval}
         self.record.save()
         _set_control(self.case, backdate=True, stopAt="endTime", startFrom="latestTime",
@@ -1425,6 +1433,11 @@ def _run_steps(info: CaseInfo, runner: _Runner, stop: _StopFlag, quiet: bool, re
         progress = Progress(info.end_time_s, reached, quiet, label=f"{info.solver} {case.name}", stream=stream)
         runner.progress = progress
         while reached < info.end_time_s - _EPS_T:
+            # a release closer than a tenth of a write interval is due now: a stop lands on a
+            # written time name (rounded), and v1912 may not take a step over what remains
+            due = [b for b, t in info.holds if t <= reached + _MIN_SEGMENT_FRACTION * info.write_interval_s]
+            for body in bodystate.release_holds(case, due):
+                runner.say(f"t = {name} s: {body} released from the bed (the bore is deep enough to lift it)")
             states = runner.restore_bodies(name)
             if states and runner.contact.enabled:
                 t_between = time.perf_counter()

@@ -340,10 +340,10 @@ def test_every_decision_has_a_reason_and_the_json_is_complete(name):
         assert len(jb["orientation"]) == 3
 
 
-def test_plan_warns_about_bodies_resting_on_the_bed():
+def test_plan_holds_bodies_resting_on_the_bed():
     p = plan_case(case("1debris"))
-    assert any("rests on the bed" in w for w in p.warnings)
-    assert p.bodies[0].on_bed
+    assert p.bodies[0].on_bed and p.bodies[0].hold_until_s > 0
+    assert "sink through the floor" in p.reasons["hold_on_bed"]
 
 
 def test_plan_is_pure_and_repeatable():
@@ -467,3 +467,21 @@ def test_every_decision_has_a_reason_for_any_scene(d):
     assert p.cell_count == p.background.cell_count() + sum(b.grid.cell_count() for b in p.bodies)
     assert (p.solver == "interFoam") == (not s.debris)
     json.loads(p.to_json())
+
+
+def test_bodies_on_the_bed_are_held_until_the_bore_can_lift_them():
+    from analytical.dambreak import dam_break
+    from orchestrator.scene import load_scene
+
+    scene = load_scene(ROOT / "cases" / "1debris.yaml")
+    plan = plan_case(scene)
+    body, debris = plan.bodies[0], scene.debris[0]
+    assert body.on_bed and 0 < body.hold_until_s < scene.run.end_time_s
+    draft = debris.mass_kg / (scene.fluids.water_density_kg_m3 * debris.size_m[0] * debris.size_m[1])
+    chanson = dam_break("chanson", scene.reservoir.depth_m, friction=scene.bed.friction_factor)
+    depth = chanson.profile(np.array([debris.centre_m[0]]), body.hold_until_s).depth_m[0]
+    assert depth == pytest.approx(draft, rel=1e-6)  # released exactly when the bore reaches its draft
+    assert body.hold_until_s > float(chanson.arrival_time_s(debris.centre_m[0]))
+    assert "hold_on_bed" in plan.reasons and body.name in plan.reasons["hold_on_bed"]
+    floating = plan_case(load_scene(ROOT / "cases" / "1debris.yaml", ["bed.wet_depth_m=0.05"]))
+    assert floating.bodies[0].hold_until_s == 0.0  # 5 cm of water float the 26 mm draft: nothing to hold

@@ -20,6 +20,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 import yaml
 
@@ -468,9 +469,13 @@ def test_two_bodies_keep_their_own_states_across_restarts(tmp_path, openfoam):
 
 @pytest.mark.openfoam
 def test_body_on_the_bed_does_not_sink_through_it(tmp_path, openfoam):
-    """v1912 lets a heavy body sink through the bed; the runner lifts it back at restarts."""
+    """v1912 lets a heavy body sink through the bed; the runner lifts it back at restarts.
+
+    The plan holds such a body until the bore can lift it; this is the fallback for a body
+    that sinks anyway (released too early), so the hold is taken off here."""
     case = render(tmp_path, "bed", scene([{"name": "debris1", "centre_m": [0.8, 0.0], "placement": "on_bed"}],
                                          end_time_s=0.06, wet_depth_m=0.015))
+    assert bodystate.release_holds(case, ["debris1"]) == ["debris1"]
     summary = run_case(case, quiet=True)
     record = json.loads((case / "run.json").read_text())
     assert summary.status == "finished" and record["bed_clamps"] >= 1
@@ -484,3 +489,24 @@ def test_body_on_the_bed_does_not_sink_through_it(tmp_path, openfoam):
             lowest.append(bed[0].distance_m)
     # it sinks at most the tolerance plus what it covers while the solver stops (a few steps)
     assert min(lowest) > -(tolerance + 0.003)
+
+
+@pytest.mark.openfoam
+def test_a_body_on_the_bed_is_held_then_released_when_the_bore_arrives(tmp_path, openfoam):
+    # 0.6 m downstream of the gate, Ritter's depth reaches the container's 26 mm draft at 0.61 s
+    data = scene([{"name": "debris1", "centre_m": [0.6, 0.0], "placement": "on_bed"}], end_time_s=0.64,
+                 wet_depth_m=0.02)
+    case = render(tmp_path, "held", data)
+    hold = json.loads((case / "plan.json").read_text())["bodies"][0]["hold_until_s"]
+    assert 0.55 < hold < 0.64
+    run_case(case, quiet=True)
+    tracks = pd.read_csv(case / "bodies.csv")
+    held = tracks[tracks["time_s"] < hold - 0.02]
+    assert len(held) > 10
+    assert np.ptp(held["z_m"]) < 1e-9 and np.abs(held["w_m_s"]).max() < 1e-9  # neither sinks nor lifts
+    record = json.loads((case / "run.json").read_text())
+    bed_stops = [float(seg["end_time"]) for seg in record["segments"]
+                 if any(c.get("other") == "bed" for c in seg.get("stopped_for", []))]
+    assert all(t > hold - 0.01 for t in bed_stops)  # no bed clamp while held (some may follow the release)
+    assert "constraints" not in (case / "constant" / "dynamicMeshDict").read_text()  # released
+    assert json.loads((case / "run.json").read_text())["status"] == "finished"
