@@ -1,6 +1,5 @@
 """The CLI contract: verbs, JSON keys, and exit codes (0 ok, 2 bad input, 1 failure)."""
 
-import json
 
 import numpy as np
 import pandas as pd
