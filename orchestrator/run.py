@@ -904,14 +904,15 @@ class _Runner:
 
     def solve_segment(self, start_value: float, start_name: str, progress: Progress) -> _SegmentResult:
         """Run the solver from `start_name` to the segment's end (see `segment_span`)."""
+        # a body held on the bed is let go at its release time: that time is a temporary end
+        # (closer releases are due now, see run_case), reached on the case's write grid
+        soon = _MIN_SEGMENT_FRACTION * self.write_interval_s
+        end = min([t for _, t in self.info.holds if start_value + soon < t < self.end_time_s - _EPS_T]
+                  + [self.end_time_s])
         if self.info.adjustable_time_step:
-            seg_end, seg_interval = segment_span(start_value, self.end_time_s, self.write_interval_s)
+            seg_end, seg_interval = segment_span(start_value, end, self.write_interval_s)
         else:  # a fixed deltaT cannot land on the grid times: run to the end as the case says
-            seg_end, seg_interval = self.end_time_s, self.write_interval_s
-        soon = _MIN_SEGMENT_FRACTION * self.write_interval_s  # closer releases are due now (see run_case)
-        release = min((t for _, t in self.info.holds if start_value + soon < t < seg_end - _EPS_T), default=None)
-        if release is not None:  # stop (and write) when a body held on the bed is to be let go
-            seg_end, seg_interval = release, release - start_value
+            seg_end, seg_interval = end, self.write_interval_s
         self.record.data["segment_control"] = {"endTime": seg_end, "writeInterval": seg_interval}
         self.record.save()
         _set_control(self.case, backdate=True, stopAt="endTime", startFrom="latestTime",

@@ -509,4 +509,7 @@ def test_a_body_on_the_bed_is_held_then_released_when_the_bore_arrives(tmp_path,
                  if any(c.get("other") == "bed" for c in seg.get("stopped_for", []))]
     assert all(t > hold - 0.01 for t in bed_stops)  # no bed clamp while held (some may follow the release)
     assert "constraints" not in (case / "constant" / "dynamicMeshDict").read_text()  # released
+    written = sorted(float(p.name) for p in (case / "processor0").iterdir() if p.name[0].isdigit())
+    for t in (0.05, 0.1, 0.3, 0.55):  # the regular writes before the release are kept
+        assert any(abs(w - t) < 1e-9 for w in written), (t, written)
     assert json.loads((case / "run.json").read_text())["status"] == "finished"
