@@ -697,6 +697,19 @@ def _free_vibration(s, r0, v0, w, z):
     return np.exp(-z * w * s) * (r0 * np.cos(wd * s) + (v0 + z * w * r0) / wd * np.sin(wd * s))
 
 
+def _forced_then_free(tau, td, forced, forced_velocity, w, z):
+    """Unit-load response of a closed-form solution: `forced` while the pulse acts
+    (0 <= tau < td), damped free vibration from the state at td afterwards, 0 before."""
+    r = np.zeros_like(tau)
+    during = (tau >= 0.0) & (tau < td)
+    after = tau >= td
+    r[during] = forced(tau[during])
+    r0 = float(forced(np.array(td)))
+    v0 = float(forced_velocity(np.array(td)))
+    r[after] = _free_vibration(tau[after] - td, r0, v0, w, z)
+    return r
+
+
 def half_sine_closed_form(t, magnitude_N, duration_s, natural_frequency_Hz, damping_ratio, start_s=0.0):
     """Force response ``R(t) = k u(t)`` of a damped (or undamped) SDOF to a half-sine pulse.
 
@@ -757,15 +770,7 @@ def half_sine_closed_form(t, magnitude_N, duration_s, natural_frequency_Hz, damp
                 - D * W * np.sin(W * tau)
             )
 
-    tau = tt - ts
-    r = np.zeros_like(tt)
-    during = (tau >= 0.0) & (tau < td)
-    after = tau >= td
-    r[during] = forced(tau[during])
-    r0 = float(forced(np.array(td)))
-    v0 = float(forced_velocity(np.array(td)))
-    r[after] = _free_vibration(tau[after] - td, r0, v0, w, z)
-    return f * r
+    return f * _forced_then_free(tt - ts, td, forced, forced_velocity, w, z)
 
 
 def rectangular_closed_form(t, magnitude_N, duration_s, natural_frequency_Hz, damping_ratio, start_s=0.0):
@@ -789,12 +794,4 @@ def rectangular_closed_form(t, magnitude_N, duration_s, natural_frequency_Hz, da
     def forced_velocity(tau):
         return w / math.sqrt(1.0 - z * z) * np.exp(-z * w * tau) * np.sin(wd * tau)
 
-    tau = tt - ts
-    r = np.zeros_like(tt)
-    during = (tau >= 0.0) & (tau < td)
-    after = tau >= td
-    r[during] = forced(tau[during])
-    r0 = float(forced(np.array(td)))
-    v0 = float(forced_velocity(np.array(td)))
-    r[after] = _free_vibration(tau[after] - td, r0, v0, w, z)
-    return f * r
+    return f * _forced_then_free(tt - ts, td, forced, forced_velocity, w, z)

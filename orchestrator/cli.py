@@ -46,24 +46,6 @@ def _emit(result: dict[str, Any], as_json: bool, out=sys.stdout) -> None:
             out.write(f"{key:<{width}}  {value}\n")
 
 
-def parse_set(items: Sequence[str]) -> list[tuple[str, Any]]:
-    """Parse `--set key.path=value` items; values are YAML scalars (null, numbers, lists)."""
-    import yaml
-
-    pairs = []
-    for item in items:
-        key, sep, text = item.partition("=")
-        key = key.strip()
-        if not sep or not key:
-            raise InputError("--set", f"expected key.path=value, got {item!r}")
-        try:
-            value = yaml.safe_load(text) if text.strip() else None
-        except yaml.YAMLError as exc:
-            raise InputError(key, f"value {text!r} is not a YAML scalar: {exc}") from None
-        pairs.append((key, value))
-    return pairs
-
-
 def column_from_args(args: argparse.Namespace):
     """The column for analytical verbs: the scene's (with --set) or the seed's."""
     if getattr(args, "scene", None):
@@ -74,18 +56,21 @@ def column_from_args(args: argparse.Namespace):
 
     from analytical.column import Column
 
+    from orchestrator.scene import parse_override
+
     column = Column()
     names = {f.name for f in fields(Column)}
     changes = {}
-    for key, value in parse_set(args.set or []):
-        section, _, name = key.partition(".")
-        if section != "column" or name not in names:
+    for item in args.set or []:
+        path, value = parse_override(item)
+        key = ".".join(path)
+        if len(path) != 2 or path[0] != "column" or path[1] not in names:
             raise InputError(
                 key,
                 "unknown key for the analytical column (without --scene only column.<field> "
                 f"may be set; fields: {', '.join(sorted(names))})",
             )
-        changes[name] = value
+        changes[path[1]] = value
     return replace(column, **changes) if changes else column
 
 
