@@ -373,7 +373,11 @@ def build_context(scene, plan, numerics: Numerics | None = None) -> dict[str, An
         "decomposition": {"n": n, "n_subdomains": int(np.prod(n))},
         "fluid": {"water_rho": fluids.water_density_kg_m3, "water_nu": fluids.water_viscosity_m2_s,
                   "air_rho": fluids.air_density_kg_m3, "air_nu": fluids.air_viscosity_m2_s,
-                  "sigma": fluids.surface_tension_N_m, "g": (0.0, 0.0, -fluids.gravity_m_s2)},
+                  "sigma": fluids.surface_tension_N_m, "g": (0.0, 0.0, -fluids.gravity_m_s2),
+                  # p_rgh = p - rho g (z - hRef): with hRef at the still-water level downstream
+                  # (the wet bed's surface), water and air at rest there both have p_rgh = 0, so
+                  # one p_rgh = 0 condition on the open boundaries is hydrostatic for both phases.
+                  "h_ref_m": _still_level_downstream(plan)},
         "numerics": asdict(numerics),
         # Points are moved by a body only if connected to its wall patch; the body
         # meshes are disconnected from the background and from each other, so a
@@ -381,6 +385,11 @@ def build_context(scene, plan, numerics: Numerics | None = None) -> dict[str, An
         "motion": {"inner_distance_m": max(100.0, 10 * diag), "outer_distance_m": max(101.0, 10 * diag + 1)},
         "reasons": [f"{k}: {v}" for k, v in plan.reasons.items()],
     }
+
+
+def _still_level_downstream(plan) -> float:
+    """The wet bed's surface (m above the bed; 0 when the bed is dry): the case's hRef."""
+    return max((box.max_m[2] for box in plan.water if box.name == "wetBed"), default=0.0)
 
 
 # --------------------------------------------------------------------------- files
@@ -397,6 +406,7 @@ def case_files(context: dict[str, Any]) -> list[tuple[str, str, dict[str, Any]]]
         ("system/decomposeParDict.j2", "system/decomposeParDict", {}),
         ("system/setFieldsDict.j2", "system/setFieldsDict", {}),
         ("constant/g.j2", "constant/g", {}),
+        ("constant/hRef.j2", "constant/hRef", {}),
         ("constant/transportProperties.j2", "constant/transportProperties", {}),
         ("constant/turbulenceProperties.j2", "constant/turbulenceProperties", {}),
         ("0/alpha.water.j2", "0/alpha.water", {}),

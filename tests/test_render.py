@@ -142,7 +142,7 @@ def test_downstream_outlet():
     files = render_files(build_context(None, replace(flume_plan(0), downstream_type="outlet")))
     assert re.search(r"downstream\n\s+\{\n\s+type\s+patch;", files["system/blockMeshDict"])
     assert re.search(r"downstream\n    \{\n        type inletOutlet;", files["0/U"])
-    assert re.search(r"downstream\n    \{\n        type prghPressure;", files["0/p_rgh"])
+    assert re.search(r"downstream\n    \{\n        type totalPressure;", files["0/p_rgh"])
 
 
 def test_two_d_overset_is_refused():
