@@ -9,10 +9,11 @@ CELL    ?=
 OUT     ?= runs/1debris
 CASE_SET := $(if $(CELL),--set mesh.cell_size_m=$(CELL),)
 
-.PHONY: help venv openfoam test test-fast case-1debris synthetic-study bench clean
+.PHONY: help venv openfoam test test-fast case-1debris sweep synthetic-study bench clean
 
 help:
 	@echo "make case-1debris [CELL=m]  the seed's 1-debris scene, end to end"
+	@echo "make sweep SWEEP=mesh-study a sweep from cases/sweeps/ (runs/sweeps/<name>; run again to resume)"
 	@echo "make test                   the test suite (installs the venv and OpenFOAM first)"
 	@echo "make synthetic-study        the seed's SDOF/MDOF/ASCE analysis on 22 synthetic records"
 	@echo "make bench                  benchmarks (figures go to benchmarks/*.md)"
@@ -44,6 +45,12 @@ test-fast: venv
 
 case-1debris: venv openfoam
 	$(VENV)/bin/debrisfoam case cases/1debris.yaml -o $(OUT) $(CASE_SET)
+
+# make sweep SWEEP=mesh-study [EXECUTOR=dask]: cases/sweeps/$(SWEEP).yaml -> runs/sweeps/<name>
+SWEEP    ?= mesh-study
+EXECUTOR ?= local
+sweep: venv openfoam
+	$(VENV)/bin/debrisfoam sweep cases/sweeps/$(SWEEP).yaml --executor $(EXECUTOR)
 
 synthetic-study: venv
 	$(VENV)/bin/debrisfoam analytical study -o docs/synthetic-study

@@ -9,11 +9,16 @@ that holds a *different* case is never overwritten: that is bad input (exit 2).
 from __future__ import annotations
 
 import math
+import threading
 import time
 from pathlib import Path
 from typing import Any, Sequence
 
 from analytical.errors import InputError
+
+#: Post-processing draws with matplotlib's pyplot (and pyvista), which are not thread-safe:
+#: cases run in threads of one process (a sweep's local executor) post-process one at a time.
+_POST_LOCK = threading.Lock()
 
 
 def default_case_dir(scene_path: str | Path) -> Path:
@@ -50,8 +55,13 @@ def prepare_case(scene_path: str | Path, out_dir: str | Path, sets: Sequence[str
 
 
 def run_full_case(scene_path: str | Path, out_dir: str | Path | None = None, sets: Sequence[str] = (),
-                  np: int | None = None, quiet: bool = False) -> dict[str, Any]:
-    """Render (if needed), run (resuming), post-process; returns the final summary."""
+                  np: int | None = None, quiet: bool = False,
+                  stop_event: threading.Event | None = None) -> dict[str, Any]:
+    """Render (if needed), run (resuming), post-process; returns the final summary.
+
+    stop_event: set it (from another thread) to stop the run as Ctrl-C would; the run
+    raises RunInterrupted and resumes when called again.
+    """
     from orchestrator.post import post_case
     from orchestrator.run import run_case
 
@@ -59,8 +69,9 @@ def run_full_case(scene_path: str | Path, out_dir: str | Path | None = None, set
     case, rendered = prepare_case(scene_path, out_dir or default_case_dir(scene_path), sets)
     if not quiet:
         print(f"debrisfoam: {'rendered' if rendered else 'resuming'} {case}", flush=True)
-    run = run_case(case, np=np, quiet=quiet)
-    post = post_case(case)
+    run = run_case(case, np=np, quiet=quiet, stop_event=stop_event)
+    with _POST_LOCK:
+        post = post_case(case)
     summary = final_summary(post.headline)
     summary["results"] = str(post.results_dir)
     summary["report"] = str(post.report) if post.report else None

@@ -318,8 +318,78 @@ def cmd_case(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _duration(seconds: float | None) -> str:
+    if seconds is None:
+        return "-"
+    if seconds < 10:
+        return f"{seconds:.1f} s"
+    if seconds < 90:
+        return f"{seconds:.0f} s"
+    if seconds < 5400:
+        return f"{seconds / 60:.1f} min"
+    return f"{seconds / 3600:.1f} h"
+
+
+def _print_dry_run(plan: dict[str, Any], out=sys.stdout) -> None:
+    params = plan["parameters"]
+    out.write(f"sweep {plan['sweep']} ({plan['sweep_file']}): {len(plan['members'])} member(s), mode {plan['mode']}; "
+              f"output {plan['out_dir']}\n")
+    head = ["#", "id", *params, "solver", "cores", "cells", "est. wall", "state"]
+    rows = []
+    for m in plan["members"]:
+        values = [json.dumps(m["params"].get(p)) if isinstance(m["params"].get(p), (list, dict))
+                  else str(m["params"].get(p)) for p in params]
+        rows.append([str(m["member"]), m["id"], *values, m["solver"] + (" 2D" if m["two_d"] else ""),
+                     str(m["cores"]), f"{m['cells']:,}", _duration(m["estimated_wall_time_s"]), m["state"]])
+    widths = [max(len(r[i]) for r in [head, *rows]) for i in range(len(head))]
+    for r in [head, *rows]:
+        out.write("  ".join(c.ljust(w) for c, w in zip(r, widths)).rstrip() + "\n")
+    sweep_wall = plan["estimated_sweep_wall_time_s"]
+    on = f"{plan['executor']}, {plan['workers']} member(s) at a time" if sweep_wall is not None else plan["executor"]
+    out.write(f"total: {plan['total_cells']:,} cells; estimated solver time of the members still to run "
+              f"{_duration(plan['estimated_wall_time_s'])}"
+              + (f", about {_duration(sweep_wall)} on {on}" if sweep_wall is not None else "") + "\n")
+    out.write(f"({plan['note']})\n")
+
+
 def cmd_sweep(args: argparse.Namespace) -> int:
-    return _missing("`sweep`", 6)
+    from orchestrator.sweep import dry_run, run_sweep
+
+    if args.dry_run:
+        plan = dry_run(args.sweep, args.out, executor=args.executor, scheduler=args.scheduler, workers=args.workers)
+        if args.json:
+            _emit(plan, True)
+        else:
+            _print_dry_run(plan)
+        return EXIT_OK
+    progress_stream = sys.stderr if args.json else sys.stdout
+
+    def progress(line: str) -> None:
+        print(f"debrisfoam: {line}", file=progress_stream, flush=True)
+
+    result = run_sweep(args.sweep, args.out, executor=args.executor, scheduler=args.scheduler, workers=args.workers,
+                       retry_failed=args.retry_failed, progress=progress)
+    if args.json:
+        _emit(result.to_dict(), True)
+    if result.interrupted and result.unfinished:
+        print(f"debrisfoam: sweep interrupted; {len(result.unfinished)} member(s) not finished: run the same command "
+              "again to resume", file=sys.stderr)
+        return 130
+    if result.failed:
+        lines = [f"debrisfoam: error: {len(result.failed)} of {len(result.rows)} sweep member(s) failed "
+                 f"(store {result.store}):"]
+        for row in result.failures():
+            error = (row.get("error") or "no error recorded").replace("\n", "\n      ")
+            lines.append(f"  member {row['member']} {row['member_id']} ({row['overrides'] or 'base scene'}): {error}")
+            lines.append(f"    case: {row['case_dir']}")
+        lines.append("  (fix the cause, then run again with --retry-failed; finished members are skipped)")
+        print("\n".join(lines), file=sys.stderr)
+        return EXIT_FAILURE
+    if result.unfinished:  # e.g. a member not started because the sweep was stopped
+        print(f"debrisfoam: error: {len(result.unfinished)} member(s) did not finish: run the same command again",
+              file=sys.stderr)
+        return EXIT_FAILURE
+    return EXIT_OK
 
 
 # --------------------------------------------------------------------------- parser
@@ -441,10 +511,21 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_case)
 
-    p = verbs.add_parser("sweep", help="run a parameter sweep")
-    p.add_argument("sweep")
-    p.add_argument("--executor", choices=["local", "dask"], default="local")
-    p.add_argument("--scheduler", default=None)
+    p = verbs.add_parser("sweep", help="run a parameter sweep (a base scene and axes; see docs/sweeps.md); "
+                                       "run it again to resume")
+    p.add_argument("sweep", help="sweep YAML")
+    p.add_argument("-o", "--out", default=None, help="sweep folder (default: runs/sweeps/<sweep name>)")
+    p.add_argument("--executor", choices=["local", "dask"], default=None,
+                   help="local: a thread pool here; dask: a Dask LocalCluster, or --scheduler's cluster "
+                        "(default: the sweep file's, else local)")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="address of a running Dask scheduler (tcp://host:8786); implies --executor dask")
+    p.add_argument("--workers", type=int, default=None, metavar="N",
+                   help="members at once (local, LocalCluster); default: cores // cores per member")
+    p.add_argument("--dry-run", action="store_true", help="list the members, cell counts and estimated wall times; "
+                                                          "run nothing")
+    p.add_argument("--retry-failed", action="store_true", help="run failed members again (they resume)")
+    p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_sweep)
     return parser
 

@@ -123,10 +123,10 @@ def test_fit_bad_records_exit_2_naming_file_and_field(tmp_path, kind, field):
     assert str(path) in proc.stderr and field in proc.stderr
 
 
-def test_missing_verbs_exit_1_with_a_message():
+def test_sweep_of_a_missing_file_exits_2_naming_it():
     proc = run_cli("sweep", "nothing.yaml")
-    assert proc.returncode == 1
-    assert "issue" in proc.stderr and "Traceback" not in proc.stderr
+    assert proc.returncode == 2
+    assert "nothing.yaml" in proc.stderr and "Traceback" not in proc.stderr
 
 
 def test_debug_reraises():
