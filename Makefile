@@ -9,11 +9,12 @@ CELL    ?=
 OUT     ?= runs/1debris
 CASE_SET := $(if $(CELL),--set mesh.cell_size_m=$(CELL),)
 
-.PHONY: help venv openfoam test test-fast case-1debris sweep synthetic-study bench clean
+.PHONY: help venv openfoam test test-fast case-1debris sweep speed-error synthetic-study bench clean
 
 help:
 	@echo "make case-1debris [CELL=m]  the seed's 1-debris scene, end to end"
 	@echo "make sweep SWEEP=mesh-study a sweep from cases/sweeps/ (runs/sweeps/<name>; run again to resume)"
+	@echo "make speed-error            mesh study + hand-made baseline, then the speed-against-error report"
 	@echo "make test                   the test suite (installs the venv and OpenFOAM first)"
 	@echo "make synthetic-study        the seed's SDOF/MDOF/ASCE analysis on 22 synthetic records"
 	@echo "make bench                  benchmarks (figures go to benchmarks/*.md)"
@@ -51,6 +52,15 @@ SWEEP    ?= mesh-study
 EXECUTOR ?= local
 sweep: venv openfoam
 	$(VENV)/bin/debrisfoam sweep cases/sweeps/$(SWEEP).yaml --executor $(EXECUTOR)
+
+# The mesh study, the hand-made baseline (uniform cells, whole flume), then the report in
+# runs/sweeps/mesh-study/report/. Both sweeps resume; a failed member does not stop the report.
+# NICE="nice -n 15" runs the sweeps at low priority on a shared machine.
+NICE ?=
+speed-error: venv openfoam
+	-$(NICE) $(VENV)/bin/debrisfoam sweep cases/sweeps/mesh-study.yaml
+	-$(NICE) $(VENV)/bin/debrisfoam sweep cases/sweeps/mesh-study-hand.yaml
+	$(VENV)/bin/debrisfoam report speed-error runs/sweeps/mesh-study --baseline runs/sweeps/mesh-study-hand
 
 synthetic-study: venv
 	$(VENV)/bin/debrisfoam analytical study -o docs/synthetic-study

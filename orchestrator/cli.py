@@ -392,6 +392,22 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def cmd_report_speed_error(args: argparse.Namespace) -> int:
+    from orchestrator.speed_error import markdown, speed_error, write_report
+
+    extrapolate = args.extrapolate_to if args.extrapolate_to and args.extrapolate_to > 0 else None
+    study = speed_error(args.sweep_dir, list(args.baseline or []), reference=args.reference, time=args.time,
+                        extrapolate_to_m=extrapolate)
+    files = write_report(study, args.out)
+    if args.json:
+        _emit(study.headline(), True)
+        return EXIT_OK
+    print(markdown(study))
+    for kind, path in files.items():
+        print(f"debrisfoam: {kind}: {path}")
+    return EXIT_OK
+
+
 # --------------------------------------------------------------------------- parser
 
 
@@ -527,6 +543,26 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--retry-failed", action="store_true", help="run failed members again (they resume)")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_sweep)
+
+    rp = verbs.add_parser("report", help="reports across runs: speed-error (a sweep's cost against its errors)")
+    rp_verbs = rp.add_subparsers(dest="report_verb", required=True, parser_class=_ArgParser)
+    p = rp_verbs.add_parser("speed-error", help="wall time against error for every member of a sweep (and of "
+                                                "baseline sweeps): table and Pareto plot in SWEEP_DIR/report/")
+    p.add_argument("sweep_dir", help="a sweep folder (runs/sweeps/<name>); its finest member is the reference")
+    p.add_argument("--baseline", action="append", metavar="SWEEP_DIR",
+                   help="another sweep folder whose members join the table, e.g. the hand-made set-up "
+                        "(repeatable)")
+    p.add_argument("-o", "--out", default=None, help="output folder (default: SWEEP_DIR/report)")
+    p.add_argument("--reference", default=None, metavar="MEMBER_ID",
+                   help="member to measure the others against (default: the finest finished member)")
+    p.add_argument("--time", choices=["cpu", "solver", "wall"], default="cpu",
+                   help="time of the plot and the speed-ups: the solver's CPU time (default; its wall time on an "
+                        "idle machine, without other jobs' turns on a shared one), the solver's wall time, or "
+                        "the member's whole wall time")
+    p.add_argument("--extrapolate-to", type=float, default=0.015, metavar="M",
+                   help="extrapolate both set-ups to this cell size (default 0.015, the seed's; 0: none)")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=cmd_report_speed_error)
     return parser
 
 

@@ -34,3 +34,13 @@ def openfoam():
     """Skip-free guard: tests marked openfoam need the solver; `make test` installs it."""
     if shutil.which("overInterDyMFoam") is None:
         pytest.fail("OpenFOAM is not installed: run `make openfoam` (make test does it)")
+
+
+@pytest.fixture(scope="session")
+def tiny_sweep(tmp_path_factory):
+    """The shipped tiny mesh study (cases/sweeps/tiny-mesh-study.yaml), run once per test session
+    by the CLI on the local executor: (sweep folder, CompletedProcess). Shared by the sweep tests
+    and the speed-error report's."""
+    out = tmp_path_factory.mktemp("sweep") / "local"
+    proc = run_cli("sweep", str(ROOT / "cases" / "sweeps" / "tiny-mesh-study.yaml"), "-o", str(out))
+    return out, proc

@@ -17,6 +17,7 @@ from jinja2 import UndefinedError
 
 from analytical.errors import InputError
 from orchestrator import foam
+from orchestrator.grid import Segment
 from orchestrator.render import (
     Numerics,
     _number,
@@ -145,6 +146,62 @@ def test_downstream_outlet():
     assert re.search(r"downstream\n    \{\n        type totalPressure;", files["0/p_rgh"])
 
 
+def _z_segments(*edges_and_cells):
+    return tuple(Segment(a, b, n) for a, b, n in edges_and_cells)
+
+
+def test_friction_zone_is_the_first_layer_the_moving_water_runs_in():
+    from orchestrator.render import friction_layer_top_m
+
+    z = _z_segments((0.0, 0.015, 1), (0.015, 0.415, 10))  # a plane at a 15 mm wet bed, then 4 cm cells
+    assert friction_layer_top_m(z, 0.0) == pytest.approx(0.015)  # dry bed: the first layer
+    assert friction_layer_top_m(z, 0.015) == pytest.approx(0.055)  # the wet bed's layer and the one above
+    assert friction_layer_top_m(_z_segments((0.0, 0.4, 10)), 0.015) == pytest.approx(0.04)  # thin wet bed inside
+    # graded cells: the edges of the geometric progression
+    graded = (Segment(0.0, 0.1, 4, 3.0),)
+    q = 3.0 ** (1 / 3)
+    first = 0.1 / sum(q**i for i in range(4))
+    assert friction_layer_top_m(graded, 0.0) == pytest.approx(first)
+    assert friction_layer_top_m(graded, first) == pytest.approx(first * (1 + q))
+
+
+@pytest.mark.parametrize("calibration", [1.0, 2.5])
+def test_bed_friction_drag_is_f_over_4_dz_times_the_calibration(calibration):
+    from dataclasses import replace
+
+    plan = replace(flume_plan(0), bed_friction_calibration=calibration)
+    ctx = build_context(None, plan)
+    friction = ctx["bed_friction"]
+    dz = plan.background.z[0].cell_sizes_m()[0]
+    assert friction["layer_m"] == pytest.approx(2 * dz)  # the fixture's 0.06 m wet bed reaches into layer 2
+    assert friction["calibration"] == calibration
+    assert friction["forchheimer_per_m"] == pytest.approx(calibration * 0.0293 / (4 * 2 * dz))
+    assert friction["box_max"][2] == pytest.approx(2 * dz)
+    text = render_files(ctx)["system/fvOptions"]
+    value = _number(friction["forchheimer_per_m"])
+    assert f"f       ({value} {value} 0);" in text
+    assert ("bed.friction_calibration = 2.5" in text) == (calibration != 1.0)
+
+
+def test_scene_friction_calibration_reaches_the_case():
+    from orchestrator.plan import plan_case
+    from orchestrator.scene import Bed, load_scene
+
+    root = Path(__file__).resolve().parent.parent
+    default = load_scene(root / "cases" / "nodebris.yaml")
+    assert default.bed.friction_calibration == Bed.model_fields["friction_calibration"].default
+    scene = load_scene(root / "cases" / "nodebris.yaml", ["bed.friction_calibration=3.0"])
+    plan = plan_case(scene)
+    assert plan.bed_friction_calibration == 3.0 and plan.to_dict()["bed_friction_calibration"] == 3.0
+    assert "bed.friction_calibration = 3" in plan.reasons["bed_friction"]
+    ctx = build_context(scene, plan)
+    base = build_context(default, plan_case(default))
+    ratio = 3.0 / default.bed.friction_calibration
+    assert ctx["bed_friction"]["forchheimer_per_m"] == pytest.approx(ratio * base["bed_friction"]["forchheimer_per_m"])
+    with pytest.raises(InputError):
+        load_scene(root / "cases" / "nodebris.yaml", ["bed.friction_calibration=0"])
+
+
 def test_two_d_overset_is_refused():
     from dataclasses import replace
 
@@ -227,8 +284,9 @@ def test_nodebris_case_meshes(tmp_path, openfoam):
     n_cells = re.search(r"nCells: (\d+)", (case / "log.blockMesh").read_text()).group(1)
     assert int(n_cells) == plan.background.cell_count()
     assert foam.patch_names(case) == ["upstreamWall", "sideWalls", "bed", "atmosphere", "column", "downstream"]
-    # the bed layer (bed friction): the first cell layer of the background
-    assert _set_size(case, "bedLayer") == _first_layer_cells(plan.background)
+    # the bed layer (bed friction): the fixture's 0.06 m wet bed fills the first layer (0.0375 m)
+    # and part of the second, where the bore runs: both layers
+    assert _set_size(case, "bedLayer") == 2 * _first_layer_cells(plan.background)
     assert "bedLayer" in (case / "constant/polyMesh/cellZones").read_text()
     alpha = (case / "0" / "alpha.water").read_text()
     assert "nonuniform List<scalar>" in alpha
@@ -261,7 +319,8 @@ def test_one_debris_case_meshes_with_zones(tmp_path, openfoam):
     assert foam.patch_names(case)[0] == "oversetPatch"
     assert foam.patch_names(case)[-2:] == ["debris1Overset", "debris1"]
     assert _set_size(case, "debris1") == body_cells
-    assert _set_size(case, "bedLayer") == _first_layer_cells(plan.background)
+    # the drag zone: the wet bed's layer and the first layer above the still water (docs/bed-friction.md)
+    assert _set_size(case, "bedLayer") == 2 * _first_layer_cells(plan.background)
     zone_id = _internal_field(case / "0" / "zoneID")
     assert (zone_id == 1).sum() == body_cells and (zone_id == 0).sum() == plan.background.cell_count()
 
@@ -348,4 +407,5 @@ def test_scene_files_mesh_at_a_coarse_cell_size(tmp_path, openfoam, name):
     assert summary["mesh_regions"] == 1 + len(plan.bodies)
     case = tmp_path / name
     # the bed layer holds background cells only, even where a body mesh dips below the bed
-    assert _set_size(case, "bedLayer") == _first_layer_cells(plan.background)
+    # the drag zone: the wet bed's layer and the first layer above the still water (docs/bed-friction.md)
+    assert _set_size(case, "bedLayer") == 2 * _first_layer_cells(plan.background)

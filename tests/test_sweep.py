@@ -175,11 +175,9 @@ def _mtimes(case: Path) -> dict[str, int]:
 
 
 @pytest.fixture(scope="module")
-def local_sweep(tmp_path_factory):
-    """The shipped tiny mesh study, run by the CLI on the local executor."""
-    out = tmp_path_factory.mktemp("sweep") / "local"
-    proc = run_cli("sweep", str(TINY_SWEEP), "-o", str(out))
-    return out, proc
+def local_sweep(tiny_sweep):
+    """The shipped tiny mesh study, run by the CLI on the local executor (once per session: conftest)."""
+    return tiny_sweep
 
 
 @pytest.mark.openfoam
