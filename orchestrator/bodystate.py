@@ -360,7 +360,7 @@ def prepare_restart(case_dir: str | Path, time_name: str, states: Sequence[BodyS
 
 
 def release_holds(case_dir: str | Path, names: Sequence[str]) -> list[str]:
-    """Remove the on-bed `constraints` of the named bodies from constant/dynamicMeshDict.
+    """Remove the on-bed hold constraints of the named bodies from constant/dynamicMeshDict.
 
     Returns the bodies released now (already free ones are skipped), so calling it again
     on a resumed run does nothing.
@@ -371,9 +371,54 @@ def release_holds(case_dir: str | Path, names: Sequence[str]) -> list[str]:
     parsed = _parsed(path)
     released = []
     for name, coeffs in _body_dicts(parsed):
-        if name in names and "constraints" in coeffs:
+        constraints = coeffs.get("constraints")
+        if name not in names or not constraints or "holdOnBedPlane" not in constraints:
+            continue
+        # The hold is the bed plane (and, for a body free to tip, its axis); an upright
+        # body keeps its keepUpright axis for the whole run.
+        for key in ("holdOnBedPlane", "holdOnBedAxis"):
+            if key in constraints:  # PyFoam's dictionary has no pop(key, default)
+                del constraints[key]
+        if not constraints:
             del coeffs["constraints"]
-            released.append(name)
+        released.append(name)
     if released:
         write_dictionary(parsed, path)
     return released
+
+
+def pin_bodies(case_dir: str | Path, names: Sequence[str]) -> list[str]:
+    """Freeze the named bodies where they are (sixDoF `point` + `orientation` constraints).
+
+    A body pressed against the column or a wall by the flow (a resting contact that keeps
+    coming back) stays there: debris damming against the obstacle. v1912 projects the
+    velocity and the angular velocity of a fully constrained body to zero, so it no longer
+    moves. Returns the bodies pinned now (already pinned ones are skipped).
+    """
+    if not names:
+        return []
+    path = Path(case_dir) / DYNAMIC_MESH_DICT
+    parsed = _parsed(path)
+    pinned = []
+    for name, coeffs in _body_dicts(parsed):
+        if name not in names:
+            continue
+        constraints = coeffs.get("constraints") or {}
+        if "pinnedPoint" in constraints:
+            continue
+        constraints = {k: v for k, v in dict(constraints).items()
+                       if k not in ("holdOnBedPlane", "holdOnBedAxis", "keepUpright")}
+        constraints["pinnedPoint"] = {"sixDoFRigidBodyMotionConstraint": "point"}
+        constraints["pinnedOrientation"] = {"sixDoFRigidBodyMotionConstraint": "orientation"}
+        coeffs["constraints"] = constraints
+        pinned.append(name)
+    if pinned:
+        write_dictionary(parsed, path)
+    return pinned
+
+
+def pinned_bodies(case_dir: str | Path) -> set[str]:
+    """The bodies that `pin_bodies` froze."""
+    path = Path(case_dir) / DYNAMIC_MESH_DICT
+    return {name for name, coeffs in _body_dicts(_parsed(path))
+            if "pinnedPoint" in (coeffs.get("constraints") or {})}

@@ -26,9 +26,18 @@ def default_case_dir(scene_path: str | Path) -> Path:
     return Path("runs") / Path(scene_path).stem
 
 
-def _same_case(case: Path, scene_yaml: str) -> bool:
+def _same_case(case: Path, scene) -> bool:
+    """Does `case` hold this scene? Compared as resolved scenes, so a case rendered before a
+    new scene key (with its default) was added is still the same case."""
+    from orchestrator.scene import load_scene
+
     existing = case / "scene.yaml"
-    return existing.is_file() and existing.read_text() == scene_yaml
+    if not existing.is_file():
+        return False
+    try:
+        return load_scene(existing).model_dump() == scene.model_dump()
+    except InputError:
+        return False
 
 
 def prepare_case(scene_path: str | Path, out_dir: str | Path, sets: Sequence[str] = ()) -> tuple[Path, bool]:
@@ -37,13 +46,13 @@ def prepare_case(scene_path: str | Path, out_dir: str | Path, sets: Sequence[str
     Returns (case folder, rendered now?). Raises InputError when out_dir holds
     something else.
     """
-    from orchestrator.render import _scene_yaml, render_from_file
+    from orchestrator.render import render_from_file
     from orchestrator.scene import load_scene
 
     out = Path(out_dir)
     scene = load_scene(scene_path, list(sets))
     if out.is_dir() and any(out.iterdir()):
-        if _same_case(out, _scene_yaml(scene, list(sets))):
+        if _same_case(out, scene):
             return out, False
         raise InputError(
             "-o/--out",
@@ -104,6 +113,9 @@ def final_summary(headline: dict[str, Any]) -> dict[str, Any]:
         out["impact_impulse_Ns"] = first.get("impulse_Ns")
     else:
         out["first_impact"] = "none: no debris reached the column in the simulated time"
+    for pin in impacts.get("pinned") or []:
+        out[f"{pin['body']}_pinned"] = (f"held against the {pin['other']} by the flow from t = "
+                                        f"{_num(pin.get('time_s'))} s (debris damming: frozen there)")
     response = headline.get("column_response") or {}
     if response.get("peak_base_shear_N") is not None:
         out["peak_base_shear_N"] = response["peak_base_shear_N"]

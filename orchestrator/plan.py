@@ -55,8 +55,10 @@ __all__ = [
 #: Multiplier on the simulated time when sizing the domain (10 % margin).
 SAFETY = 1.10
 #: Wall time per cell per time step on 2 cores (s), DESIGN.md section 3: interFoam
-#: 2-5 us (mid value); overInterDyMFoam 15.5 us with the tuned overset settings.
-US_PER_CELL_STEP = {"interFoam": 3.5e-6, "overInterDyMFoam": 15.5e-6}
+#: 2-5 us (mid value). overInterDyMFoam measured on the seed's 1-debris scene at 4 cm
+#: (111k cells, 3,760 of them the body's): 374 steps to t = 1.19 s in 413 s of solver CPU,
+#: 10 us per cell-step (5.9 us with the coarser 1,280-cell body mesh of session 1).
+US_PER_CELL_STEP = {"interFoam": 3.5e-6, "overInterDyMFoam": 10.0e-6}
 #: Cores at which US_PER_CELL_STEP was measured.
 _MEASURED_CORES = 2
 #: Every decision the plan records a reason for.
@@ -138,6 +140,8 @@ class BodyPlan:
     #: > 0: the body is held on the bed (sixDoF constraints: it slides and yaws, but cannot
     #: sink or tip) until this time, when the bore is deep enough to lift it (s)
     hold_until_s: float = 0.0
+    #: the body may only yaw (a sixDoF `axis` constraint, for the whole run)
+    upright: bool = False
 
 
 @dataclass(frozen=True)
@@ -165,6 +169,8 @@ class ModelPlan:
     reasons: dict[str, str]
     warnings: tuple[str, ...] = ()
     estimated_wall_time_s: float = field(default=0.0)
+    #: multiplier on the bed-friction drag coefficient (scene bed.friction_calibration)
+    bed_friction_calibration: float = 1.0
 
     @property
     def cores(self) -> int:
@@ -188,6 +194,7 @@ class ModelPlan:
             "fine_region_m": [list(a) for a in self.fine_region_m],
             "downstream_type": self.downstream_type,
             "bed_friction_factor": self.bed_friction_factor,
+            "bed_friction_calibration": self.bed_friction_calibration,
             "background": _grid_dict(self.background),
             "bodies": [
                 {
@@ -464,6 +471,8 @@ def plan_case(scene: Scene) -> ModelPlan:
     res_needed = _reservoir_length(T, h0, guard, g)
     res_floor = guard + max(h0, 4 * h)
     res_len = min(scene.reservoir.length_m, max(res_needed, res_floor))
+    if not scene.mesh.trim_domain:
+        res_len = scene.reservoir.length_m
     x_lo = -res_len
     t_return = res_len / c0 + max(res_len - guard, 0.0) / (4.0 / 3.0 * c0)
     if res_len < scene.reservoir.length_m - 1e-9:
@@ -484,6 +493,8 @@ def plan_case(scene: Scene) -> ModelPlan:
                 else ""
             )
         )
+    if not scene.mesh.trim_domain:
+        reasons["reservoir_length"] = f"whole reservoir ({res_len:g} m) modelled: mesh.trim_domain is false"
 
     # ---- downstream end
     if col:
@@ -511,7 +522,12 @@ def plan_case(scene: Scene) -> ModelPlan:
             f"must not reach x = {roi_end:.3g} m before {SAFETY:g} x end_time"
         )
     wall_need = max(roi_end + wake, _length_before_return(T, roi_end, front.speed_m_s, c0))
-    if scene.flume.downstream_end == "open":
+    if not scene.mesh.trim_domain:
+        x_hi = fx1
+        downstream_type = "outlet" if scene.flume.downstream_end == "open" else "wall"
+        reasons["domain_end"] = f"domain runs to the flume's end (x = {x_hi:.3g} m): mesh.trim_domain is false"
+        reasons["downstream_type"] = f"{downstream_type}: the flume's downstream end is {scene.flume.downstream_end}"
+    elif scene.flume.downstream_end == "open":
         x_hi = min(fx1, open_need)
         downstream_type = "outlet"
         reasons["domain_end"] = (
@@ -544,6 +560,9 @@ def plan_case(scene: Scene) -> ModelPlan:
     if scene.mesh.top_m is not None:
         z_hi = scene.mesh.top_m
         reasons["domain_top"] = f"air space up to mesh.top_m = {z_hi:g} m (set in the scene)"
+    elif not scene.mesh.trim_domain:
+        z_hi = scene.flume.height_m
+        reasons["domain_top"] = f"air space up to the flume's wall height ({z_hi:g} m): mesh.trim_domain is false"
     else:
         body_top = max((hi[2] for _, hi in body_boxes), default=0.0)
         z_hi = min(scene.flume.height_m, max(1.5 * h0, body_top))
@@ -678,6 +697,7 @@ def plan_case(scene: Scene) -> ModelPlan:
                 cell_size_m=hb,
                 velocity_m_s=tuple(float(v) for v in body.velocity_m_s),
                 hold_until_s=hold,
+                upright=on_bed if body.upright is None else bool(body.upright),
             )
         )
         outside = []
@@ -701,13 +721,14 @@ def plan_case(scene: Scene) -> ModelPlan:
             "held on the bed by sixDoF constraints (free to slide and yaw, not to sink or tip: v1912 has no "
             "contact, so a body heavier than its buoyancy would sink through the floor) until the analytical "
             "dam-break depth at the body's centre (Chanson with the scene's f; Ritter if f = 0) reaches its "
-            "draft; the runner then removes the constraints: " + ", ".join(holds)
+            "draft; the runner then removes the bed-plane constraint: " + ", ".join(holds)
             if holds else "no body rests on the bed: none is held"
         )
         b0 = bodies[0]
         reasons["bodies"] = (
             f"{len(bodies)} overset body mesh(es): each box extends {scene.mesh.body_margin_cells} finest cells "
-            f"({margin_body:.3g} m) beyond its body so donors lie in fine background cells; cells of "
+            f"({margin_body:.3g} m) beyond its body so donors lie in fine background cells and calculated body cells "
+            "surround the body (thinner meshes let the flow pass the body by: docs/openfoam-notes.md); cells of "
             f"{b0.cell_size_m:.3g} m at the body ({scene.mesh.body_cells_across:g} across its smallest side), "
             f"{h:g} m at the mesh edge; inertia from the box walls (wall_thickness_m) or as given"
         )
@@ -724,8 +745,9 @@ def plan_case(scene: Scene) -> ModelPlan:
     )
     reasons["bed_friction"] = (
         f"Darcy f = {scene.bed.friction_factor:g} as a drag rho (f/8)|U|U on the first cell layer above the bed: "
-        "without friction the front arrives 15-30 % early (DESIGN.md section 3); its calibration against "
-        "Chanson's arrival times is measured separately"
+        "without friction the front arrives 15-30 % early (DESIGN.md section 3); the drag is multiplied by "
+        f"bed.friction_calibration = {scene.bed.friction_calibration:g}, calibrated against Chanson's arrival "
+        "times (docs/bed-friction.md)"
     )
     gauges = tuple(GaugePlan(gg.name, gg.x_m, gg.y_m, z_hi) for gg in scene.gauges)
     reasons["gauges"] = (
@@ -774,6 +796,7 @@ def plan_case(scene: Scene) -> ModelPlan:
         fine_region_m=fine,
         downstream_type=downstream_type,
         bed_friction_factor=scene.bed.friction_factor,
+        bed_friction_calibration=scene.bed.friction_calibration,
         velocity_scale_m_s=u_ref,
         time_step_estimate_s=dt,
         reasons=reasons,

@@ -1014,9 +1014,14 @@ def headline(results: Results) -> dict[str, Any]:
             "impulse_Ns": _finite(first["impulse_Ns"]), "height_m": _finite(first["height_m"]),
         }
         out["impacts"]["peak_force_N"] = _finite(imp["peak_force_N"].max())
-    resting = [e for e in read_contact_events(data.case) if e.get("type") == "resting"]
+    events = read_contact_events(data.case)
+    resting = [e for e in events if e.get("type") == "resting"]
     if resting:
         out["impacts"]["resting_contacts"] = len(resting)
+    pinned = [{"body": e["body"], "other": e["other"], "time_s": _finite(e["time_s"])}
+              for e in events if e.get("type") == "pinned"]
+    if pinned:  # held against an obstacle by the flow from then on (the runner froze it there)
+        out["impacts"]["pinned"] = pinned
     cr = results.column_response
     if "base_shear_x_N" in cr and len(cr):
         shear = np.hypot(cr["base_shear_x_N"].to_numpy(float), cr["base_shear_y_N"].to_numpy(float))

@@ -172,6 +172,31 @@ def _first_cell_m(segments) -> float:
     return min(min(s.cell_sizes_m()) for s in segments)
 
 
+def _cell_edges(segments) -> np.ndarray:
+    """Cell faces along one axis of a BoxGrid (the segments' geometric progressions)."""
+    edges = [segments[0].start_m]
+    for seg in segments:
+        n, r = seg.cells, seg.grading
+        q = 1.0 if n == 1 or abs(r - 1.0) < 1e-12 else r ** (1.0 / (n - 1))
+        sizes = q ** np.arange(n)
+        edges += list(seg.start_m + np.cumsum(sizes)[:-1] / sizes.sum() * seg.length_m) + [seg.end_m]
+    return np.asarray(edges, dtype=float)
+
+
+def friction_layer_top_m(z_segments, still_water_m: float) -> float:
+    """Height above the bed of the bed-friction zone's top: the cell layers from the bed up to
+    the first layer whose top lies above the still water downstream (still_water_m, m above the
+    bed; 0 on a dry bed).
+
+    On a dry bed that is the first cell layer. A wet bed filling its own layers stays almost
+    still under a laminar bore, which runs over it in the layer above (no turbulence couples
+    them); drag on the still layers alone would never reach the bore (docs/bed-friction.md).
+    """
+    edges = _cell_edges(z_segments) - z_segments[0].start_m
+    above = edges[edges > still_water_m + 1e-9]
+    return float(above[0]) if above.size else float(edges[-1])
+
+
 def _mesh_context(grid: BoxGrid, patch_kinds: dict[str, str], zone: str | None,
                   leading: Sequence[tuple[str, str]] = ()) -> dict[str, Any]:
     """What blockMeshDict.j2 needs for one BoxGrid."""
@@ -240,7 +265,7 @@ def build_context(scene, plan, numerics: Numerics | None = None) -> dict[str, An
     - patches: [{name, kind}] of the merged mesh in order; kind is one of wall,
       body, atmosphere, outlet, empty, overset and picks each field's boundary condition
     - water_boxes: [{name, min, max}]; bed_friction: None or {darcy_f, layer_m, zone,
-      forchheimer_per_m, box_min, box_max}; domain: {min, max}
+      calibration, forchheimer_per_m, box_min, box_max}; domain: {min, max}
     - gauges: [{name, start, end, n_points}] (vertical lines, bed to top);
       probes: [{name, point}]; column: None or {patch, min, max, centre_of_rotation}
     - time: end_s, write_interval_s, delta_t_s (first step), max_delta_t_s,
@@ -293,6 +318,7 @@ def build_context(scene, plan, numerics: Numerics | None = None) -> dict[str, An
             "size_m": tuple(float(v) for v in body.size_m),
             "velocity_m_s": tuple(float(v) for v in getattr(body, "velocity_m_s", (0.0, 0.0, 0.0))),
             "hold_until_s": float(getattr(body, "hold_until_s", 0.0)),
+            "upright": bool(getattr(body, "upright", False)),
         })
 
     lo = np.array([bg.planes(a)[0] for a in "xyz"])
@@ -343,16 +369,21 @@ def build_context(scene, plan, numerics: Numerics | None = None) -> dict[str, An
         "sample_interval_s": None if outputs.probe_interval_s is None else float(outputs.probe_interval_s),
     }
 
-    # Bed friction (Darcy f): a quadratic drag on the first cell layer above the bed,
-    # as a Darcy-Forchheimer porosity with only the Forchheimer term, horizontal only.
+    # Bed friction (Darcy f): a quadratic drag on the cell layers next to the bed (the first
+    # one, or up to the first above a wet bed's still water: friction_layer_top_m), as a
+    # Darcy-Forchheimer porosity with only the Forchheimer term, horizontal only.
     # Per unit volume the model's drag is rho |U| F / 2 U; the bed shear
-    # rho (f / 8) |U| U spread over the layer's height dz gives F = f / (4 dz).
+    # rho (f / 8) |U| U spread over the zone's height dz gives F = f / (4 dz), times the
+    # plan's calibration (bed.friction_calibration: the zone under-brakes the thin bore tip).
     friction = None
     f_darcy = float(plan.bed_friction_factor)
     if f_darcy > 0:
-        friction = {"darcy_f": f_darcy, "layer_m": dz_bed, "zone": BED_LAYER_ZONE,
-                    "forchheimer_per_m": f_darcy / (4 * dz_bed),
-                    "box_min": (lo[0] - 1, lo[1] - 1, lo[2] - 1), "box_max": (hi[0] + 1, hi[1] + 1, lo[2] + dz_bed)}
+        calibration = float(getattr(plan, "bed_friction_calibration", 1.0))
+        still = max([b["max"][2] - lo[2] for b in water_boxes if b["min"][0] >= 0.0], default=0.0)
+        layer = friction_layer_top_m(bg.z, still)
+        friction = {"darcy_f": f_darcy, "layer_m": layer, "zone": BED_LAYER_ZONE, "calibration": calibration,
+                    "forchheimer_per_m": calibration * f_darcy / (4 * layer),
+                    "box_min": (lo[0] - 1, lo[1] - 1, lo[2] - 1), "box_max": (hi[0] + 1, hi[1] + 1, lo[2] + layer)}
 
     n = _decomposition(plan)
     diag = float(np.linalg.norm(hi - lo))

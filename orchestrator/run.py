@@ -205,7 +205,8 @@ class ContactSettings:
         into it removed (`contact.clamp_to_bed`).
     max_events / window_s: more than `max_events` contacts of the same pair within
         `window_s` of simulated time is a resting contact, which this event-driven model
-        cannot represent: ContactError (the bed is exempt).
+        cannot represent: the body is pinned where it is for the rest of the run (debris
+        held against the column or a wall by the flow); two bodies: ContactError.
     impact: keyword arguments for `analytical.impact.impact` / `pair_impact`
         (stiffness_N_m, friction_coefficient, damping_ratio, ...).
     added_mass_coefficient: C_a of the debris for the impact model.
@@ -429,6 +430,16 @@ def _remove_times_from(case: Path, ranks: int, t_from: float, keep: float) -> No
 #: builds its parser tables on every ParsedParameterFile (about 25 ms of CPU each), which
 #: would count against the solver at every stop request.
 _CONTROL_CACHE: dict[Path, tuple[str, Any]] = {}
+
+
+#: controlDict timePrecision as rendered (templates/system/controlDict.j2)
+_TIME_PRECISION = 8
+
+
+def _significant_digits(time_name: str) -> int:
+    """Significant digits of a time directory name ("1.46272017" -> 9, "0.1" -> 1)."""
+    mantissa = time_name.lower().split("e")[0].replace("-", "").replace(".", "").lstrip("0")
+    return max(1, len(mantissa))
 
 
 def _set_control(case: Path, backdate: bool = False, **entries: Any) -> None:
@@ -915,8 +926,11 @@ class _Runner:
             seg_end, seg_interval = end, self.write_interval_s
         self.record.data["segment_control"] = {"endTime": seg_end, "writeInterval": seg_interval}
         self.record.save()
+        # v1912 may write a time with more digits than timePrecision (it raises the precision
+        # to tell close times apart) and then, restarting, look for the shorter name
         _set_control(self.case, backdate=True, stopAt="endTime", startFrom="latestTime",
-                     endTime=seg_end, writeInterval=seg_interval)
+                     endTime=seg_end, writeInterval=seg_interval,
+                     timePrecision=max(_TIME_PRECISION, _significant_digits(start_name)))
         try:
             return self._solve(start_value, start_name, seg_end, progress)
         finally:  # the case's own controls back, whatever happened
@@ -936,7 +950,6 @@ class _Runner:
         steps: list[StepRecord] = []
         arrivals: list[tuple[float, int]] = []
         stop_reason: str | None = None
-        stop_at: float | None = None
         diag: Diagnosis | None = None
         pending: list[Contact] = []
         killed = False
@@ -1157,7 +1170,10 @@ class _Runner:
         for c in self.contacts_now(states):
             if c.body in done or c.other in done:
                 continue  # one impact per body per restart; a second one is found at the next
-            self._guard_resting(c, float(time_name))
+            if self._resting_too_often(c, float(time_name)) and c.kind != "body":
+                by_name[c.body] = self._pin(time_name, c, by_name[c.body])
+                done.add(c.body)
+                continue
             if self.classify(c, horizon) == "resting":
                 new, impulse = resting_contact(geometry, c, by_name)
                 before = {k: by_name[k] for k in new}
@@ -1187,15 +1203,38 @@ class _Runner:
                          "moved out along the contact normal")
         return events, [by_name[n] for n in self.info.body_names]
 
-    def _guard_resting(self, c: Contact, t: float) -> None:
+    def _resting_too_often(self, c: Contact, t: float) -> bool:
+        """More than `max_events` contacts of this pair within `window_s`: the flow holds the
+        body against the obstacle (a resting contact the event model cannot represent)."""
         key = (c.body, c.other)
         times = [x for x in self._pair_events.get(key, []) if x > t - self.contact.window_s]
         times.append(t)
         self._pair_events[key] = times
-        if len(times) > self.contact.max_events:
+        if len(times) <= self.contact.max_events:
+            return False
+        if c.kind == "body":
             raise ContactError(
                 f"{c.body} hit {c.other} {len(times)} times within {self.contact.window_s:g} s of simulated time "
-                f"(t = {t:.6g} s): a resting contact, which event-driven contact cannot model")
+                f"(t = {t:.6g} s): two bodies pressed together, which event-driven contact cannot model")
+        return True
+
+    def _pin(self, time_name: str, c: Contact, state: BodyState) -> BodyState:
+        """Freeze a body the flow keeps pressing against an obstacle (debris damming), record it."""
+        bodystate.pin_bodies(self.case, [c.body])
+        pinned = state.with_changes(velocity_m_s=(0.0, 0.0, 0.0), angular_velocity_rad_s=(0.0, 0.0, 0.0),
+                                    acceleration_m_s2=(0.0, 0.0, 0.0))
+        events = self._read_events()
+        events.append({"event": len(events) + 1, "type": "pinned", "time_s": float(time_name), "body": c.body,
+                       "other": c.other, "kind": c.kind, "gap_m": c.distance_m, "point_m": list(c.point_m),
+                       "normal": list(c.normal), "velocity_in_m_s": list(state.velocity_m_s)})
+        self._write_events(events)
+        self.record.data.setdefault("pinned", []).append({"body": c.body, "other": c.other,
+                                                           "time_s": float(time_name)})
+        self.say(f"t = {time_name} s: {c.body} is held against {c.other} by the flow "
+                 f"({self.contact.max_events + 1} contacts within {self.contact.window_s:g} s): pinned there for the "
+                 "rest of the run (debris damming; its hydrodynamic load then reaches the column through it, "
+                 "which the column's force history does not include)")
+        return pinned
 
     def _record_resting(self, time_name: str, c: Contact, before: dict[str, BodyState],
                         after: dict[str, BodyState], impulse_Ns: float) -> None:

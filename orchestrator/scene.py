@@ -116,6 +116,12 @@ class Bed(_Model):
 
     wet_depth_m: float = Field(0.0, ge=0, description="still-water depth downstream of the gate; 0 = dry (m)")
     friction_factor: float = Field(0.0293, ge=0, description="Darcy friction factor f of the bed (-)")
+    friction_calibration: float = Field(
+        2.2, gt=0,
+        description="multiplier on the bed-friction drag of the cell layers next to the bed (they under-brake the "
+        "thin bore tip); the default 2.2 makes the arrivals at 2.40 m and 3.20 m match Chanson's solution with "
+        "f = 0.0293 within 0.012 s at 4 cm cells (docs/bed-friction.md)",
+    )
 
 
 class Column(_Model):
@@ -171,6 +177,11 @@ class DebrisTemplate(_Model):
     roll_deg: float = 0.0
     velocity_m_s: tuple[float, float, float] = Field(
         (0.0, 0.0, 0.0), description="initial velocity [u, v, w] of the centre of mass (m/s); default at rest"
+    )
+    upright: bool | None = Field(
+        None,
+        description="keep the body upright (it yaws, it does not pitch or roll): v1912 has no bed contact, so a "
+        "tipping body digs a corner into the floor. null = upright if it starts on the bed",
     )
 
 
@@ -241,7 +252,10 @@ class Mesh(_Model):
     coarsening_ratio: float = Field(4.0, ge=1, description="largest cell / finest cell (-)")
     growth_ratio: float = Field(1.15, gt=1, le=2, description="largest size ratio of neighbouring cells (-)")
     body_cells_across: float = Field(
-        2.0, gt=0, description="body-mesh cells across the smallest debris dimension (-)"
+        4.0, gt=0,
+        description="body-mesh cells across the smallest debris dimension (-); with 2 at 4 cm cells the body "
+        "mesh drove 12-16 m/s spurious air jets, or (margin 2) had no calculated cell beside the body and the "
+        "flow passed it by (docs/openfoam-notes.md)",
     )
     body_margin_cells: int = Field(
         3, ge=1, description="finest cells between a body and the edge of its overset mesh"
@@ -251,6 +265,11 @@ class Mesh(_Model):
     )
     top_m: float | None = Field(
         None, gt=0, description="top of the modelled air space; null = min(flume height, 1.5 depth) (m)"
+    )
+    trim_domain: bool = Field(
+        True,
+        description="false: model the whole reservoir, the whole flume to its downstream end and its full height, "
+        "as a hand-made set-up would (with coarsening_ratio 1: uniform cells; the speed-error baseline)",
     )
 
 

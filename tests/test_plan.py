@@ -231,6 +231,28 @@ def test_closed_end_is_a_wall_when_its_reflection_could_matter():
     assert short.downstream_type == "outlet" and short.domain_m[0][1] < 18.45
 
 
+@pytest.mark.parametrize("end", ["open", "closed"])
+def test_untrimmed_domain_is_the_whole_flume_and_coarsening_1_is_uniform(end):
+    # the hand-made baseline of the speed-error study (cases/sweeps/mesh-study-hand.yaml)
+    s = case("nodebris", "mesh.trim_domain=false", "mesh.coarsening_ratio=1", f"flume.downstream_end={end}",
+             "mesh.cell_size_m=0.06")
+    p = plan_case(s)
+    assert p.domain_m[0] == pytest.approx((-21.55, 8.45)) and p.domain_m[2][1] == pytest.approx(0.8)
+    assert p.downstream_type == ("outlet" if end == "open" else "wall")
+    assert all("trim_domain is false" in p.reasons[k] for k in ("reservoir_length", "domain_end", "domain_top"))
+    h = s.mesh.cell_size_m
+    for axis in (p.background.x, p.background.y):
+        assert max(all_cell_sizes(axis)) <= h * (1 + 1e-9)
+        assert min(all_cell_sizes(axis)) >= 0.5 * h - 1e-9  # only the column's faces cut a cell
+    z = all_cell_sizes(p.background.z)
+    assert z[0] == pytest.approx(0.015) and max(z) <= h * (1 + 1e-9)  # the wet bed keeps its plane
+    trimmed = plan_case(case("nodebris", "mesh.cell_size_m=0.06"))
+    assert p.cell_count > 3 * trimmed.cell_count
+    # the default trims, and the knob changes nothing else
+    assert case("nodebris").mesh.trim_domain is True
+    assert trimmed.domain_m[0][0] > -21.55 and trimmed.domain_m[2][1] == pytest.approx(0.6)
+
+
 def test_domain_holds_every_gauge_body_and_the_column():
     for name in CASE_NAMES:
         s = case(name)

@@ -58,7 +58,8 @@ def scene(debris=(), end_time_s=0.2, wet_depth_m=0.03) -> dict:
         "column": COLUMN,
         "debris": [dict(BOX, **d) for d in debris],
         "gauges": [{"name": "WG1", "x_m": 0.5, "y_m": 0.0}],
-        "mesh": {"cell_size_m": 0.04, "coarsening_ratio": 1, "body_margin_cells": 1},
+        # coarse body meshes (2 cells across) keep these runner tests cheap; the physics defaults differ
+        "mesh": {"cell_size_m": 0.04, "coarsening_ratio": 1, "body_margin_cells": 1, "body_cells_across": 2},
         "run": {"end_time_s": end_time_s, "cores": 2, "write_interval_s": 0.05, "max_courant": 0.9},
         "outputs": {"probe_interval_s": None, "preview": False},
     }
@@ -508,8 +509,36 @@ def test_a_body_on_the_bed_is_held_then_released_when_the_bore_arrives(tmp_path,
     bed_stops = [float(seg["end_time"]) for seg in record["segments"]
                  if any(c.get("other") == "bed" for c in seg.get("stopped_for", []))]
     assert all(t > hold - 0.01 for t in bed_stops)  # no bed clamp while held (some may follow the release)
-    assert "constraints" not in (case / "constant" / "dynamicMeshDict").read_text()  # released
+    mesh_dict = (case / "constant" / "dynamicMeshDict").read_text()
+    assert "holdOnBedPlane" not in mesh_dict and "keepUpright" in mesh_dict  # released, still upright
+    tilt = tracks[["q_xz", "q_yz", "q_zx", "q_zy"]].abs().to_numpy().max()
+    assert tilt < 1e-9  # an upright body never pitches or rolls
     written = sorted(float(p.name) for p in (case / "processor0").iterdir() if p.name[0].isdigit())
     for t in (0.05, 0.1, 0.3, 0.55):  # the regular writes before the release are kept
         assert any(abs(w - t) < 1e-9 for w in written), (t, written)
     assert json.loads((case / "run.json").read_text())["status"] == "finished"
+
+
+@pytest.mark.openfoam
+def test_a_pinned_body_stays_where_it_is(tmp_path, openfoam):
+    """Debris held against an obstacle by the flow is pinned (point + orientation constraints):
+    v1912 must keep it still although the bore pushes it."""
+    case = render(tmp_path, "pinned", scene([{"name": "debris1", "centre_m": [0.7, 0.0]}], end_time_s=0.4))
+    assert bodystate.pin_bodies(case, ["debris1"]) == ["debris1"]
+    assert bodystate.pin_bodies(case, ["debris1"]) == []  # already pinned
+    assert bodystate.pinned_bodies(case) == {"debris1"}
+    run_case(case, quiet=True)
+    tracks = pd.read_csv(case / "bodies.csv")
+    start = bodystate.read_body_properties(case)[0].initial_centre_of_mass_m
+    assert len(tracks) > 10 and tracks["time_s"].max() > 0.39  # the bore passes it from about 0.3 s
+    assert np.abs(tracks[["x_m", "y_m", "z_m"]].to_numpy() - np.asarray(start)).max() < 1e-9
+    assert np.abs(tracks[["u_m_s", "v_m_s", "w_m_s"]].to_numpy()).max() < 1e-9
+    assert json.loads((case / "run.json").read_text())["status"] == "finished"
+
+
+@pytest.mark.parametrize("name, digits", [("1.46272017", 9), ("0.1", 1), ("0", 1), ("1.2e-05", 2), ("3.5", 2)])
+def test_significant_digits_of_a_time_name(name, digits):
+    """The restart's timePrecision must reproduce the latest time directory's name."""
+    from orchestrator.run import _significant_digits
+
+    assert _significant_digits(name) == digits
