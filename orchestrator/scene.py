@@ -502,6 +502,18 @@ def apply_overrides(data: dict, overrides: Iterable[str], source: str | None = N
 # ------------------------------------------------------------------------- loading
 
 
+def read_yaml(path: str | Path, field: str) -> Any:
+    """The YAML document in ``path``; InputError (``field``, the file) if unreadable or not YAML."""
+    try:
+        text = Path(path).read_text()
+    except OSError as err:
+        raise InputError(field, f"cannot read the file: {err.strerror or err}", str(path)) from None
+    try:
+        return yaml.safe_load(text)
+    except yaml.YAMLError as err:
+        raise InputError(field, f"not valid YAML: {err}", str(path)) from None
+
+
 def load_scene(path: str | Path, overrides: Iterable[str] = ()) -> Scene:
     """Read, override, resolve and validate the scene in ``path``.
 
@@ -510,14 +522,7 @@ def load_scene(path: str | Path, overrides: Iterable[str] = ()) -> Scene:
     listed in :func:`validate_scene`.
     """
     source = str(path)
-    try:
-        text = Path(path).read_text()
-    except OSError as err:
-        raise InputError("scene", f"cannot read the file: {err.strerror or err}", source) from None
-    try:
-        data = yaml.safe_load(text)
-    except yaml.YAMLError as err:
-        raise InputError("scene", f"not valid YAML: {err}", source) from None
+    data = read_yaml(path, "scene")
     if data is None:
         data = {}
     if not isinstance(data, dict):

@@ -56,7 +56,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Iterable, Iterator, Sequence
 
-import yaml
 
 from analytical.errors import DebrisfoamError, InputError
 from orchestrator.jsonio import json_default
@@ -188,15 +187,10 @@ def _override(key: str, value: Any) -> str:
 
 
 def _read_mapping(path: Path) -> dict:
+    from orchestrator.scene import read_yaml
+
     source = str(path)
-    try:
-        text = path.read_text()
-    except OSError as err:
-        raise InputError("sweep", f"cannot read the file: {err.strerror or err}", source) from None
-    try:
-        data = yaml.safe_load(text)
-    except yaml.YAMLError as err:
-        raise InputError("sweep", f"not valid YAML: {err}", source) from None
+    data = read_yaml(path, "sweep")
     if not isinstance(data, dict):
         raise InputError("sweep", f"must be a mapping (base, axes, ...), got {type(data).__name__}", source)
     return data
