@@ -12,6 +12,10 @@ from ``x = -reservoir.length_m`` (its upstream wall) to
 ``x = flume.length_m - reservoir.length_m`` (its downstream end). Lengths in metres,
 masses in kilograms, times in seconds, angles in degrees.
 
+A scene file may start from another: ``extends: ../1debris.yaml`` takes that file's
+sections as defaults and lays this file's keys over them (mappings merge key by key,
+lists such as ``debris`` are replaced whole); ``cases/hard/`` is written that way.
+
 Sections (see the models below for every field and default): ``flume``, ``reservoir``,
 ``bed``, ``column`` (null = none), ``debris`` (a list; empty = none; items are bodies or
 layout generators), ``gauges``, ``fluids``, ``mesh``, ``run``, ``outputs``.
@@ -522,11 +526,7 @@ def load_scene(path: str | Path, overrides: Iterable[str] = ()) -> Scene:
     listed in :func:`validate_scene`.
     """
     source = str(path)
-    data = read_yaml(path, "scene")
-    if data is None:
-        data = {}
-    if not isinstance(data, dict):
-        raise InputError("scene", f"must be a mapping of sections, got a {type(data).__name__}", source)
+    data = _scene_data(Path(path), "scene", ())
     data.setdefault("name", Path(path).stem)
     overrides = list(overrides)
     data = apply_overrides(data, overrides, source)
@@ -536,6 +536,44 @@ def load_scene(path: str | Path, overrides: Iterable[str] = ()) -> Scene:
         if any(o.partition("=")[0].strip() and err.field.startswith(o.partition("=")[0].strip()) for o in overrides):
             raise InputError(err.field, f"{err.rule} (value set by an override)", err.source) from None
         raise
+
+
+def _merged(base: dict, changes: dict) -> dict:
+    """``base`` with ``changes`` laid over it: mappings merge key by key, anything else is replaced."""
+    out = dict(base)
+    for key, value in changes.items():
+        out[key] = _merged(out[key], value) if isinstance(value, dict) and isinstance(out.get(key), dict) else value
+    return out
+
+
+def _scene_data(path: Path, field: str, chain: tuple[Path, ...]) -> dict:
+    """The raw mapping of a scene file, with ``extends: OTHER.yaml`` resolved.
+
+    A scene may start from another (``extends``, a path relative to its own file): the
+    other's sections are the defaults and this file's keys are laid over them (mappings
+    merge key by key; lists such as ``debris`` and ``gauges`` are replaced whole). The
+    other's ``name`` and ``description`` are not inherited.
+    """
+    data = read_yaml(path, field)
+    if data is None:
+        data = {}
+    if not isinstance(data, dict):
+        raise InputError(field, f"must be a mapping of sections, got a {type(data).__name__}", str(path))
+    parent = data.pop("extends", None)
+    if parent is None:
+        return data
+    if not isinstance(parent, str) or not parent.strip():
+        raise InputError("extends", "must be the path of another scene file, relative to this one", str(path))
+    here = path.resolve()
+    target = (here.parent / parent).resolve()
+    if target in (*chain, here):
+        raise InputError("extends", f"{parent} extends this file again (a cycle)", str(path))
+    if not target.is_file():
+        raise InputError("extends", f"no such scene file: {target}", str(path))
+    base = _scene_data(target, "extends", (*chain, here))
+    base.pop("name", None)
+    base.pop("description", None)
+    return _merged(base, data)
 
 
 def scene_from_dict(data: dict, source: str | None = None) -> Scene:

@@ -367,3 +367,45 @@ def test_boxes_overlap_agrees_with_sampling(offset, angles, s1, s2):
         assert result
     # and symmetric
     assert result == boxes_overlap(offset, r2, s2, (0, 0, 0), np.eye(3), s1)
+
+
+# --------------------------------------------------------------------------- extends
+
+
+def test_hard_cases_extend_their_base_and_change_only_what_they_say():
+    base = load_scene(CASES / "1debris.yaml")
+    short = load_scene(CASES / "hard" / "short-flume.yaml")
+    assert short.name == "hard-short-flume" and short.column.x_m == 3.0
+    assert short.column.stiffness_N_m == base.column.stiffness_N_m  # merged key by key
+    assert short.reservoir == base.reservoir and short.mesh == base.mesh
+    assert short.run.end_time_s == 2.0 and short.run.max_courant == base.run.max_courant
+    deep = load_scene(CASES / "hard" / "max-impoundment.yaml")  # extends short-flume, which extends 1debris
+    assert deep.reservoir.depth_m == 0.70 and deep.reservoir.length_m == base.reservoir.length_m
+    assert deep.column.x_m == 3.0 and deep.debris == short.debris
+    six = load_scene(CASES / "hard" / "six-debris.yaml")
+    assert len(six.debris) == 6 and len(six.gauges) == len(short.gauges)  # lists are replaced whole
+
+
+def test_every_hard_case_loads():
+    names = {load_scene(p).name for p in (CASES / "hard").glob("*.yaml")}
+    assert len(names) == len(list((CASES / "hard").glob("*.yaml"))) >= 8
+
+
+@pytest.mark.parametrize("text, rule", [
+    ("extends: missing.yaml\n", "no such scene file"),
+    ("extends: [a, b]\n", "must be the path of another scene file"),
+    ("extends: self.yaml\n", "a cycle"),
+])
+def test_bad_extends_names_the_field_and_the_file(tmp_path, text, rule):
+    path = tmp_path / "self.yaml"
+    path.write_text(text)
+    with pytest.raises(InputError) as info:
+        load_scene(path)
+    assert info.value.field == "extends" and rule in str(info.value) and str(path) in str(info.value)
+
+
+def test_extends_cycle_through_another_file(tmp_path):
+    (tmp_path / "a.yaml").write_text("extends: b.yaml\n")
+    (tmp_path / "b.yaml").write_text("extends: a.yaml\n")
+    with pytest.raises(InputError, match="cycle"):
+        load_scene(tmp_path / "a.yaml")
