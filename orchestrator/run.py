@@ -42,27 +42,28 @@ exception, a body leaving the domain): the solver is killed, time directories fr
 the first symptom on are deleted, and `DivergenceError` names the cause, the
 simulated time, the last good time and the log.
 
-Contact (v1912 has none; bodies pass through walls silently): after every batch of
-log lines the runner measures each body's distance to the column, the flume walls,
-the other bodies and the bed (`orchestrator.contact`). When a body will be within
-`ContactSettings.gap_m` before the solver can stop (its closing speed times the stop
-latency, a few time steps; the runner polls faster near an obstacle), the runner
-requests `writeNow`; from the written state it resolves the impact
-(`orchestrator.contact.resolve`: the MDOF column, rigid walls, two-body impacts, from
-`analytical.impact`), records the event (`contacts.json`, `impacts.csv`, the force
-history in `contacts/`), writes every body's new state (`bodystate.prepare_restart`:
-v1912 keeps one body's state only) and resumes. Slow contacts (closing slower than
-`min_impact_speed_m_s`) are stopped by a plastic impulse (recorded as "resting"); a
-body sinking into the bed is lifted back onto it (`contact.clamp_to_bed`). No body is
-restarted inside an obstacle: any overlap left is removed along the contact normal.
+Contact (v1912 has none; bodies pass through walls silently): the bookkeeping is
+`orchestrator.contact_book`'s (`ContactBook`, which the runner owns). After every
+batch of log lines the runner asks the book which bodies will be within
+`ContactSettings.gap_m` of the column, a flume wall, another body, or sink into the
+bed, before the solver can stop (their closing speeds times the stop latency, a few
+time steps, which the runner measures; it polls faster near an obstacle), and
+schedules the stop or requests `writeNow`. From the written state the book resolves
+the contacts and records them: impacts (`orchestrator.contact.resolve`: the MDOF
+column, rigid walls, two-body impacts), slow "resting" contacts (a plastic impulse),
+bodies the flow keeps pressing against an obstacle (pinned there), bodies sunk into
+the bed (lifted back), overlaps (removed along the contact normal). The runner then
+writes every body's new state (`bodystate.prepare_restart`: v1912 keeps one body's
+state only) and resumes.
 
 Files the runner writes in the case: `run.json`; `log.<step>` (and `log.<solver>.<k>`
 for earlier segments); `bodies.csv` (every body's state at every time step: time_s,
 body, x_m.., u_m_s.., omega_*_rad_s, the orientation q_xx..q_zz); `bodystate.json`
-(the states every restart used, and their source); `contacts.json` (every event:
-impacts and resting contacts), `impacts.csv` (one row per impact: time, bodies, point,
-normal, velocities in and out, obliquity, height, peak force, duration, impulse, force
-history file) and `contacts/event<n>-force.csv` (and `-base-shear.csv` for the column).
+(the states every restart used, and their source); through the contact book,
+`contacts.json` (every event: impacts, resting contacts and pins), `impacts.csv` (one
+row per impact: time, bodies, point, normal, velocities in and out, obliquity, height,
+peak force, duration, impulse, force history file) and `contacts/event<n>-force.csv`
+(and `-base-shear.csv` for the column).
 The function objects write `postProcessing/<name>/<start time>/`: one folder per
 segment, to be read in time order.
 
@@ -79,7 +80,6 @@ Units: seconds, metres, kg, N.
 from __future__ import annotations
 
 import csv
-import dataclasses
 import datetime as _dt
 import json
 import math
@@ -97,10 +97,9 @@ from pathlib import Path
 from types import SimpleNamespace
 from typing import Any, Callable, Sequence
 
-import numpy as np
-
 from analytical.errors import DebrisfoamError
 from orchestrator import bodystate, foam
+from orchestrator.contact_book import Contact, ContactBook, ContactSettings
 from orchestrator.jsonio import json_default
 from orchestrator.bodystate import BodyProperties, BodyState
 from orchestrator.monitor import (
@@ -123,18 +122,13 @@ __all__ = [
     "RunError",
     "RunInterrupted",
     "RunSummary",
-    "Geometry",
     "latest_time",
     "load_case_info",
-    "resting_contact",
     "run_case",
     "segment_span",
 ]
 
 RUN_JSON = "run.json"
-CONTACTS_JSON = "contacts.json"
-IMPACTS_CSV = "impacts.csv"
-CONTACTS_DIR = "contacts"
 BODY_TRACK_CSV = "bodies.csv"
 #: v1912's etc/controlDict OptimisationSwitches fileModificationSkew (s), printed in every log.
 FILE_MODIFICATION_SKEW_S = 10.0
@@ -189,46 +183,7 @@ class ContactError(RunError):
     """A contact event could not be resolved (e.g. a body pinned against an obstacle)."""
 
 
-# --------------------------------------------------------------------------- settings, results
-
-
-@dataclass(frozen=True)
-class ContactSettings:
-    """When and how the runner handles contact between bodies and obstacles.
-
-    gap_m: a body closer than this to the column, a wall or another body is in contact.
-    min_impact_speed_m_s: slower closing speeds are resting contacts: the closing motion
-        is stopped (a plastic impulse, no force history), not resolved as an impact.
-    bed: watch the bed too. Touching the bed is not an impact (orchestrator.contact), but
-        v1912 lets a body sink through it: a body that sinks more than `bed_tolerance_m`
-        (default half the gap) into it is stopped, lifted back onto it and its velocity
-        into it removed (`contact.clamp_to_bed`).
-    max_events / window_s: more than `max_events` contacts of the same pair within
-        `window_s` of simulated time is a resting contact, which this event-driven model
-        cannot represent: the body is pinned where it is for the rest of the run (debris
-        held against the column or a wall by the flow); two bodies: ContactError.
-    impact: keyword arguments for `analytical.impact.impact` / `pair_impact`
-        (stiffness_N_m, friction_coefficient, damping_ratio, ...).
-    added_mass_coefficient: C_a of the debris for the impact model.
-    """
-
-    enabled: bool = True
-    gap_m: float = 0.005
-    min_impact_speed_m_s: float = 0.05
-    bed: bool = True
-    bed_tolerance_m: float | None = None
-    max_events: int = 6
-    window_s: float = 0.05
-    added_mass_coefficient: float = 0.0
-    impact: dict = field(default_factory=dict)
-
-    @property
-    def bed_sink_m(self) -> float:
-        return self.gap_m / 2 if self.bed_tolerance_m is None else self.bed_tolerance_m
-
-    def __post_init__(self) -> None:
-        if not self.gap_m > 0:
-            raise ValueError(f"gap_m must be > 0, got {self.gap_m}")
+# --------------------------------------------------------------------------- results
 
 
 @dataclass(frozen=True)
@@ -486,138 +441,6 @@ def _bump_control_mtime(case: Path) -> None:
     os.utime(path, (stamp, stamp))
 
 
-# --------------------------------------------------------------------------- contact
-#
-# Geometry and impacts are orchestrator.contact's: the scene's column, walls and bed, exact
-# box-box distances, `resolve` (analytical.impact: the MDOF column, rigid walls, two-body
-# impacts), `clamp_to_bed`. The runner adds what it needs to decide when to stop the
-# solver (each contact's closing speed) and the slow "resting" contacts.
-
-
-@dataclass(frozen=True)
-class Contact:
-    """A body near an obstacle, another body or the bed: signed `distance_m` (< 0:
-    overlapping), the contact point, the unit `normal` from the other thing into the body,
-    and the closing speed of the contact point along it (> 0: approaching). `source` is
-    orchestrator.contact's Contact (None for the bed)."""
-
-    body: str
-    other: str
-    kind: str  # "column", "wall", "body" or "bed"
-    distance_m: float
-    point_m: tuple[float, float, float]
-    normal: tuple[float, float, float]
-    approach_m_s: float
-    source: Any = field(default=None, compare=False, repr=False)
-
-
-class Geometry:
-    """The case's obstacles (from scene.yaml and plan.json) and its bodies, for orchestrator.contact."""
-
-    def __init__(self, info: CaseInfo):
-        from orchestrator import contact as geo
-        from orchestrator.scene import load_scene
-
-        self.geo = geo
-        self.scene = load_scene(info.case / "scene.yaml")
-        # the modelled domain's walls: where the CFD has them (its upstream end is a wall
-        # also when the reservoir is cut short; the downstream end only if it is a wall)
-        self.obstacles = geo.scene_obstacles(
-            self.scene, SimpleNamespace(domain_m=info.domain_m, downstream_type=info.downstream_type))
-        self.props = {p.name: p for p in info.bodies}
-        self.sizes = info.body_sizes_m
-
-    def state(self, s: BodyState):
-        p = self.props[s.name]
-        return self.geo.BodyState(
-            name=s.name, centre_of_mass_m=s.centre_of_mass_m,
-            orientation=np.asarray(bodystate.orthonormal(s.orientation)).reshape(3, 3),
-            velocity_m_s=s.velocity_m_s, angular_velocity_rad_s=s.angular_velocity_rad_s,
-            size_m=self.sizes[s.name], mass_kg=p.mass_kg, inertia_kg_m2=p.moment_of_inertia_kg_m2)
-
-    @staticmethod
-    def back(new, old: BodyState) -> BodyState:
-        """orchestrator.contact's state as the runner's (velocities changed: acceleration unknown)."""
-        moved = not np.allclose(new.velocity_m_s, old.velocity_m_s, rtol=0, atol=1e-15) or not np.allclose(
-            new.angular_velocity_rad_s, old.angular_velocity_rad_s, rtol=0, atol=1e-15)
-        return old.with_changes(
-            centre_of_mass_m=tuple(float(v) for v in new.centre_of_mass_m),
-            orientation=tuple(float(v) for v in np.asarray(new.orientation).ravel()),
-            velocity_m_s=tuple(float(v) for v in new.velocity_m_s),
-            angular_velocity_rad_s=tuple(float(v) for v in new.angular_velocity_rad_s),
-            acceleration_m_s2=(0.0, 0.0, 0.0) if moved else old.acceleration_m_s2)
-
-    def contacts(self, states: Sequence[BodyState], reach_m: float, bed: bool = True) -> list[Contact]:
-        """Every pair closer than `reach_m` (the bed too, if `bed`), with closing speeds."""
-        geo = self.geo
-        cs = {s.name: self.state(s) for s in states}
-        out = []
-        for c in geo.find_contacts(list(cs.values()), self.obstacles, reach_m):
-            u = cs[c.body].point_velocity(c.point)
-            if c.kind == "body":
-                u = u - cs[c.other].point_velocity(c.point)
-            n = np.asarray(c.normal, dtype=float)
-            out.append(Contact(c.body, c.other, c.kind, float(c.distance_m), tuple(float(v) for v in c.point),
-                               tuple(float(v) for v in n), float(-(u @ n)), c))
-        if bed:
-            plane = self.obstacles.bed
-            n = np.asarray(plane.normal, dtype=float)
-            for name, c in cs.items():
-                corners = c.corners()
-                heights = (corners - np.asarray(plane.point_m, dtype=float)) @ n
-                d = float(heights.min())
-                if d < reach_m:
-                    low = corners[heights <= d + 1e-9].mean(axis=0)
-                    out.append(Contact(name, "bed", "bed", d, tuple(float(v) for v in low), tuple(float(v) for v in n),
-                                       float(-(c.point_velocity(low) @ n))))
-        return out
-
-    def resolve(self, contact: Contact, states: dict[str, BodyState], settings: ContactSettings):
-        """The impact of `contact` (orchestrator.contact.resolve): (result or None, new states by body)."""
-        cs = [self.state(s) for s in states.values()]
-        result, new = self.geo.resolve(contact.source, cs, self.scene,
-                                       added_mass_coefficient=settings.added_mass_coefficient, **settings.impact)
-        return result, {n.name: self.back(n, states[n.name]) for n in new}
-
-    def clamp_to_bed(self, state: BodyState) -> BodyState:
-        """The body lifted out of the bed, its velocity into the bed removed (unchanged if above it)."""
-        c = self.state(state)
-        clamped = self.geo.clamp_to_bed(c, self.obstacles)
-        return state if clamped is c else self.back(clamped, state)
-
-
-def resting_contact(geometry: Geometry, contact: Contact, states: dict[str, BodyState]) -> tuple[dict, float]:
-    """A slow contact: the impulse through the contact point that stops the closing motion
-    (perfectly plastic, no force history), and any overlap removed along the normal.
-    Returns (new states by body, impulse in N s)."""
-    n, point = np.asarray(contact.normal), np.asarray(contact.point_m)
-    sides = [(contact.body, 1.0)] + ([(contact.other, -1.0)] if contact.kind == "body" else [])
-    bodies = {name: geometry.state(states[name]) for name, _ in sides}
-
-    def compliance(b) -> np.ndarray:  # velocity change of the contact point per unit impulse there
-        r = point - b.centre_of_mass_m
-        rx = np.array([[0.0, -r[2], r[1]], [r[2], 0.0, -r[0]], [-r[1], r[0], 0.0]])
-        return np.eye(3) / b.mass_kg + rx.T @ b.inverse_inertia() @ rx
-
-    k = sum(compliance(b) for b in bodies.values())
-    j = max(contact.approach_m_s, 0.0) / float(n @ k @ n)  # N s along n, on the body
-    depth = max(-contact.distance_m, 0.0)
-    total_mass = sum(b.mass_kg for b in bodies.values())
-    new = {}
-    for name, sign in sides:
-        b = bodies[name]
-        impulse = sign * j * n
-        v = b.velocity_m_s + impulse / b.mass_kg
-        w = b.angular_velocity_rad_s + b.inverse_inertia() @ np.cross(point - b.centre_of_mass_m, impulse)
-        share = 1.0 if len(sides) == 1 else 1.0 - b.mass_kg / total_mass  # the lighter body moves more
-        centre = b.centre_of_mass_m + sign * share * depth * n
-        new[name] = states[name].with_changes(centre_of_mass_m=tuple(float(x) for x in centre),
-                                              velocity_m_s=tuple(float(x) for x in v),
-                                              angular_velocity_rad_s=tuple(float(x) for x in w),
-                                              acceleration_m_s2=(0.0, 0.0, 0.0))
-    return new, float(j)
-
-
 # --------------------------------------------------------------------------- records
 
 
@@ -810,6 +633,9 @@ def _set_parent_death_signal() -> None:  # pragma: no cover - runs in the child
 
 
 class _Runner:
+    """Drives one run: the steps, the solver segments (log tailing, stop requests, kills,
+    divergence), run.json and the body tracks; its `book` (ContactBook) keeps the contacts."""
+
     def __init__(self, info: CaseInfo, quiet: bool, contact: ContactSettings, limits: DivergenceLimits,
                  stop: _StopFlag, poll_interval_s: float, stream, on_step: Callable[[StepRecord], None] | None):
         self.info = info
@@ -831,14 +657,13 @@ class _Runner:
         self.stream = stream
         self.on_step = on_step
         self.record = _Record(self.case)
-        self._geometry: Geometry | None = None
+        self.book = ContactBook(info, contact, self.record.data, self.say)
         self.progress: Progress | None = None
         self.last_steps: list[StepRecord] = []
         #: stop latency in time steps (measured while a segment runs) and the last deltaT
         self.latency_steps = 4
         self.last_delta_t_s = info.delta_t_s
         self.between_s = 0.0
-        self._pair_events: dict[tuple[str, str], list[float]] = {}
 
     # ---- helpers
     def say(self, message: str) -> None:
@@ -866,10 +691,10 @@ class _Runner:
         return result
 
     @property
-    def geometry(self) -> Geometry:
-        if self._geometry is None:
-            self._geometry = Geometry(self.info)
-        return self._geometry
+    def stop_horizon_s(self) -> float:
+        """How far (simulated s) the solver may run on after a stop request: the last
+        deltaT times the stop latency measured in the last segment."""
+        return self.last_delta_t_s * self.latency_steps
 
     # ---- segments
     def _rotate_log(self) -> Path:
@@ -888,7 +713,7 @@ class _Runner:
         if not self.info.bodies:
             return []
         bodystate.forget_after(self.case, float(start_name))
-        self._forget_events_after(float(start_name))
+        self.book.forget_events_after(float(start_name))
         recorded = bodystate.recorded_states(self.case, start_name)
         if float(start_name) == 0.0 and recorded is None:
             states = bodystate.coefficient_states(self.case)
@@ -1082,14 +907,13 @@ class _Runner:
 
     def _contacts_ahead(self, steps: list[StepRecord],
                         arrivals: list[tuple[float, int]]) -> list[tuple[Contact, float]]:
-        """Contacts the bodies will need within three stop latencies, each with the simulated
-        time from the last reported step until it needs the solver stopped (linear in the
-        present closing speed).
+        """The book's contacts ahead of the last reported step (`ContactBook.contacts_ahead`),
+        given the stop latency measured now.
 
         Stop latency in time steps: the runner sees a step up to one poll interval after
         the solver printed it (the solver may be that many steps further), and the solver
-        acts on a controlDict request at the start of its next step. Near an obstacle the
-        runner polls faster (20 ms) to keep it short.
+        acts on a controlDict request at the start of its next step. Near an obstacle (a
+        contact ahead) the runner polls faster (20 ms) to keep it short.
         """
         last = steps[-1]
         if not last.bodies:
@@ -1100,251 +924,9 @@ class _Runner:
             if n1 > n0:
                 wall_per_step = (w1 - w0) / (n1 - n0)
         self.latency_steps = 2 + (math.ceil((self.poll_now + 0.05) / wall_per_step) if wall_per_step else 3)
-        dt = last.delta_t_s or self.info.delta_t_s
-        horizon = dt * self.latency_steps
-        speed = max(b.speed_m_s for b in last.bodies)
-        near = self.geometry.contacts(last.bodies, self.contact.gap_m + 2 * speed * 4 * horizon + 1e-9,
-                                      bed=self.contact.bed)
-        ahead = []
-        for c in near:
-            wait = self.time_to_act(c)
-            if wait is not None and wait <= 3 * (horizon + dt):
-                ahead.append((c, wait))
+        ahead = self.book.contacts_ahead(last, self.latency_steps)
         self.poll_now = self.fast_poll if ahead else self.poll
         return ahead
-
-    def time_to_act(self, c: Contact) -> float | None:
-        """Simulated time until `c` needs the solver stopped (0: now), None if never at this speed:
-        an impact when the gap is reached, a resting contact at a quarter of the gap, the bed
-        when the body has sunk the bed tolerance into it."""
-        closing = c.approach_m_s
-        if c.kind == "bed":
-            limit = -self.contact.bed_sink_m
-        elif closing >= self.contact.min_impact_speed_m_s:
-            limit = self.contact.gap_m
-        else:
-            limit = 0.25 * self.contact.gap_m
-        if c.distance_m <= limit:
-            return 0.0 if closing > 0 or c.kind == "bed" else None
-        if closing <= 0:
-            return None
-        return (c.distance_m - limit) / closing
-
-    def classify(self, c: Contact, horizon_s: float) -> str | None:
-        """What a contact needs before the solver could next stop (`horizon_s`):
-
-        "impact": closing at >= min_impact_speed and within the gap; "resting": closing
-        slower, within a quarter of the gap; "bed": sunk more than the bed tolerance
-        into the bed; None: nothing yet."""
-        closing = max(c.approach_m_s, 0.0)
-        ahead = c.distance_m - closing * horizon_s
-        if c.kind == "bed":
-            return "bed" if ahead <= -self.contact.bed_sink_m else None
-        if closing <= 0:
-            return None
-        if closing >= self.contact.min_impact_speed_m_s and ahead <= self.contact.gap_m:
-            return "impact"
-        if ahead <= 0.25 * self.contact.gap_m:
-            return "resting"
-        return None
-
-    def contacts_now(self, states: Sequence[BodyState]) -> list[Contact]:
-        """Contacts at a restart that would stop the solver at once (the rule used while
-        running, with the last segment's latency), closest first."""
-        horizon = self.last_delta_t_s * self.latency_steps
-        speed = max(s.speed_m_s for s in states)
-        near = self.geometry.contacts(states, self.contact.gap_m + 2 * speed * horizon + 1e-9, bed=False)
-        return sorted((c for c in near if self.classify(c, horizon)), key=lambda c: c.distance_m)
-
-    # ---- contact events
-    def resolve_contacts(self, time_name: str, states: list[BodyState]) -> tuple[int, list[BodyState]]:
-        """At a restart: resolve every contact that would stop the solver at once (impacts
-        with orchestrator.contact.resolve, slow ones as resting contacts), lift bodies out
-        of the bed, and move any body still overlapping an obstacle out of it. Records the
-        events; returns (impacts, the states to restart with)."""
-        geometry = self.geometry
-        by_name = {s.name: s for s in states}
-        horizon = self.last_delta_t_s * self.latency_steps
-        events = 0
-        done: set[str] = set()
-        for c in self.contacts_now(states):
-            if c.body in done or c.other in done:
-                continue  # one impact per body per restart; a second one is found at the next
-            if self._resting_too_often(c, float(time_name)) and c.kind != "body":
-                by_name[c.body] = self._pin(time_name, c, by_name[c.body])
-                done.add(c.body)
-                continue
-            if self.classify(c, horizon) == "resting":
-                new, impulse = resting_contact(geometry, c, by_name)
-                before = {k: by_name[k] for k in new}
-                by_name.update(new)
-                done.update({c.body, c.other})
-                self._record_resting(time_name, c, before, new, impulse)
-                continue
-            result, new = geometry.resolve(c, by_name, self.contact)
-            before = {k: by_name[k] for k in new}
-            by_name.update(new)
-            if result is None:  # separating after all: only an overlap was removed
-                continue
-            events += 1
-            done.update({c.body, c.other})
-            self._record_event(time_name, c, before, new, result)
-        if self.contact.bed:
-            for name in list(by_name):
-                lifted = geometry.clamp_to_bed(by_name[name])
-                if lifted is not by_name[name]:
-                    by_name[name] = lifted
-                    self.record.data["bed_clamps"] = self.record.data.get("bed_clamps", 0) + 1
-        for c in geometry.contacts(list(by_name.values()), 0.0, bed=False):
-            if c.distance_m < 0:  # never restart a body inside the column, a wall or another body
-                new, _ = resting_contact(geometry, dataclasses.replace(c, approach_m_s=0.0), by_name)
-                by_name.update(new)
-                self.say(f"{c.body} overlapped {c.other} by {-c.distance_m * 1000:.3g} mm at t = {time_name} s: "
-                         "moved out along the contact normal")
-        return events, [by_name[n] for n in self.info.body_names]
-
-    def _resting_too_often(self, c: Contact, t: float) -> bool:
-        """More than `max_events` contacts of this pair within `window_s`: the flow holds the
-        body against the obstacle (a resting contact the event model cannot represent)."""
-        key = (c.body, c.other)
-        times = [x for x in self._pair_events.get(key, []) if x > t - self.contact.window_s]
-        times.append(t)
-        self._pair_events[key] = times
-        if len(times) <= self.contact.max_events:
-            return False
-        if c.kind == "body":
-            raise ContactError(
-                f"{c.body} hit {c.other} {len(times)} times within {self.contact.window_s:g} s of simulated time "
-                f"(t = {t:.6g} s): two bodies pressed together, which event-driven contact cannot model")
-        return True
-
-    def _pin(self, time_name: str, c: Contact, state: BodyState) -> BodyState:
-        """Freeze a body the flow keeps pressing against an obstacle (debris damming), record it."""
-        bodystate.pin_bodies(self.case, [c.body])
-        pinned = state.with_changes(velocity_m_s=(0.0, 0.0, 0.0), angular_velocity_rad_s=(0.0, 0.0, 0.0),
-                                    acceleration_m_s2=(0.0, 0.0, 0.0))
-        events = self._read_events()
-        events.append({"event": len(events) + 1, "type": "pinned", "time_s": float(time_name), "body": c.body,
-                       "other": c.other, "kind": c.kind, "gap_m": c.distance_m, "point_m": list(c.point_m),
-                       "normal": list(c.normal), "velocity_in_m_s": list(state.velocity_m_s)})
-        self._write_events(events)
-        self.record.data.setdefault("pinned", []).append({"body": c.body, "other": c.other,
-                                                           "time_s": float(time_name)})
-        self.say(f"t = {time_name} s: {c.body} is held against {c.other} by the flow "
-                 f"({self.contact.max_events + 1} contacts within {self.contact.window_s:g} s): pinned there for the "
-                 "rest of the run (debris damming; its hydrodynamic load then reaches the column through it, "
-                 "which the column's force history does not include)")
-        return pinned
-
-    def _record_resting(self, time_name: str, c: Contact, before: dict[str, BodyState],
-                        after: dict[str, BodyState], impulse_Ns: float) -> None:
-        events = self._read_events()
-        event = {"event": len(events) + 1, "type": "resting", "time_s": float(time_name), "body": c.body,
-                 "other": c.other, "kind": c.kind, "gap_m": c.distance_m, "point_m": list(c.point_m),
-                 "normal": list(c.normal), "approach_m_s": c.approach_m_s, "impulse_Ns": impulse_Ns,
-                 "velocity_in_m_s": list(before[c.body].velocity_m_s),
-                 "velocity_out_m_s": list(after[c.body].velocity_m_s)}
-        self._write_events(events + [event])
-        self.record.data["resting_contacts"] = self.record.data.get("resting_contacts", 0) + 1
-
-    def _forget_events_after(self, time_s: float) -> None:
-        """Contact events later than `time_s` belong to a stretch being computed again."""
-        events = self._read_events()
-        keep = [e for e in events if e["time_s"] <= time_s + _EPS_T]
-        if len(keep) == len(events):
-            return
-        self._write_events(keep)
-        impacts = self.case / IMPACTS_CSV
-        if impacts.is_file():
-            with open(impacts, newline="") as fh:
-                rows = [r for r in csv.reader(fh)]
-            kept = [rows[0]] + [r for r in rows[1:] if float(r[1]) <= time_s + _EPS_T]
-            with open(impacts, "w", newline="") as fh:
-                csv.writer(fh).writerows(kept)
-
-    def _read_events(self) -> list[dict]:
-        path = self.case / CONTACTS_JSON
-        return json.loads(path.read_text()) if path.is_file() else []
-
-    def _write_events(self, events: list[dict]) -> None:
-        path = self.case / CONTACTS_JSON
-        tmp = path.with_suffix(".json.tmp")
-        tmp.write_text(json.dumps(events, indent=2))
-        os.replace(tmp, path)
-
-    def _record_event(self, time_name: str, c: Contact, before: dict[str, BodyState], after: dict[str, BodyState],
-                      result) -> None:
-        events = self._read_events()
-        number = len(events) + 1
-        (self.case / CONTACTS_DIR).mkdir(exist_ok=True)
-        history = self.case / CONTACTS_DIR / f"event{number:04d}-force.csv"
-        with open(history, "w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(["time_s", "force_N"])
-            for t, f in zip(result.force.time_s, result.force.force_N):
-                w.writerow([repr(float(t)), repr(float(f))])
-        if result.base_shear is not None:
-            shear = self.case / CONTACTS_DIR / f"event{number:04d}-base-shear.csv"
-            with open(shear, "w", newline="") as fh:
-                w = csv.writer(fh)
-                w.writerow(["time_s", "base_shear_x_N"] + (["base_shear_y_N"] if result.base_shear_y else []))
-                ys = result.base_shear_y.response_N if result.base_shear_y is not None else None
-                for i, (t, v) in enumerate(zip(result.base_shear.time_s, result.base_shear.response_N)):
-                    w.writerow([repr(float(t)), repr(float(v))] + ([repr(float(ys[i]))] if ys is not None else []))
-        b0, b1 = before[c.body], after[c.body]
-        event = {
-            "event": number,
-            "type": "impact",
-            "time_s": float(time_name),
-            "body": c.body,
-            "other": c.other,
-            "kind": c.kind,
-            "gap_m": c.distance_m,
-            "point_m": list(c.point_m),
-            "normal": list(c.normal),
-            "velocity_in_m_s": list(b0.velocity_m_s),
-            "velocity_out_m_s": list(b1.velocity_m_s),
-            "angular_velocity_in_rad_s": list(b0.angular_velocity_rad_s),
-            "angular_velocity_out_rad_s": list(b1.angular_velocity_rad_s),
-            "normal_velocity_in_m_s": float(result.normal_velocity_in_m_s),
-            "normal_velocity_out_m_s": float(result.normal_velocity_out_m_s),
-            "restitution": float(result.restitution),
-            "obliquity_deg": float(result.obliquity_deg),
-            "height_m": float(result.contact_height_m) if result.contact_height_m is not None else float(c.point_m[2]),
-            "peak_force_N": float(result.peak_force_N),
-            "duration_s": float(result.duration_s),
-            "impulse_Ns": float(result.impulse_Ns),
-            "force_history": str(history.relative_to(self.case)),
-        }
-        if c.kind == "body":
-            event["other_velocity_in_m_s"] = list(before[c.other].velocity_m_s)
-            event["other_velocity_out_m_s"] = list(after[c.other].velocity_m_s)
-        self._write_events(events + [event])
-        _append_impact_row(self.case / IMPACTS_CSV, event)
-        self.say(f"contact event {number}: {c.body} hit {c.other} at t = {float(time_name):.6g} s, "
-                 f"{abs(result.normal_velocity_in_m_s):.3g} m/s in, {result.normal_velocity_out_m_s:.3g} m/s out, "
-                 f"peak {result.peak_force_N:.4g} N")
-
-
-_IMPACT_COLUMNS = [
-    "event", "time_s", "body", "other", "kind", "point_x_m", "point_y_m", "point_z_m", "normal_x", "normal_y",
-    "normal_z", "u_in_m_s", "v_in_m_s", "w_in_m_s", "u_out_m_s", "v_out_m_s", "w_out_m_s", "normal_velocity_in_m_s",
-    "normal_velocity_out_m_s", "restitution", "obliquity_deg", "height_m", "peak_force_N", "duration_s",
-    "impulse_Ns", "force_history",
-]
-
-
-def _append_impact_row(path: Path, e: dict[str, Any]) -> None:
-    row = [e["event"], e["time_s"], e["body"], e["other"], e["kind"], *e["point_m"], *e["normal"],
-           *e["velocity_in_m_s"], *e["velocity_out_m_s"], e["normal_velocity_in_m_s"], e["normal_velocity_out_m_s"],
-           e["restitution"], e["obliquity_deg"], e["height_m"], e["peak_force_N"], e["duration_s"], e["impulse_Ns"],
-           e["force_history"]]
-    new = not path.is_file()
-    with open(path, "a", newline="") as fh:
-        w = csv.writer(fh)
-        if new:
-            w.writerow(_IMPACT_COLUMNS)
-        w.writerow(row)
 
 
 def _check_against_state_file(case: Path, time_name: str, states: Sequence[BodyState]) -> None:
@@ -1464,7 +1046,7 @@ def _run_steps(info: CaseInfo, runner: _Runner, stop: _StopFlag, quiet: bool, re
 
     if info.bodies:  # scene, obstacles, imports: once, before the solver competes for the cores
         t_setup = time.perf_counter()
-        runner.geometry
+        runner.book.geometry
         runner.between_s += time.perf_counter() - t_setup
     handlers = _install_handlers(stop)
     progress = None
@@ -1481,7 +1063,7 @@ def _run_steps(info: CaseInfo, runner: _Runner, stop: _StopFlag, quiet: bool, re
             states = runner.restore_bodies(name)
             if states and runner.contact.enabled:
                 t_between = time.perf_counter()
-                events, resolved = runner.resolve_contacts(name, states)
+                events, resolved = runner.book.resolve_contacts(name, states, runner.stop_horizon_s)
                 if resolved != states:
                     bodystate.prepare_restart(case, name, resolved, "contact")
                 if events:
@@ -1609,7 +1191,7 @@ def _assert_outside(info: CaseInfo, case: Path, name: str, runner: _Runner) -> N
     states = _states_in_logs(case, info.solver, info.body_names, name)
     if states is None:
         return
-    inside = [c for c in runner.geometry.contacts(states, 0.0, bed=False) if c.distance_m < 0]
+    inside = [c for c in runner.book.geometry.contacts(states, 0.0, bed=False) if c.distance_m < 0]
     if inside:
         c = inside[0]
         raise ContactError(f"{c.body} ends the run {-c.distance_m * 1000:.3g} mm inside {c.other} at t = {name} s")

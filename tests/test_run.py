@@ -4,7 +4,8 @@ Geometry, segment spans, time directories and dictionary edits are tested withou
 OpenFOAM; the runner itself on real OpenFOAM v1912 (tests marked `openfoam`), on tiny
 cases rendered from the scenes below (2.2 m flume segment, 4 cm cells, 4-5k cells,
 2 ranks): a dam break without debris; one body started 2.5 cm from the column at
-0.6 m/s towards it; the same with a second body drifting elsewhere.
+0.6 m/s towards it; the same with a second body drifting elsewhere; a body 1 mm from the
+column in water flowing towards it, which the runner pins there.
 """
 
 from __future__ import annotations
@@ -26,17 +27,16 @@ import yaml
 
 from orchestrator import bodystate
 from orchestrator.bodystate import BodyState
+from orchestrator.contact_book import Geometry, resting_contact
 from orchestrator.monitor import parse_log
 from orchestrator.render import render_from_file
 from orchestrator.run import (
     ContactSettings,
     DivergenceError,
-    Geometry,
     RunError,
     RunInterrupted,
     latest_time,
     load_case_info,
-    resting_contact,
     run_case,
     segment_span,
 )
@@ -172,25 +172,23 @@ def test_contacts_carry_closing_speeds(body_case):
     assert [c for c in geometry.contacts([low], 0.01, bed=False) if c.kind == "bed"] == []
 
 
-def test_classification_of_contacts(body_case, tmp_path):
-    from orchestrator.run import Contact, ContactSettings, _Runner, _StopFlag
-    from orchestrator.monitor import DivergenceLimits
+def test_classification_of_contacts(body_case):
+    from orchestrator.contact_book import Contact, ContactBook
 
-    runner = _Runner(load_case_info(body_case), True, ContactSettings(gap_m=0.005, min_impact_speed_m_s=0.05),
-                     DivergenceLimits(), _StopFlag(None), 0.2, None, None)
-    runner.record.path = tmp_path / "run.json"
+    book = ContactBook(load_case_info(body_case), ContactSettings(gap_m=0.005, min_impact_speed_m_s=0.05), {},
+                       print)
 
     def contact(d, v, kind="column"):
         return Contact("debris1", "column", kind, d, (0, 0, 0), (-1, 0, 0), v)
 
     horizon = 0.01
-    assert runner.classify(contact(0.009, 0.5), horizon) == "impact"  # reaches the gap within the horizon
-    assert runner.classify(contact(0.02, 0.5), horizon) is None
-    assert runner.classify(contact(0.004, -0.5), horizon) is None  # separating
-    assert runner.classify(contact(0.001, 0.02), horizon) == "resting"  # slow, within a quarter of the gap
-    assert runner.classify(contact(0.003, 0.02), horizon) is None
-    assert runner.classify(contact(-0.001, 0.0, "bed"), horizon) is None  # within the bed tolerance (2.5 mm)
-    assert runner.classify(contact(-0.002, 0.1, "bed"), horizon) == "bed"
+    assert book.classify(contact(0.009, 0.5), horizon) == "impact"  # reaches the gap within the horizon
+    assert book.classify(contact(0.02, 0.5), horizon) is None
+    assert book.classify(contact(0.004, -0.5), horizon) is None  # separating
+    assert book.classify(contact(0.001, 0.02), horizon) == "resting"  # slow, within a quarter of the gap
+    assert book.classify(contact(0.003, 0.02), horizon) is None
+    assert book.classify(contact(-0.001, 0.0, "bed"), horizon) is None  # within the bed tolerance (2.5 mm)
+    assert book.classify(contact(-0.002, 0.1, "bed"), horizon) == "bed"
 
 
 def test_resting_contact_stops_the_closing_motion(body_case):
@@ -206,6 +204,42 @@ def test_resting_contact_stops_the_closing_motion(body_case):
     assert impulse > 0
     assert after.centre_of_mass_m[0] == pytest.approx(body.centre_of_mass_m[0] - 0.001)  # out of the column
     assert all(x.distance_m >= -1e-12 for x in geometry.contacts([after], 0.0) if x.other == "column")
+
+
+def test_contact_book_pins_a_body_pressed_against_the_column_again_and_again(body_case, tmp_path):
+    """The book alone (no solver): the same slow contact at restarts 3 ms apart is resting
+    `max_events` times, then pinned; two bodies pressed together are a ContactError."""
+    import shutil
+
+    from orchestrator.contact_book import ContactBook
+    from orchestrator.run import ContactError
+
+    case = tmp_path / "case"
+    shutil.copytree(body_case, case)
+    settings = ContactSettings()
+    record, messages = {}, []
+    book = ContactBook(load_case_info(case), settings, record, messages.append)
+    pressed = _state("debris1", (1.15 - 0.075 - 0.001, 0.0, 0.1), (0.02, 0.0, 0.0))
+    elsewhere = _state("debris2", (0.7, 0.12, 0.1), yaw_deg=30.0)
+    for k in range(1, settings.max_events + 2):  # the flow closes it again before every restart
+        impacts, states = book.resolve_contacts(f"{0.003 * k:g}", [pressed, elsewhere], 0.003)
+        assert impacts == 0
+    events = json.loads((case / "contacts.json").read_text())
+    assert [e["type"] for e in events] == ["resting"] * settings.max_events + ["pinned"]
+    assert events[-1]["other"] == "column" and events[-1]["time_s"] == pytest.approx(0.021)
+    assert states[0].velocity_m_s == (0.0, 0.0, 0.0) and states[0].centre_of_mass_m == pressed.centre_of_mass_m
+    assert states[1] == elsewhere
+    assert record["resting_contacts"] == settings.max_events and record["pinned"][0]["body"] == "debris1"
+    assert bodystate.pinned_bodies(case) == {"debris1"} and "pinned there" in messages[-1]
+    book.forget_events_after(0.01)  # a resumed run computing t > 0.01 s again
+    assert len(json.loads((case / "contacts.json").read_text())) == 3
+
+    one = _state("debris1", (0.5, 0.0, 0.1))
+    other = _state("debris2", (0.5, 0.06 + 0.001, 0.1), (0.0, -0.02, 0.0))
+    with pytest.raises(ContactError, match="two bodies pressed together"):
+        for k in range(1, settings.max_events + 2):
+            book.resolve_contacts(f"{0.1 + 0.003 * k:g}", [one, other], 0.003)
+    assert k == settings.max_events + 1
 
 
 def test_write_and_restore_states_in_dynamic_mesh_dict(body_case, tmp_path):
@@ -534,6 +568,55 @@ def test_a_pinned_body_stays_where_it_is(tmp_path, openfoam):
     assert np.abs(tracks[["x_m", "y_m", "z_m"]].to_numpy() - np.asarray(start)).max() < 1e-9
     assert np.abs(tracks[["u_m_s", "v_m_s", "w_m_s"]].to_numpy()).max() < 1e-9
     assert json.loads((case / "run.json").read_text())["status"] == "finished"
+
+
+@pytest.mark.openfoam
+def test_a_body_the_flow_keeps_pressing_against_the_column_is_pinned(tmp_path, openfoam):
+    """A resting contact that comes back more than `max_events` times within `window_s` pins the body.
+
+    debris1 floats with its nose 1 mm upstream of the column's face (x = 1.15 m) in water
+    flowing at 0.25 m/s towards it: every restart finds it closing on the column again,
+    slowly (a resting contact), until the runner pins it there. maxDeltaT is cut to 1 ms
+    (a fine mesh's time step): at the tiny mesh's 6-10 ms steps a segment spans more
+    simulated time than the window allows for seven contacts."""
+    settings = ContactSettings()
+    case = render(tmp_path, "pressed", scene([{"name": "debris1", "centre_m": [1.15 - 0.075 - 0.001, 0.0]}],
+                                             end_time_s=0.05, wet_depth_m=0.1))
+    set_fields = case / "system" / "setFieldsDict"
+    text, n = re.subn(r"(// water: wetBed\s*boxToCell\s*\{\s*box [^;]*;\s*fieldValues\s*\()",
+                      r"\1 volVectorFieldValue U (0.25 0 0)", set_fields.read_text())
+    assert n == 1
+    set_fields.write_text(text)
+    control = case / "system" / "controlDict"
+    text, n = re.subn(r"^maxDeltaT .*$", "maxDeltaT 0.001;", control.read_text(), flags=re.M)
+    assert n == 1
+    control.write_text(text)
+
+    summary = run_case(case, quiet=True)
+    assert summary.status == "finished"
+    record = json.loads((case / "run.json").read_text())
+    assert record["status"] == "finished"
+    events = json.loads((case / "contacts.json").read_text())
+    pin = events[-1]
+    assert pin["type"] == "pinned" and pin["body"] == "debris1" and pin["other"] == "column"
+    assert [e for e in events if e["type"] == "pinned"] == [pin]
+    t_pin = pin["time_s"]
+    # the contacts that made it: max_events of the same pair within the window before the pin
+    before = [e for e in events[:-1] if e["time_s"] > t_pin - settings.window_s]
+    assert len(before) == settings.max_events and record["resting_contacts"] == len(before)
+    assert {(e["type"], e["body"], e["other"]) for e in before} == {("resting", "debris1", "column")}
+    assert record["pinned"] == [{"body": "debris1", "other": "column", "time_s": t_pin}]
+    assert bodystate.pinned_bodies(case) == {"debris1"}
+    # from the pin on the body does not move: its place at the pin, no velocity
+    tracks = pd.read_csv(case / "bodies.csv")
+    at_pin = tracks[np.isclose(tracks["time_s"], t_pin, rtol=0, atol=1e-9)]
+    after = tracks[tracks["time_s"] > t_pin + 1e-9]
+    assert len(at_pin) == 1 and len(after) > 10 and after["time_s"].max() == pytest.approx(0.05)
+    position = ["x_m", "y_m", "z_m"]
+    assert np.abs(after[position].to_numpy() - at_pin[position].to_numpy()).max() < 1e-9
+    assert np.abs(after[["u_m_s", "v_m_s", "w_m_s", "omega_x_rad_s", "omega_y_rad_s",
+                         "omega_z_rad_s"]].to_numpy()).max() < 1e-9
+    assert _outside_everything(case, ["debris1"]) == []
 
 
 @pytest.mark.parametrize("name, digits", [("1.46272017", 9), ("0.1", 1), ("0", 1), ("1.2e-05", 2), ("3.5", 2)])

@@ -1,0 +1,524 @@
+"""Contact bookkeeping of a run: which contacts stop the solver, how each is resolved, and the event record.
+
+The runner (`orchestrator.run`) drives the solver; after every batch of log lines and
+at every restart it asks a `ContactBook` about the bodies' states. Geometry and impacts
+are `orchestrator.contact`'s (the scene's column, walls and bed, exact box-box
+distances, `resolve`: the MDOF column, rigid walls, two-body impacts, from
+`analytical.impact`; `clamp_to_bed`). This module adds what the runner needs on top:
+
+- `Geometry`: the case's obstacles and bodies, and each contact's closing speed
+  (`Contact`);
+- while the solver runs (`ContactBook.contacts_ahead`, `time_to_act`): the contacts
+  the bodies will reach within a few stop latencies, and the simulated time until each
+  needs the solver stopped: an impact when the body reaches `ContactSettings.gap_m`, a
+  slow (resting) contact at a quarter of the gap, the bed once a body has sunk the bed
+  tolerance into it;
+- at a restart (`ContactBook.resolve_contacts`): every contact that would stop the
+  solver at once is resolved: impacts by `orchestrator.contact.resolve`, slow contacts
+  (closing slower than `min_impact_speed_m_s`) by a plastic impulse (`resting_contact`),
+  a body the flow keeps pressing against an obstacle (more than `max_events` contacts
+  within `window_s`) is pinned there (`bodystate.pin_bodies`); bodies are lifted out
+  of the bed and any overlap left is removed along the contact normal;
+- the record: `contacts.json` (every event: impacts, resting contacts, pins),
+  `impacts.csv` (one row per impact) and `contacts/event<n>-force.csv` (and
+  `-base-shear.csv` for the column), in the case; counts in run.json's data
+  (`resting_contacts`, `bed_clamps`, `pinned`), which the runner saves. Events later
+  than a restart's time are forgotten (`forget_events_after`): that stretch is
+  computed again.
+
+The book knows nothing of the solver: the runner gives it the case (`CaseInfo`), the
+settings, run.json's data, a `say` callable for messages and, with each question, how
+far the solver may run on after a stop request (the stop horizon, simulated seconds).
+`orchestrator.run` imports this module; the two names this one needs from it
+(`ContactError`, its time tolerance) are imported where they are used.
+
+Units: seconds, metres, kg, N.
+"""
+
+from __future__ import annotations
+
+import csv
+import dataclasses
+import json
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+from types import SimpleNamespace
+from typing import TYPE_CHECKING, Any, Callable, Sequence
+
+import numpy as np
+
+from orchestrator import bodystate
+from orchestrator.bodystate import BodyState
+from orchestrator.monitor import StepRecord
+
+if TYPE_CHECKING:
+    from orchestrator.run import CaseInfo
+
+__all__ = [
+    "CONTACTS_DIR",
+    "CONTACTS_JSON",
+    "IMPACTS_CSV",
+    "Contact",
+    "ContactBook",
+    "ContactSettings",
+    "Geometry",
+    "resting_contact",
+]
+
+CONTACTS_JSON = "contacts.json"
+IMPACTS_CSV = "impacts.csv"
+CONTACTS_DIR = "contacts"
+
+
+# --------------------------------------------------------------------------- settings
+
+
+@dataclass(frozen=True)
+class ContactSettings:
+    """When and how the runner handles contact between bodies and obstacles.
+
+    gap_m: a body closer than this to the column, a wall or another body is in contact.
+    min_impact_speed_m_s: slower closing speeds are resting contacts: the closing motion
+        is stopped (a plastic impulse, no force history), not resolved as an impact.
+    bed: watch the bed too. Touching the bed is not an impact (orchestrator.contact), but
+        v1912 lets a body sink through it: a body that sinks more than `bed_tolerance_m`
+        (default half the gap) into it is stopped, lifted back onto it and its velocity
+        into it removed (`contact.clamp_to_bed`).
+    max_events / window_s: more than `max_events` contacts of the same pair within
+        `window_s` of simulated time is a resting contact, which this event-driven model
+        cannot represent: the body is pinned where it is for the rest of the run (debris
+        held against the column or a wall by the flow); two bodies: ContactError.
+    impact: keyword arguments for `analytical.impact.impact` / `pair_impact`
+        (stiffness_N_m, friction_coefficient, damping_ratio, ...).
+    added_mass_coefficient: C_a of the debris for the impact model.
+    """
+
+    enabled: bool = True
+    gap_m: float = 0.005
+    min_impact_speed_m_s: float = 0.05
+    bed: bool = True
+    bed_tolerance_m: float | None = None
+    max_events: int = 6
+    window_s: float = 0.05
+    added_mass_coefficient: float = 0.0
+    impact: dict = field(default_factory=dict)
+
+    @property
+    def bed_sink_m(self) -> float:
+        return self.gap_m / 2 if self.bed_tolerance_m is None else self.bed_tolerance_m
+
+    def __post_init__(self) -> None:
+        if not self.gap_m > 0:
+            raise ValueError(f"gap_m must be > 0, got {self.gap_m}")
+
+
+# --------------------------------------------------------------------------- contacts
+
+
+@dataclass(frozen=True)
+class Contact:
+    """A body near an obstacle, another body or the bed: signed `distance_m` (< 0:
+    overlapping), the contact point, the unit `normal` from the other thing into the body,
+    and the closing speed of the contact point along it (> 0: approaching). `source` is
+    orchestrator.contact's Contact (None for the bed)."""
+
+    body: str
+    other: str
+    kind: str  # "column", "wall", "body" or "bed"
+    distance_m: float
+    point_m: tuple[float, float, float]
+    normal: tuple[float, float, float]
+    approach_m_s: float
+    source: Any = field(default=None, compare=False, repr=False)
+
+
+class Geometry:
+    """The case's obstacles (from scene.yaml and plan.json) and its bodies, for orchestrator.contact."""
+
+    def __init__(self, info: CaseInfo):
+        from orchestrator import contact as geo
+        from orchestrator.scene import load_scene
+
+        self.geo = geo
+        self.scene = load_scene(info.case / "scene.yaml")
+        # the modelled domain's walls: where the CFD has them (its upstream end is a wall
+        # also when the reservoir is cut short; the downstream end only if it is a wall)
+        self.obstacles = geo.scene_obstacles(
+            self.scene, SimpleNamespace(domain_m=info.domain_m, downstream_type=info.downstream_type))
+        self.props = {p.name: p for p in info.bodies}
+        self.sizes = info.body_sizes_m
+
+    def state(self, s: BodyState):
+        p = self.props[s.name]
+        return self.geo.BodyState(
+            name=s.name, centre_of_mass_m=s.centre_of_mass_m,
+            orientation=np.asarray(bodystate.orthonormal(s.orientation)).reshape(3, 3),
+            velocity_m_s=s.velocity_m_s, angular_velocity_rad_s=s.angular_velocity_rad_s,
+            size_m=self.sizes[s.name], mass_kg=p.mass_kg, inertia_kg_m2=p.moment_of_inertia_kg_m2)
+
+    @staticmethod
+    def back(new, old: BodyState) -> BodyState:
+        """orchestrator.contact's state as the runner's (velocities changed: acceleration unknown)."""
+        moved = not np.allclose(new.velocity_m_s, old.velocity_m_s, rtol=0, atol=1e-15) or not np.allclose(
+            new.angular_velocity_rad_s, old.angular_velocity_rad_s, rtol=0, atol=1e-15)
+        return old.with_changes(
+            centre_of_mass_m=tuple(float(v) for v in new.centre_of_mass_m),
+            orientation=tuple(float(v) for v in np.asarray(new.orientation).ravel()),
+            velocity_m_s=tuple(float(v) for v in new.velocity_m_s),
+            angular_velocity_rad_s=tuple(float(v) for v in new.angular_velocity_rad_s),
+            acceleration_m_s2=(0.0, 0.0, 0.0) if moved else old.acceleration_m_s2)
+
+    def contacts(self, states: Sequence[BodyState], reach_m: float, bed: bool = True) -> list[Contact]:
+        """Every pair closer than `reach_m` (the bed too, if `bed`), with closing speeds."""
+        geo = self.geo
+        cs = {s.name: self.state(s) for s in states}
+        out = []
+        for c in geo.find_contacts(list(cs.values()), self.obstacles, reach_m):
+            u = cs[c.body].point_velocity(c.point)
+            if c.kind == "body":
+                u = u - cs[c.other].point_velocity(c.point)
+            n = np.asarray(c.normal, dtype=float)
+            out.append(Contact(c.body, c.other, c.kind, float(c.distance_m), tuple(float(v) for v in c.point),
+                               tuple(float(v) for v in n), float(-(u @ n)), c))
+        if bed:
+            plane = self.obstacles.bed
+            n = np.asarray(plane.normal, dtype=float)
+            for name, c in cs.items():
+                corners = c.corners()
+                heights = (corners - np.asarray(plane.point_m, dtype=float)) @ n
+                d = float(heights.min())
+                if d < reach_m:
+                    low = corners[heights <= d + 1e-9].mean(axis=0)
+                    out.append(Contact(name, "bed", "bed", d, tuple(float(v) for v in low), tuple(float(v) for v in n),
+                                       float(-(c.point_velocity(low) @ n))))
+        return out
+
+    def resolve(self, contact: Contact, states: dict[str, BodyState], settings: ContactSettings):
+        """The impact of `contact` (orchestrator.contact.resolve): (result or None, new states by body)."""
+        cs = [self.state(s) for s in states.values()]
+        result, new = self.geo.resolve(contact.source, cs, self.scene,
+                                       added_mass_coefficient=settings.added_mass_coefficient, **settings.impact)
+        return result, {n.name: self.back(n, states[n.name]) for n in new}
+
+    def clamp_to_bed(self, state: BodyState) -> BodyState:
+        """The body lifted out of the bed, its velocity into the bed removed (unchanged if above it)."""
+        c = self.state(state)
+        clamped = self.geo.clamp_to_bed(c, self.obstacles)
+        return state if clamped is c else self.back(clamped, state)
+
+
+def resting_contact(geometry: Geometry, contact: Contact, states: dict[str, BodyState]) -> tuple[dict, float]:
+    """A slow contact: the impulse through the contact point that stops the closing motion
+    (perfectly plastic, no force history), and any overlap removed along the normal.
+    Returns (new states by body, impulse in N s)."""
+    n, point = np.asarray(contact.normal), np.asarray(contact.point_m)
+    sides = [(contact.body, 1.0)] + ([(contact.other, -1.0)] if contact.kind == "body" else [])
+    bodies = {name: geometry.state(states[name]) for name, _ in sides}
+
+    def compliance(b) -> np.ndarray:  # velocity change of the contact point per unit impulse there
+        r = point - b.centre_of_mass_m
+        rx = np.array([[0.0, -r[2], r[1]], [r[2], 0.0, -r[0]], [-r[1], r[0], 0.0]])
+        return np.eye(3) / b.mass_kg + rx.T @ b.inverse_inertia() @ rx
+
+    k = sum(compliance(b) for b in bodies.values())
+    j = max(contact.approach_m_s, 0.0) / float(n @ k @ n)  # N s along n, on the body
+    depth = max(-contact.distance_m, 0.0)
+    total_mass = sum(b.mass_kg for b in bodies.values())
+    new = {}
+    for name, sign in sides:
+        b = bodies[name]
+        impulse = sign * j * n
+        v = b.velocity_m_s + impulse / b.mass_kg
+        w = b.angular_velocity_rad_s + b.inverse_inertia() @ np.cross(point - b.centre_of_mass_m, impulse)
+        share = 1.0 if len(sides) == 1 else 1.0 - b.mass_kg / total_mass  # the lighter body moves more
+        centre = b.centre_of_mass_m + sign * share * depth * n
+        new[name] = states[name].with_changes(centre_of_mass_m=tuple(float(x) for x in centre),
+                                              velocity_m_s=tuple(float(x) for x in v),
+                                              angular_velocity_rad_s=tuple(float(x) for x in w),
+                                              acceleration_m_s2=(0.0, 0.0, 0.0))
+    return new, float(j)
+
+
+# --------------------------------------------------------------------------- the book
+
+
+class ContactBook:
+    """The contact bookkeeping of one run (see the module notes).
+
+    info: the case. settings: ContactSettings. run_record: run.json's data, where the
+    book counts resting contacts, bed clamps and pins (the runner saves it). say: prints
+    a message for the user (the runner's, above its progress bar).
+    """
+
+    def __init__(self, info: CaseInfo, settings: ContactSettings, run_record: dict[str, Any],
+                 say: Callable[[str], None]):
+        self.info = info
+        self.case = info.case
+        self.settings = settings
+        self.run_record = run_record
+        self.say = say
+        self._geometry: Geometry | None = None
+        #: simulated times of the contacts of each (body, other) pair, within the window
+        self._pair_events: dict[tuple[str, str], list[float]] = {}
+
+    @property
+    def geometry(self) -> Geometry:
+        """The scene's obstacles and the case's bodies, built on first use (scene, imports)."""
+        if self._geometry is None:
+            self._geometry = Geometry(self.info)
+        return self._geometry
+
+    # ---- while the solver runs
+    def contacts_ahead(self, step: StepRecord, latency_steps: int) -> list[tuple[Contact, float]]:
+        """Contacts the bodies of `step` will need within three stop latencies (`latency_steps`
+        time steps each), each with the simulated time from `step` until it needs the
+        solver stopped (linear in the present closing speed)."""
+        dt = step.delta_t_s or self.info.delta_t_s
+        horizon = dt * latency_steps
+        speed = max(b.speed_m_s for b in step.bodies)
+        near = self.geometry.contacts(step.bodies, self.settings.gap_m + 2 * speed * 4 * horizon + 1e-9,
+                                      bed=self.settings.bed)
+        ahead = []
+        for c in near:
+            wait = self.time_to_act(c)
+            if wait is not None and wait <= 3 * (horizon + dt):
+                ahead.append((c, wait))
+        return ahead
+
+    def time_to_act(self, c: Contact) -> float | None:
+        """Simulated time until `c` needs the solver stopped (0: now), None if never at this speed:
+        an impact when the gap is reached, a resting contact at a quarter of the gap, the bed
+        when the body has sunk the bed tolerance into it."""
+        closing = c.approach_m_s
+        if c.kind == "bed":
+            limit = -self.settings.bed_sink_m
+        elif closing >= self.settings.min_impact_speed_m_s:
+            limit = self.settings.gap_m
+        else:
+            limit = 0.25 * self.settings.gap_m
+        if c.distance_m <= limit:
+            return 0.0 if closing > 0 or c.kind == "bed" else None
+        if closing <= 0:
+            return None
+        return (c.distance_m - limit) / closing
+
+    def classify(self, c: Contact, horizon_s: float) -> str | None:
+        """What a contact needs before the solver could next stop (`horizon_s`):
+
+        "impact": closing at >= min_impact_speed and within the gap; "resting": closing
+        slower, within a quarter of the gap; "bed": sunk more than the bed tolerance
+        into the bed; None: nothing yet."""
+        closing = max(c.approach_m_s, 0.0)
+        ahead = c.distance_m - closing * horizon_s
+        if c.kind == "bed":
+            return "bed" if ahead <= -self.settings.bed_sink_m else None
+        if closing <= 0:
+            return None
+        if closing >= self.settings.min_impact_speed_m_s and ahead <= self.settings.gap_m:
+            return "impact"
+        if ahead <= 0.25 * self.settings.gap_m:
+            return "resting"
+        return None
+
+    # ---- at a restart
+    def contacts_now(self, states: Sequence[BodyState], horizon_s: float) -> list[Contact]:
+        """Contacts at a restart that would stop the solver at once (the rule used while
+        running, with the stop horizon `horizon_s` of the last segment), closest first."""
+        speed = max(s.speed_m_s for s in states)
+        near = self.geometry.contacts(states, self.settings.gap_m + 2 * speed * horizon_s + 1e-9, bed=False)
+        return sorted((c for c in near if self.classify(c, horizon_s)), key=lambda c: c.distance_m)
+
+    def resolve_contacts(self, time_name: str, states: list[BodyState],
+                         horizon_s: float) -> tuple[int, list[BodyState]]:
+        """At a restart: resolve every contact that would stop the solver at once (impacts
+        with orchestrator.contact.resolve, slow ones as resting contacts, pins), lift bodies
+        out of the bed, and move any body still overlapping an obstacle out of it. Records
+        the events; returns (impacts, the states to restart with). `horizon_s`: how far the
+        solver ran on after a stop request (the last deltaT times the stop latency)."""
+        geometry = self.geometry
+        by_name = {s.name: s for s in states}
+        events = 0
+        done: set[str] = set()
+        for c in self.contacts_now(states, horizon_s):
+            if c.body in done or c.other in done:
+                continue  # one impact per body per restart; a second one is found at the next
+            if self._resting_too_often(c, float(time_name)) and c.kind != "body":
+                by_name[c.body] = self._pin(time_name, c, by_name[c.body])
+                done.add(c.body)
+                continue
+            if self.classify(c, horizon_s) == "resting":
+                new, impulse = resting_contact(geometry, c, by_name)
+                before = {k: by_name[k] for k in new}
+                by_name.update(new)
+                done.update({c.body, c.other})
+                self._record_resting(time_name, c, before, new, impulse)
+                continue
+            result, new = geometry.resolve(c, by_name, self.settings)
+            before = {k: by_name[k] for k in new}
+            by_name.update(new)
+            if result is None:  # separating after all: only an overlap was removed
+                continue
+            events += 1
+            done.update({c.body, c.other})
+            self._record_event(time_name, c, before, new, result)
+        if self.settings.bed:
+            for name in list(by_name):
+                lifted = geometry.clamp_to_bed(by_name[name])
+                if lifted is not by_name[name]:
+                    by_name[name] = lifted
+                    self.run_record["bed_clamps"] = self.run_record.get("bed_clamps", 0) + 1
+        for c in geometry.contacts(list(by_name.values()), 0.0, bed=False):
+            if c.distance_m < 0:  # never restart a body inside the column, a wall or another body
+                new, _ = resting_contact(geometry, dataclasses.replace(c, approach_m_s=0.0), by_name)
+                by_name.update(new)
+                self.say(f"{c.body} overlapped {c.other} by {-c.distance_m * 1000:.3g} mm at t = {time_name} s: "
+                         "moved out along the contact normal")
+        return events, [by_name[n] for n in self.info.body_names]
+
+    def _resting_too_often(self, c: Contact, t: float) -> bool:
+        """More than `max_events` contacts of this pair within `window_s`: the flow holds the
+        body against the obstacle (a resting contact the event model cannot represent)."""
+        key = (c.body, c.other)
+        times = [x for x in self._pair_events.get(key, []) if x > t - self.settings.window_s]
+        times.append(t)
+        self._pair_events[key] = times
+        if len(times) <= self.settings.max_events:
+            return False
+        if c.kind == "body":
+            from orchestrator.run import ContactError
+
+            raise ContactError(
+                f"{c.body} hit {c.other} {len(times)} times within {self.settings.window_s:g} s of simulated time "
+                f"(t = {t:.6g} s): two bodies pressed together, which event-driven contact cannot model")
+        return True
+
+    def _pin(self, time_name: str, c: Contact, state: BodyState) -> BodyState:
+        """Freeze a body the flow keeps pressing against an obstacle (debris damming), record it."""
+        bodystate.pin_bodies(self.case, [c.body])
+        pinned = state.with_changes(velocity_m_s=(0.0, 0.0, 0.0), angular_velocity_rad_s=(0.0, 0.0, 0.0),
+                                    acceleration_m_s2=(0.0, 0.0, 0.0))
+        events = self._read_events()
+        events.append({"event": len(events) + 1, "type": "pinned", "time_s": float(time_name), "body": c.body,
+                       "other": c.other, "kind": c.kind, "gap_m": c.distance_m, "point_m": list(c.point_m),
+                       "normal": list(c.normal), "velocity_in_m_s": list(state.velocity_m_s)})
+        self._write_events(events)
+        self.run_record.setdefault("pinned", []).append({"body": c.body, "other": c.other, "time_s": float(time_name)})
+        self.say(f"t = {time_name} s: {c.body} is held against {c.other} by the flow "
+                 f"({self.settings.max_events + 1} contacts within {self.settings.window_s:g} s): pinned there for the "
+                 "rest of the run (debris damming; its hydrodynamic load then reaches the column through it, "
+                 "which the column's force history does not include)")
+        return pinned
+
+    # ---- the record
+    def _record_resting(self, time_name: str, c: Contact, before: dict[str, BodyState],
+                        after: dict[str, BodyState], impulse_Ns: float) -> None:
+        events = self._read_events()
+        event = {"event": len(events) + 1, "type": "resting", "time_s": float(time_name), "body": c.body,
+                 "other": c.other, "kind": c.kind, "gap_m": c.distance_m, "point_m": list(c.point_m),
+                 "normal": list(c.normal), "approach_m_s": c.approach_m_s, "impulse_Ns": impulse_Ns,
+                 "velocity_in_m_s": list(before[c.body].velocity_m_s),
+                 "velocity_out_m_s": list(after[c.body].velocity_m_s)}
+        self._write_events(events + [event])
+        self.run_record["resting_contacts"] = self.run_record.get("resting_contacts", 0) + 1
+
+    def forget_events_after(self, time_s: float) -> None:
+        """Contact events later than `time_s` belong to a stretch being computed again."""
+        from orchestrator.run import _EPS_T
+
+        events = self._read_events()
+        keep = [e for e in events if e["time_s"] <= time_s + _EPS_T]
+        if len(keep) == len(events):
+            return
+        self._write_events(keep)
+        impacts = self.case / IMPACTS_CSV
+        if impacts.is_file():
+            with open(impacts, newline="") as fh:
+                rows = [r for r in csv.reader(fh)]
+            kept = [rows[0]] + [r for r in rows[1:] if float(r[1]) <= time_s + _EPS_T]
+            with open(impacts, "w", newline="") as fh:
+                csv.writer(fh).writerows(kept)
+
+    def _read_events(self) -> list[dict]:
+        path = self.case / CONTACTS_JSON
+        return json.loads(path.read_text()) if path.is_file() else []
+
+    def _write_events(self, events: list[dict]) -> None:
+        path = self.case / CONTACTS_JSON
+        tmp = path.with_suffix(".json.tmp")
+        tmp.write_text(json.dumps(events, indent=2))
+        os.replace(tmp, path)
+
+    def _record_event(self, time_name: str, c: Contact, before: dict[str, BodyState], after: dict[str, BodyState],
+                      result) -> None:
+        events = self._read_events()
+        number = len(events) + 1
+        (self.case / CONTACTS_DIR).mkdir(exist_ok=True)
+        history = self.case / CONTACTS_DIR / f"event{number:04d}-force.csv"
+        with open(history, "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(["time_s", "force_N"])
+            for t, f in zip(result.force.time_s, result.force.force_N):
+                w.writerow([repr(float(t)), repr(float(f))])
+        if result.base_shear is not None:
+            shear = self.case / CONTACTS_DIR / f"event{number:04d}-base-shear.csv"
+            with open(shear, "w", newline="") as fh:
+                w = csv.writer(fh)
+                w.writerow(["time_s", "base_shear_x_N"] + (["base_shear_y_N"] if result.base_shear_y else []))
+                ys = result.base_shear_y.response_N if result.base_shear_y is not None else None
+                for i, (t, v) in enumerate(zip(result.base_shear.time_s, result.base_shear.response_N)):
+                    w.writerow([repr(float(t)), repr(float(v))] + ([repr(float(ys[i]))] if ys is not None else []))
+        b0, b1 = before[c.body], after[c.body]
+        event = {
+            "event": number,
+            "type": "impact",
+            "time_s": float(time_name),
+            "body": c.body,
+            "other": c.other,
+            "kind": c.kind,
+            "gap_m": c.distance_m,
+            "point_m": list(c.point_m),
+            "normal": list(c.normal),
+            "velocity_in_m_s": list(b0.velocity_m_s),
+            "velocity_out_m_s": list(b1.velocity_m_s),
+            "angular_velocity_in_rad_s": list(b0.angular_velocity_rad_s),
+            "angular_velocity_out_rad_s": list(b1.angular_velocity_rad_s),
+            "normal_velocity_in_m_s": float(result.normal_velocity_in_m_s),
+            "normal_velocity_out_m_s": float(result.normal_velocity_out_m_s),
+            "restitution": float(result.restitution),
+            "obliquity_deg": float(result.obliquity_deg),
+            "height_m": float(result.contact_height_m) if result.contact_height_m is not None else float(c.point_m[2]),
+            "peak_force_N": float(result.peak_force_N),
+            "duration_s": float(result.duration_s),
+            "impulse_Ns": float(result.impulse_Ns),
+            "force_history": str(history.relative_to(self.case)),
+        }
+        if c.kind == "body":
+            event["other_velocity_in_m_s"] = list(before[c.other].velocity_m_s)
+            event["other_velocity_out_m_s"] = list(after[c.other].velocity_m_s)
+        self._write_events(events + [event])
+        _append_impact_row(self.case / IMPACTS_CSV, event)
+        self.say(f"contact event {number}: {c.body} hit {c.other} at t = {float(time_name):.6g} s, "
+                 f"{abs(result.normal_velocity_in_m_s):.3g} m/s in, {result.normal_velocity_out_m_s:.3g} m/s out, "
+                 f"peak {result.peak_force_N:.4g} N")
+
+
+_IMPACT_COLUMNS = [
+    "event", "time_s", "body", "other", "kind", "point_x_m", "point_y_m", "point_z_m", "normal_x", "normal_y",
+    "normal_z", "u_in_m_s", "v_in_m_s", "w_in_m_s", "u_out_m_s", "v_out_m_s", "w_out_m_s", "normal_velocity_in_m_s",
+    "normal_velocity_out_m_s", "restitution", "obliquity_deg", "height_m", "peak_force_N", "duration_s",
+    "impulse_Ns", "force_history",
+]
+
+
+def _append_impact_row(path: Path, e: dict[str, Any]) -> None:
+    row = [e["event"], e["time_s"], e["body"], e["other"], e["kind"], *e["point_m"], *e["normal"],
+           *e["velocity_in_m_s"], *e["velocity_out_m_s"], e["normal_velocity_in_m_s"], e["normal_velocity_out_m_s"],
+           e["restitution"], e["obliquity_deg"], e["height_m"], e["peak_force_N"], e["duration_s"], e["impulse_Ns"],
+           e["force_history"]]
+    new = not path.is_file()
+    with open(path, "a", newline="") as fh:
+        w = csv.writer(fh)
+        if new:
+            w.writerow(_IMPACT_COLUMNS)
+        w.writerow(row)
