@@ -9,7 +9,7 @@ CELL    ?=
 OUT     ?= runs/1debris
 CASE_SET := $(if $(CELL),--set mesh.cell_size_m=$(CELL),)
 
-.PHONY: help venv openfoam test test-fast case-1debris sweep speed-error synthetic-study bench clean
+.PHONY: help venv openfoam test test-fast case-1debris sweep speed-error stability synthetic-study bench clean
 
 help:
 	@echo "make case-1debris [CELL=m]  the seed's 1-debris scene, end to end"
@@ -61,6 +61,11 @@ speed-error: venv openfoam
 	-$(NICE) $(VENV)/bin/debrisfoam sweep cases/sweeps/mesh-study.yaml
 	-$(NICE) $(VENV)/bin/debrisfoam sweep cases/sweeps/mesh-study-hand.yaml
 	$(VENV)/bin/debrisfoam report speed-error runs/sweeps/mesh-study --baseline runs/sweeps/mesh-study-hand
+
+# The hard cases (cases/hard/, about 2 h on 2 cores), then their table in docs/stability.md.
+stability: venv openfoam
+	-$(NICE) $(VENV)/bin/debrisfoam sweep cases/sweeps/hard-cases.yaml
+	$(VENV)/bin/debrisfoam report stability runs/sweeps/hard-cases -o runs/sweeps/hard-cases/stability.md
 
 synthetic-study: venv
 	$(VENV)/bin/debrisfoam analytical study -o docs/synthetic-study

@@ -408,6 +408,30 @@ def cmd_report_speed_error(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def cmd_report_stability(args: argparse.Namespace) -> int:
+    from orchestrator.stability import markdown, stability_table
+
+    table = stability_table(args.sweep_dir)
+    text = markdown(table)
+    if args.out:
+        out = Path(args.out)
+        out.parent.mkdir(parents=True, exist_ok=True)
+        out.write_text(text)
+    if args.json:
+        _emit({"members": table.to_dict(orient="records")}, True)
+        return EXIT_OK
+    print(text, end="")
+    if args.out:
+        print(f"debrisfoam: stability table: {args.out}")
+    insane = table[(table["outcome"] == "finished") & (table["sane"] == False)]  # noqa: E712 (pandas)
+    unexplained = table[~table["outcome"].isin(["finished", "diverged", "stalled", "contact"])]
+    for r in insane.itertuples():
+        print(f"debrisfoam: {r.scene}: finished but failed: {'; '.join(r.failed_checks)}", file=sys.stderr)
+    for r in unexplained.itertuples():
+        print(f"debrisfoam: {r.scene}: {r.outcome}: {r.diagnosis or 'no diagnosis'}", file=sys.stderr)
+    return EXIT_OK
+
+
 # --------------------------------------------------------------------------- parser
 
 
@@ -544,7 +568,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_sweep)
 
-    rp = verbs.add_parser("report", help="reports across runs: speed-error (a sweep's cost against its errors)")
+    rp = verbs.add_parser("report", help="reports across runs: speed-error (a sweep's cost against its errors), "
+                                                 "stability (a sweep's runs checked)")
     rp_verbs = rp.add_subparsers(dest="report_verb", required=True, parser_class=_ArgParser)
     p = rp_verbs.add_parser("speed-error", help="wall time against error for every member of a sweep (and of "
                                                 "baseline sweeps): table and Pareto plot in SWEEP_DIR/report/")
@@ -563,6 +588,13 @@ def build_parser() -> argparse.ArgumentParser:
                    help="extrapolate both set-ups to this cell size (default 0.015, the seed's; 0: none)")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_report_speed_error)
+    p = rp_verbs.add_parser("stability", help="for every member of a sweep: finished with sane physics (water "
+                                              "conserved, no body inside a wall, finite forces) or stopped with "
+                                              "a diagnosis (the table of docs/stability.md)")
+    p.add_argument("sweep_dir", help="a sweep folder, e.g. runs/sweeps/hard-cases")
+    p.add_argument("-o", "--out", default=None, help="also write the Markdown table to this file")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=cmd_report_stability)
     return parser
 
 

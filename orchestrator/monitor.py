@@ -67,6 +67,7 @@ _VEC = re.compile(r"\(([^()]*)\)")
 _COURANT = re.compile(rf"mean: ({_NUM}) max: ({_NUM})", re.I)
 _EXEC = re.compile(rf"ExecutionTime = ({_NUM}) s\s+ClockTime = ({_NUM}) s")
 #: a NaN or an infinity as OpenFOAM prints them (nan, -nan, inf, -inf), as whole words
+_FINAL_RESIDUAL = re.compile(rf"Final residual = ({_NUM})")
 _NONFINITE = re.compile(r"(?<![\w.])[-+]?(?:nan|inf)(?![\w])", re.I)
 _RANK = re.compile(r"^\[\d+\] ?")
 _BODY_FIELDS = {
@@ -152,6 +153,8 @@ class LogParser:
         self.fpe = False
         self.finished = False
         self.rereads = 0
+        #: the line of a pcorr solve (overset flux correction) that diverged, if any
+        self.pcorr_failure: str | None = None
         self._courant: float | None = None
         self._alpha_courant: float | None = None
         self._delta_t: float | None = None
@@ -237,6 +240,10 @@ class LogParser:
                 self.fpe = True
             elif c == "R" and line.startswith("Re-reading object"):
                 self.rereads += 1
+            elif self.pcorr_failure is None and "Solving for pcorr" in line:
+                m = _FINAL_RESIDUAL.search(line)
+                if m and not float(m.group(1)) < 1.0:  # grew instead of falling: no solution
+                    self.pcorr_failure = line
             if self._in_block and not line.startswith(tuple(_BODY_FIELDS)):
                 self._in_block = False
             if self.nonfinite_line is None and _has_nonfinite(line):
@@ -349,7 +356,11 @@ class DivergenceLimits:
     - a body's centre of mass more than `domain_margin_m` outside the domain box;
     - a body faster than `max_body_speed_m_s` (None: three times the plan's velocity
       scale 2 sqrt(g h0), Ritter's front speed, set by the runner): debris cannot
-      outrun the flow that carries it, so such a speed is a numerical blow-up.
+      outrun the flow that carries it, so such a speed is a numerical blow-up;
+    - a stall: the solver writes nothing to its log for `stall_s` seconds of wall time,
+      or for `stall_factor` times its slowest time step so far when that is longer (a
+      linear solver that never converges, a hung MPI rank: without this a run waits
+      forever).
     """
 
     courant_factor: float = 10.0
@@ -358,6 +369,12 @@ class DivergenceLimits:
     delta_t_steps: int = 3
     domain_margin_m: float = 0.0
     max_body_speed_m_s: float | None = None
+    stall_s: float = 600.0
+    stall_factor: float = 20.0
+
+    def stall_limit_s(self, slowest_step_s: float | None) -> float:
+        """Wall seconds without log output after which the solver counts as stalled."""
+        return max(self.stall_s, self.stall_factor * (slowest_step_s or 0.0))
 
     def __post_init__(self) -> None:
         if not self.courant_factor > 1:
@@ -366,6 +383,8 @@ class DivergenceLimits:
             raise ValueError("courant_steps and delta_t_steps must be >= 1")
         if self.min_delta_t_s is not None and not self.min_delta_t_s > 0:
             raise ValueError(f"min_delta_t_s must be > 0, got {self.min_delta_t_s}")
+        if not self.stall_s > 0 or not self.stall_factor > 0:
+            raise ValueError("stall_s and stall_factor must be > 0")
 
 
 @dataclass(frozen=True)
@@ -392,6 +411,12 @@ class HealthWatch:
         self._dt_run: list[float] = []
 
     def check_parser(self, parser: LogParser) -> Diagnosis | None:
+        if parser.pcorr_failure is not None:
+            t = parser.current_time_s
+            return Diagnosis(
+                "pcorr", "the overset flux correction (pcorr) diverged "
+                f"({parser.pcorr_failure.strip()[:100]!r}): some cells have no valid donor, typically where an "
+                "overset body mesh reaches a wall, the column or another body's mesh (docs/stability.md)", t, None)
         if parser.nonfinite_line is not None:
             t = parser.nonfinite_time_s
             return Diagnosis("nan", f"NaN/inf in the solver output: {parser.nonfinite_line.strip()[:120]!r}", t, t)

@@ -28,6 +28,9 @@ without contacts is post-processed up to where it got; what is missing is listed
     The total load on the column's MDOF model and the base shear at the load cell it causes
     (the quantity the seed's experiments measured), split into its hydrodynamic and impact
     parts (see :func:`column_response`).
+``water_balance.csv``
+    Per solver step, the water volume in the fluid mesh, the water leaving through the open
+    boundaries and the balance error (:func:`read_water_balance`): the conservation check.
 ``summary.json``
     The headline figures, the run's status, wall time and cell count, what is missing.
 
@@ -80,6 +83,7 @@ __all__ = [
     "IMPACT_COLUMNS",
     "MIN_GAUGE_COVERAGE",
     "RESULTS_DIR",
+    "WATER_BALANCE_TOLERANCE",
     "CaseData",
     "PostSummary",
     "PulseMetrics",
@@ -95,7 +99,9 @@ __all__ = [
     "read_force_series",
     "read_gauge_samples",
     "read_vector_table",
+    "read_water_balance",
     "tables",
+    "water_balance_summary",
 ]
 
 RESULTS_DIR = "results"
@@ -242,6 +248,8 @@ class Results:
     hydro_heights_m: dict[str, float] = field(default_factory=dict)
     missing: list[str] = field(default_factory=list)
     reached_time_s: float | None = None
+    #: per step: water volume, outflow and the balance error (:func:`read_water_balance`)
+    water_balance: pd.DataFrame | None = None
 
 
 # --------------------------------------------------------------------------- the case
@@ -385,6 +393,77 @@ def read_force_series(case_dir: str | Path, function_object: str = "columnForces
             meta = meta or header
             pieces.append((float(m.group(1)) if m.group(1) else start, frame))
     return _join_pieces(pieces, "time"), meta
+
+
+#: the water balance's bound: a run that creates or loses more than this fraction of its
+#: water is flagged in summary.json and report.md (issue 6: water conserved to 1 %)
+WATER_BALANCE_TOLERANCE = 0.01
+
+#: function objects of the water balance (templates/system/controlDict.j2)
+WATER_VOLUME_FO = "waterVolume"
+WATER_OUTFLOW_FO_PREFIX = "waterOut_"
+
+
+def _scalar_series(case: Path, function_object: str, stem: str) -> pd.DataFrame | None:
+    """``postProcessing/<function_object>/<start>/<stem>.dat`` (time and one value) over restarts."""
+    pieces = []
+    for start, folder in _numeric_dirs(case / "postProcessing" / function_object):
+        path = folder / f"{stem}.dat"
+        if path.is_file():
+            frame, _ = read_vector_table(path)
+            if frame.shape[1] >= 2:
+                pieces.append((start, pd.DataFrame({"time": frame.iloc[:, 0], "value": frame.iloc[:, 1]})))
+    return _join_pieces(pieces, "time")
+
+
+def read_water_balance(case_dir: str | Path) -> pd.DataFrame | None:
+    """The water balance of a run, per solver step (None when the case has no such output).
+
+    From the ``waterVolume`` (alpha.water integrated over the fluid mesh; the background
+    mesh when overset) and ``waterOut_<patch>`` (the MULES water flux ``alphaPhi0.water``
+    summed over each open patch) function objects. Columns: ``time_s``, ``volume_m3``,
+    ``outflow_m3_s`` (all open patches; > 0 leaving), ``outflow_m3`` (cumulative, the
+    step's flux times its step), ``initial_m3`` and ``error`` = (volume + outflow -
+    initial) / initial: the water created (> 0) or lost (< 0) as a fraction of what there was.
+
+    ``initial_m3`` is the volume before the first step: the first step's volume plus what it
+    let out. On restarts a later piece replaces what an earlier one wrote after its start.
+    """
+    case = Path(case_dir)
+    volume = _scalar_series(case, WATER_VOLUME_FO, "volFieldValue")
+    if volume is None or volume.empty:
+        return None
+    t = volume["time"].to_numpy(float)
+    outflow = np.zeros_like(t)
+    base = case / "postProcessing"
+    for folder in sorted(base.glob(f"{WATER_OUTFLOW_FO_PREFIX}*")):
+        flux = _scalar_series(case, folder.name, "surfaceFieldValue")
+        if flux is not None and not flux.empty:
+            outflow += np.interp(t, flux["time"].to_numpy(float), flux["value"].to_numpy(float), left=0.0, right=0.0)
+    dt = np.diff(np.concatenate([[0.0], t]))
+    cumulative = np.cumsum(outflow * dt)
+    v = volume["value"].to_numpy(float)
+    initial = v[0] + cumulative[0]
+    error = (v + cumulative - initial) / initial if initial > 0 else np.full_like(v, np.nan)
+    return pd.DataFrame({"time_s": t, "volume_m3": v, "outflow_m3_s": outflow, "outflow_m3": cumulative,
+                         "initial_m3": initial, "error": error})
+
+
+def water_balance_summary(balance: pd.DataFrame | None) -> dict[str, float] | None:
+    """Headline of :func:`read_water_balance`: initial, final and outflow volumes (m3) and the
+    largest and final relative errors (signed; the largest by magnitude)."""
+    if balance is None or balance.empty:
+        return None
+    err = balance["error"].to_numpy(float)
+    worst = int(np.nanargmax(np.abs(err))) if np.isfinite(err).any() else 0
+    return {
+        "initial_m3": float(balance["initial_m3"].iloc[0]),
+        "final_m3": float(balance["volume_m3"].iloc[-1]),
+        "outflow_m3": float(balance["outflow_m3"].iloc[-1]),
+        "max_error": float(err[worst]),
+        "time_of_max_error_s": float(balance["time_s"].iloc[worst]),
+        "final_error": float(err[-1]),
+    }
 
 
 def _read_xy(path: Path) -> tuple[np.ndarray, np.ndarray]:
@@ -929,7 +1008,18 @@ def tables(case_dir: str | Path, arrival_threshold_m: float | None = None) -> Re
     elif data.column is None:
         missing.append("no column in the scene: no column forces or response")
     reached = _reached_time(data, gauges, forces, bodies)
-    return Results(data, gauges, gauge_summary, forces, bodies, impacts, response, pulses, heights, missing, reached)
+    balance = read_water_balance(data.case)
+    if balance is None:
+        missing.append("no water balance output (postProcessing/waterVolume): rendered before it existed?")
+    else:
+        b = water_balance_summary(balance)
+        if abs(b["max_error"]) > WATER_BALANCE_TOLERANCE:
+            missing.append(
+                f"water not conserved: {abs(b['max_error']) * 100:.2f} % of the initial water "
+                f"{'created' if b['max_error'] > 0 else 'lost'} by t = {b['time_of_max_error_s']:.3g} s "
+                f"(over the {WATER_BALANCE_TOLERANCE * 100:g} % bound; results/water_balance.csv; docs/stability.md)")
+    return Results(data, gauges, gauge_summary, forces, bodies, impacts, response, pulses, heights, missing, reached,
+                   balance)
 
 
 def _reached_time(data: CaseData, *frames: pd.DataFrame) -> float | None:
@@ -1034,6 +1124,9 @@ def headline(results: Results) -> dict[str, Any]:
         }
     if not results.bodies.empty:
         out["bodies"] = sorted(results.bodies["body"].unique().tolist())
+    balance = water_balance_summary(results.water_balance)
+    if balance is not None:
+        out["water_balance"] = balance
     return out
 
 
@@ -1070,6 +1163,8 @@ def post_case(case_dir: str | Path, *, comparisons: bool = True, snapshot: bool 
         "impacts": _write_csv(results.impacts, out_dir / "impacts.csv"),
         "column_response": _write_csv(results.column_response, out_dir / "column_response.csv"),
     }
+    if results.water_balance is not None:
+        written["water_balance"] = _write_csv(results.water_balance, out_dir / "water_balance.csv")
     figures = headline(results)
     plots: dict[str, Path] = {}
     report_path = None

@@ -60,6 +60,11 @@ def _run_section(figures: dict, missing: Sequence[str]) -> list[str]:
         ("wall time", f"solver {_fmt(wall.get('solver_s'))} s, mesh {_fmt(wall.get('mesh_s'))} s, "
                       f"total {_fmt(wall.get('total_s'))} s"),
     ]
+    balance = figures.get("water_balance")
+    if balance:
+        rows.append(("water balance", f"{balance['max_error'] * 100:+.3f} % of the initial {_fmt(balance['initial_m3'])} "
+                                      f"m3 at worst (t = {_fmt(balance['time_of_max_error_s'])} s); "
+                                      f"{_fmt(balance['outflow_m3'])} m3 left through the open boundaries"))
     out = ["## Run", "", "| | |", "|---|---|"] + [f"| {k} | {v} |" for k, v in rows]
     out += ["", "### Missing or limited", "", _bullets(list(missing))]
     return out

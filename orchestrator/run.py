@@ -147,7 +147,7 @@ class RunError(DebrisfoamError):
 
 
 class DivergenceError(RunError):
-    """The solution diverged: `kind` (nan, courant, delta_t, fpe, left_domain), `cause`
+    """The solution diverged or stalled: `kind` (nan, courant, delta_t, fpe, left_domain, body_speed, stall), `cause`
     in words, the simulated `time_s` it showed at, the `last_good_time` kept and the log."""
 
     def __init__(self, kind: str, cause: str, time_s: float | None, last_good_time: str | None, log_path: Path):
@@ -158,7 +158,8 @@ class DivergenceError(RunError):
         self.log_path = Path(log_path)
         at = f" at t = {time_s:.6g} s" if time_s is not None else ""
         keep = f"; kept the last good time {last_good_time} s" if last_good_time is not None else ""
-        super().__init__(f"solution diverged{at}: {cause}{keep}\n  log: {self.log_path}")
+        what = "solver stalled" if kind == "stall" else "solution diverged"
+        super().__init__(f"{what}{at}: {cause}{keep}\n  log: {self.log_path}")
 
 
 class RunInterrupted(RunError):
@@ -790,10 +791,18 @@ class _Runner:
         requested_at: float | None = None  # wall clock of the last controlDict request
         last_bump = 0.0
         scheduled: float | None = None  # simulated time of a scheduled contact stop
+        last_output = time.perf_counter()  # wall clock of the last log line (the stall watch)
+        last_line = ""
         try:
             while True:
                 rc = proc.poll()
                 lines = tail.read_lines() if rc is None else tail.flush()
+                now = time.perf_counter()
+                if lines:
+                    last_output = now
+                    last_line = next((ln.strip() for ln in reversed(lines) if ln.strip()), last_line)
+                elif diag is None and rc is None and not killed:
+                    diag = self._stall(now - last_output, arrivals, steps, start_value, last_line)
                 new = parser.feed(lines)
                 if new:
                     steps.extend(new)
@@ -891,6 +900,18 @@ class _Runner:
         if steps and steps[-1].delta_t_s:
             self.last_delta_t_s = steps[-1].delta_t_s
         return _SegmentResult(start_name, reason, rc, steps, parser, log, wall, cpu, diag, pending)
+
+    def _stall(self, silent_s: float, arrivals: list[tuple[float, int]], steps: list[StepRecord],
+               start_value: float, last_line: str) -> Diagnosis | None:
+        """A stall diagnosis when the solver has written nothing for longer than the limit."""
+        gaps = [(b[0] - a[0]) / max(1, b[1] - a[1]) for a, b in zip(arrivals, arrivals[1:])]
+        limit = self.limits.stall_limit_s(max(gaps) if gaps else None)
+        if silent_s <= limit:
+            return None
+        t = steps[-1].time_s if steps else start_value
+        slowest = f"; its slowest time step so far took {max(gaps):.3g} s" if gaps else ""
+        return Diagnosis("stall", f"the solver stalled: nothing written to its log for {silent_s:.0f} s of wall "
+                                  f"time{slowest} (last line: {last_line[:120]!r})", t, None)
 
     def _kill(self, proc: subprocess.Popen) -> None:
         """SIGTERM to the solver's process group (mpirun and its ranks), then SIGKILL."""
@@ -1179,7 +1200,7 @@ def _fail_diverged(runner: _Runner, seg: _SegmentResult, start_value: float) -> 
     if diag.since_s is not None:
         _remove_times_from(case, info.ranks, diag.since_s, start_value)
     _, good = latest_time(case, info.ranks)
-    data["status"] = "diverged"
+    data["status"] = "stalled" if diag.kind == "stall" else "diverged"
     data["diagnosis"] = {"kind": diag.kind, "cause": diag.cause, "time_s": diag.time_s, "last_good_time": good,
                          "log": seg.log.name}
     runner.record.save()

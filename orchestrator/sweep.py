@@ -387,7 +387,7 @@ def member_state(case_dir: str | Path) -> str:
         return "finished"
     if record.get("status") == "interrupted":  # even if a step the stop killed left run.json "failed"
         return "incomplete"
-    if run.get("status") in ("diverged", "failed"):
+    if run.get("status") in ("diverged", "stalled", "failed"):
         return "failed"
     return "incomplete"
 
@@ -462,6 +462,9 @@ def member_metrics(case_dir: str | Path) -> dict[str, Any]:
             out["first_impact_peak_force_N"] = first.get("peak_force_N")
             out["impact_duration_s"] = first.get("duration_s")
             out["impact_impulse_Ns"] = first.get("impulse_Ns")
+    balance = h.get("water_balance") or {}
+    if balance:
+        out["water_balance_error"] = balance.get("max_error")
     response = h.get("column_response") or {}
     if response:
         out["peak_base_shear_N"] = response.get("peak_base_shear_N")

@@ -10,6 +10,9 @@ The logs under tests/data/logs/ were written by the runner on tiny cases (2 rank
 - interFoam-nan.log: the same with FOAM_SIGFPE=false: NaN in the residuals, then an abort.
 - overInterDyMFoam-2bodies-contact.log: two six-DoF bodies, stopped by writeNow for a
   contact of debris1 with the column.
+- overInterDyMFoam-pcorr.log: the first 200 lines of a restart whose pcorr solve diverged
+  (a body mesh ending on a side wall, cases/hard/small/near-side-wall.yaml): the Courant
+  number then jumped to 1e7 and deltaT collapsed.
 """
 
 from __future__ import annotations
@@ -166,6 +169,23 @@ def test_delta_t_collapse_needs_consecutive_steps():
     assert watch.check_step(small[0]) is None and watch.check_step(small[1]) is None
     diag = watch.check_step(small[2])
     assert diag.kind == "delta_t" and diag.since_s == small[0].time_s
+
+
+def test_a_diverged_pcorr_is_the_diagnosis():
+    steps, parser = parse_log(LOGS / "overInterDyMFoam-pcorr.log")
+    assert "Final residual = 4079661323" in parser.pcorr_failure
+    diag = HealthWatch(DivergenceLimits(), 2.5).check_parser(parser)
+    assert diag.kind == "pcorr" and "overset flux correction (pcorr) diverged" in diag.cause
+    assert diag.time_s == pytest.approx(0.1, abs=1e-6) and diag.since_s is None  # the restart's fields are good
+    calm, calm_parser = parse_log(LOGS / "overInterDyMFoam-2bodies-contact.log")
+    assert calm_parser.pcorr_failure is None  # converged pcorr solves are not failures
+
+
+def test_stall_limit_follows_the_slowest_step():
+    lim = DivergenceLimits(stall_s=600, stall_factor=20)
+    assert lim.stall_limit_s(None) == 600 and lim.stall_limit_s(2.0) == 600 and lim.stall_limit_s(60.0) == 1200
+    with pytest.raises(ValueError, match="stall"):
+        DivergenceLimits(stall_s=0)
 
 
 def test_limits_are_validated():

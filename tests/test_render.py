@@ -212,7 +212,7 @@ def test_two_d_overset_is_refused():
 
 def test_numerics_follow_design_for_overset():
     n = Numerics.for_solver("overInterDyMFoam")
-    assert (n.p_rgh_solver, n.p_rgh_tolerance, n.p_rgh_rel_tol, n.n_correctors) == ("PBiCGStab", 1e-7, 0.05, 1)
+    assert (n.p_rgh_solver, n.p_rgh_tolerance, n.p_rgh_rel_tol, n.n_correctors) == ("PBiCGStab", 1e-7, 0.05, 2)
     assert n.overset_interpolation == "cellVolumeWeight"
     with pytest.raises(InputError, match="solver"):
         Numerics.for_solver("simpleFoam")

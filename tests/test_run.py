@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import re
 import signal
 import subprocess
@@ -28,7 +29,7 @@ import yaml
 from orchestrator import bodystate
 from orchestrator.bodystate import BodyState
 from orchestrator.contact_book import Geometry, resting_contact
-from orchestrator.monitor import parse_log
+from orchestrator.monitor import DivergenceLimits, parse_log
 from orchestrator.render import render_from_file
 from orchestrator.run import (
     ContactSettings,
@@ -421,6 +422,50 @@ def test_unstable_case_stops_with_a_diagnosis(tmp_path, openfoam):
     proc = subprocess.run([sys.executable, "-m", "orchestrator.cli", "run", str(case), "--quiet"], cwd=ROOT,
                           capture_output=True, text=True, timeout=300)
     assert proc.returncode == 1 and "solution diverged" in proc.stderr and "log.interFoam" in proc.stderr
+
+
+def _solver_ranks(case: Path, solver: str) -> list[int]:
+    """PIDs of the solver ranks running in ``case`` (by working directory: nothing else is touched)."""
+    pids = []
+    for proc in Path("/proc").iterdir():
+        if not proc.name.isdigit():
+            continue
+        try:
+            if (proc / "comm").read_text().strip() == solver and Path(os.readlink(proc / "cwd")) == case.resolve():
+                pids.append(int(proc.name))
+        except OSError:
+            continue
+    return pids
+
+
+@pytest.mark.openfoam
+def test_a_stalled_solver_is_stopped_with_a_diagnosis(tmp_path, openfoam):
+    """The solver's ranks frozen (SIGSTOP) mid-run, as a linear solver that never returns or a
+    hung rank would leave it: the runner stops it after the stall limit and says so."""
+    case = render(tmp_path, "stall", scene(end_time_s=2.0))
+    frozen: list[int] = []
+
+    def freeze(step):
+        if step.time_s > 0.05 and not frozen:
+            frozen.extend(_solver_ranks(case, "interFoam"))
+            for pid in frozen:
+                os.kill(pid, signal.SIGSTOP)
+
+    t0 = time.perf_counter()
+    with pytest.raises(DivergenceError) as err:
+        run_case(case, quiet=True, on_step=freeze, limits=DivergenceLimits(stall_s=5.0, stall_factor=2.0))
+    assert len(frozen) == 2  # both ranks
+    assert time.perf_counter() - t0 < 90  # stopped, not waited on forever
+    e = err.value
+    assert e.kind == "stall" and "solver stalled" in str(e) and "nothing written to its log" in str(e)
+    assert 0.05 < e.time_s < 2.0 and str(case / "log.interFoam") in str(e)
+    assert not _solver_ranks(case, "interFoam")  # killed
+    record = json.loads((case / "run.json").read_text())
+    assert record["status"] == "stalled" and record["diagnosis"]["kind"] == "stall"
+    # the times written before the stall are kept (the frozen ranks may have written past the last
+    # step their buffered log showed)
+    t, name = latest_time(case, 2)
+    assert name == e.last_good_time and t >= 0.05
 
 
 def _positions_across_restarts(case: Path, names):

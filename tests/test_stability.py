@@ -1,0 +1,169 @@
+"""Numerical stability: the water balance, the checks of a run, and the small hard cases.
+
+Without OpenFOAM: the water-balance reader on function-object files written here (a balanced
+record closes to round-off, a leak shows as itself, restart pieces are joined). With
+OpenFOAM: the small versions of cases/hard/ (cases/sweeps/hard-cases-small.yaml, run once by
+the CLI) each finish with water conserved to 1 %, no body inside the column or a wall and
+finite forces, or stop with a diagnosis; `debrisfoam report stability` tabulates them.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from orchestrator.post import read_water_balance, water_balance_summary
+from orchestrator.stability import INSIDE_TOLERANCE_M, MASS_TOLERANCE, assess, markdown, stability_table
+
+from conftest import ROOT, run_cli
+
+# --------------------------------------------------------------------------- without OpenFOAM
+
+
+def _write_series(case: Path, fo: str, stem: str, start: float, t, v, header: str) -> None:
+    folder = case / "postProcessing" / fo / f"{start:g}"
+    folder.mkdir(parents=True, exist_ok=True)
+    lines = [f"# {header}", f"# Time\t{stem}"] + [f"{a:.10g}\t{b:.10e}" for a, b in zip(t, v)]
+    (folder / f"{stem}.dat").write_text("\n".join(lines) + "\n")
+
+
+def _balanced_case(tmp_path: Path, leak_at: float | None = None, leak: float = 0.0) -> tuple[Path, float]:
+    """A record where every step's volume change is exactly what left (plus an optional leak
+    from ``leak_at`` on): steps of varying size, outflow through two patches, a restart at 0.5 s
+    whose first piece ran on past it (those rows are replaced)."""
+    rng = np.random.default_rng(7)
+    dt = rng.uniform(0.004, 0.012, 150)
+    t = np.cumsum(dt)
+    q_out = 0.01 * (1 + np.sin(t))          # m3/s through the outlet
+    q_top = 1e-4 * rng.uniform(-1, 1, t.size)  # in and out through the atmosphere
+    v0 = 2.5
+    v = v0 - np.cumsum((q_out + q_top) * dt)
+    if leak_at is not None:
+        v = v + np.where(t >= leak_at, leak * v0, 0.0)
+    case = tmp_path / "case"
+    first = t <= 0.6  # the first run went on to 0.6 s; the restart from 0.5 s replaces 0.5-0.6
+    second = t > 0.5
+    for fo, stem, values in (("waterVolume", "volFieldValue", v), ("waterOut_downstream", "surfaceFieldValue", q_out),
+                             ("waterOut_atmosphere", "surfaceFieldValue", q_top)):
+        _write_series(case, fo, stem, 0.0, t[first], values[first] + (1e-3 * (t[first] > 0.5)), "first run")
+        _write_series(case, fo, stem, 0.5, t[second], values[second], "restart")
+    return case, v0
+
+
+def test_a_balanced_record_closes_to_round_off(tmp_path):
+    case, v0 = _balanced_case(tmp_path)
+    b = read_water_balance(case)
+    assert len(b) == 150 and b["time_s"].is_monotonic_increasing
+    assert b["initial_m3"].iloc[0] == pytest.approx(v0, rel=1e-9)
+    assert np.abs(b["error"]).max() < 1e-9  # the rows the restart replaced would have shown 4e-4
+    s = water_balance_summary(b)
+    assert s["outflow_m3"] == pytest.approx(v0 - s["final_m3"], abs=1e-9)
+
+
+def test_a_leak_shows_as_itself(tmp_path):
+    case, _ = _balanced_case(tmp_path, leak_at=0.8, leak=-0.03)
+    b = read_water_balance(case)
+    assert b.loc[b["time_s"] < 0.8, "error"].abs().max() < 1e-9
+    assert b.loc[b["time_s"] >= 0.8, "error"].to_numpy() == pytest.approx(-0.03, abs=1e-9)
+    s = water_balance_summary(b)
+    assert s["max_error"] == pytest.approx(-0.03, abs=1e-9) and s["time_of_max_error_s"] >= 0.8
+
+
+def test_no_water_balance_output_is_none(tmp_path):
+    assert read_water_balance(tmp_path) is None and water_balance_summary(None) is None
+
+
+# --------------------------------------------------------------------------- with OpenFOAM
+
+
+@pytest.fixture(scope="module")
+def small_hard(tmp_path_factory):
+    """cases/sweeps/hard-cases-small.yaml run once by the CLI: (sweep folder, CompletedProcess, table)."""
+    out = tmp_path_factory.mktemp("hard") / "small"
+    proc = run_cli("sweep", str(ROOT / "cases" / "sweeps" / "hard-cases-small.yaml"), "-o", str(out))
+    table = stability_table(out) if (out / "results.sqlite").is_file() else None
+    return out, proc, table
+
+
+@pytest.mark.openfoam
+def test_every_small_hard_case_is_sane_or_stops_with_a_diagnosis(small_hard, openfoam):
+    out, proc, table = small_hard
+    assert table is not None, proc.stderr
+    scenes = {p.stem for p in (ROOT / "cases" / "hard" / "small").glob("*.yaml")}
+    assert set(table["scene"].str.replace("small-", "")) | {"tiny-flume"} >= scenes - {"tiny-flume"}
+    assert len(table) == len(scenes)
+    for r in table.itertuples():
+        if r.outcome == "finished":
+            assert r.sane, (r.scene, r.failed_checks)
+            assert abs(r.water_error) <= MASS_TOLERANCE
+            assert r.deepest_inside_m is None or r.deepest_inside_m <= INSIDE_TOLERANCE_M
+            assert r.forces_finite is True
+            assert r.reached_time_s == pytest.approx(r.end_time_s)
+        else:  # stopped: said why, at a simulated time, and nothing hung
+            assert r.outcome in ("diverged", "contact"), (r.scene, r.outcome, r.diagnosis)
+            assert r.diagnosis and "t = " in r.diagnosis or "inside" in r.diagnosis, r.diagnosis
+    # the control and the flume without debris must finish: they are not hard
+    control = table[table["scene"] == "small-tiny-flume"].iloc[0]
+    assert control.outcome == "finished" and control.sane
+
+
+@pytest.mark.openfoam
+def test_interfoam_conserves_water_to_round_off(small_hard, openfoam):
+    """The member without debris runs interFoam: MULES is conservative, so the balance of
+    volume and boundary fluxes closes far inside the 1 % (a check on the balance itself)."""
+    _, _, table = small_hard
+    row = table[table["scene"] == "small-coarse-large-courant"].iloc[0]
+    if row.outcome == "finished":
+        assert abs(row.water_error) < 1e-4
+        assert row.water_outflow_m3 > 0  # the bore left through the outlet in 0.6 s
+    else:
+        assert row.outcome == "diverged" and "t = " in row.diagnosis
+
+
+@pytest.mark.openfoam
+def test_bodies_stay_outside_the_column_and_walls(small_hard, openfoam):
+    _, _, table = small_hard
+    debris = table[table["scene"].isin(["small-close-to-column", "small-near-side-wall", "small-glancing"])]
+    assert len(debris) == 3
+    for r in debris.itertuples():
+        case = Path(r.case)
+        assert (case / "bodies.csv").is_file()
+        assert r.min_clearance_m is not None and math.isfinite(r.min_clearance_m)
+        assert r.deepest_inside_m <= INSIDE_TOLERANCE_M, (r.scene, r.inside_what, r.deepest_inside_m)
+    close = table[table["scene"] == "small-close-to-column"].iloc[0]
+    events = json.loads((Path(close.case) / "contacts.json").read_text())
+    assert any(e["other"] == "column" for e in events)  # 30 mm from the column: it got there
+
+
+@pytest.mark.openfoam
+def test_report_stability_on_the_command_line(small_hard, openfoam, tmp_path):
+    out, _, table = small_hard
+    md = tmp_path / "stability.md"
+    proc = run_cli("report", "stability", str(out), "-o", str(md))
+    assert proc.returncode == 0, proc.stderr
+    text = md.read_text()
+    assert text == markdown(table)
+    assert len([line for line in text.splitlines() if line.startswith("| small-")]) == len(table)
+    assert "water balance error" in text.splitlines()[0]
+    proc = run_cli("report", "stability", str(tmp_path / "nowhere"))
+    assert proc.returncode == 2 and "nowhere" in proc.stderr
+
+
+def test_assess_names_a_missing_case(tmp_path):
+    with pytest.raises(Exception, match="not a directory"):
+        assess(tmp_path / "missing")
+
+
+def test_markdown_marks_a_run_that_finished_badly():
+    row = dict(case="c", scene="s", outcome="finished", sane=False, reached_time_s=1.0, end_time_s=1.0,
+               wall_time_s=60.0, solver_wall_s=50.0, cells=1000, time_steps=10, water_error=0.02,
+               water_outflow_m3=0.1, deepest_inside_m=0.0, inside_what=None, bed_sink_m=0.001,
+               min_clearance_m=0.1, forces_finite=True, contacts=0, pinned=0, diagnosis="",
+               failed_checks=["water not conserved to 1 %"])
+    text = markdown(pd.DataFrame([row]))
+    assert "finished, NOT sane" in text and "+2.000 %" in text and "water not conserved" in text
