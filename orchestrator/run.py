@@ -92,7 +92,7 @@ import subprocess
 import sys
 import threading
 import time
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from types import SimpleNamespace
 from typing import Any, Callable, Sequence
@@ -819,6 +819,8 @@ class _Runner:
                     progress.update(steps[-1], note="stopping" if stop_reason else "")
                 if diag is None:
                     diag = health.check_parser(parser)
+                    if diag is not None and diag.time_s is None:  # before the first step: the start time
+                        diag = replace(diag, time_s=start_value)
                 if rc is not None:
                     break
                 if diag is not None and not killed:
