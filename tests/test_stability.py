@@ -147,9 +147,13 @@ def test_bodies_stay_outside_the_column_and_walls(small_hard, openfoam):
         assert (case / "bodies.csv").is_file()
         assert r.min_clearance_m is not None and math.isfinite(r.min_clearance_m)
         assert r.deepest_inside_m <= INSIDE_TOLERANCE_M, (r.scene, r.inside_what, r.deepest_inside_m)
-    close = table[table["scene"] == "small-close-to-column"].iloc[0]
-    events = json.loads((Path(close.case) / "contacts.json").read_text())
-    assert any(e["other"] == "column" for e in events)  # 30 mm from the column: it got there
+    for name, min_obliquity in (("close-to-column", 0.0), ("glancing", 10.0)):
+        r = _row(table, name)
+        events = json.loads((Path(r.case) / "contacts.json").read_text())
+        hits = [e for e in events if e["type"] == "impact" and e["other"] == "column"]
+        assert hits, name  # launched at the column: it got there, and it rebounded
+        assert hits[0]["normal_velocity_in_m_s"] < -0.2 and hits[0]["normal_velocity_out_m_s"] > 0
+        assert hits[0]["obliquity_deg"] >= min_obliquity
 
 
 @pytest.mark.openfoam
