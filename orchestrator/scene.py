@@ -284,6 +284,9 @@ class Run(_Model):
     cores: int = Field(2, ge=1, description="MPI ranks")
     write_interval_s: float = Field(0.1, gt=0, description="interval between field writes (s)")
     max_courant: float = Field(0.9, gt=0, le=5, description="maxCo and maxAlphaCo (-)")
+    max_delta_t_s: float | None = Field(
+        None, gt=0, description="largest time step (s); null = min(0.01 s, write interval), which also caps "
+                                "the Courant number on coarse meshes")
 
 
 class Outputs(_Model):

@@ -173,11 +173,20 @@ def default_sweep_dir(sweep: Sweep | str | Path) -> Path:
     return Path("runs") / "sweeps" / name
 
 
+#: scene keys added after member ids were first issued: hashed only when set (not None), so
+#: that adding a key leaves the ids of existing members, and their finished runs, as they were
+LATE_KEYS = (("run", "max_delta_t_s"),)
+
+
 def member_id(scene) -> str:
     """A short hash of the resolved scene (canonical JSON): the same scene, the same id."""
     from orchestrator.scene import scene_to_dict
 
-    text = json.dumps(scene_to_dict(scene), sort_keys=True, separators=(",", ":"), default=json_default)
+    data = scene_to_dict(scene)
+    for section, key in LATE_KEYS:
+        if isinstance(data.get(section), dict) and data[section].get(key) is None:
+            data[section].pop(key, None)
+    text = json.dumps(data, sort_keys=True, separators=(",", ":"), default=json_default)
     return hashlib.sha256(text.encode()).hexdigest()[:ID_LENGTH]
 
 

@@ -409,3 +409,13 @@ def test_scene_files_mesh_at_a_coarse_cell_size(tmp_path, openfoam, name):
     # the bed layer holds background cells only, even where a body mesh dips below the bed
     # the drag zone: the wet bed's layer and the first layer above the still water (docs/bed-friction.md)
     assert _set_size(case, "bedLayer") == 2 * _first_layer_cells(plan.background)
+
+
+def test_max_delta_t_follows_the_scene(tmp_path):
+    from orchestrator.render import render_from_file
+
+    default, lifted = tmp_path / "a", tmp_path / "b"
+    render_from_file(ROOT / "cases" / "nodebris.yaml", default, ["mesh.cell_size_m=0.08"])
+    render_from_file(ROOT / "cases" / "hard" / "coarse-large-courant.yaml", lifted)
+    assert re.search(r"^maxDeltaT\s+0\.01;", (default / "system" / "controlDict").read_text(), re.M)
+    assert re.search(r"^maxDeltaT\s+0\.05;", (lifted / "system" / "controlDict").read_text(), re.M)
