@@ -1,33 +1,41 @@
-"""overInterDyMFoam settings on a small one-debris case: cost against the debris track and column force.
+"""overInterDyMFoam settings on a small one-debris case: cost against the debris track, column force and water balance.
 
 A small dam break (0.5 m x 0.25 m reservoir, 0.12 m wet bed, 0.4 m wide flume, 0.1 m column at
-x = 1.2 m, 4 cm cells, about 6k cells) carries one 1:40 container (0.15 x 0.06 x 0.06 m,
-0.236 kg) floating at x = 0.35 m towards the column; 0.6 s simulated, 2 ranks, run by
-`orchestrator.run.run_case`. Each setting changes the rendered case before the run:
+x = 1.2 m, 4 cm cells) carries one 1:40 container (0.15 x 0.06 x 0.06 m, 0.236 kg) floating at
+x = 0.35 m towards the column; 0.6 s simulated (--end-time), 2 ranks, run by
+`orchestrator.run.run_case`. The body mesh is the scene defaults' (4 cells across the body's
+smallest side, a 3-cell margin) and debris scenes run at maxCo 2.5 (v1912's overset Courant
+number counts hole/fringe faces). Each setting changes the rendered case before the run:
 
-- overset interpolation (fvSchemes oversetInterpolation method): cellVolumeWeight,
-  inverseDistance, leastSquares (trackingInverseDistance crashes in parallel, DESIGN.md 3);
+- overset interpolation (fvSchemes oversetInterpolation method): cellVolumeWeight or
+  inverseDistance (trackingInverseDistance crashes in parallel, DESIGN.md 3);
 - PIMPLE nOuterCorrectors / nCorrectors;
-- p_rgh tolerance / relTol (PBiCGStab + DILU; GAMG fails with overset);
-- body mesh size (scene mesh.body_cells_across: cells across the body's smallest side).
+- p_rgh tolerance / relTol and p_rghFinal relTol (PBiCGStab + DILU; GAMG fails with overset);
+- body mesh size (scene mesh.body_cells_across: cells across the body's smallest side);
+- maxCo (scene run.max_courant: maxCo and maxAlphaCo).
 
 Errors against the most careful setting ("reference"): the debris track (the largest
 distance between the two centres of mass at the same time, over the reference's largest
-displacement) and the column force (x, pressure + viscous: peak, and RMS of the
-difference over the reference's peak, at the reference's samples).
+displacement), the column force (x, pressure + viscous: peak, and RMS of the difference over
+the reference's peak, at the reference's samples); and, on its own, the water balance of each
+run (`orchestrator.post.read_water_balance`: the largest relative water created (+) or lost (-)).
 
 Also measured: the runner's own cost (its CPU time over the solver's wall time, and the
 solver wall time of a bare `mpirun` against `run_case` with the progress bar drawn).
 
-Run:  .venv/bin/python benchmarks/runner_settings.py [--only NAME ...] [--from DIR] [--keep]   (30-60 min on 2 cores)
+Run:  nice -n 15 .venv/bin/python benchmarks/runner_settings.py [--only NAME ...] [--from DIR] [--keep] [--end-time S]
+      (0.6 s: about 1 h on an idle 2-core machine, 2-3 h sharing it with a sweep; --keep or --from DIR lets an
+      interrupted run be resumed with --from)
 Writes benchmarks/runner_settings.md next to this script (and prints it).
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import io
 import json
+import math
 import os
 import platform
 import shutil
@@ -45,16 +53,20 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from orchestrator import bodystate, foam  # noqa: E402
+from orchestrator.post import read_water_balance, water_balance_summary  # noqa: E402
 from orchestrator.render import render_from_file  # noqa: E402
-from orchestrator.run import load_case_info, run_case  # noqa: E402
+from orchestrator.run import RunInterrupted, load_case_info, run_case  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 OUT = HERE / "runner_settings.md"
 END_TIME_S = 0.6
-#: simulated time of the overhead runs (bare mpirun against run_case, alternated)
+#: simulated time of the overhead runs (bare mpirun against run_case, alternated; at most --end-time)
 OVERHEAD_END_S = 0.3
 OVERHEAD_REPEATS = 2
+#: track, force peak and force RMS errors against the reference (fractions of the reference's figures)
 TOLERANCE = 0.02
+#: |water created or lost| / the water at the start, at its largest over the run
+WATER_TOLERANCE = 0.01
 
 SCENE = {
     "name": "bench1",
@@ -66,14 +78,17 @@ SCENE = {
     "debris": [{"name": "debris1", "size_m": [0.15, 0.06, 0.06], "mass_kg": 0.236, "wall_thickness_m": 0.005,
                 "centre_m": [0.35, 0.0], "placement": "floating"}],
     "gauges": [{"name": "WG1", "x_m": 0.8, "y_m": 0.1}],
-    "mesh": {"cell_size_m": 0.04, "coarsening_ratio": 1, "body_margin_cells": 1, "body_cells_across": 3},
-    "run": {"end_time_s": END_TIME_S, "cores": 2, "write_interval_s": 0.1, "max_courant": 0.9},
+    # the scene defaults, written out: 4 body cells across the smallest side, a 3-cell margin
+    "mesh": {"cell_size_m": 0.04, "coarsening_ratio": 1, "body_margin_cells": 3, "body_cells_across": 4},
+    "run": {"end_time_s": END_TIME_S, "cores": 2, "write_interval_s": 0.1, "max_courant": 2.5},
     "outputs": {"probe_interval_s": None, "preview": False},
 }
 
 
 @dataclass(frozen=True)
 class Setting:
+    """One set of levers; the field defaults are the reference (the most careful setting)."""
+
     name: str
     interpolation: str = "cellVolumeWeight"
     n_outer: int = 2
@@ -81,35 +96,36 @@ class Setting:
     tolerance: float = 1e-8
     rel_tol: float = 0.0
     final_rel_tol: float = 0.0
-    body_cells_across: float = 3.0
+    body_cells_across: float = 4.0
+    max_courant: float = 0.9
 
     def describe(self) -> str:
         return (f"{self.interpolation}, outer {self.n_outer}, corr {self.n_corr}, p_rgh {self.tolerance:g}/"
-                f"{self.rel_tol:g} (final {self.final_rel_tol:g}), body {self.body_cells_across:g} cells")
+                f"{self.rel_tol:g} (final {self.final_rel_tol:g}), body {self.body_cells_across:g} cells, "
+                f"maxCo {self.max_courant:g}")
 
 
-FAST = dict(n_outer=1, n_corr=1, tolerance=1e-7, rel_tol=0.05, final_rel_tol=0.05)
+REFERENCE = Setting("reference")
+#: what the templates render for overInterDyMFoam (Numerics.for_solver), at the debris scenes' maxCo
+DEFAULT = Setting("default", n_outer=1, n_corr=2, tolerance=1e-7, rel_tol=0.05, final_rel_tol=0.05,
+                  body_cells_across=4.0, max_courant=2.5)
 SETTINGS = [
-    Setting("reference"),
-    Setting("reference-body2", body_cells_across=2.0),
-    Setting("outer1", n_outer=1),
-    Setting("outer1-corr2", n_outer=1, n_corr=2),
-    Setting("outer1-corr1", n_outer=1, n_corr=1),
-    Setting("fast-tol", **FAST),
-    Setting("fast-tol-body2", **FAST, body_cells_across=2.0),  # = the templates' defaults
-    Setting("inverseDistance", interpolation="inverseDistance", **FAST),
-    Setting("leastSquares", interpolation="leastSquares", **FAST),
-    # the body mesh of 2 cells across (the templates' default) with each lever
-    Setting("outer1-body2", n_outer=1, body_cells_across=2.0),
-    Setting("outer1-corr1-body2", n_outer=1, n_corr=1, body_cells_across=2.0),
-    Setting("inverseDistance-body2", interpolation="inverseDistance", **FAST, body_cells_across=2.0),
-    Setting("leastSquares-body2", interpolation="leastSquares", **FAST, body_cells_across=2.0),
+    REFERENCE,
+    DEFAULT,
+    dataclasses.replace(DEFAULT, name="corr1", n_corr=1),  # the old default: creates water
+    dataclasses.replace(DEFAULT, name="corr1-final0", n_corr=1, final_rel_tol=0.0),
+    dataclasses.replace(DEFAULT, name="maxco0.9", max_courant=0.9),
+    dataclasses.replace(DEFAULT, name="body3", body_cells_across=3.0),
+    dataclasses.replace(DEFAULT, name="outer2", n_outer=2),
+    dataclasses.replace(DEFAULT, name="inverseDistance", interpolation="inverseDistance"),
 ]
 
 
-def prepare(setting: Setting, root: Path) -> Path:
+def prepare(setting: Setting, root: Path, end_time_s: float = END_TIME_S) -> Path:
     scene = json.loads(json.dumps(SCENE))
     scene["mesh"]["body_cells_across"] = setting.body_cells_across
+    scene["run"]["max_courant"] = setting.max_courant
+    scene["run"]["end_time_s"] = end_time_s
     root.mkdir(parents=True, exist_ok=True)
     path = root / f"{setting.name}.yaml"
     path.write_text(yaml.safe_dump(scene))
@@ -152,25 +168,32 @@ def force_x(case: Path) -> tuple[np.ndarray, np.ndarray]:
 
 
 def compare(case: Path, ref: Path) -> dict[str, float]:
+    """Track and column-force errors of `case` against `ref` (NaN where a run has too little to compare)."""
+    nan = float("nan")
+    out = {"travel_m": nan, "track_err": nan, "end_dx_m": nan, "force_peak_N": nan, "force_peak_err": nan,
+           "force_rms_err": nan}
     t_ref, p_ref = track(ref)
     t, p = track(case)
-    common = t_ref[(t_ref >= t[0]) & (t_ref <= t[-1])]
-    p_ref_c = np.column_stack([np.interp(common, t_ref, p_ref[:, i]) for i in range(3)])
-    p_c = np.column_stack([np.interp(common, t, p[:, i]) for i in range(3)])
-    travel = np.linalg.norm(p_ref - p_ref[0], axis=1).max()
-    track_err = np.linalg.norm(p_c - p_ref_c, axis=1).max() / travel
+    if len(t) and len(t_ref):
+        common = t_ref[(t_ref >= t[0]) & (t_ref <= t[-1])]
+        travel = np.linalg.norm(p_ref - p_ref[0], axis=1).max()
+        out["travel_m"] = float(travel)
+        if len(common):
+            p_ref_c = np.column_stack([np.interp(common, t_ref, p_ref[:, i]) for i in range(3)])
+            p_c = np.column_stack([np.interp(common, t, p[:, i]) for i in range(3)])
+            dist = np.linalg.norm(p_c - p_ref_c, axis=1).max()
+            out["track_err"] = float(dist / travel) if travel > 0 else (0.0 if dist == 0 else nan)
+            out["end_dx_m"] = float(p_c[-1, 0] - p_ref_c[-1, 0])
     tf_ref, f_ref = force_x(ref)
     tf, f = force_x(case)
-    f_on_ref = np.interp(tf_ref, tf, f)
-    peak = np.abs(f_ref).max()
-    return {
-        "travel_m": float(travel),
-        "track_err": float(track_err),
-        "end_dx_m": float(p_c[-1, 0] - p_ref_c[-1, 0]),
-        "force_peak_N": float(np.abs(f).max()),
-        "force_peak_err": float((np.abs(f).max() - peak) / peak),
-        "force_rms_err": float(np.sqrt(np.mean((f_on_ref - f_ref) ** 2)) / peak),
-    }
+    if len(tf) and len(tf_ref):
+        f_on_ref = np.interp(tf_ref, tf, f)
+        peak = np.abs(f_ref).max()
+        out["force_peak_N"] = float(np.abs(f).max())
+        if peak > 0:
+            out["force_peak_err"] = float((np.abs(f).max() - peak) / peak)
+            out["force_rms_err"] = float(np.sqrt(np.mean((f_on_ref - f_ref) ** 2)) / peak)
+    return out
 
 
 def solver_cpu_s(case: Path, solver: str = "overInterDyMFoam") -> float:
@@ -187,6 +210,18 @@ def solver_cpu_s(case: Path, solver: str = "overInterDyMFoam") -> float:
     return total
 
 
+def water_error(case: Path) -> float:
+    """The run's largest relative water error (signed: > 0 created), NaN without a water balance."""
+    summary = water_balance_summary(read_water_balance(case))
+    return float(summary["max_error"]) if summary else float("nan")
+
+
+def bench_record(case: Path) -> dict:
+    """What run_setting noted about the run (the load average at its start)."""
+    path = case / "bench.json"
+    return json.loads(path.read_text()) if path.is_file() else {}
+
+
 def collect(setting: Setting, case: Path) -> dict:
     """A finished setting's figures, from its case directory."""
     record = json.loads((case / "run.json").read_text())
@@ -201,21 +236,25 @@ def collect(setting: Setting, case: Path) -> dict:
         "steps": steps,
         "solver_wall_s": wall,
         "solver_cpu_s": cpu,
-        "us_per_cell_step": 1e6 * cpu / (cells * steps),
+        "us_per_cell_step": 1e6 * cpu / (cells * steps) if steps else float("nan"),
         "segments": len(record["segments"]),
         "contacts": int(record.get("contacts", 0)),
         "overhead": float(record["runner"]["overhead_fraction"]),
-        "load": float(record.get("benchmark_load", float("nan"))),
+        "load": float(bench_record(case).get("load_start", float("nan"))),
+        "water_err": water_error(case),
     }
 
 
-def run_setting(setting: Setting, root: Path) -> dict:
+def run_setting(setting: Setting, root: Path, end_time_s: float) -> dict:
     """Run one setting (a failure is a result: its row says why)."""
     from analytical.errors import DebrisfoamError
 
-    case = prepare(setting, root)
+    case = prepare(setting, root, end_time_s)
+    (case / "bench.json").write_text(json.dumps({"load_start": os.getloadavg()[0], "started": time.time()}))
     try:
         run_case(case, quiet=True, reconstruct="none")
+    except RunInterrupted:
+        raise
     except DebrisfoamError as exc:
         (case / "failed.txt").write_text(str(exc))
     return load_result(setting, case)
@@ -224,8 +263,19 @@ def run_setting(setting: Setting, root: Path) -> dict:
 def load_result(setting: Setting, case: Path) -> dict:
     failed = case / "failed.txt"
     if failed.is_file():
-        return {"setting": setting, "case": case, "failed": failed.read_text().splitlines()[0]}
+        return {"setting": setting, "case": case, "failed": failed.read_text().splitlines()[0],
+                "load": float(bench_record(case).get("load_start", float("nan"))), "water_err": water_error(case)}
     return collect(setting, case)
+
+
+def finished(case: Path, end_time_s: float) -> bool:
+    """A setting's case from an earlier run that can be reused: failed, or finished at this end time."""
+    if (case / "failed.txt").is_file():
+        return True
+    if not (case / "run.json").is_file():
+        return False
+    record = json.loads((case / "run.json").read_text())
+    return record.get("status") == "finished" and abs(float(record.get("end_time_s", -1)) - end_time_s) < 1e-9
 
 
 def _bare_run(case: Path) -> float:
@@ -240,23 +290,31 @@ def _bare_run(case: Path) -> float:
         subprocess.run(foam.parallel_argv(["overInterDyMFoam"], 2), cwd=case, stdout=out, stderr=subprocess.STDOUT,
                        env=env, check=True)
     wall = time.perf_counter() - t0
-    (case / "bare.json").write_text(json.dumps({"solver_wall_s": wall, "load": os.getloadavg()[0]}))
+    (case / "bare.json").write_text(json.dumps({"solver_wall_s": wall, "load": os.getloadavg()[0],
+                                                "end_time_s": info.end_time_s}))
     return wall
 
 
-def overhead_runs(setting: Setting, root: Path) -> list[dict]:
+def overhead_runs(setting: Setting, root: Path, end_s: float) -> list[dict]:
     """Bare mpirun, run_case quiet and run_case with the bar drawn, alternated, on a short run."""
     out = []
     for k in range(OVERHEAD_REPEATS):
         for mode in ("bare", "quiet", "bar"):
             case = prepare(setting, root / f"overhead-{mode}-{k}")
-            _set_end(case, OVERHEAD_END_S)
+            _set_end(case, end_s)
             if mode == "bare":
                 _bare_run(case)
             else:
                 run_case(case, quiet=mode == "quiet", reconstruct="none", stream=io.StringIO())
             out.append(overhead_figures(case, mode))
     return out
+
+
+def overhead_done(case: Path, end_s: float) -> bool:
+    """An overhead run from an earlier run of this script, at this end time, that can be reused."""
+    if (case / "bare.json").is_file():
+        return abs(float(json.loads((case / "bare.json").read_text()).get("end_time_s", -1)) - end_s) < 1e-9
+    return finished(case, end_s) and not (case / "failed.txt").is_file()
 
 
 def overhead_figures(case: Path, mode: str) -> dict:
@@ -276,106 +334,187 @@ def _set_end(case: Path, end_s: float) -> None:
     bodystate.write_dictionary(control, case / "system" / "controlDict")
 
 
+def templates_default_note() -> str:
+    """'' when DEFAULT is what the templates render for overInterDyMFoam, else a sentence saying how they differ."""
+    from orchestrator.render import Numerics
+
+    n = Numerics.for_solver("overInterDyMFoam")
+    rendered = Setting("templates", interpolation=n.overset_interpolation, n_outer=n.n_outer_correctors,
+                       n_corr=n.n_correctors, tolerance=n.p_rgh_tolerance, rel_tol=n.p_rgh_rel_tol,
+                       final_rel_tol=n.p_rgh_final_rel_tol, body_cells_across=DEFAULT.body_cells_across,
+                       max_courant=DEFAULT.max_courant)
+    if rendered == dataclasses.replace(DEFAULT, name="templates"):
+        return ""
+    return (f"Note: when this ran, the templates rendered {rendered.describe()} for overInterDyMFoam "
+            "(`Numerics.for_solver`), not `default`'s numerics.")
+
+
+def within(r: dict) -> bool:
+    """Within the tolerances: track, force peak and force RMS <= TOLERANCE and |water| <= WATER_TOLERANCE.
+
+    A NaN figure (nothing to compare) is not within."""
+    if "failed" in r:
+        return False
+    figures = [r["track_err"], abs(r["force_peak_err"]), r["force_rms_err"]]
+    return (all(math.isfinite(v) and v <= TOLERANCE for v in figures)
+            and math.isfinite(r["water_err"]) and abs(r["water_err"]) <= WATER_TOLERANCE)
+
+
+def _pct(value: float, fmt: str = ".2f") -> str:
+    return "-" if not math.isfinite(value) else f"{100 * value:{fmt}} %"
+
+
+def _num(value: float, fmt: str) -> str:
+    return "-" if not math.isfinite(value) else f"{value:{fmt}}"
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--only", nargs="*", help="setting names to run (default all)")
+    parser.add_argument("--only", nargs="*", help="setting names to run (default all; the reference always runs)")
     parser.add_argument("--keep", action="store_true", help="keep the cases (printed)")
     parser.add_argument("--from", dest="source", help="a folder of an earlier run: reuse its finished cases, run the rest")
+    parser.add_argument("--end-time", type=float, default=END_TIME_S, metavar="S",
+                        help=f"simulated time of each setting (s, default {END_TIME_S}); the overhead runs take "
+                        f"the smaller of this and {OVERHEAD_END_S} s")
     args = parser.parse_args()
+    end_time = float(args.end_time)
+    overhead_end = min(OVERHEAD_END_S, end_time)
+    names = {s.name for s in SETTINGS}
+    unknown = sorted(set(args.only or ()) - names)
+    if unknown:
+        parser.error(f"unknown setting(s) {', '.join(unknown)}; known: {', '.join(s.name for s in SETTINGS)}")
     settings = [s for s in SETTINGS if not args.only or s.name in args.only or s.name == "reference"]
-    load0 = os.getloadavg()[0]
+    note = templates_default_note()
+    if note:
+        print(note, flush=True)
+    t_start = time.time()
     results = []
     root = Path(args.source) if args.source else Path(tempfile.mkdtemp(prefix="runner-settings-"))
+    print(f"cases in {root}; load average {os.getloadavg()[0]:.1f}", flush=True)
     for s in settings:
         case = root / s.name
-        done = (case / "failed.txt").is_file() or (
-            (case / "run.json").is_file() and json.loads((case / "run.json").read_text()).get("status") == "finished")
-        if done:
+        if finished(case, end_time):
             results.append(load_result(s, case))
             continue
         if case.exists():
             shutil.rmtree(case)
-        print(f"running {s.name}: {s.describe()}", flush=True)
-        r = run_setting(s, root)
-        print(f"  {r.get('failed') or ''}{r.get('steps', '')} steps, solver CPU {r.get('solver_cpu_s', 0):.1f} s",
-              flush=True)
+        print(f"running {s.name}: {s.describe()} (load average {os.getloadavg()[0]:.1f})", flush=True)
+        r = run_setting(s, root, end_time)
+        head = f"failed: {r['failed']}" if "failed" in r else (
+            f"{r['steps']} steps, solver CPU {r['solver_cpu_s']:.1f} s")
+        print(f"  {head}, water {_pct(r.get('water_err', float('nan')), '+.3f')}", flush=True)
         results.append(r)
-    ref = results[0]["case"]
+    reference = results[0]
+    if "failed" in reference:
+        raise SystemExit(f"the reference failed ({reference['failed']}): nothing to compare against; cases in {root}")
+    ref = reference["case"]
     for r in results:
         if "failed" not in r:
             r.update(compare(r["case"], ref))
 
-    ok = [r for r in results if "failed" not in r and r["track_err"] <= TOLERANCE
-          and abs(r["force_peak_err"]) <= TOLERANCE and r["force_rms_err"] <= TOLERANCE]
+    ok = [r for r in results if within(r)]
     # the cost of simulating the same time: fewer correctors can mean smaller (Courant-limited) steps
-    chosen = min(ok, key=lambda r: r["solver_cpu_s"])
+    chosen = min(ok, key=lambda r: r["solver_cpu_s"]) if ok else None
+    timed = chosen or reference
 
-    kept = [root / f"overhead-{mode}-{k}" / chosen["setting"].name
+    kept = [root / f"overhead-{mode}-{k}" / timed["setting"].name
             for k in range(OVERHEAD_REPEATS) for mode in ("bare", "quiet", "bar")]
-    if all((p / "bare.json").is_file() or (p / "run.json").is_file() for p in kept):
+    if all(overhead_done(p, overhead_end) for p in kept):
         overhead = [overhead_figures(p, p.parent.name.split("-")[1]) for p in kept]
     else:
         print("measuring the runner's overhead (bare mpirun, run_case quiet, run_case with the bar)", flush=True)
-        overhead = overhead_runs(chosen["setting"], root)
+        for p in kept:
+            shutil.rmtree(p, ignore_errors=True)
+        overhead = overhead_runs(timed["setting"], root, overhead_end)
 
+    load_end = os.getloadavg()[0]
+    loads = [r["load"] for r in results if math.isfinite(r.get("load", float("nan")))]
+    load_text = (f"the 1-minute load average was {min(loads):.1f}-{max(loads):.1f} at the settings' starts (column "
+                 f"`load`) and {load_end:.1f} when this page was written" if loads else
+                 f"the 1-minute load average was {load_end:.1f} when this page was written (not recorded at the "
+                 "settings' starts)")
     lines = [
         "# overInterDyMFoam settings and the runner's overhead",
         "",
         f"Generated by `benchmarks/runner_settings.py` (OpenFOAM v1912, 2 ranks, Python {platform.python_version()}, "
-        f"{platform.machine()}). The machine has 2 cores and was shared with other OpenFOAM runs (load average "
-        f"{load0:.1f} when this page was written; 3-4 during most runs), so wall times scatter. The cost compared is the "
-        "solver's CPU time for the whole simulated time (ExecutionTime of rank 0, all segments): settings with "
-        "fewer correctors are cheaper per step but can need many more (Courant-limited) steps.",
+        f"{platform.machine()}) on {time.strftime('%Y-%m-%d', time.localtime(t_start))}. The machine has "
+        f"{os.cpu_count()} cores and was shared with other OpenFOAM runs: {load_text}. A load above about 2 means "
+        "the ranks shared the cores with other work, so wall times scatter and CPU times are inflated by MPI's "
+        "busy waits. The cost compared is the solver's CPU time for the whole simulated time (ExecutionTime of "
+        "rank 0, all segments): settings with fewer correctors are cheaper per step but can need more "
+        "(Courant-limited) steps.",
         "",
         f"Case: a {SCENE['reservoir']['length_m']} m x {SCENE['reservoir']['depth_m']} m reservoir released over a "
         f"{SCENE['bed']['wet_depth_m']} m wet bed in a {SCENE['flume']['width_m']} m wide flume, column "
         f"{SCENE['column']['size_x_m']} m square at x = {SCENE['column']['x_m']} m, one container "
-        "(0.15 x 0.06 x 0.06 m, 0.236 kg) floating at x = 0.35 m, 4 cm background cells, "
-        f"{END_TIME_S} s simulated, run by `run_case` (contact on).",
+        "(0.15 x 0.06 x 0.06 m, 0.236 kg) floating at x = 0.35 m, 4 cm background cells, an overset body mesh "
+        f"{SCENE['mesh']['body_cells_across']:g} cells across the container's smallest side (unless the setting "
+        f"says otherwise) with a {SCENE['mesh']['body_margin_cells']}-cell margin (the scene defaults), "
+        f"{end_time:g} s simulated, run by `run_case` (contact on).",
         "",
-        "Errors against `reference` (the most careful setting): track = largest distance between the "
-        "centres of mass at equal times / the reference's largest displacement; force = the column's "
-        "x force (pressure + viscous), peak difference and RMS of the difference, both / the reference peak.",
+        "Settings: `reference` is the most careful; `default` is what the templates render for overInterDyMFoam "
+        f"(`Numerics.for_solver`) at the debris scenes' maxCo {SCENE['run']['max_courant']:g}; every other setting "
+        "is `default` with one lever changed (`default-final0.05` is the previous default, p_rghFinal relTol 0.05)."
+        + (" " + note if note else ""),
         "",
-        "| setting | settings | cells | steps | solver CPU (s) | solver wall (s) | us/cell-step | track err | "
-        "end dx (mm) | force peak (N) | peak err | RMS err | within 2 % |",
-        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|",
+        "Criteria (a setting is \"within\" when all four hold):",
+        "",
+        f"- track err <= {100 * TOLERANCE:g} %: the largest distance between the debris' centre of mass and the "
+        "reference's at equal times, over the reference's largest displacement;",
+        f"- |peak err| <= {100 * TOLERANCE:g} %: the column's peak x force (pressure + viscous) minus the "
+        "reference's, over the reference's peak;",
+        f"- RMS err <= {100 * TOLERANCE:g} %: the RMS of the column-force difference at the reference's samples, "
+        "over the reference's peak;",
+        f"- |water err| <= {100 * WATER_TOLERANCE:g} %: the run's own water balance (not against the reference), "
+        "(water volume + water let out - water at the start) / water at the start, at its largest magnitude over "
+        "the run, signed (> 0: water created).",
+        "",
+        "The chosen setting is the cheapest (solver CPU) of those within.",
+        "",
+        "| setting | settings | load | cells | steps | solver CPU (s) | solver wall (s) | us/cell-step | track err | "
+        "end dx (mm) | force peak (N) | peak err | RMS err | water err | within |",
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|",
     ]
     for r in results:
-        within = r in ok
+        load = _num(r.get("load", float("nan")), ".1f")
         if "failed" in r:
-            lines.append(f"| {r['setting'].name} | {r['setting'].describe()} | | | | | | failed: {r['failed']} "
-                         "| | | | | no |")
+            lines.append(f"| {r['setting'].name} | {r['setting'].describe()} | {load} | | | | | | "
+                         f"failed: {r['failed']} | | | | | {_pct(r['water_err'], '+.3f')} | no |")
             continue
         lines.append(
-            f"| {r['setting'].name} | {r['setting'].describe()} | {r['cells']} | {r['steps']} | "
-            f"{r['solver_cpu_s']:.1f} | {r['solver_wall_s']:.1f} | {r['us_per_cell_step']:.1f} | "
-            f"{100 * r['track_err']:.2f} % | "
-            f"{1000 * r['end_dx_m']:+.2f} | {r['force_peak_N']:.3f} | {100 * r['force_peak_err']:+.2f} % | "
-            f"{100 * r['force_rms_err']:.2f} % | {'yes' if within else 'no'} |")
+            f"| {r['setting'].name} | {r['setting'].describe()} | {load} | {r['cells']} | {r['steps']} | "
+            f"{r['solver_cpu_s']:.1f} | {r['solver_wall_s']:.1f} | {_num(r['us_per_cell_step'], '.1f')} | "
+            f"{_pct(r['track_err'])} | {_num(1000 * r['end_dx_m'], '+.2f')} | {_num(r['force_peak_N'], '.3f')} | "
+            f"{_pct(r['force_peak_err'], '+.2f')} | {_pct(r['force_rms_err'])} | {_pct(r['water_err'], '+.3f')} | "
+            f"{'yes' if r in ok else 'no'} |")
+    failed = ", ".join(r["setting"].name for r in results if "failed" in r) or "none"
+    if chosen is None:
+        verdict = ("**No setting is within the criteria, not even the reference (its water balance): the cheapest "
+                   f"safe setting cannot be chosen from this run.** Failed settings: {failed}.")
+    elif chosen is reference:
+        verdict = ("**No cheaper setting is within the criteria: keep the reference's settings for this mesh.** "
+                   f"Failed settings: {failed}.")
+    else:
+        verdict = (f"**Chosen: `{chosen['setting'].name}`** ({chosen['setting'].describe()}): the cheapest setting "
+                   f"within the criteria, {reference['solver_cpu_s'] / chosen['solver_cpu_s']:.2f}x cheaper than the "
+                   f"reference in solver CPU. Failed settings: {failed}.")
     lines += [
         "",
-        f"Reference travel of the debris: {results[0]['travel_m']:.3f} m; reference peak column force "
-        f"{results[0]['force_peak_N']:.3f} N.",
+        f"Reference travel of the debris: {_num(reference['travel_m'], '.3f')} m; reference peak column force "
+        f"{_num(reference['force_peak_N'], '.3f')} N.",
         "",
-        (f"**Chosen: `{chosen['setting'].name}`** ({chosen['setting'].describe()}): the cheapest setting within "
-         f"{100 * TOLERANCE:g} % of the reference on the track, the force peak and the force RMS, "
-         f"{results[0]['solver_cpu_s'] / chosen['solver_cpu_s']:.2f}x cheaper than the reference.")
-        if chosen is not results[0] else
-        (f"**No cheaper setting keeps the debris track and the column force within {100 * TOLERANCE:g} % of the "
-         "reference: keep the reference's settings for this mesh.** Failed settings: "
-         + (", ".join(r["setting"].name for r in results if "failed" in r) or "none") + "."),
+        verdict,
         "",
-        f"Time steps for the same {END_TIME_S} s: "
+        f"Time steps for the same {end_time:g} s: "
         + ", ".join(f"{r['setting'].name} {r['steps']}" for r in results if "failed" not in r)
-        + " (adjustable deltaT at maxCo "
-        f"{SCENE['run']['max_courant']}: the step is set by the largest Courant number, which the settings change).",
+        + " (adjustable deltaT at each setting's maxCo: the step is set by the largest Courant number, which the "
+        "settings change).",
         "",
         "## The runner's own cost",
         "",
-        f"The chosen setting, {OVERHEAD_END_S} s simulated, run alternately by a bare `mpirun -np 2 overInterDyMFoam "
-        "-parallel`, by `run_case(quiet=True)` and by `run_case` drawing the progress bar "
-        f"({OVERHEAD_REPEATS} rounds). Runner CPU = the runner process's user + system time (getrusage) "
+        f"The {'chosen' if chosen else 'reference'} setting, {overhead_end:g} s simulated, run alternately by a bare "
+        "`mpirun -np 2 overInterDyMFoam -parallel`, by `run_case(quiet=True)` and by `run_case` drawing the progress "
+        f"bar ({OVERHEAD_REPEATS} rounds). Runner CPU = the runner process's user + system time (getrusage) "
         "over the solver segments: log tailing, parsing, health and contact checks, the bar.",
         "",
         "| round | mode | solver wall (s) | runner CPU / solver wall |",
@@ -391,6 +530,8 @@ def main() -> None:
         f"Median solver wall: bare {np.median(bare):.1f} s, under the runner {np.median(watched):.1f} s "
         f"({100 * (np.median(watched) / np.median(bare) - 1):+.1f} %); the runner's CPU share over all runs of this "
         f"benchmark: at most {100 * max(r['overhead'] for r in results + overhead if r.get('overhead')):.2f} %.",
+        "",
+        f"Whole benchmark: {(time.time() - t_start) / 60:.0f} min wall.",
         "",
     ]
     text = "\n".join(lines)

@@ -163,7 +163,8 @@ def failure_reason(log_text: str) -> str:
                 if len(message) > 12:
                     break
             return "\n    ".join(message)
-    if re.search(r"Floating point exception|sigFpe|signal 8", log_text):
+    # not the banner every v1912 log prints ("trapFpe: Floating point exception trapping enabled")
+    if re.search(r"sigFpe::sigHandler|Signal: Floating point exception|signal 8", log_text):
         where = ""
         times = re.findall(r"^Time = (\S+)", log_text, re.M)
         if times:
