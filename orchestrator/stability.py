@@ -144,7 +144,7 @@ def _forces_finite(case: Path) -> bool | None:
     for e in _read_json(case / "contacts.json") or []:
         if e.get("type") == "impact":
             checks.append(_finite(e.get("peak_force_N")) is not None)
-    return all(checks) if checks else None
+    return bool(all(checks)) if checks else None
 
 
 def _outcome(case: Path, run: dict | None, member: dict | None) -> tuple[str, str]:

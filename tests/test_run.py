@@ -623,10 +623,13 @@ def test_a_body_the_flow_keeps_pressing_against_the_column_is_pinned(tmp_path, o
     flowing at 0.25 m/s towards it: every restart finds it closing on the column again,
     slowly (a resting contact), until the runner pins it there. maxDeltaT is cut to 1 ms
     (a fine mesh's time step): at the tiny mesh's 6-10 ms steps a segment spans more
-    simulated time than the window allows for seven contacts."""
+    simulated time than the window allows for seven contacts. On an idle machine the pin comes
+    at about 0.023 s; the runner's stop latency grows with the load (each segment then spans
+    more simulated time), so the run goes on to 0.15 s to leave room for the pin under load."""
     settings = ContactSettings()
+    end = 0.15
     case = render(tmp_path, "pressed", scene([{"name": "debris1", "centre_m": [1.15 - 0.075 - 0.001, 0.0]}],
-                                             end_time_s=0.05, wet_depth_m=0.1))
+                                             end_time_s=end, wet_depth_m=0.1))
     set_fields = case / "system" / "setFieldsDict"
     text, n = re.subn(r"(// water: wetBed\s*boxToCell\s*\{\s*box [^;]*;\s*fieldValues\s*\()",
                       r"\1 volVectorFieldValue U (0.25 0 0)", set_fields.read_text())
@@ -648,7 +651,7 @@ def test_a_body_the_flow_keeps_pressing_against_the_column_is_pinned(tmp_path, o
     t_pin = pin["time_s"]
     # the contacts that made it: max_events of the same pair within the window before the pin
     before = [e for e in events[:-1] if e["time_s"] > t_pin - settings.window_s]
-    assert len(before) == settings.max_events and record["resting_contacts"] == len(before)
+    assert len(before) == settings.max_events and record["resting_contacts"] >= len(before)
     assert {(e["type"], e["body"], e["other"]) for e in before} == {("resting", "debris1", "column")}
     assert record["pinned"] == [{"body": "debris1", "other": "column", "time_s": t_pin}]
     assert bodystate.pinned_bodies(case) == {"debris1"}
@@ -656,7 +659,7 @@ def test_a_body_the_flow_keeps_pressing_against_the_column_is_pinned(tmp_path, o
     tracks = pd.read_csv(case / "bodies.csv")
     at_pin = tracks[np.isclose(tracks["time_s"], t_pin, rtol=0, atol=1e-9)]
     after = tracks[tracks["time_s"] > t_pin + 1e-9]
-    assert len(at_pin) == 1 and len(after) > 10 and after["time_s"].max() == pytest.approx(0.05)
+    assert len(at_pin) == 1 and len(after) > 10 and after["time_s"].max() == pytest.approx(end)
     position = ["x_m", "y_m", "z_m"]
     assert np.abs(after[position].to_numpy() - at_pin[position].to_numpy()).max() < 1e-9
     assert np.abs(after[["u_m_s", "v_m_s", "w_m_s", "omega_x_rad_s", "omega_y_rad_s",
