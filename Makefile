@@ -15,6 +15,7 @@ help:
 	@echo "make case-1debris [CELL=m]  the seed's 1-debris scene, end to end"
 	@echo "make sweep SWEEP=mesh-study a sweep from cases/sweeps/ (runs/sweeps/<name>; run again to resume)"
 	@echo "make speed-error            mesh study + hand-made baseline, then the speed-against-error report"
+	@echo "make stability              the hard cases of cases/hard/ (about 2 h), then their stability table"
 	@echo "make test                   the test suite (installs the venv and OpenFOAM first)"
 	@echo "make synthetic-study        the seed's SDOF/MDOF/ASCE analysis on 22 synthetic records"
 	@echo "make bench                  benchmarks (figures go to benchmarks/*.md)"
