@@ -151,10 +151,10 @@ def _outcome(case: Path, run: dict | None, member: dict | None) -> tuple[str, st
     """(outcome, diagnosis) from run.json and, in a sweep, the member's record."""
     if run is None:
         error = (member or {}).get("error")
-        return ("failed", error) if error else ("not run", "")
+        return ("failed", error) if isinstance(error, str) and error else ("not run", "")
     status = run.get("status")
     diagnosis = run.get("diagnosis") or {}
-    error = (member or {}).get("error") or run.get("error") or ""
+    error = next((e for e in ((member or {}).get("error"), run.get("error")) if isinstance(e, str) and e), "")
     if status == "finished":
         return "finished", ""
     if status in ("diverged", "stalled"):
