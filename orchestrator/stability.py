@@ -21,17 +21,16 @@ and :func:`markdown` writes the table of docs/stability.md (`debrisfoam report s
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 import pandas as pd
 
 from analytical.errors import InputError
-from orchestrator.post import WATER_BALANCE_TOLERANCE
+from orchestrator.post import WATER_BALANCE_TOLERANCE, _finite, read_contact_events
+from orchestrator.sweep import _read_json
 
 __all__ = ["INSIDE_TOLERANCE_M", "MASS_TOLERANCE", "Assessment", "assess", "markdown", "stability_table"]
 
@@ -68,21 +67,6 @@ class Assessment:
     pinned: int = 0
     diagnosis: str = ""
     failed_checks: list[str] = field(default_factory=list)
-
-
-def _read_json(path: Path) -> Any:
-    try:
-        return json.loads(path.read_text())
-    except (OSError, ValueError):
-        return None
-
-
-def _finite(value) -> float | None:
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        return None
-    return value if math.isfinite(value) else None
 
 
 def _clearances(case: Path, plan: dict | None, scene) -> tuple[float | None, str | None, float | None, float | None]:
@@ -141,13 +125,13 @@ def _forces_finite(case: Path) -> bool | None:
     checks = []
     if frame is not None and not frame.empty:
         checks.append(bool(np.isfinite(frame.drop(columns="time").to_numpy(float)).all()))
-    for e in _read_json(case / "contacts.json") or []:
+    for e in read_contact_events(case):
         if e.get("type") == "impact":
             checks.append(_finite(e.get("peak_force_N")) is not None)
     return bool(all(checks)) if checks else None
 
 
-def _outcome(case: Path, run: dict | None, member: dict | None) -> tuple[str, str]:
+def _outcome(run: dict | None, member: dict | None) -> tuple[str, str]:
     """(outcome, diagnosis) from run.json and, in a sweep, the member's record."""
     if run is None:
         error = (member or {}).get("error")
@@ -184,13 +168,13 @@ def assess(case_dir: str | Path, member: dict | None = None) -> Assessment:
         from orchestrator.scene import load_scene
 
         scene = load_scene(case / "scene.yaml")
-    outcome, diagnosis = _outcome(case, run, member)
+    outcome, diagnosis = _outcome(run, member)
     run = run or {}
     segments = run.get("segments") or []
     reached = _finite(segments[-1].get("end_time")) if segments else None
     balance = water_balance_summary(read_water_balance(case))
     deepest, what, sink, clearance = _clearances(case, plan, scene)
-    events = _read_json(case / "contacts.json") or []
+    events = read_contact_events(case)
     summary = _read_json(case / "results" / "summary.json") or {}
     wall = (member or {}).get("wall_time_s") or (summary.get("wall_time_s") or {}).get("total_s")
     a = Assessment(
