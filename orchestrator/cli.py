@@ -242,10 +242,15 @@ def cmd_preview(args: argparse.Namespace) -> int:
 
 
 def cmd_run(args: argparse.Namespace) -> int:
+    from orchestrator.monitor import DivergenceLimits
     from orchestrator.run import RunInterrupted, run_case
 
+    if args.stall_limit is not None and not args.stall_limit > 0:
+        raise InputError("--stall-limit", f"must be > 0 seconds, got {args.stall_limit}")
+
     try:
-        summary = run_case(args.case_dir, np=args.np, quiet=args.quiet, reconstruct=args.reconstruct)
+        limits = DivergenceLimits(stall_s=args.stall_limit) if args.stall_limit is not None else None
+        summary = run_case(args.case_dir, np=args.np, quiet=args.quiet, reconstruct=args.reconstruct, limits=limits)
     except RunInterrupted as exc:  # resumable: say how, exit 128 + signal (130 for Ctrl-C)
         if args.debug:
             raise
@@ -528,6 +533,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quiet", action="store_true", help="no progress bar or messages (CI, sweeps)")
     p.add_argument("--reconstruct", choices=["latest", "all", "none"], default="latest",
                    help="written times gathered by reconstructPar at the end (default: latest)")
+    p.add_argument("--stall-limit", type=float, default=None, metavar="S",
+                   help="stop the run as stalled after S wall seconds without solver output (default: the "
+                        "scene's run.stall_limit_s, else 600 s)")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_run)
 

@@ -345,6 +345,10 @@ class LogTail:
 # --------------------------------------------------------------------------- health
 
 
+#: default stall limit: wall seconds without solver output (scene run.stall_limit_s overrides it)
+STALL_S = 600.0
+
+
 @dataclass(frozen=True)
 class DivergenceLimits:
     """When a run counts as diverged (the runner stops it and keeps the last good time).
@@ -357,10 +361,10 @@ class DivergenceLimits:
     - a body faster than `max_body_speed_m_s` (None: three times the plan's velocity
       scale 2 sqrt(g h0), Ritter's front speed, set by the runner): debris cannot
       outrun the flow that carries it, so such a speed is a numerical blow-up;
-    - a stall: the solver writes nothing to its log for `stall_s` seconds of wall time,
-      or for `stall_factor` times its slowest time step so far when that is longer (a
-      linear solver that never converges, a hung MPI rank: without this a run waits
-      forever).
+    - a stall: the solver writes nothing to its log for `stall_s` seconds of wall time
+      (None: the scene's run.stall_limit_s, set by the runner, else STALL_S), or for
+      `stall_factor` times its slowest time step so far when that is longer (a linear
+      solver that never converges, a hung MPI rank: without this a run waits forever).
     """
 
     courant_factor: float = 10.0
@@ -369,12 +373,13 @@ class DivergenceLimits:
     delta_t_steps: int = 3
     domain_margin_m: float = 0.0
     max_body_speed_m_s: float | None = None
-    stall_s: float = 600.0
+    stall_s: float | None = None
     stall_factor: float = 20.0
 
     def stall_limit_s(self, slowest_step_s: float | None) -> float:
         """Wall seconds without log output after which the solver counts as stalled."""
-        return max(self.stall_s, self.stall_factor * (slowest_step_s or 0.0))
+        base = STALL_S if self.stall_s is None else self.stall_s
+        return max(base, self.stall_factor * (slowest_step_s or 0.0))
 
     def __post_init__(self) -> None:
         if not self.courant_factor > 1:
@@ -383,7 +388,7 @@ class DivergenceLimits:
             raise ValueError("courant_steps and delta_t_steps must be >= 1")
         if self.min_delta_t_s is not None and not self.min_delta_t_s > 0:
             raise ValueError(f"min_delta_t_s must be > 0, got {self.min_delta_t_s}")
-        if not self.stall_s > 0 or not self.stall_factor > 0:
+        if (self.stall_s is not None and not self.stall_s > 0) or not self.stall_factor > 0:
             raise ValueError("stall_s and stall_factor must be > 0")
 
 

@@ -171,6 +171,8 @@ class ModelPlan:
     estimated_wall_time_s: float = field(default=0.0)
     #: multiplier on the bed-friction drag coefficient (scene bed.friction_calibration)
     bed_friction_calibration: float = 1.0
+    #: the runner's stall limit (scene run.stall_limit_s; None: the runner's default)
+    stall_limit_s: float | None = None
 
     @property
     def cores(self) -> int:
@@ -195,6 +197,7 @@ class ModelPlan:
             "downstream_type": self.downstream_type,
             "bed_friction_factor": self.bed_friction_factor,
             "bed_friction_calibration": self.bed_friction_calibration,
+            "stall_limit_s": self.stall_limit_s,
             "background": _grid_dict(self.background),
             "bodies": [
                 {
@@ -797,6 +800,7 @@ def plan_case(scene: Scene) -> ModelPlan:
         downstream_type=downstream_type,
         bed_friction_factor=scene.bed.friction_factor,
         bed_friction_calibration=scene.bed.friction_calibration,
+        stall_limit_s=scene.run.stall_limit_s,
         velocity_scale_m_s=u_ref,
         time_step_estimate_s=dt,
         reasons=reasons,

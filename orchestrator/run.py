@@ -238,6 +238,8 @@ class CaseInfo:
     body_sizes_m: dict[str, tuple[float, float, float]]
     #: (body, time) of bodies held on the bed until that time (plan.json hold_until_s)
     holds: tuple[tuple[str, float], ...] = ()
+    #: plan.json stall_limit_s (scene run.stall_limit_s): None = the runner's default
+    stall_limit_s: float | None = None
 
     @property
     def body_names(self) -> tuple[str, ...]:
@@ -301,6 +303,7 @@ def load_case_info(case_dir: str | Path, np_override: int | None = None) -> Case
         body_sizes_m=sizes,
         holds=tuple((str(b["name"]), float(b["hold_until_s"])) for b in plan.get("bodies", [])
                     if float(b.get("hold_until_s") or 0.0) > 0.0),
+        stall_limit_s=float(plan["stall_limit_s"]) if plan.get("stall_limit_s") else None,
     )
 
 
@@ -648,6 +651,8 @@ class _Runner:
             defaults["min_delta_t_s"] = 1e-3 * info.delta_t_s
         if limits.max_body_speed_m_s is None:
             defaults["max_body_speed_m_s"] = 3.0 * info.velocity_scale_m_s
+        if limits.stall_s is None and info.stall_limit_s is not None:
+            defaults["stall_s"] = info.stall_limit_s
         self.limits = DivergenceLimits(**{**asdict(limits), **defaults})
         self.stop = stop
         self.end_time_s = info.end_time_s

@@ -287,6 +287,9 @@ class Run(_Model):
     max_delta_t_s: float | None = Field(
         None, gt=0, description="largest time step (s); null = min(0.01 s, write interval), which also caps "
                                 "the Courant number on coarse meshes")
+    stall_limit_s: float | None = Field(
+        None, gt=0, description="wall seconds without solver output after which the runner stops the run as "
+                                "stalled; null = 600 s (or 20 x the slowest time step, when longer)")
 
 
 class Outputs(_Model):

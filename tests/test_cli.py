@@ -132,3 +132,21 @@ def test_sweep_of_a_missing_file_exits_2_naming_it():
 def test_debug_reraises():
     proc = run_cli("--debug", "analytical", "asce7", "--velocity", "1", "--mass", "-1", "--stiffness", "1")
     assert proc.returncode != 0 and "Traceback" in proc.stderr
+
+
+def test_run_with_a_bad_stall_limit_exits_2_and_touches_nothing(tmp_path):
+    """A non-positive --stall-limit is refused before the case is even looked at."""
+    proc = run_cli("run", str(tmp_path / "case"), "--stall-limit", "0")
+    assert proc.returncode == 2 and "--stall-limit" in proc.stderr and "Traceback" not in proc.stderr
+    assert not (tmp_path / "case").exists()
+
+
+def test_a_bad_stall_limit_in_a_scene_exits_2_naming_file_and_field(tmp_path):
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parent.parent
+    path = tmp_path / "bad.yaml"
+    path.write_text(f"extends: {root / 'cases' / 'nodebris.yaml'}\nrun:\n  stall_limit_s: -5\n")
+    proc = run_cli("render", str(path), "-o", str(tmp_path / "out"))
+    assert proc.returncode == 2 and str(path) in proc.stderr and "run.stall_limit_s" in proc.stderr
+    assert not (tmp_path / "out").exists()

@@ -24,6 +24,7 @@ from pathlib import Path
 import pytest
 
 from orchestrator.monitor import (
+    STALL_S,
     DivergenceLimits,
     HealthWatch,
     LogParser,
@@ -186,6 +187,7 @@ def test_stall_limit_follows_the_slowest_step():
     assert lim.stall_limit_s(None) == 600 and lim.stall_limit_s(2.0) == 600 and lim.stall_limit_s(60.0) == 1200
     with pytest.raises(ValueError, match="stall"):
         DivergenceLimits(stall_s=0)
+    assert DivergenceLimits().stall_limit_s(None) == STALL_S == 600  # unset: the default
 
 
 def test_limits_are_validated():

@@ -441,8 +441,12 @@ def _solver_ranks(case: Path, solver: str) -> list[int]:
 @pytest.mark.openfoam
 def test_a_stalled_solver_is_stopped_with_a_diagnosis(tmp_path, openfoam):
     """The solver's ranks frozen (SIGSTOP) mid-run, as a linear solver that never returns or a
-    hung rank would leave it: the runner stops it after the stall limit and says so."""
-    case = render(tmp_path, "stall", scene(end_time_s=2.0))
+    hung rank would leave it: the runner stops it after the stall limit (the scene's
+    run.stall_limit_s, through plan.json) and says so."""
+    data = scene(end_time_s=2.0)
+    data["run"]["stall_limit_s"] = 5.0
+    case = render(tmp_path, "stall", data)
+    assert load_case_info(case).stall_limit_s == 5.0
     frozen: list[int] = []
 
     def freeze(step):
@@ -453,11 +457,12 @@ def test_a_stalled_solver_is_stopped_with_a_diagnosis(tmp_path, openfoam):
 
     t0 = time.perf_counter()
     with pytest.raises(DivergenceError) as err:
-        run_case(case, quiet=True, on_step=freeze, limits=DivergenceLimits(stall_s=5.0, stall_factor=2.0))
+        run_case(case, quiet=True, on_step=freeze, limits=DivergenceLimits(stall_factor=2.0))
     assert len(frozen) == 2  # both ranks
     assert time.perf_counter() - t0 < 90  # stopped, not waited on forever
     e = err.value
     assert e.kind == "stall" and "solver stalled" in str(e) and "nothing written to its log" in str(e)
+    assert time.perf_counter() - t0 > 5.0  # not before the scene's limit
     assert 0.05 < e.time_s < 2.0 and str(case / "log.interFoam") in str(e)
     assert not _solver_ranks(case, "interFoam")  # killed
     record = json.loads((case / "run.json").read_text())

@@ -299,10 +299,11 @@ def test_ctrl_c_stops_the_sweep_cleanly_and_a_rerun_resumes(tmp_path, openfoam):
 
 
 def test_a_late_scene_key_changes_no_id_until_it_is_set():
-    """run.max_delta_t_s came after ids were issued: unset, it is not hashed (the mesh study's
-    finished members keep their folders); set, it makes a new member."""
+    """run.max_delta_t_s and run.stall_limit_s came after ids were issued: unset, they are not
+    hashed (the mesh study's finished members keep their folders); set, they make a new member."""
     scene = load_scene(ROOT / "cases" / "nodebris.yaml", ["mesh.cell_size_m=0.08"])
-    assert scene.run.max_delta_t_s is None
+    assert scene.run.max_delta_t_s is None and scene.run.stall_limit_s is None
     assert member_id(scene) == "b92a230c1196"  # the id the mesh study's 8 cm member has had since session 2
-    assert member_id(load_scene(ROOT / "cases" / "nodebris.yaml",
-                                ["mesh.cell_size_m=0.08", "run.max_delta_t_s=0.05"])) != "b92a230c1196"
+    for late in ("run.max_delta_t_s=0.05", "run.stall_limit_s=1800"):
+        assert member_id(load_scene(ROOT / "cases" / "nodebris.yaml",
+                                    ["mesh.cell_size_m=0.08", late])) != "b92a230c1196"
