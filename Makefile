@@ -9,12 +9,13 @@ CELL    ?=
 OUT     ?= runs/1debris
 CASE_SET := $(if $(CELL),--set mesh.cell_size_m=$(CELL),)
 
-.PHONY: help venv openfoam test test-fast case-1debris sweep speed-error stability synthetic-study bench clean
+.PHONY: help venv openfoam test test-fast case-1debris sweep speed-error speed-error-debris stability synthetic-study bench clean
 
 help:
 	@echo "make case-1debris [CELL=m]  the seed's 1-debris scene, end to end"
 	@echo "make sweep SWEEP=mesh-study a sweep from cases/sweeps/ (runs/sweeps/<name>; run again to resume)"
 	@echo "make speed-error            mesh study + hand-made baseline, then the speed-against-error report"
+	@echo "make speed-error-debris     mesh study with one container to its impact, then its report"
 	@echo "make stability              the hard cases of cases/hard/ (about 2 h), then their stability table"
 	@echo "make test                   the test suite (installs the venv and OpenFOAM first)"
 	@echo "make synthetic-study        the seed's SDOF/MDOF/ASCE analysis on 22 synthetic records"
@@ -62,6 +63,12 @@ speed-error: venv openfoam
 	-$(NICE) $(VENV)/bin/debrisfoam sweep cases/sweeps/mesh-study.yaml
 	-$(NICE) $(VENV)/bin/debrisfoam sweep cases/sweeps/mesh-study-hand.yaml
 	$(VENV)/bin/debrisfoam report speed-error runs/sweeps/mesh-study --baseline runs/sweeps/mesh-study-hand
+
+# The mesh study with one container (to its first impact on the column), then its report in
+# runs/sweeps/debris-mesh-study/report/ (about 45 min on an idle 2-core machine).
+speed-error-debris: venv openfoam
+	-$(NICE) $(VENV)/bin/debrisfoam sweep cases/sweeps/debris-mesh-study.yaml
+	$(VENV)/bin/debrisfoam report speed-error runs/sweeps/debris-mesh-study
 
 # The hard cases (cases/hard/, about 2 h on 2 cores), then their table in docs/stability.md.
 stability: venv openfoam

@@ -136,6 +136,11 @@ def test_shipped_sweeps_expand_and_validate():
     assert [len(m.scene.debris) for m in layouts.members] == [1, 3, 3, 6]
     # a member whose scene is a file as written has that file's id
     assert layouts.members[0].id == member_id(load_scene(ROOT / "cases" / "1debris.yaml"))
+    # the mesh study with debris: overset, the same body mesh in every member, finer background cells
+    debris = sweeps["debris-mesh-study"]
+    assert all(m.plan.solver == "overInterDyMFoam" and m.scene.run.end_time_s == 2.1 for m in debris.members)
+    assert len({tuple(b.cell_size_m for b in m.plan.bodies) for m in debris.members}) == 1
+    assert [m.plan.cell_count for m in debris.members] == sorted(m.plan.cell_count for m in debris.members)
 
 
 def test_dry_run_lists_members_cells_and_times_and_writes_nothing(tmp_path):
