@@ -379,7 +379,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     if result.interrupted and result.unfinished:
         print(f"debrisfoam: sweep interrupted; {len(result.unfinished)} member(s) not finished: run the same command "
               "again to resume", file=sys.stderr)
-        return 130
+        return 128 + (result.signum or 2)  # 130 for Ctrl-C, 143 for SIGTERM, as `debrisfoam run`
     if result.failed:
         lines = [f"debrisfoam: error: {len(result.failed)} of {len(result.rows)} sweep member(s) failed "
                  f"(store {result.store}):"]

@@ -47,6 +47,7 @@ import logging
 import math
 import os
 import re
+import signal
 import socket
 import sqlite3
 import threading
@@ -667,8 +668,6 @@ def _sigint_ignored() -> Iterator[None]:
     """SIGINT ignored while worker processes are spawned: they inherit it, so a Ctrl-C at the
     terminal (sent to the whole process group) reaches only the parent, which then stops the
     running members cleanly instead of their workers dying under them."""
-    import signal
-
     try:
         previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
     except ValueError:  # not the main thread: leave signals alone
@@ -678,6 +677,27 @@ def _sigint_ignored() -> Iterator[None]:
         yield
     finally:
         signal.signal(signal.SIGINT, previous)
+
+
+@contextlib.contextmanager
+def _stop_on_signals(caught: list[int]) -> Iterator[None]:
+    """SIGTERM (`kill`, a batch system's stop) and SIGINT raise KeyboardInterrupt in the main
+    thread, so the sweep stops its running members cleanly either way; SIGINT too when the
+    shell started the sweep with it ignored (`nohup ... &`). The signal goes to `caught`."""
+    def interrupt(signum, frame) -> None:  # noqa: ARG001 - signal API
+        caught.append(signum)
+        raise KeyboardInterrupt
+
+    try:
+        previous = {sig: signal.signal(sig, interrupt) for sig in (signal.SIGTERM, signal.SIGINT)}
+    except ValueError:  # not the main thread: leave signals alone
+        yield
+        return
+    try:
+        yield
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
 
 
 @contextlib.contextmanager
@@ -762,6 +782,8 @@ class SweepResult:
     ran: list[str] = field(default_factory=list)
     skipped: list[str] = field(default_factory=list)
     interrupted: bool = False
+    #: the signal that stopped the sweep (SIGINT, SIGTERM), None when not interrupted by one
+    signum: int | None = None
 
     def _ids(self, status: str) -> list[str]:
         return [r["member_id"] for r in self.rows if r["status"] == status]
@@ -940,12 +962,15 @@ def run_sweep(sweep: Sweep | str | Path, out_dir: str | Path | None = None, *, e
             else:
                 say(f"{tag[m.id]}: failed{took}: {outcome.get('error')}")
 
+        caught: list[int] = []
         try:
             try:
-                for fut in ex.as_completed(list(futures)):
-                    handle(fut)
+                with _stop_on_signals(caught):
+                    for fut in ex.as_completed(list(futures)):
+                        handle(fut)
             except KeyboardInterrupt:
                 result.interrupted = True
+                result.signum = caught[0] if caught else signal.SIGINT
                 say("interrupted: stopping the running members cleanly (run the sweep again to resume)")
                 with contextlib.suppress(Exception):
                     ex.stop.set()

@@ -274,23 +274,30 @@ def test_a_failing_member_does_not_stop_the_other_and_is_recorded(tmp_path, open
 
 
 @pytest.mark.openfoam
-def test_ctrl_c_stops_the_sweep_cleanly_and_a_rerun_resumes(tmp_path, openfoam):
+@pytest.mark.parametrize("how", ["ctrl-c", "sigterm"])
+def test_a_stopped_sweep_stops_cleanly_and_a_rerun_resumes(tmp_path, openfoam, how):
+    """ctrl-c: SIGINT to the whole process group, as a terminal sends it; sigterm: `kill PID`
+    (or a batch system's stop) to the sweep alone, started as `nohup ... &` starts it (SIGINT
+    ignored): both stop the running member cleanly."""
     # the first member runs long enough (2 s of flow, ~300 steps) to be stopped; the second is short
     path = write_sweep(tmp_path / "long.yaml", name="long", mode="zip", set={"run.write_interval_s": 0.1},
                        axes={"mesh.cell_size_m": [0.04, 0.05], "run.end_time_s": [2.0, 0.3]})
     first, second = load_sweep(path).members
     out = tmp_path / "out"
-    # as a terminal's Ctrl-C: SIGINT to the whole process group
+    sigint = signal.SIG_DFL if how == "ctrl-c" else signal.SIG_IGN
     proc = subprocess.Popen([sys.executable, "-m", "orchestrator.cli", "sweep", str(path), "-o", str(out)], cwd=ROOT,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
-                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, sigint))
     log = out / first.id / "log.interFoam"
     deadline = time.time() + 120
     while time.time() < deadline and not (log.is_file() and log.read_text().count("\nTime = ") >= 20):
         time.sleep(0.2)
-    os.killpg(proc.pid, signal.SIGINT)
+    if how == "ctrl-c":
+        os.killpg(proc.pid, signal.SIGINT)
+    else:
+        proc.send_signal(signal.SIGTERM)
     stdout, stderr = proc.communicate(timeout=120)
-    assert proc.returncode == 130, stderr
+    assert proc.returncode == (130 if how == "ctrl-c" else 143), stderr
     assert "interrupted" in stdout and "run the same command again" in stderr
     store = load_store(out).set_index("member_id")
     assert store.loc[first.id, "status"] == "interrupted" and store.loc[second.id, "status"] == "pending"
