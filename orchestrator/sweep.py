@@ -664,33 +664,20 @@ def _local_executor(slots: int) -> Iterator[_Executor]:
 
 
 @contextlib.contextmanager
-def _sigint_ignored() -> Iterator[None]:
-    """SIGINT ignored while worker processes are spawned: they inherit it, so a Ctrl-C at the
-    terminal (sent to the whole process group) reaches only the parent, which then stops the
-    running members cleanly instead of their workers dying under them."""
-    try:
-        previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
-    except ValueError:  # not the main thread: leave signals alone
-        yield
-        return
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, previous)
+def _signal_handlers(handlers: dict[int, Any]) -> Iterator[None]:
+    """`handlers` (signal -> handler) installed for the block, the previous ones restored
+    after it; outside the main thread, where Python cannot set handlers, signals are left alone.
 
-
-@contextlib.contextmanager
-def _stop_on_signals(caught: list[int]) -> Iterator[None]:
-    """SIGTERM (`kill`, a batch system's stop) and SIGINT raise KeyboardInterrupt in the main
-    thread, so the sweep stops its running members cleanly either way; SIGINT too when the
-    shell started the sweep with it ignored (`nohup ... &`). The signal goes to `caught`."""
-    def interrupt(signum, frame) -> None:  # noqa: ARG001 - signal API
-        caught.append(signum)
-        raise KeyboardInterrupt
-
+    The sweep uses it twice: SIGINT ignored while Dask's worker processes are spawned (they
+    inherit it, so a Ctrl-C at the terminal, sent to the whole process group, reaches only the
+    parent, which then stops the running members cleanly instead of their workers dying under
+    them); and SIGTERM (`kill`, a batch system's stop) and SIGINT raising KeyboardInterrupt
+    while the members run, so the sweep stops them cleanly either way, SIGINT too when the
+    shell started the sweep with it ignored (`nohup ... &`).
+    """
     try:
-        previous = {sig: signal.signal(sig, interrupt) for sig in (signal.SIGTERM, signal.SIGINT)}
-    except ValueError:  # not the main thread: leave signals alone
+        previous = {sig: signal.signal(sig, handler) for sig, handler in handlers.items()}
+    except ValueError:  # not the main thread
         yield
         return
     try:
@@ -715,7 +702,8 @@ def _dask_executor(slots: int, scheduler: str | None, cluster_kwargs: dict | Non
         options = {"n_workers": slots, "threads_per_worker": 1, "processes": True, "dashboard_address": None,
                    "memory_limit": 0, "silence_logs": logging.ERROR}
         options.update(cluster_kwargs or {})
-        with _sigint_ignored():  # Ctrl-C is the parent's: it stops the members through `stop`
+        # Ctrl-C is the parent's: it stops the members through `stop`
+        with _signal_handlers({signal.SIGINT: signal.SIG_IGN}):
             cluster = LocalCluster(**options)
         client = Client(cluster)
         describe = f"dask LocalCluster, {options['n_workers']} worker(s)"
@@ -963,9 +951,14 @@ def run_sweep(sweep: Sweep | str | Path, out_dir: str | Path | None = None, *, e
                 say(f"{tag[m.id]}: failed{took}: {outcome.get('error')}")
 
         caught: list[int] = []
+
+        def interrupt(signum, frame) -> None:  # noqa: ARG001 - signal API
+            caught.append(signum)
+            raise KeyboardInterrupt
+
         try:
             try:
-                with _stop_on_signals(caught):
+                with _signal_handlers({signal.SIGTERM: interrupt, signal.SIGINT: interrupt}):
                     for fut in ex.as_completed(list(futures)):
                         handle(fut)
             except KeyboardInterrupt:
