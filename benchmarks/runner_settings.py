@@ -54,7 +54,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from orchestrator import bodystate, foam  # noqa: E402
-from orchestrator.post import read_water_balance, water_balance_summary  # noqa: E402
+from orchestrator.post import read_force_series, read_water_balance, water_balance_summary  # noqa: E402
 from orchestrator.render import render_from_file  # noqa: E402
 from orchestrator.run import RunInterrupted, load_case_info, run_case  # noqa: E402
 
@@ -160,16 +160,11 @@ def track(case: Path) -> tuple[np.ndarray, np.ndarray]:
 
 
 def force_x(case: Path) -> tuple[np.ndarray, np.ndarray]:
-    rows = {}
-    for path in sorted((case / "postProcessing" / "columnForces").glob("*/force.dat"),
-                       key=lambda p: float(p.parent.name)):
-        for line in path.read_text().splitlines():
-            if line.startswith("#") or not line.strip():
-                continue
-            parts = line.replace("(", " ").replace(")", " ").split()
-            rows[float(parts[0])] = float(parts[1])
-    t = np.array(sorted(rows))
-    return t, np.array([rows[v] for v in t])
+    """The column's x force (pressure + viscous) over every segment of the run."""
+    frame, _ = read_force_series(case)
+    if frame is None or frame.empty:
+        return np.array([]), np.array([])
+    return frame["time"].to_numpy(float), frame["total_x"].to_numpy(float)
 
 
 def compare(case: Path, ref: Path) -> dict[str, float]:
@@ -424,9 +419,8 @@ def main() -> None:
     # the cost of simulating the same time: fewer correctors can mean smaller (Courant-limited) steps
     # the reference is within its own criteria unless a figure of it is missing (NaN)
     chosen = min(ok, key=lambda r: r["solver_cpu_s"]) if ok else reference
-    timed = chosen
 
-    kept = [root / f"overhead-{mode}-{k}" / timed["setting"].name
+    kept = [root / f"overhead-{mode}-{k}" / chosen["setting"].name
             for k in range(OVERHEAD_REPEATS) for mode in ("bare", "quiet", "bar")]
     if all(overhead_done(p, overhead_end) for p in kept):
         overhead = [overhead_figures(p, p.parent.name.split("-")[1]) for p in kept]
@@ -434,7 +428,7 @@ def main() -> None:
         print("measuring the runner's overhead (bare mpirun, run_case quiet, run_case with the bar)", flush=True)
         for p in kept:
             shutil.rmtree(p, ignore_errors=True)
-        overhead = overhead_runs(timed["setting"], root, overhead_end)
+        overhead = overhead_runs(chosen["setting"], root, overhead_end)
 
     load_end = os.getloadavg()[0]
     loads = [r["load"] for r in results if math.isfinite(r.get("load", float("nan")))]
