@@ -338,7 +338,7 @@ def templates_default_note() -> str:
     """'' when DEFAULT is what the templates render for overInterDyMFoam, else a sentence saying how they differ."""
     from orchestrator.render import Numerics
 
-    n = Numerics.for_solver("overInterDyMFoam")
+    n = Numerics.for_solver("overInterDyMFoam", DEFAULT.max_courant)
     rendered = Setting("templates", interpolation=n.overset_interpolation, n_outer=n.n_outer_correctors,
                        n_corr=n.n_correctors, tolerance=n.p_rgh_tolerance, rel_tol=n.p_rgh_rel_tol,
                        final_rel_tol=n.p_rgh_final_rel_tol, body_cells_across=DEFAULT.body_cells_across,

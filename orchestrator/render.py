@@ -61,14 +61,18 @@ BODIES_DIR = "bodies"
 # --------------------------------------------------------------------------- numerics
 
 
+#: maxCo at or below which overInterDyMFoam gets the careful correctors (Numerics.for_solver)
+CAREFUL_COURANT = 1.0
+
+
 @dataclass(frozen=True)
 class Numerics:
     """Linear solvers, PIMPLE and overset settings (the levers of DESIGN.md section 3).
 
     Defaults: interFoam as the v1912 damBreak tutorial (GAMG for p_rgh); overset as
     measured in DESIGN.md section 3: cellVolumeWeight, PBiCGStab/DILU for p_rgh at
-    tolerance 1e-7 / relTol 0.05 (GAMG fails with overset), two correctors (one does not
-    conserve water; docs/stability.md).
+    tolerance 1e-7 / relTol 0.05 (GAMG fails with overset); the PIMPLE correctors depend on
+    the scene's maxCo (`for_solver`).
     """
 
     p_rgh_solver: str
@@ -88,12 +92,24 @@ class Numerics:
     acceleration_damping: float = 0.9
 
     @classmethod
-    def for_solver(cls, solver: str) -> "Numerics":
+    def for_solver(cls, solver: str, max_courant: float | None = None) -> "Numerics":
+        """The settings for `solver` at the scene's maxCo (None: the fast overset setting).
+
+        overInterDyMFoam, from benchmarks/runner_settings.md (1-debris case, 1.0 s):
+        - maxCo <= CAREFUL_COURANT: two outer correctors, three pressure correctors, final
+          p_rgh solve to relTol 0 ("ref-tol"): the cheapest setting within 2 % of the most
+          careful one in debris track and column force (0.00 %, 0.92x its cost), and cheaper
+          than the fast setting at this Courant number (one outer corrector fails the column
+          force by 10-12 % here and takes more time steps);
+        - above: one outer and two pressure correctors (relTol 0.05 throughout). With one
+          corrector the flux left after the only solve is far from divergence-free and MULES
+          creates water (+3.9 % in 0.8 s on the short flume); two keep it to 0.17 % at 1.25x
+          the cost (docs/stability.md). At maxCo 2.5 no corrector setting brings the column
+          force within 15 % of the careful one: the time step is the lever there.
+        """
         if solver == "overInterDyMFoam":
-            # two pressure correctors: with one (and relTol 0.05) the flux left after the only
-            # solve is far from divergence-free and MULES creates water (+3.9 % in 0.8 s on the
-            # short flume); two keep it to 0.17 % at 1.25x the cost (relTol 0 with one: -0.33 %
-            # at 1.5x; docs/stability.md)
+            if max_courant is not None and max_courant <= CAREFUL_COURANT:
+                return cls(p_rgh_solver="PBiCGStab", n_outer_correctors=2, n_correctors=3)
             return cls(p_rgh_solver="PBiCGStab", p_rgh_final_rel_tol=0.05, n_correctors=2)
         if solver == "interFoam":
             return cls(p_rgh_solver="GAMG")
@@ -279,7 +295,7 @@ def build_context(scene, plan, numerics: Numerics | None = None) -> dict[str, An
       numerics: `Numerics` as a dict; motion: inner/outer distance; reasons: lines
     """
     solver = plan.solver
-    numerics = numerics or Numerics.for_solver(solver)
+    numerics = numerics or Numerics.for_solver(solver, float(plan.max_courant))
     overset = solver == "overInterDyMFoam"
     if overset and plan.two_d:
         raise InputError("plan.two_d", "a 2D case cannot carry six-DoF debris bodies (overset needs 3D)")

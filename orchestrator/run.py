@@ -136,6 +136,9 @@ FILE_MODIFICATION_SKEW_S = 10.0
 #: runner dates the file later again, and how long in all before it kills the solver.
 STOP_ACK_TIMEOUT_S = 30.0
 STOP_KILL_TIMEOUT_S = 600.0
+#: _SegmentResult.reason of a segment the user stopped: written on request, killed (a second
+#: Ctrl-C or no answer), or stopped before its first time step
+STOPPED_REASONS = ("interrupt", "killed", "unstarted")
 _EPS_T = 1e-9
 
 
@@ -165,13 +168,18 @@ class DivergenceError(RunError):
 class RunInterrupted(RunError):
     """The user stopped the run (Ctrl-C, SIGTERM or a stop request); it can be resumed."""
 
-    def __init__(self, case: Path, signum: int | None, written_time: str | None, clean: bool):
+    def __init__(self, case: Path, signum: int | None, written_time: str | None, clean: bool,
+                 before_first_step: bool = False):
         self.case = Path(case)
         self.signum = signum
         self.written_time = written_time
         self.clean = clean
+        self.before_first_step = before_first_step
         how = "the solver wrote" if clean else "the solver was killed before writing; the latest written time is"
         at = f"{how} t = {written_time} s" if written_time is not None else "nothing was written"
+        if before_first_step:
+            at = "the solver was stopped before its first time step, so nothing was lost; " + (
+                f"the latest written time is t = {written_time} s" if written_time is not None else "it starts again at 0")
         super().__init__(f"run interrupted: {at}. Resume with: debrisfoam run {shlex.quote(str(case))}")
 
     @property
@@ -593,7 +601,7 @@ def _segment_span(start_s: float, end_s: float, interval_s: float) -> tuple[floa
 @dataclass
 class _SegmentResult:
     start_name: str
-    reason: str  # end, contact, interrupt, diverged
+    reason: str  # end, contact, interrupt, killed, unstarted (STOPPED_REASONS), diverged
     returncode: int | None
     steps: list[StepRecord]
     parser: LogParser
@@ -784,6 +792,7 @@ class _Runner:
         diag: Diagnosis | None = None
         pending: list[Contact] = []
         killed = False
+        unstarted = False  # stopped before its first time step
         started = _now()
         t0, cpu0 = time.perf_counter(), _cpu_s()
         with open(log, "w") as out:
@@ -832,7 +841,15 @@ class _Runner:
                     self._kill(proc)
                     killed = True
                     continue
-                if stop_reason is None and self.stop.requested:
+                if stop_reason is None and self.stop.requested and not steps:
+                    # no time step taken yet (reading the mesh, overset addressing: minutes with
+                    # several bodies): nothing to write and writeNow is only read between steps
+                    stop_reason, requested_at, unstarted = "interrupt", time.perf_counter(), True
+                    self._kill(proc)
+                    killed = True
+                    progress.write("stop requested before the solver's first time step: stopped it at once "
+                                   "(nothing to write)")
+                elif stop_reason is None and self.stop.requested:
                     stop_reason, requested_at = "interrupt", time.perf_counter()
                     rereads_at_request = parser.rereads
                     _request_write_now(self.case)
@@ -887,7 +904,7 @@ class _Runner:
         rc = proc.returncode
         reason = "diverged" if diag else (stop_reason or "end")
         if killed and not diag and stop_reason == "interrupt":
-            reason = "killed"
+            reason = "unstarted" if unstarted else "killed"
         seg = {"start": started, "start_time": start_name, "end_time": steps[-1].time_name if steps else start_name,
                "time_steps": len(steps), "wall_s": round(wall, 3), "exit_status": rc, "stop_reason": reason,
                "command": shlex.join(argv), "log": log.name, "runner_cpu_s": round(cpu, 3)}
@@ -1101,18 +1118,19 @@ def _run_steps(info: CaseInfo, runner: _Runner, stop: _StopFlag, quiet: bool, re
             if seg.diagnosis is not None or (seg.returncode not in (0, None) and
                                              (seg.parser.fpe or seg.returncode == 136)):
                 _fail_diverged(runner, seg, reached)
-            if seg.returncode != 0 and seg.reason not in ("interrupt", "killed"):
+            if seg.returncode != 0 and seg.reason not in STOPPED_REASONS:
                 text = seg.log.read_text(errors="replace")
                 err = foam.StepError(info.solver, foam.failure_reason(text), seg.log, seg.returncode)
                 data["status"], data["error"] = "failed", str(err)
                 rec.save()
                 raise err
             new_reached, new_name = latest_time(case, info.ranks)
-            if seg.reason in ("interrupt", "killed") and new_reached < info.end_time_s - _EPS_T:
+            if seg.reason in STOPPED_REASONS and new_reached < info.end_time_s - _EPS_T:
                 data["status"] = "interrupted"
                 rec.save()
                 raise RunInterrupted(case, stop.signum, new_name if new_reached > 0 else None,
-                                     clean=seg.reason == "interrupt" and seg.returncode == 0)
+                                     clean=seg.reason == "interrupt" and seg.returncode == 0,
+                                     before_first_step=seg.reason == "unstarted")
             if new_reached <= reached + _EPS_T:
                 if not seg.steps and info.end_time_s - reached < _MIN_SEGMENT_FRACTION * runner.write_interval_s:
                     # v1912's half-step rule: what remains of the end time is less than a step

@@ -213,9 +213,30 @@ def test_two_d_overset_is_refused():
 def test_numerics_follow_design_for_overset():
     n = Numerics.for_solver("overInterDyMFoam")
     assert (n.p_rgh_solver, n.p_rgh_tolerance, n.p_rgh_rel_tol, n.n_correctors) == ("PBiCGStab", 1e-7, 0.05, 2)
+    assert (n.n_outer_correctors, n.p_rgh_final_rel_tol) == (1, 0.05)
     assert n.overset_interpolation == "cellVolumeWeight"
+    assert Numerics.for_solver("overInterDyMFoam", 2.5) == n
+    # at maxCo <= 1 the careful setting of benchmarks/runner_settings.md ("ref-tol")
+    careful = Numerics.for_solver("overInterDyMFoam", 1.0)
+    assert (careful.n_outer_correctors, careful.n_correctors, careful.p_rgh_tolerance, careful.p_rgh_rel_tol,
+            careful.p_rgh_final_rel_tol) == (2, 3, 1e-7, 0.05, 0.0)
+    # interFoam does not depend on the Courant number
+    assert Numerics.for_solver("interFoam", 0.5) == Numerics.for_solver("interFoam", 5.0)
     with pytest.raises(InputError, match="solver"):
         Numerics.for_solver("simpleFoam")
+
+
+@pytest.mark.parametrize("max_courant, n_outer, n_corr, final_rel_tol", [(0.9, 2, 3, 0), (2.5, 1, 2, 0.05)])
+def test_rendered_pimple_follows_the_courant_number(tmp_path, max_courant, n_outer, n_corr, final_rel_tol):
+    from dataclasses import replace
+
+    from PyFoam.RunDictionary.ParsedParameterFile import ParsedParameterFile
+
+    text = render_files(build_context(None, replace(flume_plan(1), max_courant=max_courant)))["system/fvSolution"]
+    (tmp_path / "fvSolution").write_text(text)
+    fv = ParsedParameterFile(str(tmp_path / "fvSolution"))
+    assert (fv["PIMPLE"]["nOuterCorrectors"], fv["PIMPLE"]["nCorrectors"]) == (n_outer, n_corr)
+    assert fv["solvers"]["p_rghFinal"]["relTol"] == final_rel_tol
 
 
 def test_gauge_lines_span_the_water_column_inside_the_mesh():

@@ -473,6 +473,50 @@ def test_a_stalled_solver_is_stopped_with_a_diagnosis(tmp_path, openfoam):
     assert name == e.last_good_time and t >= 0.05
 
 
+@pytest.mark.openfoam
+def test_a_stop_before_the_first_time_step_kills_the_solver_at_once(tmp_path, openfoam):
+    """A stop request while the solver has not taken a step (reading the mesh; with several
+    overset bodies the addressing takes many minutes) cannot be answered by writeNow, which the
+    solver reads between steps: the runner stops it at once instead of waiting STOP_KILL_TIMEOUT_S.
+    The ranks are frozen (SIGSTOP) as soon as they exist, so that they take no step."""
+    case = render(tmp_path, "unstarted", scene(end_time_s=0.1))
+    stop = threading.Event()
+    frozen: list[int] = []
+    seen: list[str] = []  # the solver's log when the stop was requested
+    log = case / "log.interFoam"
+
+    def freeze_then_stop():
+        deadline = time.time() + 120
+        while time.time() < deadline and len(frozen) < 2:
+            for pid in _solver_ranks(case, "interFoam"):
+                if pid not in frozen:
+                    os.kill(pid, signal.SIGSTOP)
+                    frozen.append(pid)
+            time.sleep(0.002)
+        time.sleep(1.0)  # several of the runner's polls: it has read whatever the log holds
+        seen.append(log.read_text() if log.is_file() else "")
+        stop.set()
+
+    watcher = threading.Thread(target=freeze_then_stop, daemon=True)
+    watcher.start()
+    t0 = time.perf_counter()
+    with pytest.raises(RunInterrupted) as err:
+        run_case(case, quiet=True, stop_event=stop)
+    watcher.join(5)
+    assert len(frozen) == 2
+    if "\nTime = " in seen[0]:  # a step got through before both ranks were frozen
+        pytest.skip("the solver took a time step before it could be frozen")
+    assert time.perf_counter() - t0 < 60  # not the 600 s STOP_KILL_TIMEOUT_S
+    e = err.value
+    assert e.before_first_step and not e.clean
+    assert "before its first time step" in str(e) and f"debrisfoam run {case}" in str(e)
+    assert not _solver_ranks(case, "interFoam")
+    record = json.loads((case / "run.json").read_text())
+    assert record["status"] == "interrupted" and record["segments"][-1]["stop_reason"] == "unstarted"
+    resumed = run_case(case, quiet=True)  # and the run goes on from the start
+    assert resumed.status == "finished" and resumed.reached_time_s == pytest.approx(0.1)
+
+
 def _positions_across_restarts(case: Path, names):
     """[(time name, last step before, first step after)] at every restart."""
     segments = steps_of(case, "overInterDyMFoam", names)
