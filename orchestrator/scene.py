@@ -283,7 +283,10 @@ class Run(_Model):
     end_time_s: float = Field(gt=0, description="simulated time from the gate's release (s)")
     cores: int = Field(2, ge=1, description="MPI ranks")
     write_interval_s: float = Field(0.1, gt=0, description="interval between field writes (s)")
-    max_courant: float = Field(0.9, gt=0, le=5, description="maxCo and maxAlphaCo (-)")
+    max_courant: float = Field(
+        0.9, gt=0, le=5, description="maxCo and maxAlphaCo (-); with debris it also picks the PIMPLE correctors: "
+        "<= 1 the careful ones (2 outer, 3 pressure), above 1 the fast ones (1 outer, 2 pressure; "
+        "benchmarks/runner_settings.md)")
     max_delta_t_s: float | None = Field(
         None, gt=0, description="largest time step (s); null = min(0.01 s, write interval), which also caps "
                                 "the Courant number on coarse meshes")
