@@ -49,6 +49,8 @@ __all__ = [
     "WaterBox",
     "body_inertia",
     "estimate_wall_time_s",
+    "estimated_steps",
+    "max_delta_t_s",
     "plan_case",
 ]
 
@@ -61,6 +63,13 @@ SAFETY = 1.10
 US_PER_CELL_STEP = {"interFoam": 3.5e-6, "overInterDyMFoam": 10.0e-6}
 #: Cores at which US_PER_CELL_STEP was measured.
 _MEASURED_CORES = 2
+#: Measured time steps over the steps the Courant limit at Ritter's front speed predicts
+#: (run.max_courant x smallest horizontal cell / 2 sqrt(g h0)), where maxDeltaT does not bind.
+#: interFoam: 1.11 and 1.39 (the no-debris mesh study at 4 and 3 cm, README). overInterDyMFoam:
+#: 2.3-4.3, median 2.8, over the six debris hard cases of docs/stability.md (session 3-4 runs):
+#: v1912 counts hole and fringe faces in its Courant number, and the flow past a body is
+#: faster than the front. Before this factor the planner's debris estimates were 3-4x short.
+STEP_FACTOR = {"interFoam": 1.25, "overInterDyMFoam": 2.8}
 #: Every decision the plan records a reason for.
 REASON_KEYS = (
     "solver",
@@ -765,10 +774,13 @@ def plan_case(scene: Scene) -> ModelPlan:
     for b in bodies:
         horizontal += [_min_cell(b.grid.x), _min_cell(b.grid.y), _min_cell(b.grid.z)]
     h_step = min(horizontal)
-    dt = scene.run.max_courant * h_step / u_ref
+    dt_courant = scene.run.max_courant * h_step / u_ref
+    cap = max_delta_t_s(scene.run.max_delta_t_s, scene.run.write_interval_s)
+    dt = min(dt_courant / STEP_FACTOR[solver], cap)
     reasons["time_step"] = (
         f"about {dt:.3g} s: Co = {scene.run.max_courant:g} on the smallest horizontal cell ({h_step:.3g} m) at "
-        f"U = 2 sqrt(g h0) = {u_ref:.3g} m/s (Ritter's front speed, an upper bound of the flow speed)"
+        f"U = 2 sqrt(g h0) = {u_ref:.3g} m/s (Ritter's front speed) gives {dt_courant:.3g} s, over "
+        f"{STEP_FACTOR[solver]:g} (the measured steps of {solver} over that estimate), at most maxDeltaT = {cap:.3g} s"
     )
     reasons["cell_count"] = (
         f"{cells} cells: background {background.cell_count()}"
@@ -808,7 +820,7 @@ def plan_case(scene: Scene) -> ModelPlan:
     )
     wall = estimate_wall_time_s(plan)
     reasons["cell_count"] += (
-        f"; about {math.ceil(T / dt)} steps x {US_PER_CELL_STEP[solver] * 1e6:g} us/cell-step on "
+        f"; about {estimated_steps(plan)} steps x {US_PER_CELL_STEP[solver] * 1e6:g} us/cell-step on "
         f"{_MEASURED_CORES} cores -> about {wall / 60:.1f} min on {plan.cores} core(s)"
     )
     return _replace(plan, estimated_wall_time_s=wall)
@@ -820,14 +832,25 @@ def _replace(plan: ModelPlan, **changes) -> ModelPlan:
     return replace(plan, **changes)
 
 
+def max_delta_t_s(max_delta_t: float | None, write_interval_s: float) -> float:
+    """The largest time step the case allows (maxDeltaT): the scene's run.max_delta_t_s, else
+    min(0.01 s, the write interval)."""
+    return float(max_delta_t or min(0.01, write_interval_s))
+
+
+def estimated_steps(plan: ModelPlan) -> int:
+    """Time steps to the end time at the plan's time-step estimate."""
+    return math.ceil(plan.end_time_s / plan.time_step_estimate_s) if plan.time_step_estimate_s > 0 else 0
+
+
 def estimate_wall_time_s(plan: ModelPlan) -> float:
     """Solver wall time (s): cells x steps x DESIGN.md section 3's per-cell-step cost.
 
-    Steps = end time / the plan's time-step estimate; the cost per cell-step was
+    Steps = end time / the plan's time-step estimate (with STEP_FACTOR); the cost per cell-step was
     measured on 2 cores and is scaled as 2 / cores (ideal speed-up, optimistic above 2).
     Meshing, decomposition and writing are not included.
     """
-    steps = math.ceil(plan.end_time_s / plan.time_step_estimate_s)
+    steps = estimated_steps(plan)
     per = US_PER_CELL_STEP[plan.solver] * _MEASURED_CORES / plan.cores
     return plan.cell_count * steps * per
 

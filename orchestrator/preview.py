@@ -34,7 +34,7 @@ from typing import Any
 import numpy as np
 
 from analytical.errors import DebrisfoamError
-from orchestrator.plan import ModelPlan, plan_case
+from orchestrator.plan import ModelPlan, estimated_steps, plan_case
 from orchestrator.scene import Scene, flume_extent, load_scene
 
 __all__ = ["COLOURS", "WINDOW_SIZE_PX", "preview_scene", "preview_scene_file"]
@@ -442,7 +442,7 @@ def _headline(scene: Scene, plan: ModelPlan) -> str:
     """The plan in a few lines: solver, dimensions, cells, wall time, extents."""
     n = len(plan.bodies)
     bodies = f", {n} debris bod{'y' if n == 1 else 'ies'}" if n else ", no debris"
-    steps = math.ceil(plan.end_time_s / plan.time_step_estimate_s) if plan.time_step_estimate_s > 0 else 0
+    steps = estimated_steps(plan)
     (dx0, dx1), _, (_, dz1) = plan.domain_m
     lines = [
         f"{plan.scene_name}: {plan.solver}, {'2D' if plan.two_d else '3D'}{bodies}",

@@ -32,6 +32,7 @@ from jinja2 import ChoiceLoader, Environment, FileSystemLoader, StrictUndefined
 
 from analytical.errors import InputError
 from orchestrator.grid import BoxGrid
+from orchestrator.plan import max_delta_t_s
 
 TEMPLATE_DIR = Path(__file__).resolve().parent.parent / "templates"
 
@@ -383,7 +384,7 @@ def build_context(scene, plan, numerics: Numerics | None = None) -> dict[str, An
         "end_s": end_s,
         "write_interval_s": write_s,
         "delta_t_s": float(f"{min(1e-3, 0.1 * max_co * h_min / wave_speed):.2g}"),
-        "max_delta_t_s": float(getattr(getattr(scene, "run", None), "max_delta_t_s", None) or min(0.01, write_s)),
+        "max_delta_t_s": max_delta_t_s(getattr(getattr(scene, "run", None), "max_delta_t_s", None), write_s),
         "max_courant": max_co,
         "max_alpha_courant": max_co,
         # gauges, forces and probes: every time step when the scene says null
