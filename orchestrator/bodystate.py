@@ -49,6 +49,7 @@ __all__ = [
     "read_state_file",
     "recorded_states",
     "remove_state_files",
+    "rest_on_bed",
     "write_dictionary",
     "write_states",
     "forget_after",
@@ -407,7 +408,7 @@ def pin_bodies(case_dir: str | Path, names: Sequence[str]) -> list[str]:
         if "pinnedPoint" in constraints:
             continue
         constraints = {k: v for k, v in dict(constraints).items()
-                       if k not in ("holdOnBedPlane", "holdOnBedAxis", "keepUpright")}
+                       if k not in ("holdOnBedPlane", "holdOnBedAxis", "keepUpright", REST_ON_BED)}
         constraints["pinnedPoint"] = {"sixDoFRigidBodyMotionConstraint": "point"}
         constraints["pinnedOrientation"] = {"sixDoFRigidBodyMotionConstraint": "orientation"}
         coeffs["constraints"] = constraints
@@ -415,6 +416,33 @@ def pin_bodies(case_dir: str | Path, names: Sequence[str]) -> list[str]:
     if pinned:
         write_dictionary(parsed, path)
     return pinned
+
+
+#: The constraint `rest_on_bed` adds (not the planner's initial hold, which `release_holds` removes).
+REST_ON_BED = "restOnBedPlane"
+
+
+def rest_on_bed(case_dir: str | Path, names: Sequence[str]) -> list[str]:
+    """Keep the named bodies on the bed from now on: a sixDoF `plane` constraint (normal z,
+    through the centre of mass the restart writes), so each slides and yaws but no longer
+    moves vertically. For a body the flow keeps pulling into the bed (ContactBook). Returns
+    the bodies constrained now (pinned or already resting ones are skipped)."""
+    if not names:
+        return []
+    path = Path(case_dir) / DYNAMIC_MESH_DICT
+    parsed = _parsed(path)
+    done = []
+    for name, coeffs in _body_dicts(parsed):
+        constraints = coeffs.get("constraints") or {}
+        if name not in names or REST_ON_BED in constraints or "pinnedPoint" in constraints:
+            continue
+        constraints = dict(constraints)
+        constraints[REST_ON_BED] = {"sixDoFRigidBodyMotionConstraint": "plane", "normal": [0.0, 0.0, 1.0]}
+        coeffs["constraints"] = constraints
+        done.append(name)
+    if done:
+        write_dictionary(parsed, path)
+    return done
 
 
 def pinned_bodies(case_dir: str | Path) -> set[str]:

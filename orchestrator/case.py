@@ -116,6 +116,9 @@ def final_summary(headline: dict[str, Any]) -> dict[str, Any]:
     for pin in impacts.get("pinned") or []:
         out[f"{pin['body']}_pinned"] = (f"held against the {pin['other']} by the flow from t = "
                                         f"{_num(pin.get('time_s'))} s (debris damming: frozen there)")
+    for rest in impacts.get("rest_on_bed") or []:
+        out[f"{rest['body']}_on_bed"] = (f"kept on the bed from t = {_num(rest.get('time_s'))} s (the flow kept "
+                                         "pulling it into the bed: it slides and yaws, but no longer sinks or floats)")
     response = headline.get("column_response") or {}
     if response.get("peak_base_shear_N") is not None:
         out["peak_base_shear_N"] = response["peak_base_shear_N"]

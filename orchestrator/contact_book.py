@@ -88,7 +88,9 @@ class ContactSettings:
     max_events / window_s: more than `max_events` contacts of the same pair within
         `window_s` of simulated time is a resting contact, which this event-driven model
         cannot represent: the body is pinned where it is for the rest of the run (debris
-        held against the column or a wall by the flow); two bodies: ContactError.
+        held against the column or a wall by the flow); two bodies: ContactError. A body
+        lifted out of the bed more than `max_events` times within `window_s` is kept on
+        the bed's plane from then on (`bodystate.rest_on_bed`).
     impact: keyword arguments for `analytical.impact.impact` / `pair_impact`
         (stiffness_N_m, friction_coefficient, damping_ratio, ...).
     added_mass_coefficient: C_a of the debris for the impact model.
@@ -368,6 +370,8 @@ class ContactBook:
                 if lifted is not by_name[name]:
                     by_name[name] = lifted
                     self.run_record["bed_clamps"] = self.run_record.get("bed_clamps", 0) + 1
+                    if self._count_in_window((name, "bed"), float(time_name)) > self.settings.max_events:
+                        self._rest_on_bed(time_name, lifted)
         for c in geometry.contacts(list(by_name.values()), 0.0, bed=False):
             if c.distance_m < 0:  # never restart a body inside the column, a wall or another body
                 new, _ = resting_contact(geometry, dataclasses.replace(c, approach_m_s=0.0), by_name)
@@ -379,19 +383,44 @@ class ContactBook:
     def _resting_too_often(self, c: Contact, t: float) -> bool:
         """More than `max_events` contacts of this pair within `window_s`: the flow holds the
         body against the obstacle (a resting contact the event model cannot represent)."""
-        key = (c.body, c.other)
-        times = [x for x in self._pair_events.get(key, []) if x > t - self.settings.window_s]
-        times.append(t)
-        self._pair_events[key] = times
-        if len(times) <= self.settings.max_events:
+        n = self._count_in_window((c.body, c.other), t)
+        if n <= self.settings.max_events:
             return False
         if c.kind == "body":
             from orchestrator.run import ContactError
 
             raise ContactError(
-                f"{c.body} hit {c.other} {len(times)} times within {self.settings.window_s:g} s of simulated time "
+                f"{c.body} hit {c.other} {n} times within {self.settings.window_s:g} s of simulated time "
                 f"(t = {t:.6g} s): two bodies pressed together, which event-driven contact cannot model")
         return True
+
+    def _count_in_window(self, key: tuple[str, str], t: float) -> int:
+        """Record a contact of the pair `key` at `t`; how many it had within `window_s` up to `t`."""
+        times = [x for x in self._pair_events.get(key, []) if x > t - self.settings.window_s]
+        times.append(t)
+        self._pair_events[key] = times
+        return len(times)
+
+    def _rest_on_bed(self, time_name: str, state: BodyState) -> None:
+        """Keep a body the flow keeps pulling into the bed on it (`bodystate.rest_on_bed`).
+
+        Each lift out of the bed moves the body mesh at the next step, and the flux of that
+        jump pulls the body down harder: on the short flume the closing speed doubled from
+        lift to lift (0.7, 1.4, 3.4, 7.5 m/s) until the body-speed check stopped the run.
+        Constrained to the bed's plane the body still slides and yaws, but cannot sink or
+        lift off again: a body that would float later is held (recorded, and said)."""
+        if not bodystate.rest_on_bed(self.case, [state.name]):
+            return
+        events = self._read_events()
+        events.append({"event": len(events) + 1, "type": "rest_on_bed", "time_s": float(time_name),
+                       "body": state.name, "other": "bed", "kind": "bed",
+                       "point_m": list(state.centre_of_mass_m), "normal": [0.0, 0.0, 1.0],
+                       "velocity_in_m_s": list(state.velocity_m_s)})
+        self._write_events(events)
+        self.run_record.setdefault("rest_on_bed", []).append({"body": state.name, "time_s": float(time_name)})
+        self.say(f"t = {time_name} s: {state.name} was lifted out of the bed {self.settings.max_events + 1} times "
+                 f"within {self.settings.window_s:g} s: kept on the bed from now on (it slides and yaws, "
+                 "but can no longer sink or float)")
 
     def _pin(self, time_name: str, c: Contact, state: BodyState) -> BodyState:
         """Freeze a body the flow keeps pressing against an obstacle (debris damming), record it."""

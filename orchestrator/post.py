@@ -1112,6 +1112,9 @@ def headline(results: Results) -> dict[str, Any]:
               for e in events if e.get("type") == "pinned"]
     if pinned:  # held against an obstacle by the flow from then on (the runner froze it there)
         out["impacts"]["pinned"] = pinned
+    on_bed = [{"body": e["body"], "time_s": _finite(e["time_s"])} for e in events if e.get("type") == "rest_on_bed"]
+    if on_bed:  # kept on the bed's plane from then on (the flow kept pulling it into the bed)
+        out["impacts"]["rest_on_bed"] = on_bed
     cr = results.column_response
     if "base_shear_x_N" in cr and len(cr):
         shear = np.hypot(cr["base_shear_x_N"].to_numpy(float), cr["base_shear_y_N"].to_numpy(float))

@@ -243,6 +243,45 @@ def test_contact_book_pins_a_body_pressed_against_the_column_again_and_again(bod
     assert k == settings.max_events + 1
 
 
+def test_contact_book_keeps_a_body_the_flow_pulls_into_the_bed_on_it(body_case, tmp_path):
+    """Lifted out of the bed at every restart (as on the short flume, where each lift pulled the
+    body down harder, to a blow-up): after `max_events` lifts within `window_s` the body gets a
+    plane constraint and stays on the bed. Lifts far apart (a body settling slowly) do not."""
+    import shutil
+
+    from PyFoam.RunDictionary.ParsedParameterFile import ParsedParameterFile
+
+    from orchestrator.contact_book import ContactBook
+
+    case = tmp_path / "case"
+    shutil.copytree(body_case, case)
+    settings = ContactSettings()
+    record, messages = {}, []
+    book = ContactBook(load_case_info(case), settings, record, messages.append)
+    elsewhere = _state("debris2", (0.7, 0.12, 0.1), yaw_deg=30.0)
+    sunk = _state("debris1", (0.5, 0.0, 0.03 - 0.004), (0.3, 0.0, -0.5))  # 4 mm into the bed, sinking
+    for k in range(1, settings.max_events + 1):  # one lift every window: settling slowly
+        impacts, states = book.resolve_contacts(f"{settings.window_s * 1.01 * k:.6g}", [sunk, elsewhere], 0.003)
+    assert record["bed_clamps"] == settings.max_events and "rest_on_bed" not in record
+    for k in range(1, settings.max_events + 2):  # pulled in again before every restart, 3 ms apart
+        impacts, states = book.resolve_contacts(f"{0.5 + 0.003 * k:.6g}", [sunk, elsewhere], 0.003)
+        assert impacts == 0
+        assert states[0].centre_of_mass_m[2] == pytest.approx(0.03) and states[0].velocity_m_s[2] == 0.0
+    assert record["rest_on_bed"] == [{"body": "debris1", "time_s": pytest.approx(0.5 + 0.003 * (settings.max_events + 1))}]
+    events = json.loads((case / "contacts.json").read_text())
+    assert [e["type"] for e in events] == ["rest_on_bed"] and events[0]["body"] == "debris1"
+    assert "kept on the bed" in messages[-1]
+    coeffs = {name: c for name, c in bodystate._body_dicts(
+        ParsedParameterFile(str(case / bodystate.DYNAMIC_MESH_DICT)))}
+    plane = coeffs["debris1"]["constraints"][bodystate.REST_ON_BED]
+    assert plane["sixDoFRigidBodyMotionConstraint"] == "plane" and list(plane["normal"]) == [0, 0, 1]
+    assert bodystate.REST_ON_BED not in (coeffs["debris2"].get("constraints") or {})
+    assert bodystate.rest_on_bed(case, ["debris1"]) == []  # once
+    bodystate.release_holds(case, ["debris1"])  # the planner's hold release leaves it
+    assert bodystate.REST_ON_BED in dict(bodystate._body_dicts(
+        ParsedParameterFile(str(case / bodystate.DYNAMIC_MESH_DICT))))["debris1"]["constraints"]
+
+
 def test_write_and_restore_states_in_dynamic_mesh_dict(body_case, tmp_path):
     import shutil
 
