@@ -91,6 +91,9 @@ class ContactSettings:
         held against the column or a wall by the flow); two bodies: ContactError. A body
         lifted out of the bed more than `max_events` times within `window_s` is kept on
         the bed's plane from then on (`bodystate.rest_on_bed`).
+    bed_runaway_m_s: so is a body found sinking into the bed faster than this. Settling
+        bodies closed on the bed at 0.2-0.6 m/s in the hard cases; where each lift pulled
+        the body down harder, the speeds went 0.5, 0.8, 2.0, 6.9 m/s to a blow-up.
     impact: keyword arguments for `analytical.impact.impact` / `pair_impact`
         (stiffness_N_m, friction_coefficient, damping_ratio, ...).
     added_mass_coefficient: C_a of the debris for the impact model.
@@ -103,6 +106,7 @@ class ContactSettings:
     bed_tolerance_m: float | None = None
     max_events: int = 6
     window_s: float = 0.05
+    bed_runaway_m_s: float = 1.0
     added_mass_coefficient: float = 0.0
     impact: dict = field(default_factory=dict)
 
@@ -366,12 +370,17 @@ class ContactBook:
             self._record_event(time_name, c, before, new, result)
         if self.settings.bed:
             for name in list(by_name):
-                lifted = geometry.clamp_to_bed(by_name[name])
-                if lifted is not by_name[name]:
+                sunk = by_name[name]
+                lifted = geometry.clamp_to_bed(sunk)
+                if lifted is not sunk:
                     by_name[name] = lifted
                     self.run_record["bed_clamps"] = self.run_record.get("bed_clamps", 0) + 1
-                    if self._count_in_window((name, "bed"), float(time_name)) > self.settings.max_events:
-                        self._rest_on_bed(time_name, lifted)
+                    lifts = self._count_in_window((name, "bed"), float(time_name))
+                    sinking = -float(sunk.velocity_m_s[2])
+                    if lifts > self.settings.max_events or sinking > self.settings.bed_runaway_m_s:
+                        why = (f"it sank into the bed at {sinking:.3g} m/s" if sinking > self.settings.bed_runaway_m_s
+                               else f"it was lifted out of the bed {lifts} times within {self.settings.window_s:g} s")
+                        self._rest_on_bed(time_name, lifted, why)
         for c in geometry.contacts(list(by_name.values()), 0.0, bed=False):
             if c.distance_m < 0:  # never restart a body inside the column, a wall or another body
                 new, _ = resting_contact(geometry, dataclasses.replace(c, approach_m_s=0.0), by_name)
@@ -401,7 +410,7 @@ class ContactBook:
         self._pair_events[key] = times
         return len(times)
 
-    def _rest_on_bed(self, time_name: str, state: BodyState) -> None:
+    def _rest_on_bed(self, time_name: str, state: BodyState, why: str) -> None:
         """Keep a body the flow keeps pulling into the bed on it (`bodystate.rest_on_bed`).
 
         Each lift out of the bed moves the body mesh at the next step, and the flux of that
@@ -413,13 +422,12 @@ class ContactBook:
             return
         events = self._read_events()
         events.append({"event": len(events) + 1, "type": "rest_on_bed", "time_s": float(time_name),
-                       "body": state.name, "other": "bed", "kind": "bed",
+                       "body": state.name, "other": "bed", "kind": "bed", "why": why,
                        "point_m": list(state.centre_of_mass_m), "normal": [0.0, 0.0, 1.0],
                        "velocity_in_m_s": list(state.velocity_m_s)})
         self._write_events(events)
         self.run_record.setdefault("rest_on_bed", []).append({"body": state.name, "time_s": float(time_name)})
-        self.say(f"t = {time_name} s: {state.name} was lifted out of the bed {self.settings.max_events + 1} times "
-                 f"within {self.settings.window_s:g} s: kept on the bed from now on (it slides and yaws, "
+        self.say(f"t = {time_name} s: {state.name}: {why}: kept on the bed from now on (it slides and yaws, "
                  "but can no longer sink or float)")
 
     def _pin(self, time_name: str, c: Contact, state: BodyState) -> BodyState:

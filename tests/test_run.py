@@ -270,7 +270,7 @@ def test_contact_book_keeps_a_body_the_flow_pulls_into_the_bed_on_it(body_case, 
     assert record["rest_on_bed"] == [{"body": "debris1", "time_s": pytest.approx(0.5 + 0.003 * (settings.max_events + 1))}]
     events = json.loads((case / "contacts.json").read_text())
     assert [e["type"] for e in events] == ["rest_on_bed"] and events[0]["body"] == "debris1"
-    assert "kept on the bed" in messages[-1]
+    assert "kept on the bed" in messages[-1] and "lifted out of the bed 7 times" in messages[-1]
     coeffs = {name: c for name, c in bodystate._body_dicts(
         ParsedParameterFile(str(case / bodystate.DYNAMIC_MESH_DICT)))}
     plane = coeffs["debris1"]["constraints"][bodystate.REST_ON_BED]
@@ -280,6 +280,10 @@ def test_contact_book_keeps_a_body_the_flow_pulls_into_the_bed_on_it(body_case, 
     bodystate.release_holds(case, ["debris1"])  # the planner's hold release leaves it
     assert bodystate.REST_ON_BED in dict(bodystate._body_dicts(
         ParsedParameterFile(str(case / bodystate.DYNAMIC_MESH_DICT))))["debris1"]["constraints"]
+    # one lift of a body sinking fast (each lift pulling it down harder) is enough
+    fast = _state("debris2", (0.7, 0.12, 0.03 - 0.004), (0.0, 0.0, -2.0 * settings.bed_runaway_m_s), yaw_deg=30.0)
+    book.resolve_contacts("0.9", [states[0], fast], 0.003)
+    assert record["rest_on_bed"][-1]["body"] == "debris2" and "sank into the bed at 2 m/s" in messages[-1]
 
 
 def test_write_and_restore_states_in_dynamic_mesh_dict(body_case, tmp_path):
