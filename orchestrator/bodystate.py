@@ -32,7 +32,7 @@ import os
 import tempfile
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
-from typing import Any, Iterable, Sequence
+from typing import Any, Callable, Iterable, Sequence
 
 import numpy as np
 
@@ -360,32 +360,54 @@ def prepare_restart(case_dir: str | Path, time_name: str, states: Sequence[BodyS
     write_states(case_dir, states)
 
 
+def _edit_constraints(case_dir: str | Path, names: Sequence[str],
+                      edit: Callable[[dict], dict | None]) -> list[str]:
+    """Change the sixDoF constraints of the named bodies in constant/dynamicMeshDict.
+
+    `edit` gets a body's constraints (a dict, empty when it has none) and returns the new
+    ones, or None to leave that body as it is; the file is written once, if anything
+    changed. Returns the bodies changed.
+    """
+    if not names:
+        return []
+    path = Path(case_dir) / DYNAMIC_MESH_DICT
+    parsed = _parsed(path)
+    changed = []
+    for name, coeffs in _body_dicts(parsed):
+        if name not in names:
+            continue
+        new = edit(dict(coeffs.get("constraints") or {}))
+        if new is None:
+            continue
+        if new:
+            coeffs["constraints"] = new
+        elif "constraints" in coeffs:
+            del coeffs["constraints"]
+        changed.append(name)
+    if changed:
+        write_dictionary(parsed, path)
+    return changed
+
+
+#: The planner's on-bed hold: the bed plane (and, for a body free to tip, its axis); an
+#: upright body keeps its keepUpright axis for the whole run.
+_HOLD_KEYS = ("holdOnBedPlane", "holdOnBedAxis")
+#: The constraint `rest_on_bed` adds (not the planner's initial hold, which `release_holds` removes).
+REST_ON_BED = "restOnBedPlane"
+
+
 def release_holds(case_dir: str | Path, names: Sequence[str]) -> list[str]:
     """Remove the on-bed hold constraints of the named bodies from constant/dynamicMeshDict.
 
     Returns the bodies released now (already free ones are skipped), so calling it again
     on a resumed run does nothing.
     """
-    if not names:
-        return []
-    path = Path(case_dir) / DYNAMIC_MESH_DICT
-    parsed = _parsed(path)
-    released = []
-    for name, coeffs in _body_dicts(parsed):
-        constraints = coeffs.get("constraints")
-        if name not in names or not constraints or "holdOnBedPlane" not in constraints:
-            continue
-        # The hold is the bed plane (and, for a body free to tip, its axis); an upright
-        # body keeps its keepUpright axis for the whole run.
-        for key in ("holdOnBedPlane", "holdOnBedAxis"):
-            if key in constraints:  # PyFoam's dictionary has no pop(key, default)
-                del constraints[key]
-        if not constraints:
-            del coeffs["constraints"]
-        released.append(name)
-    if released:
-        write_dictionary(parsed, path)
-    return released
+    def release(constraints: dict) -> dict | None:
+        if "holdOnBedPlane" not in constraints:
+            return None
+        return {k: v for k, v in constraints.items() if k not in _HOLD_KEYS}
+
+    return _edit_constraints(case_dir, names, release)
 
 
 def pin_bodies(case_dir: str | Path, names: Sequence[str]) -> list[str]:
@@ -396,30 +418,14 @@ def pin_bodies(case_dir: str | Path, names: Sequence[str]) -> list[str]:
     velocity and the angular velocity of a fully constrained body to zero, so it no longer
     moves. Returns the bodies pinned now (already pinned ones are skipped).
     """
-    if not names:
-        return []
-    path = Path(case_dir) / DYNAMIC_MESH_DICT
-    parsed = _parsed(path)
-    pinned = []
-    for name, coeffs in _body_dicts(parsed):
-        if name not in names:
-            continue
-        constraints = coeffs.get("constraints") or {}
+    def pin(constraints: dict) -> dict | None:
         if "pinnedPoint" in constraints:
-            continue
-        constraints = {k: v for k, v in dict(constraints).items()
-                       if k not in ("holdOnBedPlane", "holdOnBedAxis", "keepUpright", REST_ON_BED)}
-        constraints["pinnedPoint"] = {"sixDoFRigidBodyMotionConstraint": "point"}
-        constraints["pinnedOrientation"] = {"sixDoFRigidBodyMotionConstraint": "orientation"}
-        coeffs["constraints"] = constraints
-        pinned.append(name)
-    if pinned:
-        write_dictionary(parsed, path)
-    return pinned
+            return None
+        kept = {k: v for k, v in constraints.items() if k not in (*_HOLD_KEYS, "keepUpright", REST_ON_BED)}
+        return {**kept, "pinnedPoint": {"sixDoFRigidBodyMotionConstraint": "point"},
+                "pinnedOrientation": {"sixDoFRigidBodyMotionConstraint": "orientation"}}
 
-
-#: The constraint `rest_on_bed` adds (not the planner's initial hold, which `release_holds` removes).
-REST_ON_BED = "restOnBedPlane"
+    return _edit_constraints(case_dir, names, pin)
 
 
 def rest_on_bed(case_dir: str | Path, names: Sequence[str]) -> list[str]:
@@ -427,22 +433,12 @@ def rest_on_bed(case_dir: str | Path, names: Sequence[str]) -> list[str]:
     through the centre of mass the restart writes), so each slides and yaws but no longer
     moves vertically. For a body the flow keeps pulling into the bed (ContactBook). Returns
     the bodies constrained now (pinned or already resting ones are skipped)."""
-    if not names:
-        return []
-    path = Path(case_dir) / DYNAMIC_MESH_DICT
-    parsed = _parsed(path)
-    done = []
-    for name, coeffs in _body_dicts(parsed):
-        constraints = coeffs.get("constraints") or {}
-        if name not in names or REST_ON_BED in constraints or "pinnedPoint" in constraints:
-            continue
-        constraints = dict(constraints)
-        constraints[REST_ON_BED] = {"sixDoFRigidBodyMotionConstraint": "plane", "normal": [0.0, 0.0, 1.0]}
-        coeffs["constraints"] = constraints
-        done.append(name)
-    if done:
-        write_dictionary(parsed, path)
-    return done
+    def rest(constraints: dict) -> dict | None:
+        if REST_ON_BED in constraints or "pinnedPoint" in constraints:
+            return None
+        return {**constraints, REST_ON_BED: {"sixDoFRigidBodyMotionConstraint": "plane", "normal": [0.0, 0.0, 1.0]}}
+
+    return _edit_constraints(case_dir, names, rest)
 
 
 def pinned_bodies(case_dir: str | Path) -> set[str]:

@@ -377,10 +377,11 @@ class ContactBook:
                     self.run_record["bed_clamps"] = self.run_record.get("bed_clamps", 0) + 1
                     lifts = self._count_in_window((name, "bed"), float(time_name))
                     sinking = -float(sunk.velocity_m_s[2])
-                    if lifts > self.settings.max_events or sinking > self.settings.bed_runaway_m_s:
-                        why = (f"it sank into the bed at {sinking:.3g} m/s" if sinking > self.settings.bed_runaway_m_s
-                               else f"it was lifted out of the bed {lifts} times within {self.settings.window_s:g} s")
-                        self._rest_on_bed(time_name, lifted, why)
+                    if sinking > self.settings.bed_runaway_m_s:
+                        self._rest_on_bed(time_name, lifted, f"it sank into the bed at {sinking:.3g} m/s")
+                    elif lifts > self.settings.max_events:
+                        self._rest_on_bed(time_name, lifted, f"it was lifted out of the bed {lifts} times within "
+                                                             f"{self.settings.window_s:g} s")
         for c in geometry.contacts(list(by_name.values()), 0.0, bed=False):
             if c.distance_m < 0:  # never restart a body inside the column, a wall or another body
                 new, _ = resting_contact(geometry, dataclasses.replace(c, approach_m_s=0.0), by_name)

@@ -175,11 +175,14 @@ class RunInterrupted(RunError):
         self.written_time = written_time
         self.clean = clean
         self.before_first_step = before_first_step
-        how = "the solver wrote" if clean else "the solver was killed before writing; the latest written time is"
-        at = f"{how} t = {written_time} s" if written_time is not None else "nothing was written"
         if before_first_step:
             at = "the solver was stopped before its first time step, so nothing was lost; " + (
                 f"the latest written time is t = {written_time} s" if written_time is not None else "it starts again at 0")
+        elif written_time is None:
+            at = "nothing was written"
+        else:
+            how = "the solver wrote" if clean else "the solver was killed before writing; the latest written time is"
+            at = f"{how} t = {written_time} s"
         super().__init__(f"run interrupted: {at}. Resume with: debrisfoam run {shlex.quote(str(case))}")
 
     @property
@@ -792,7 +795,6 @@ class _Runner:
         diag: Diagnosis | None = None
         pending: list[Contact] = []
         killed = False
-        unstarted = False  # stopped before its first time step
         started = _now()
         t0, cpu0 = time.perf_counter(), _cpu_s()
         with open(log, "w") as out:
@@ -844,7 +846,7 @@ class _Runner:
                 if stop_reason is None and self.stop.requested and not steps:
                     # no time step taken yet (reading the mesh, overset addressing: minutes with
                     # several bodies): nothing to write and writeNow is only read between steps
-                    stop_reason, requested_at, unstarted = "interrupt", time.perf_counter(), True
+                    stop_reason = "unstarted"
                     self._kill(proc)
                     killed = True
                     progress.write("stop requested before the solver's first time step: stopped it at once "
@@ -904,7 +906,7 @@ class _Runner:
         rc = proc.returncode
         reason = "diverged" if diag else (stop_reason or "end")
         if killed and not diag and stop_reason == "interrupt":
-            reason = "unstarted" if unstarted else "killed"
+            reason = "killed"
         seg = {"start": started, "start_time": start_name, "end_time": steps[-1].time_name if steps else start_name,
                "time_steps": len(steps), "wall_s": round(wall, 3), "exit_status": rc, "stop_reason": reason,
                "command": shlex.join(argv), "log": log.name, "runner_cpu_s": round(cpu, 3)}
