@@ -65,7 +65,7 @@ speed-error: venv openfoam
 	$(VENV)/bin/debrisfoam report speed-error runs/sweeps/mesh-study --baseline runs/sweeps/mesh-study-hand
 
 # The mesh study with one container (to its first impact on the column), then its report in
-# runs/sweeps/debris-mesh-study/report/ (about 45 min on an idle 2-core machine).
+# runs/sweeps/debris-mesh-study/report/ (about 1 h of solver time on 2 cores: 19, 17 and 25 min measured).
 speed-error-debris: venv openfoam
 	-$(NICE) $(VENV)/bin/debrisfoam sweep cases/sweeps/debris-mesh-study.yaml
 	$(VENV)/bin/debrisfoam report speed-error runs/sweeps/debris-mesh-study
