@@ -719,7 +719,13 @@ class _Runner:
         if log.is_file() and log.stat().st_size > 0:
             k = 1 + max([int(p.suffix[1:]) for p in self.case.glob(f"log.{self.info.solver}.*")
                          if p.suffix[1:].isdigit()] or [0])
-            log.rename(self.case / f"log.{self.info.solver}.{k}")
+            kept = self.case / f"log.{self.info.solver}.{k}"
+            log.rename(kept)
+            # run.json names the log of every segment: the earlier ones now live under `kept`
+            for entry in [*self.record.data["segments"], self.record.data.get("diagnosis") or {}]:
+                if entry.get("log") == log.name:
+                    entry["log"] = kept.name
+            self.record.save()
         return log
 
     def restore_bodies(self, start_name: str) -> list[BodyState]:

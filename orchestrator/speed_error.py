@@ -102,18 +102,18 @@ def _read_json(path: Path) -> dict:
 
 
 def solver_cpu_s(case_dir: str | Path) -> float | None:
-    """CPU time of the solver's master rank (s): the last ``ExecutionTime`` of every
-    segment's log (run.json's segments), summed; None when no log says."""
+    """CPU time of the solver's master rank (s): the last ``ExecutionTime`` of every solver
+    log in the case, summed. Each segment writes ``log.<solver>`` and the next one moves it
+    to ``log.<solver>.N``, so every log is one solver process (restarts that were later
+    undone included: they cost CPU too). None when no log says."""
     case = Path(case_dir)
     run = _read_json(case / "run.json")
+    bases = {str(seg.get("log")) for seg in run.get("segments") or [] if seg.get("log")}
+    logs = {p for base in bases for p in [case / base, *case.glob(f"{base}.*")]
+            if p.is_file() and (p.name == base or p.suffix[1:].isdigit())}
     total, found = 0.0, False
-    for seg in run.get("segments") or []:
-        log = case / str(seg.get("log") or "")
-        try:
-            text = log.read_text(errors="replace")
-        except OSError:
-            continue
-        hits = _EXEC_RE.findall(text)
+    for log in sorted(logs):
+        hits = _EXEC_RE.findall(log.read_text(errors="replace"))
         if hits:
             total += float(hits[-1][0])
             found = True
@@ -601,16 +601,31 @@ def _markdown_table(head: list[str], rows: list[list[str]]) -> str:
     return "\n".join(lines)
 
 
+def _impact_cells(r: dict) -> list[str]:
+    """The first impact's time and velocity, and their errors against the reference."""
+    ref = bool(r.get("reference"))
+    err_v = _num(r.get("impact_velocity_error_vs_finest_percent"))
+    return [
+        _fmt(r.get("first_impact_time_s"), ".3f"),
+        "reference" if ref else _fmt(r.get("impact_time_error_vs_finest_s"), "+.3f"),
+        _fmt(r.get("impact_velocity_m_s"), ".2f"),
+        "reference" if ref else (_fmt(err_v, "+.1f") + " %" if err_v is not None else "-"),
+    ]
+
+
 def markdown(study: SpeedError) -> str:
     """speed_error.md: the tables, the speed-ups and the extrapolation."""
     t = study.table
     tcol = study.time_column
     ref = study.reference
     seed_gauges = [g for g in ("WG2", "WG3") if f"{g}_arrival_s" in t]
+    impacts = "first_impact_time_s" in t and t["first_impact_time_s"].notna().any()
     head = ["member", "cell", "cells", "steps", "cell-steps (M)", "wall", "solver", "solver CPU",
             "gauge RMSE vs finest (mm)", "peak force vs finest", *[f"{g} arrival (s)" for g in seed_gauges],
             *[f"{g} vs Chanson (s)" for g in seed_gauges], *[f"{g} vs experiment (s)" for g in seed_gauges],
-            "depth RMSE vs Chanson (mm)", "Pareto"]
+            "depth RMSE vs Chanson (mm)",
+            *(["first impact (s)", "vs finest (s)", "impact velocity (m/s)", "vs finest"] if impacts else []),
+            "Pareto"]
     rows = []
     for r in t.to_dict("records"):
         pareto = ", ".join(n for n, c in (("finest", "pareto_vs_finest"), ("Chanson", "pareto_vs_chanson")) if r.get(c))
@@ -630,6 +645,7 @@ def markdown(study: SpeedError) -> str:
             *[_fmt(r.get(f"{g}_arrival_error_chanson_s"), "+.3f") for g in seed_gauges],
             *[_fmt(r.get(f"{g}_arrival_error_seed_experiment_s"), "+.3f") for g in seed_gauges],
             _fmt(1e3 * r["depth_rmse_vs_chanson_m"], ".1f") if _num(r.get("depth_rmse_vs_chanson_m")) is not None else "-",
+            *(_impact_cells(r) if impacts else []),
             pareto or "-",
         ])
     out = [f"# Speed against error: {study.sweep_dir.name}", ""]

@@ -409,6 +409,8 @@ def test_dam_break_runs_to_completion_and_resumes_after_a_stop(tmp_path, openfoa
     on_grid = abs(written / 0.05 - round(written / 0.05)) < 1e-6
     # the stopped segment, a short one back onto the write grid (unless the stop fell on it), the rest
     assert resumed.status == "finished" and resumed.segments == (2 if on_grid else 3)
+    logs = [seg["log"] for seg in json.loads((stopped / "run.json").read_text())["segments"]]
+    assert len(set(logs)) == len(logs) and all((stopped / n).is_file() for n in logs)  # each its own, kept
     # the same end state as the uninterrupted run: the column force (the bore hit it at
     # about 0.5 s) and the water fraction in every cell
     a, b = force_rows(whole), force_rows(stopped)

@@ -47,13 +47,16 @@ def test_gauge_rmse_is_measured_on_the_reference_time_base_over_the_common_windo
     assert math.isnan(gauge_rmse([5.0, 6.0], [1.0, 1.0], t_ref, ref))  # nothing overlaps
 
 
-def test_solver_cpu_time_is_the_last_execution_time_of_every_segment(tmp_path):
-    (tmp_path / "run.json").write_text(json.dumps({"segments": [{"log": "log.interFoam.1"},
-                                                                {"log": "log.interFoam"}, {"log": "missing"}]}))
+def test_solver_cpu_time_is_the_last_execution_time_of_every_solver_log_counted_once(tmp_path):
     (tmp_path / "log.interFoam.1").write_text("ExecutionTime = 1.5 s  ClockTime = 2 s\n\nTime = 0.1\n"
                                               "ExecutionTime = 12.25 s  ClockTime = 20 s\n")
     (tmp_path / "log.interFoam").write_text("ExecutionTime = 3 s  ClockTime = 9 s\nEnd\n")
-    assert solver_cpu_s(tmp_path) == pytest.approx(15.25)
+    (tmp_path / "log.interFoam.orig").write_text("ExecutionTime = 100 s  ClockTime = 100 s\n")  # not a segment's
+    for named in (["log.interFoam.1", "log.interFoam", "missing"],
+                  # records before session 6 named the live log for every segment: not three times the last
+                  ["log.interFoam", "log.interFoam", "log.interFoam"]):
+        (tmp_path / "run.json").write_text(json.dumps({"segments": [{"log": n} for n in named]}))
+        assert solver_cpu_s(tmp_path) == pytest.approx(15.25)
     assert solver_cpu_s(tmp_path / "nowhere") is None
 
 
