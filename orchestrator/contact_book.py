@@ -40,6 +40,7 @@ from __future__ import annotations
 import csv
 import dataclasses
 import json
+import math
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -389,6 +390,23 @@ class ContactBook:
                 self.say(f"{c.body} overlapped {c.other} by {-c.distance_m * 1000:.3g} mm at t = {time_name} s: "
                          "moved out along the contact normal")
         return events, [by_name[n] for n in self.info.body_names]
+
+    def after_divergence(self, diagnosis: dict[str, Any], time_name: str, states: Sequence[BodyState]) -> None:
+        """Resuming a run the body-speed check stopped (run.json's last `diagnosis`): if the
+        body was going mostly straight down, faster than `bed_runaway_m_s`, it was being pulled
+        into the bed (see `_rest_on_bed`), so it rests on the bed from the restart on. The lifts
+        that would show it at a restart are not seen again when the run restarts from the
+        last good time, before them."""
+        if diagnosis.get("kind") != "body_speed" or not self.settings.bed:
+            return
+        name, velocity = diagnosis.get("body"), diagnosis.get("velocity_m_s")
+        by_name = {s.name: s for s in states}
+        if name not in by_name or not velocity or len(velocity) != 3:
+            return
+        vx, vy, vz = (float(v) for v in velocity)
+        if -vz > self.settings.bed_runaway_m_s and -vz >= math.hypot(vx, vy):
+            self._rest_on_bed(time_name, by_name[name], f"the last run stopped with it sinking at {-vz:.3g} m/s "
+                                                        f"(t = {diagnosis.get('time_s')} s)")
 
     def _resting_too_often(self, c: Contact, t: float) -> bool:
         """More than `max_events` contacts of this pair within `window_s`: the flow holds the

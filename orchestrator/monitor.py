@@ -402,6 +402,9 @@ class Diagnosis:
     cause: str
     time_s: float | None
     since_s: float | None
+    #: body_speed: the body and its velocity (m/s) when it was caught
+    body: str | None = None
+    velocity_m_s: tuple[float, float, float] | None = None
 
 
 class HealthWatch:
@@ -455,7 +458,8 @@ class HealthWatch:
             for body in step.bodies:
                 if not body.speed_m_s <= lim.max_body_speed_m_s:
                     return Diagnosis("body_speed", f"body {body.name} moves at {body.speed_m_s:.3g} m/s, faster than "
-                                     f"any flow here ({lim.max_body_speed_m_s:.3g} m/s)", step.time_s, step.time_s)
+                                     f"any flow here ({lim.max_body_speed_m_s:.3g} m/s)", step.time_s, step.time_s,
+                                     body.name, tuple(float(v) for v in body.velocity_m_s))
         if self.domain is not None:
             for body in step.bodies:
                 out = _outside(body.centre_of_mass_m, self.domain, lim.domain_margin_m)

@@ -1064,10 +1064,10 @@ def _run_locked(case_dir, np, quiet, reconstruct, contact, limits, stop_event, p
 
     data["status"] = "running"
     data.pop("error", None)
-    data.pop("diagnosis", None)
+    previous = data.pop("diagnosis", None)  # why the last run stopped, if it diverged
     rec.save()
     try:
-        return _run_steps(info, runner, stop, quiet, reconstruct, stream, wall0)
+        return _run_steps(info, runner, stop, quiet, reconstruct, stream, wall0, previous)
     except RunInterrupted:
         raise
     except DebrisfoamError as exc:  # recorded, then raised for the CLI to report
@@ -1078,7 +1078,7 @@ def _run_locked(case_dir, np, quiet, reconstruct, contact, limits, stop_event, p
 
 
 def _run_steps(info: CaseInfo, runner: _Runner, stop: _StopFlag, quiet: bool, reconstruct: str, stream,
-               wall0: float) -> RunSummary:
+               wall0: float, previous: dict[str, Any] | None = None) -> RunSummary:
     case, rec = info.case, runner.record
     data = rec.data
 
@@ -1116,6 +1116,9 @@ def _run_steps(info: CaseInfo, runner: _Runner, stop: _StopFlag, quiet: bool, re
             states = runner.restore_bodies(name)
             if states and runner.contact.enabled:
                 t_between = time.perf_counter()
+                if previous is not None:  # resumed after a divergence: mend its cause if the book can
+                    runner.book.after_divergence(previous, name, states)
+                    previous = None
                 events, resolved = runner.book.resolve_contacts(name, states, runner.stop_horizon_s)
                 if resolved != states:
                     bodystate.prepare_restart(case, name, resolved, "contact")
@@ -1236,6 +1239,8 @@ def _fail_diverged(runner: _Runner, seg: _SegmentResult, start_value: float) -> 
     data["status"] = "stalled" if diag.kind == "stall" else "diverged"
     data["diagnosis"] = {"kind": diag.kind, "cause": diag.cause, "time_s": diag.time_s, "last_good_time": good,
                          "log": seg.log.name}
+    if diag.body is not None:
+        data["diagnosis"].update(body=diag.body, velocity_m_s=list(diag.velocity_m_s or ()))
     runner.record.save()
     raise DivergenceError(diag.kind, diag.cause, diag.time_s, good, seg.log)
 

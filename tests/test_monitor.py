@@ -158,6 +158,7 @@ def test_body_speed_and_domain_checks():
     fast = replace(step.bodies[1], velocity_m_s=(8.0, 0.0, 0.0))
     diag = watch.check_step(replace(step, bodies=(step.bodies[0], fast)))
     assert diag.kind == "body_speed" and "debris2" in diag.cause
+    assert diag.body == "debris2" and diag.velocity_m_s == (8.0, 0.0, 0.0)  # for the resume (ContactBook)
     gone = replace(step.bodies[0], centre_of_mass_m=(2.0, 0.0, 0.1))
     diag = HealthWatch(DivergenceLimits(), 0.9, domain).check_step(replace(step, bodies=(gone,)))
     assert diag.kind == "left_domain" and "x = 2 m > 1.87 m" in diag.cause

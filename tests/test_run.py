@@ -286,6 +286,34 @@ def test_contact_book_keeps_a_body_the_flow_pulls_into_the_bed_on_it(body_case, 
     assert record["rest_on_bed"][-1]["body"] == "debris2" and "sank into the bed at 2 m/s" in messages[-1]
 
 
+def test_a_run_resumed_after_a_body_ran_away_into_the_bed_keeps_it_on_the_bed(body_case, tmp_path):
+    """The resume gap of the bed runaway: a run the body-speed check stopped restarts from its
+    last good time, before the lifts that would show the runaway; run.json's diagnosis (the
+    body and its velocity) says it instead. Fast sideways, or slow, is not a runaway."""
+    import shutil
+
+    from orchestrator.contact_book import ContactBook
+
+    case = tmp_path / "case"
+    shutil.copytree(body_case, case)
+    settings = ContactSettings()
+    record, messages = {}, []
+    book = ContactBook(load_case_info(case), settings, record, messages.append)
+    states = [_state("debris1", (0.5, 0.0, 0.03), (0.3, 0.0, -0.2)), _state("debris2", (0.7, 0.12, 0.1), yaw_deg=30.0)]
+    diag = {"kind": "body_speed", "cause": "body debris1 moves at 13.4 m/s", "time_s": 1.9}
+    for not_a_runaway in ({**diag, "kind": "courant"},
+                          {**diag, "body": "debris1", "velocity_m_s": [13.0, 0.0, -3.0]},  # along the flume
+                          {**diag, "body": "debris1", "velocity_m_s": [0.1, 0.0, -0.5 * settings.bed_runaway_m_s]},
+                          {**diag, "body": "nobody", "velocity_m_s": [0.0, 0.0, -13.4]},
+                          diag):  # a record from before the body was named
+        book.after_divergence(not_a_runaway, "1.85", states)
+    assert "rest_on_bed" not in record and not (case / "contacts.json").exists()
+    book.after_divergence({**diag, "body": "debris1", "velocity_m_s": [1.0, 0.5, -13.4]}, "1.85", states)
+    assert record["rest_on_bed"] == [{"body": "debris1", "time_s": 1.85}]
+    assert "the last run stopped with it sinking at 13.4 m/s (t = 1.9 s)" in messages[-1]
+    assert [e["type"] for e in json.loads((case / "contacts.json").read_text())] == ["rest_on_bed"]
+
+
 def test_write_and_restore_states_in_dynamic_mesh_dict(body_case, tmp_path):
     import shutil
 
@@ -663,6 +691,27 @@ def test_body_on_the_bed_does_not_sink_through_it(tmp_path, openfoam):
             lowest.append(bed[0].distance_m)
     # it sinks at most the tolerance plus what it covers while the solver stops (a few steps)
     assert min(lowest) > -(tolerance + 0.003)
+
+
+@pytest.mark.openfoam
+def test_resumed_after_a_bed_runaway_the_body_stays_on_the_bed(tmp_path, openfoam):
+    """The same sinking body, in a run resumed after the body-speed check stopped it sinking
+    (run.json's diagnosis, as the runner writes it): from the restart on, the sixDoF plane
+    constraint keeps it at the bed's level in the real solver, with no lift needed."""
+    case = render(tmp_path, "runaway", scene([{"name": "debris1", "centre_m": [0.8, 0.0], "placement": "on_bed"}],
+                                             end_time_s=0.06, wet_depth_m=0.015))
+    assert bodystate.release_holds(case, ["debris1"]) == ["debris1"]
+    (case / "run.json").write_text(json.dumps({"status": "diverged", "diagnosis": {
+        "kind": "body_speed", "cause": "body debris1 moves at 13.4 m/s, faster than any flow here", "time_s": 0.05,
+        "last_good_time": "0", "body": "debris1", "velocity_m_s": [0.2, 0.0, -13.4]}}))
+    summary = run_case(case, quiet=True)
+    record = json.loads((case / "run.json").read_text())
+    assert summary.status == "finished" and record["rest_on_bed"] == [{"body": "debris1", "time_s": 0.0}]
+    assert not record.get("bed_clamps")  # never lifted: it did not sink
+    z0 = json.loads((case / "plan.json").read_text())["bodies"][0]["centre_of_mass_m"][2]
+    heights = [b.centre_of_mass_m[2] for _, steps in steps_of(case, "overInterDyMFoam", ["debris1"])
+               for step in steps for b in step.bodies]
+    assert len(heights) > 5 and max(abs(z - z0) for z in heights) < 1e-6
 
 
 @pytest.mark.openfoam
