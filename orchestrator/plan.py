@@ -36,7 +36,6 @@ from typing import Any, Literal
 
 import numpy as np
 
-from analytical.errors import InputError
 from orchestrator.grid import BoxGrid, Segment, graded_segment
 from orchestrator.scene import Scene, body_rotation, flume_extent
 
@@ -406,63 +405,10 @@ def _min_cell(segs: tuple[Segment, ...]) -> float:
 # ----------------------------------------------------------------------- the planner
 
 
-#: Clearance kept between two bodies' overset meshes at the start, in finest background cells.
-BODY_MESH_CLEARANCE_CELLS = 0.1
-
-
-def _body_margin(scene: Scene, h: float, source: str | None = None) -> tuple[float, str]:
-    """The margin of every body's overset mesh (m) and, when it had to be cut, why.
-
-    ``mesh.body_margin_cells`` finest cells, unless two bodies' meshes would then overlap at the
-    start: v1912 does not cope with that (measured on the seed's 2x3 layout, whose 0.12 m margins
-    overlap by half: cellVolumeWeight's mesh-to-mesh addressing of the first overlapping pair ran
-    for 17 min without ending; inverseDistance and leastSquares marked every cell a hole and the
-    time step collapsed at once; docs/stability.md). Then the margin is cut, for all bodies alike,
-    to the largest that keeps every pair apart on some axis (boxes as their axis-aligned bounds).
-    Bodies so close that not even one body cell of margin fits are bad input.
-    """
-    wanted = scene.mesh.body_margin_cells * h
-    bodies = list(scene.debris)
-    if len(bodies) < 2:
-        return wanted, ""
-    clearance = BODY_MESH_CLEARANCE_CELLS * h
-    extent, grow = [], []  # per body: the body's own AABB half-extent, and its growth per metre of margin
-    for body in bodies:
-        rot = np.abs(body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg))
-        extent.append(rot @ (np.asarray(body.size_m) / 2.0))
-        grow.append(rot @ np.ones(3))
-    cap, tightest = math.inf, None
-    for i in range(len(bodies)):
-        for j in range(i):
-            gap = np.abs(np.asarray(bodies[i].centre_m) - np.asarray(bodies[j].centre_m)) - extent[i] - extent[j]
-            room = float(np.max((gap - clearance) / (grow[i] + grow[j])))  # apart on the best axis
-            if room < cap:
-                cap, tightest = room, (bodies[j].name, bodies[i].name, float(np.max(gap)))
-    if cap >= wanted:
-        return wanted, ""
-    a, b, gap = tightest
-    smallest_cell = min(min(min(body.size_m) / scene.mesh.body_cells_across, h) for body in bodies)
-    if cap < smallest_cell:
-        raise InputError(
-            "debris",
-            f"{a} and {b} are {gap:.3g} m apart (box to box): too close for separate overset meshes, which need "
-            f"at least one body cell ({smallest_cell:.3g} m) of margin each and must not overlap in OpenFOAM v1912; "
-            "space the bodies further apart",
-            source,
-        )
-    return cap, (
-        f"body-mesh margin cut from {wanted:.3g} m to {cap:.3g} m ({cap / h:.2g} finest cells) so that the "
-        f"meshes of {a} and {b} ({gap:.3g} m apart) do not overlap at the start, which OpenFOAM v1912's "
-        "overset cannot handle (docs/stability.md); the flow past thin body meshes is less well resolved "
-        "(docs/openfoam-notes.md), and bodies that drift together later may still stall the solver"
-    )
-
-
-def plan_case(scene: Scene, source: str | None = None) -> ModelPlan:
+def plan_case(scene: Scene) -> ModelPlan:
     """What ``scene`` needs: solver, dimensions, extents, grids, bodies, water, gauges.
 
     Pure: reads nothing, writes nothing. See the module docstring for the physics.
-    ``source``: the scene's file, named in the InputError of a scene the planner refuses.
     """
     reasons: dict[str, str] = {}
     warnings: list[str] = []
@@ -514,9 +460,7 @@ def plan_case(scene: Scene, source: str | None = None) -> ModelPlan:
     )
 
     # ---- body geometry (needed for the extents)
-    margin_body, margin_note = _body_margin(scene, h, source)
-    if margin_note:
-        warnings.append(margin_note)
+    margin_body = scene.mesh.body_margin_cells * h
     body_boxes = []  # AABB of each body's overset mesh, scene coordinates
     for body in scene.debris:
         rot = body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg)
@@ -777,6 +721,15 @@ def plan_case(scene: Scene, source: str | None = None) -> ModelPlan:
             warnings.append(
                 f"{body.name}: its overset mesh reaches {' and '.join(outside)} at the start; cells there have no donors"
             )
+    for i, (lo_a, hi_a) in enumerate(body_boxes):
+        for j in range(i):
+            lo_b, hi_b = body_boxes[j]
+            if np.all(lo_a < hi_b) and np.all(lo_b < hi_a):
+                warnings.append(
+                    f"the overset meshes of {scene.debris[j].name} and {scene.debris[i].name} overlap at the start: "
+                    "OpenFOAM v1912 may then never finish the overset addressing of the first step (the seed's "
+                    "2x3 layout at 4 cm cells: over 17 min; docs/stability.md, six-debris)"
+                )
     if bodies:
         reasons["hold_on_bed"] = (
             "held on the bed by sixDoF constraints (free to slide and yaw, not to sink or tip: v1912 has no "
@@ -787,10 +740,8 @@ def plan_case(scene: Scene, source: str | None = None) -> ModelPlan:
         )
         b0 = bodies[0]
         reasons["bodies"] = (
-            f"{len(bodies)} overset body mesh(es): each box extends "
-            + (f"{scene.mesh.body_margin_cells} finest cells ({margin_body:.3g} m)" if not margin_note
-               else f"{margin_body:.3g} m (not {scene.mesh.body_margin_cells} finest cells: {margin_note})")
-            + " beyond its body so donors lie in fine background cells and calculated body cells "
+            f"{len(bodies)} overset body mesh(es): each box extends {scene.mesh.body_margin_cells} finest cells "
+            f"({margin_body:.3g} m) beyond its body so donors lie in fine background cells and calculated body cells "
             "surround the body (thinner meshes let the flow pass the body by: docs/openfoam-notes.md); cells of "
             f"{b0.cell_size_m:.3g} m at the body ({scene.mesh.body_cells_across:g} across its smallest side), "
             f"{h:g} m at the mesh edge; inertia from the box walls (wall_thickness_m) or as given"

@@ -79,7 +79,7 @@ def preview_scene_file(path: str | Path, out_png: str | Path, overrides: Sequenc
     Returns the path of the PNG written.
     """
     scene = load_scene(path, list(overrides))
-    plan = plan_case(scene, str(path))
+    plan = plan_case(scene)
     return preview_scene(scene, plan, out_png)
 
 

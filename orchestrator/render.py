@@ -561,7 +561,7 @@ def render_from_file(scene_path: str | Path, out_dir: Path, sets: Sequence[str] 
     from orchestrator.scene import load_scene
 
     scene = load_scene(scene_path, list(sets))
-    plan = plan_case(scene, str(scene_path))
+    plan = plan_case(scene)
     case = render_case(scene, plan, out_dir, force=force, overrides=sets)
     summary: dict[str, Any] = {"case": str(case), "solver": plan.solver, "planned_cells": int(plan.cell_count)}
     if scene.outputs.preview:

@@ -136,6 +136,10 @@ FILE_MODIFICATION_SKEW_S = 10.0
 #: runner dates the file later again, and how long in all before it kills the solver.
 STOP_ACK_TIMEOUT_S = 30.0
 STOP_KILL_TIMEOUT_S = 600.0
+#: ... unless the solver writes nothing at all for this long (or 20 times its slowest step,
+#: if longer) after a user's stop request: it is stuck inside a time step (seen: the overset
+#: addressing of six bodies), and a writeNow is only read between steps, so it is killed.
+STOP_SILENT_KILL_S = 60.0
 #: _SegmentResult.reason of a segment the user stopped: written on request, killed (a second
 #: Ctrl-C or no answer), or stopped before its first time step
 STOPPED_REASONS = ("interrupt", "killed", "unstarted")
@@ -900,6 +904,13 @@ class _Runner:
                     if stop_reason is not None and waited > STOP_KILL_TIMEOUT_S and not killed:
                         self._kill(proc)
                         killed = True
+                    elif (stop_reason == "interrupt" and not killed
+                          and now - max(last_output, requested_at) > self._silent_kill_s(arrivals)):
+                        self._kill(proc)
+                        killed = True
+                        progress.write(f"the solver wrote nothing for {now - last_output:.0f} s after the stop "
+                                       "request (stuck inside a time step): killed it; the run resumes from "
+                                       "the last written time")
                 time.sleep(self.poll_now)
         except BaseException:
             if proc.poll() is None:
@@ -932,6 +943,12 @@ class _Runner:
         if steps and steps[-1].delta_t_s:
             self.last_delta_t_s = steps[-1].delta_t_s
         return _SegmentResult(start_name, reason, rc, steps, parser, log, wall, cpu, diag, pending)
+
+    @staticmethod
+    def _silent_kill_s(arrivals: list[tuple[float, int]]) -> float:
+        """How long a solver may stay silent after a stop request before it is killed."""
+        gaps = [(b[0] - a[0]) / max(1, b[1] - a[1]) for a, b in zip(arrivals, arrivals[1:])]
+        return max(STOP_SILENT_KILL_S, 20.0 * max(gaps, default=0.0))
 
     def _stall(self, silent_s: float, arrivals: list[tuple[float, int]], steps: list[StepRecord],
                start_value: float, last_line: str) -> Diagnosis | None:

@@ -27,6 +27,7 @@ import pytest
 import yaml
 
 from orchestrator import bodystate
+from orchestrator import run as run_module
 from orchestrator.bodystate import BodyState
 from orchestrator.contact_book import Geometry, resting_contact
 from orchestrator.monitor import DivergenceLimits, parse_log
@@ -588,6 +589,35 @@ def test_a_stop_before_the_first_time_step_kills_the_solver_at_once(tmp_path, op
     assert record["status"] == "interrupted" and record["segments"][-1]["stop_reason"] == "unstarted"
     resumed = run_case(case, quiet=True)  # and the run goes on from the start
     assert resumed.status == "finished" and resumed.reached_time_s == pytest.approx(0.1)
+
+
+@pytest.mark.openfoam
+def test_a_stop_while_the_solver_is_stuck_in_a_step_kills_it_without_waiting(tmp_path, openfoam, monkeypatch):
+    """A stop request to a solver stuck inside a time step (frozen here with SIGSTOP; seen: the
+    overset addressing of six bodies) cannot be answered by writeNow: once the log has been
+    silent for STOP_SILENT_KILL_S (or 20 slowest steps) after the request, the runner kills it
+    instead of waiting STOP_KILL_TIMEOUT_S (600 s), and the run resumes from its last time."""
+    monkeypatch.setattr(run_module, "STOP_SILENT_KILL_S", 3.0)
+    case = render(tmp_path, "stuck", scene(end_time_s=0.3))
+    stop = threading.Event()
+    frozen: list[int] = []
+
+    def freeze_then_stop(step):
+        if step.time_s > 0.12 and not frozen:
+            frozen.extend(_solver_ranks(case, "interFoam"))
+            for pid in frozen:
+                os.kill(pid, signal.SIGSTOP)
+            stop.set()
+
+    t0 = time.perf_counter()
+    with pytest.raises(RunInterrupted) as err:
+        run_case(case, quiet=True, stop_event=stop, on_step=freeze_then_stop)
+    assert len(frozen) == 2 and time.perf_counter() - t0 < 120  # not the 600 s
+    assert not err.value.clean and not _solver_ranks(case, "interFoam")
+    record = json.loads((case / "run.json").read_text())
+    assert record["status"] == "interrupted" and record["segments"][-1]["stop_reason"] == "killed"
+    resumed = run_case(case, quiet=True)
+    assert resumed.status == "finished" and resumed.reached_time_s == pytest.approx(0.3)
 
 
 def _positions_across_restarts(case: Path, names):
