@@ -726,9 +726,9 @@ class _Runner:
             kept = self.case / f"log.{self.info.solver}.{k}"
             log.rename(kept)
             # run.json names the log of every segment: the earlier ones now live under `kept`
-            for entry in [*self.record.data["segments"], self.record.data.get("diagnosis") or {}]:
-                if entry.get("log") == log.name:
-                    entry["log"] = kept.name
+            for seg in self.record.data["segments"]:
+                if seg.get("log") == log.name:
+                    seg["log"] = kept.name
             self.record.save()
         return log
 
@@ -947,18 +947,17 @@ class _Runner:
     @staticmethod
     def _silent_kill_s(arrivals: list[tuple[float, int]]) -> float:
         """How long a solver may stay silent after a stop request before it is killed."""
-        gaps = [(b[0] - a[0]) / max(1, b[1] - a[1]) for a, b in zip(arrivals, arrivals[1:])]
-        return max(STOP_SILENT_KILL_S, 20.0 * max(gaps, default=0.0))
+        return max(STOP_SILENT_KILL_S, 20.0 * (_slowest_step_s(arrivals) or 0.0))
 
     def _stall(self, silent_s: float, arrivals: list[tuple[float, int]], steps: list[StepRecord],
                start_value: float, last_line: str) -> Diagnosis | None:
         """A stall diagnosis when the solver has written nothing for longer than the limit."""
-        gaps = [(b[0] - a[0]) / max(1, b[1] - a[1]) for a, b in zip(arrivals, arrivals[1:])]
-        limit = self.limits.stall_limit_s(max(gaps) if gaps else None)
+        slowest_s = _slowest_step_s(arrivals)
+        limit = self.limits.stall_limit_s(slowest_s)
         if silent_s <= limit:
             return None
         t = steps[-1].time_s if steps else start_value
-        slowest = f"; its slowest time step so far took {max(gaps):.3g} s" if gaps else ""
+        slowest = f"; its slowest time step so far took {slowest_s:.3g} s" if slowest_s is not None else ""
         return Diagnosis("stall", f"the solver stalled: nothing written to its log for {silent_s:.0f} s of wall "
                                   f"time{slowest} (last line: {last_line[:120]!r})", t, None)
 
@@ -1242,6 +1241,13 @@ def _match_decomposition(case: Path, ranks: int, data: dict) -> None:
     bodystate.write_dictionary(parsed, path)
     data["decomposition_note"] = (f"--np {ranks} instead of the planned {planned}: hierarchical ({ranks} 1 1); "
                                   "the plan's split kept body meshes on one rank, this one may not")
+
+
+def _slowest_step_s(arrivals: list[tuple[float, int]]) -> float | None:
+    """The longest wall time per step between the runner's log reads ((wall clock, steps so
+    far) pairs); None before two reads with steps."""
+    gaps = [(b[0] - a[0]) / max(1, b[1] - a[1]) for a, b in zip(arrivals, arrivals[1:])]
+    return max(gaps) if gaps else None
 
 
 def _fail_diverged(runner: _Runner, seg: _SegmentResult, start_value: float) -> None:
