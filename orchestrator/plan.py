@@ -37,7 +37,7 @@ from typing import Any, Literal
 import numpy as np
 
 from orchestrator.grid import BoxGrid, Segment, graded_segment
-from orchestrator.scene import Scene, body_rotation, flume_extent
+from orchestrator.scene import DebrisBody, Scene, body_rotation, flume_extent
 
 __all__ = [
     "BodyPlan",
@@ -342,6 +342,35 @@ def _pick_planes(lo: float, hi: float, wanted: list[tuple[float, int]], h: float
     return sorted(kept)
 
 
+def _lowest_corner_m(body: DebrisBody) -> float:
+    """Height of a body's lowest corner above the bed (<= 0: it rests on the bed)."""
+    rot = body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg)
+    return body.centre_m[2] - float(np.sum(np.abs(rot[2, :]) * np.asarray(body.size_m) / 2))
+
+
+def _bed_layer_m(scene: Scene, h: float) -> float | None:
+    """Height of the background's first cell layer when the scene needs one below ``h``.
+
+    A wet bed gets its own layer, however thin: setFields fills whole cells by their centres, so
+    a wet bed inside a taller first cell would not be there at all. A body resting on a dry bed
+    gets one a quarter of its mesh's cell thick: v1912's overset marks the body-mesh cells that
+    overlap the background's bed-adjacent cells as holes, so beside a resting body the
+    background cells of that layer have only hole donors and keep stale values. Water flowing
+    into them is lost (a 4 cm first layer lost 3 % of the water in 0.9 s), and the container's
+    underside sees a stale pressure (docs/stability.md, "A container resting on the bed"). The
+    body mesh gets a plane at the same height, so its hole ring is this layer and no more. (A
+    3.75 mm layer under the seed's 15 mm bed was tried and not kept: on the short flume the
+    container was pulled into the bed at 0.81 s and the water balance went from +0.11 % to
+    -0.34 %.)
+    """
+    if scene.bed.wet_depth_m > 0:
+        return scene.bed.wet_depth_m
+    resting = [b for b in scene.debris if _lowest_corner_m(b) <= 1e-6]
+    if not resting:
+        return None
+    return min(min(h, min(b.size_m) / scene.mesh.body_cells_across) for b in resting) / 4
+
+
 def _axis_segments(
     lo: float,
     hi: float,
@@ -468,6 +497,7 @@ def plan_case(scene: Scene) -> ModelPlan:
         ext = np.abs(rot) @ half
         c = np.asarray(body.centre_m)
         body_boxes.append((c - ext, c + ext))
+    bed_layer = _bed_layer_m(scene, h)
 
     # ---- region of interest along x
     col_x0 = col.x_m - col.size_x_m / 2 if col else None
@@ -626,12 +656,19 @@ def plan_case(scene: Scene) -> ModelPlan:
     wx: list[tuple[float, int]] = [(0.0, 1)]
     wy: list[tuple[float, int]] = []
     wz: list[tuple[float, int]] = [(h0, 1)]
-    if scene.bed.wet_depth_m >= 0.2 * h:
-        wz.append((scene.bed.wet_depth_m, 2))  # kept even when thin: the water volume is exact
-    elif scene.bed.wet_depth_m > 0:
-        warnings.append(
-            f"wet bed ({scene.bed.wet_depth_m:g} m) thinner than a fifth of a cell: it fills part of the first cell"
-        )
+    if bed_layer is not None:
+        # kept even when thin: the wet bed's water volume is exact (setFields fills whole cells by
+        # their centres), and a body resting on the bed needs it (_bed_layer_m)
+        wz.append((bed_layer, 2))
+        if bed_layer < 0.2 * h:
+            warnings.append(
+                f"bed layer {bed_layer:g} m thick under {h:g} m cells (aspect ratio {h / bed_layer:.0f}): "
+                + (
+                    "the wet bed's own layer"
+                    if scene.bed.wet_depth_m > 0
+                    else "so the overset hole at a resting body's foot stays thin"
+                )
+            )
     if col:
         wx += [(col_x0, 2), (col_x1, 2)]
         if not full_width_col:
@@ -659,7 +696,11 @@ def plan_case(scene: Scene) -> ModelPlan:
     reasons["grading"] = (
         f"outside the fine region cells grow by at most {growth:g} per cell up to {h_max:.3g} m "
         f"({scene.mesh.coarsening_ratio:g} x the finest); planes kept at the gate (x = 0), the impoundment level"
-        + (", the wet-bed surface" if scene.bed.wet_depth_m >= 0.2 * h else "")
+        + (
+            (", the wet-bed surface" if scene.bed.wet_depth_m > 0 else f", a {bed_layer:.3g} m layer at the bed for resting bodies")
+            if bed_layer is not None
+            else ""
+        )
         + (" and the column's faces" if col else "")
         + f"; background {len(xs)} x {len(ysegs)} x {len(zs)} blocks"
     )
@@ -670,19 +711,26 @@ def plan_case(scene: Scene) -> ModelPlan:
     for body, (lo, hi) in zip(scene.debris, body_boxes):
         rot = body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg)
         hb = min(h, min(body.size_m) / scene.mesh.body_cells_across)
+        on_bed = _lowest_corner_m(body) <= 1e-6
+        foot = bed_layer if (on_bed and bed_layer is not None and abs(rot[2, 2]) > 1 - 1e-9) else None
         segs_by_axis = []
         for d in range(3):
             half = body.size_m[d] / 2.0
-            inner = Segment(-half, half, max(1, math.ceil(body.size_m[d] / hb - 1e-9)))
+            cuts = [-half, half]
+            if d == 2 and foot is not None:
+                # the body's first layer ends where the background's bed layer does
+                if foot < body.size_m[2] - 0.25 * hb:
+                    cuts.insert(1, -half + foot)
+            inner = tuple(Segment(a, b, max(1, math.ceil((b - a) / hb - 1e-9))) for a, b in zip(cuts, cuts[1:]))
             before = graded_segment(-half - margin_body, -half, h, hb)
             after = graded_segment(half, half + margin_body, hb, h)
-            segs_by_axis.append((before, inner, after))
+            segs_by_axis.append((before, *inner, after))
         grid = BoxGrid(
             body.name,
             segs_by_axis[0],
             segs_by_axis[1],
             segs_by_axis[2],
-            frozenset({(1, 1, 1)}),
+            frozenset((1, 1, k) for k in range(1, len(segs_by_axis[2]) - 1)),
             {**{s: f"{body.name}Overset" for s in _SIDES}, "hole": body.name},
             origin=tuple(float(v) for v in body.centre_m),
             rotation=tuple(tuple(float(v) for v in row) for row in rot),
@@ -691,8 +739,6 @@ def plan_case(scene: Scene) -> ModelPlan:
             inertia = tuple(float(v) for v in body.moment_of_inertia_kg_m2)
         else:
             inertia = body_inertia(body.size_m, body.mass_kg, body.wall_thickness_m)
-        corners_z = body.centre_m[2] - float(np.sum(np.abs(rot[2, :]) * np.asarray(body.size_m) / 2))
-        on_bed = corners_z <= 1e-6
         hold = _hold_until_s(scene, body, rot) if on_bed else 0.0
         if hold > 0:
             holds.append(f"{body.name} until {hold:.3g} s")
@@ -774,7 +820,10 @@ def plan_case(scene: Scene) -> ModelPlan:
     cells = background.cell_count() + sum(b.grid.cell_count() for b in bodies)
     horizontal = [_min_cell(xs)] + ([] if two_d else [_min_cell(ysegs)])
     for b in bodies:
-        horizontal += [_min_cell(b.grid.x), _min_cell(b.grid.y), _min_cell(b.grid.z)]
+        # a resting body's flat layers at the bed (_bed_layer_m) carry horizontal flow: their
+        # Courant number is set by their width, not their height
+        tall = tuple(s for s in b.grid.z if s.length_m >= 0.5 * b.cell_size_m)
+        horizontal += [_min_cell(b.grid.x), _min_cell(b.grid.y), _min_cell(tall)]
     h_step = min(horizontal)
     dt_courant = scene.run.max_courant * h_step / u_ref
     cap = max_delta_t_s(scene.run.max_delta_t_s, scene.run.write_interval_s)

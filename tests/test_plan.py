@@ -127,8 +127,8 @@ def test_column_hole_matches_the_column():
 
 def test_body_grid_patches_and_hole():
     p = plan_case(case("3debris-1x3"))
-    for b in p.bodies:
-        assert b.grid.holes == frozenset({(1, 1, 1)})
+    for b in p.bodies:  # resting bodies: the hole is cut in z at the bed layer
+        assert b.grid.holes == frozenset((1, 1, k) for k in range(1, len(b.grid.z) - 1))
         faces = b.grid.boundary_faces()
         assert set(faces) == {f"{b.name}Overset", b.name}
         assert len(faces[b.name]) > 0
@@ -157,9 +157,40 @@ def test_body_mesh_extends_the_margin_and_is_fine_at_the_body():
     h = s.mesh.cell_size_m
     margin = s.mesh.body_margin_cells * h
     assert b.grid.x[0].start_m == pytest.approx(-0.075 - margin)
-    assert b.grid.z[2].end_m == pytest.approx(0.03 + margin)
+    assert b.grid.z[-1].end_m == pytest.approx(0.03 + margin)
     assert b.cell_size_m == pytest.approx(min(h, 0.06 / s.mesh.body_cells_across))
     assert max(all_cell_sizes(b.grid.y)) <= h * (1 + 1e-9)
+
+
+@pytest.mark.parametrize("wet", [0.002, 0.0, 0.015, 0.03])
+def test_a_resting_body_and_the_background_share_a_thin_layer_at_the_bed(wet):
+    # v1912 marks body-mesh cells overlapping the background's bed-adjacent cells as holes, so the
+    # background's bed cells beside a resting body have only hole donors: the layer must be thin,
+    # and the body mesh must not reach past it with the same cells (docs/stability.md, thin-wet-bed)
+    s = case("1debris", f"bed.wet_depth_m={wet}")
+    p = plan_case(s)
+    b = p.bodies[0]
+    layer = wet if wet > 0 else b.cell_size_m / 4
+    bg = p.background.planes("z")
+    assert bg[1] == pytest.approx(layer)
+    bottom = -b.size_m[2] / 2
+    body_planes = np.asarray(b.grid.planes("z"))
+    cell_faces = body_planes[0] + np.cumsum(all_cell_sizes(b.grid.z))
+    assert np.any(np.isclose(cell_faces, bottom + layer))  # the body's first layer ends there too
+    assert np.all(np.diff(body_planes) > 0)
+    # the body's hole spans every block between its bottom and top, nothing else
+    k_lo, k_hi = (int(np.argmin(abs(body_planes - z))) for z in (bottom, -bottom))
+    assert b.grid.holes == frozenset((1, 1, k) for k in range(k_lo, k_hi))
+    assert b.grid.cell_count() == sum(
+        b.grid.x[i].cells * b.grid.y[j].cells * b.grid.z[k].cells for i, j, k in b.grid.blocks()
+    )
+    assert any("bed layer" in w for w in p.warnings) == (layer < 0.2 * s.mesh.cell_size_m)
+
+
+def test_a_floating_body_on_a_dry_bed_needs_no_bed_layer():
+    p = plan_case(case("1debris", "bed.wet_depth_m=0", "debris.0.placement=given", "debris.0.centre_m=[3.2, 0.0, 0.2]"))
+    assert p.background.planes("z")[1] > 0.03
+    assert p.bodies[0].grid.holes == frozenset({(1, 1, 1)})
 
 
 def plate_inertia(a, b, c, t, rho):
