@@ -342,10 +342,15 @@ def _pick_planes(lo: float, hi: float, wanted: list[tuple[float, int]], h: float
     return sorted(kept)
 
 
-def _lowest_corner_m(body: DebrisBody) -> float:
-    """Height of a body's lowest corner above the bed (<= 0: it rests on the bed)."""
+def _rests_on_bed(body: DebrisBody) -> bool:
+    """Whether the body's lowest corner is on the bed."""
     rot = body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg)
-    return body.centre_m[2] - float(np.sum(np.abs(rot[2, :]) * np.asarray(body.size_m) / 2))
+    return body.centre_m[2] - float(np.sum(np.abs(rot[2, :]) * np.asarray(body.size_m) / 2)) <= 1e-6
+
+
+def _body_cell_m(scene: Scene, body: DebrisBody, h: float) -> float:
+    """The cell size of a body's mesh at the body: mesh.body_cells_across its smallest side, at most h."""
+    return min(h, min(body.size_m) / scene.mesh.body_cells_across)
 
 
 def _bed_layer_m(scene: Scene, h: float) -> float | None:
@@ -365,10 +370,10 @@ def _bed_layer_m(scene: Scene, h: float) -> float | None:
     """
     if scene.bed.wet_depth_m > 0:
         return scene.bed.wet_depth_m
-    resting = [b for b in scene.debris if _lowest_corner_m(b) <= 1e-6]
+    resting = [b for b in scene.debris if _rests_on_bed(b)]
     if not resting:
         return None
-    return min(min(h, min(b.size_m) / scene.mesh.body_cells_across) for b in resting) / 4
+    return min(_body_cell_m(scene, b, h) for b in resting) / 4
 
 
 def _axis_segments(
@@ -710,17 +715,18 @@ def plan_case(scene: Scene) -> ModelPlan:
     holds: list[str] = []
     for body, (lo, hi) in zip(scene.debris, body_boxes):
         rot = body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg)
-        hb = min(h, min(body.size_m) / scene.mesh.body_cells_across)
-        on_bed = _lowest_corner_m(body) <= 1e-6
-        foot = bed_layer if (on_bed and bed_layer is not None and abs(rot[2, 2]) > 1 - 1e-9) else None
+        hb = _body_cell_m(scene, body, h)
+        on_bed = _rests_on_bed(body)
+        # an upright resting body's first layer ends where the background's bed layer does
+        foot = (
+            bed_layer
+            if on_bed and bed_layer is not None and abs(rot[2, 2]) > 1 - 1e-9 and bed_layer < body.size_m[2] - 0.25 * hb
+            else None
+        )
         segs_by_axis = []
         for d in range(3):
             half = body.size_m[d] / 2.0
-            cuts = [-half, half]
-            if d == 2 and foot is not None:
-                # the body's first layer ends where the background's bed layer does
-                if foot < body.size_m[2] - 0.25 * hb:
-                    cuts.insert(1, -half + foot)
+            cuts = [-half, -half + foot, half] if d == 2 and foot is not None else [-half, half]
             inner = tuple(Segment(a, b, max(1, math.ceil((b - a) / hb - 1e-9))) for a, b in zip(cuts, cuts[1:]))
             before = graded_segment(-half - margin_body, -half, h, hb)
             after = graded_segment(half, half + margin_body, hb, h)
