@@ -37,7 +37,7 @@ from typing import Any, Literal
 import numpy as np
 
 from orchestrator.grid import BoxGrid, Segment, graded_segment
-from orchestrator.scene import DebrisBody, Scene, body_rotation, flume_extent
+from orchestrator.scene import DebrisBody, Scene, body_rotation, flume_extent, half_extent_z
 
 __all__ = [
     "BodyPlan",
@@ -344,8 +344,7 @@ def _pick_planes(lo: float, hi: float, wanted: list[tuple[float, int]], h: float
 
 def _rests_on_bed(body: DebrisBody) -> bool:
     """Whether the body's lowest corner is on the bed."""
-    rot = body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg)
-    return body.centre_m[2] - float(np.sum(np.abs(rot[2, :]) * np.asarray(body.size_m) / 2)) <= 1e-6
+    return body.centre_m[2] - half_extent_z(body) <= 1e-6
 
 
 def _body_cell_m(scene: Scene, body: DebrisBody, h: float) -> float:

@@ -59,6 +59,7 @@ __all__ = [
     "default_column",
     "dump_scene_yaml",
     "flume_extent",
+    "half_extent_z",
     "load_scene",
     "parse_override",
     "scene_from_dict",
@@ -379,7 +380,7 @@ def body_rotation(yaw_deg: float, pitch_deg: float, roll_deg: float) -> np.ndarr
     return rz @ ry @ rx
 
 
-def _half_extent_z(body: DebrisTemplate) -> float:
+def half_extent_z(body: DebrisTemplate) -> float:
     """Half the vertical extent of the rotated box (m)."""
     rot = body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg)
     return float(np.sum(np.abs(rot[2, :]) * np.asarray(body.size_m) / 2.0))
@@ -656,7 +657,7 @@ def _place(body: DebrisBody, scene: Scene, path: str, source: str | None) -> Deb
             raise InputError(f"{path}.centre_m", "placement 'given' needs [x, y, z]", source)
         z = body.centre_m[2]
     else:
-        half_z = _half_extent_z(body)
+        half_z = half_extent_z(body)
         z = half_z
         if placement == "floating":
             if abs(body.pitch_deg) > _TOL or abs(body.roll_deg) > _TOL:
