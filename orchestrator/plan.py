@@ -182,6 +182,9 @@ class ModelPlan:
     bed_friction_calibration: float = 1.0
     #: the runner's stall limit (scene run.stall_limit_s; None: the runner's default)
     stall_limit_s: float | None = None
+    #: height of the water gap under bodies resting on the bed (BedGap; 0: none rests): the
+    #: lowest a body may go (the runner's bed)
+    bed_gap_m: float = 0.0
 
     @property
     def cores(self) -> int:
@@ -207,6 +210,7 @@ class ModelPlan:
             "bed_friction_factor": self.bed_friction_factor,
             "bed_friction_calibration": self.bed_friction_calibration,
             "stall_limit_s": self.stall_limit_s,
+            "bed_gap_m": self.bed_gap_m,
             "background": _grid_dict(self.background),
             "bodies": [
                 {
@@ -352,27 +356,53 @@ def _body_cell_m(scene: Scene, body: DebrisBody, h: float) -> float:
     return min(h, min(body.size_m) / scene.mesh.body_cells_across)
 
 
-def _bed_layer_m(scene: Scene, h: float) -> float | None:
-    """Height of the background's first cell layer when the scene needs one below ``h``.
+#: Cell layers in the gap left under a body resting on the bed (_bed_gap).
+GAP_LAYERS = 4
 
-    A wet bed gets its own layer, however thin: setFields fills whole cells by their centres, so
-    a wet bed inside a taller first cell would not be there at all. A body resting on a dry bed
-    gets one a quarter of its mesh's cell thick: v1912's overset marks the body-mesh cells that
-    overlap the background's bed-adjacent cells as holes, so beside a resting body the
-    background cells of that layer have only hole donors and keep stale values. Water flowing
-    into them is lost (a 4 cm first layer lost 3 % of the water in 0.9 s), and the container's
-    underside sees a stale pressure (docs/stability.md, "A container resting on the bed"). The
-    body mesh gets a plane at the same height, so its hole ring is this layer and no more. (A
-    3.75 mm layer under the seed's 15 mm bed was tried and not kept: on the short flume the
-    container was pulled into the bed at 0.81 s and the water balance went from +0.11 % to
-    -0.34 %.)
+
+@dataclass(frozen=True)
+class BedGap:
+    """The water gap left under bodies resting on the bed, in ``layers`` layers of ``layer_m``.
+
+    v1912's overset (cellVolumeWeight) makes every body-mesh cell that overlaps a background
+    cell touching the bed a hole, and every background cell that overlaps a body cell touching
+    the body a hole. A body standing on the bed therefore has nothing valid under it: its
+    underside kept a stale pressure and it never floated (docs/stability.md, "A container
+    resting on the bed"). With a gap of four layers, both meshes sharing the planes, every
+    layer has a valid donor: the body mesh's first layer (holes, over the background's bed
+    cells), its second (interpolated from the background's calculated second layer), its third
+    and fourth (calculated; the fourth touches the body). The background's fourth layer under the
+    body is a hole and its third is interpolated from the body's calculated third.
     """
-    if scene.bed.wet_depth_m > 0:
-        return scene.bed.wet_depth_m
+
+    layer_m: float
+    layers: int = GAP_LAYERS
+
+    @property
+    def height_m(self) -> float:
+        return self.layer_m * self.layers
+
+    def planes(self) -> list[float]:
+        return [self.layer_m * k for k in range(1, self.layers + 1)]
+
+
+def _bed_gap(scene: Scene, h: float) -> BedGap | None:
+    """The gap under resting bodies: layers an eighth of the finest resting body's cell.
+
+    The gap (half a body cell: 7.5 mm under the seed's container at 1.5 cm body cells) delays
+    the float-off until the water is that much deeper than the draft (``_hold_until_s``).
+
+    A wet bed shallower than the gap sets the layer so that its surface is one of the planes
+    (setFields fills whole cells by their centres: the bed must be a layer boundary).
+    """
     resting = [b for b in scene.debris if _rests_on_bed(b)]
     if not resting:
         return None
-    return min(_body_cell_m(scene, b, h) for b in resting) / 4
+    layer = min(_body_cell_m(scene, b, h) for b in resting) / (2 * GAP_LAYERS)
+    wet = scene.bed.wet_depth_m
+    if 0 < wet < GAP_LAYERS * layer:
+        layer = wet / math.ceil(wet / layer - 1e-9)
+    return BedGap(layer)
 
 
 def _axis_segments(
@@ -494,14 +524,18 @@ def plan_case(scene: Scene) -> ModelPlan:
 
     # ---- body geometry (needed for the extents)
     margin_body = scene.mesh.body_margin_cells * h
+    gap = _bed_gap(scene, h)
+    lift = gap.height_m if gap is not None else 0.0
+    centres = []  # each body's centre as modelled: resting bodies stand on the gap (BedGap)
     body_boxes = []  # AABB of each body's overset mesh, scene coordinates
     for body in scene.debris:
         rot = body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg)
         half = np.asarray(body.size_m) / 2.0 + margin_body
         ext = np.abs(rot) @ half
-        c = np.asarray(body.centre_m)
+        c = np.asarray(body.centre_m, float) + (0.0, 0.0, lift if _rests_on_bed(body) else 0.0)
+        centres.append(c)
         body_boxes.append((c - ext, c + ext))
-    bed_layer = _bed_layer_m(scene, h)
+    bed_layer = scene.bed.wet_depth_m if scene.bed.wet_depth_m > 0 else None
 
     # ---- region of interest along x
     col_x0 = col.x_m - col.size_x_m / 2 if col else None
@@ -662,17 +696,16 @@ def plan_case(scene: Scene) -> ModelPlan:
     wz: list[tuple[float, int]] = [(h0, 1)]
     if bed_layer is not None:
         # kept even when thin: the wet bed's water volume is exact (setFields fills whole cells by
-        # their centres), and a body resting on the bed needs it (_bed_layer_m)
+        # their centres)
         wz.append((bed_layer, 2))
-        if bed_layer < 0.2 * h:
-            warnings.append(
-                f"bed layer {bed_layer:g} m thick under {h:g} m cells (aspect ratio {h / bed_layer:.0f}): "
-                + (
-                    "the wet bed's own layer"
-                    if scene.bed.wet_depth_m > 0
-                    else "so the overset hole at a resting body's foot stays thin"
-                )
-            )
+    if gap is not None:
+        wz += [(z, 2) for z in gap.planes()]
+    thinnest = min([bed_layer or h] + (gap.planes()[:1] if gap else []))
+    if thinnest < 0.2 * h:
+        warnings.append(
+            f"bed layer {thinnest:.3g} m thick under {h:g} m cells (aspect ratio {h / thinnest:.0f}): "
+            + (f"the {gap.layers} layers of the gap under resting bodies" if gap else "the wet bed's own layer")
+        )
     if col:
         wx += [(col_x0, 2), (col_x1, 2)]
         if not full_width_col:
@@ -701,10 +734,9 @@ def plan_case(scene: Scene) -> ModelPlan:
         f"outside the fine region cells grow by at most {growth:g} per cell up to {h_max:.3g} m "
         f"({scene.mesh.coarsening_ratio:g} x the finest); planes kept at the gate (x = 0), the impoundment level"
         + (
-            (", the wet-bed surface" if scene.bed.wet_depth_m > 0 else f", a {bed_layer:.3g} m layer at the bed for resting bodies")
-            if bed_layer is not None
-            else ""
+            ", the wet-bed surface" if bed_layer is not None else ""
         )
+        + (f", {gap.layers} layers of {gap.layer_m:.3g} m at the bed (the gap under resting bodies)" if gap else "")
         + (" and the column's faces" if col else "")
         + f"; background {len(xs)} x {len(ysegs)} x {len(zs)} blocks"
     )
@@ -712,39 +744,41 @@ def plan_case(scene: Scene) -> ModelPlan:
     # ---- bodies
     bodies = []
     holds: list[str] = []
-    for body, (lo, hi) in zip(scene.debris, body_boxes):
+    for body, centre, (lo, hi) in zip(scene.debris, centres, body_boxes):
         rot = body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg)
         hb = _body_cell_m(scene, body, h)
         on_bed = _rests_on_bed(body)
-        # an upright resting body's first layer ends where the background's bed layer does
-        foot = (
-            bed_layer
-            if on_bed and bed_layer is not None and abs(rot[2, 2]) > 1 - 1e-9 and bed_layer < body.size_m[2] - 0.25 * hb
-            else None
-        )
         segs_by_axis = []
         for d in range(3):
             half = body.size_m[d] / 2.0
-            cuts = [-half, -half + foot, half] if d == 2 and foot is not None else [-half, half]
-            inner = tuple(Segment(a, b, max(1, math.ceil((b - a) / hb - 1e-9))) for a, b in zip(cuts, cuts[1:]))
-            before = graded_segment(-half - margin_body, -half, h, hb)
+            inner = Segment(-half, half, max(1, math.ceil(2 * half / hb - 1e-9)))
+            if d == 2 and on_bed and gap is not None and abs(rot[2, 2]) > 1 - 1e-9:
+                # an upright resting body's mesh shares the gap's planes (BedGap)
+                bed = -half - gap.height_m
+                rows = tuple(Segment(bed + k * gap.layer_m, bed + (k + 1) * gap.layer_m, 1) for k in range(gap.layers))
+                # below the bed: holes while the body rests, water under it once it floats
+                below = (graded_segment(min(-half - margin_body, bed - h), bed, h, hb),)
+                before = below + rows
+            else:
+                before = (graded_segment(-half - margin_body, -half, h, hb),)
             after = graded_segment(half, half + margin_body, hb, h)
-            segs_by_axis.append((before, *inner, after))
+            segs_by_axis.append((*before, inner, after))
+        kz = len(segs_by_axis[2]) - 2  # the body's own z segment
         grid = BoxGrid(
             body.name,
             segs_by_axis[0],
             segs_by_axis[1],
             segs_by_axis[2],
-            frozenset((1, 1, k) for k in range(1, len(segs_by_axis[2]) - 1)),
+            frozenset({(1, 1, kz)}),
             {**{s: f"{body.name}Overset" for s in _SIDES}, "hole": body.name},
-            origin=tuple(float(v) for v in body.centre_m),
+            origin=tuple(float(v) for v in centre),
             rotation=tuple(tuple(float(v) for v in row) for row in rot),
         )
         if body.moment_of_inertia_kg_m2 is not None:
             inertia = tuple(float(v) for v in body.moment_of_inertia_kg_m2)
         else:
             inertia = body_inertia(body.size_m, body.mass_kg, body.wall_thickness_m)
-        hold = _hold_until_s(scene, body, rot) if on_bed else 0.0
+        hold = _hold_until_s(scene, body, lift) if on_bed else 0.0
         if hold > 0:
             holds.append(f"{body.name} until {hold:.3g} s")
         bodies.append(
@@ -752,7 +786,7 @@ def plan_case(scene: Scene) -> ModelPlan:
                 name=body.name,
                 grid=grid,
                 mass_kg=body.mass_kg,
-                centre_of_mass_m=tuple(float(v) for v in body.centre_m),
+                centre_of_mass_m=tuple(float(v) for v in centre),
                 moment_of_inertia_kg_m2=inertia,
                 orientation=tuple(tuple(float(v) for v in row) for row in rot),
                 size_m=tuple(float(v) for v in body.size_m),
@@ -786,9 +820,18 @@ def plan_case(scene: Scene) -> ModelPlan:
             "held on the bed by sixDoF constraints (free to slide and yaw, not to sink or tip: v1912 has no "
             "contact, so a body heavier than its buoyancy would sink through the floor) until the analytical "
             "dam-break depth at the body's centre (Chanson with the scene's f; Ritter if f = 0) reaches its "
-            "draft; the runner then removes the bed-plane constraint: " + ", ".join(holds)
+            "draft" + (f" plus the {lift:.3g} m gap it stands on" if lift else "")
+            + "; the runner then removes the bed-plane constraint: " + ", ".join(holds)
             if holds else "no body rests on the bed: none is held"
         )
+        if gap is not None:
+            reasons["bed_gap"] = (
+                f"bodies resting on the bed stand on a {lift:.3g} m gap of {gap.layers} cell layers of "
+                f"{gap.layer_m:.3g} m that the background and their meshes share: v1912's overset holes the cells of "
+                "one mesh over the other's wall-adjacent cells, so a body standing on the bed has no valid cell "
+                "under it and its underside keeps a stale pressure (it never floats: docs/stability.md); "
+                "the runner's bed for the bodies is the gap's top"
+            )
         b0 = bodies[0]
         reasons["bodies"] = (
             f"{len(bodies)} overset body mesh(es): each box extends {scene.mesh.body_margin_cells} finest cells "
@@ -825,9 +868,10 @@ def plan_case(scene: Scene) -> ModelPlan:
     cells = background.cell_count() + sum(b.grid.cell_count() for b in bodies)
     horizontal = [_min_cell(xs)] + ([] if two_d else [_min_cell(ysegs)])
     for b in bodies:
-        # a resting body's flat layers at the bed (_bed_layer_m) carry horizontal flow: their
-        # Courant number is set by their width, not their height
-        tall = tuple(s for s in b.grid.z if s.length_m >= 0.5 * b.cell_size_m)
+        # the gap's flat layers under a resting body (BedGap), and the mesh's cells grading
+        # down to them below the bed, carry horizontal flow or none: their Courant number is
+        # set by their width, not their height; the body's own and upper segments count
+        tall = tuple(s for s in b.grid.z if s.start_m >= -0.5 * b.size_m[2] - 1e-9)
         horizontal += [_min_cell(b.grid.x), _min_cell(b.grid.y), _min_cell(tall)]
     h_step = min(horizontal)
     dt_courant = scene.run.max_courant * h_step / u_ref
@@ -869,6 +913,7 @@ def plan_case(scene: Scene) -> ModelPlan:
         bed_friction_factor=scene.bed.friction_factor,
         bed_friction_calibration=scene.bed.friction_calibration,
         stall_limit_s=scene.run.stall_limit_s,
+        bed_gap_m=lift,
         velocity_scale_m_s=u_ref,
         time_step_estimate_s=dt,
         reasons=reasons,
@@ -993,7 +1038,7 @@ def _decompose(cores, background, bodies, body_boxes, travel_end, tan_spread, fi
     return cand, text
 
 
-def _hold_until_s(scene, body, rot) -> float:
+def _hold_until_s(scene, body, gap_m: float = 0.0) -> float:
     """When a body resting on the bed should be released (s; 0 = it floats from the start).
 
     The body is released once the dam-break depth at its centre reaches its draft (its
@@ -1007,7 +1052,8 @@ def _hold_until_s(scene, body, rot) -> float:
     from scipy.optimize import brentq
 
     footprint = float(np.prod(np.asarray(body.size_m)[:2]))  # the body's length x width
-    draft = body.mass_kg / (scene.fluids.water_density_kg_m3 * footprint)
+    # the water must reach the body's draft above the gap it stands on (BedGap)
+    draft = body.mass_kg / (scene.fluids.water_density_kg_m3 * footprint) + gap_m
     x, h0, end = float(body.centre_m[0]), float(scene.reservoir.depth_m), float(scene.run.end_time_s)
     if x < 0 or draft <= scene.bed.wet_depth_m:
         return 0.0 if (h0 if x < 0 else scene.bed.wet_depth_m) >= draft else end

@@ -23,6 +23,7 @@ from hypothesis import strategies as st
 from analytical.errors import InputError
 from orchestrator.plan import (
     REASON_KEYS,
+    _hold_until_s,
     SAFETY,
     STEP_FACTOR,
     US_PER_CELL_STEP,
@@ -127,8 +128,9 @@ def test_column_hole_matches_the_column():
 
 def test_body_grid_patches_and_hole():
     p = plan_case(case("3debris-1x3"))
-    for b in p.bodies:  # resting bodies: the hole is cut in z at the bed layer
-        assert b.grid.holes == frozenset((1, 1, k) for k in range(1, len(b.grid.z) - 1))
+    for b in p.bodies:  # resting bodies: the hole is the body's block, above the gap's four rows
+        assert b.grid.holes == frozenset({(1, 1, len(b.grid.z) - 2)})
+        assert len(b.grid.z) == 1 + 4 + 1 + 1
         faces = b.grid.boundary_faces()
         assert set(faces) == {f"{b.name}Overset", b.name}
         assert len(faces[b.name]) > 0
@@ -163,27 +165,38 @@ def test_body_mesh_extends_the_margin_and_is_fine_at_the_body():
 
 
 @pytest.mark.parametrize("wet", [0.002, 0.0, 0.015, 0.03])
-def test_a_resting_body_and_the_background_share_a_thin_layer_at_the_bed(wet):
-    # v1912 marks body-mesh cells overlapping the background's bed-adjacent cells as holes, so the
-    # background's bed cells beside a resting body have only hole donors: the layer must be thin,
-    # and the body mesh must not reach past it with the same cells (docs/stability.md, thin-wet-bed)
+def test_a_resting_body_stands_on_a_gap_whose_layers_both_meshes_share(wet):
+    # v1912 holes the body cells over the background's bed-adjacent cells and the background
+    # cells over the body's wall-adjacent cells: a body standing on the bed has no valid cell
+    # under it. Four shared layers leave a valid donor in each (plan.BedGap).
     s = case("1debris", f"bed.wet_depth_m={wet}")
     p = plan_case(s)
     b = p.bodies[0]
-    layer = wet if wet > 0 else b.cell_size_m / 4
-    bg = p.background.planes("z")
-    assert bg[1] == pytest.approx(layer)
-    bottom = -b.size_m[2] / 2
-    body_planes = np.asarray(b.grid.planes("z"))
-    cell_faces = body_planes[0] + np.cumsum(all_cell_sizes(b.grid.z))
-    assert np.any(np.isclose(cell_faces, bottom + layer))  # the body's first layer ends there too
-    assert np.all(np.diff(body_planes) > 0)
-    # the body's hole spans every block between its bottom and top, nothing else
-    k_lo, k_hi = (int(np.argmin(abs(body_planes - z))) for z in (bottom, -bottom))
-    assert b.grid.holes == frozenset((1, 1, k) for k in range(k_lo, k_hi))
+    gap = p.bed_gap_m
+    layer = gap / 4
+    assert 0 < gap <= b.cell_size_m / 2 + 1e-12
+    bg = np.asarray(p.background.planes("z"))
+    for k in range(5):  # the background's first planes are the gap's, and the wet bed's surface one of its planes
+        assert np.any(np.isclose(bg, k * layer))
+    if wet:
+        assert np.any(np.isclose(bg, wet))
+        assert wet >= gap - 1e-12 or np.isclose(wet / layer, round(wet / layer))
+    # the body stands on the gap, and its mesh has the same four planes under it
+    half = b.size_m[2] / 2
+    assert b.centre_of_mass_m[2] == pytest.approx(half + gap)
+    faces = np.asarray(b.grid.planes("z")) + b.centre_of_mass_m[2]
+    for k in range(5):
+        assert np.any(np.isclose(faces, k * layer))
+    assert np.all(np.diff(faces) > 0)
+    # the body's hole is its own block, nothing else
+    (i, j, k), = b.grid.holes
+    assert (i, j) == (1, 1)
+    assert b.grid.z[k].start_m == pytest.approx(-half) and b.grid.z[k].end_m == pytest.approx(half)
     assert b.grid.cell_count() == sum(
         b.grid.x[i].cells * b.grid.y[j].cells * b.grid.z[k].cells for i, j, k in b.grid.blocks()
     )
+    # released when the water reaches its draft above the gap (26 mm + gap), later than without it
+    assert b.hold_until_s > _hold_until_s(s, s.debris[0], 0.0)
     assert any("bed layer" in w for w in p.warnings) == (layer < 0.2 * s.mesh.cell_size_m)
 
 
@@ -346,9 +359,10 @@ def test_decomposition_uses_every_core_and_keeps_bodies_whole(name, cores):
     p = plan_case(s)
     assert p.cores == cores
     n = len(s.debris)
-    if n and cores in (2, 4):  # with 3 ranks a balanced cut must cross the seed's layouts
-        assert f"{n} of {n} body meshes start on one rank" in p.reasons["decomposition"]
+    # with 3 ranks a balanced cut must cross the seed's layouts; with 4 the gap's four thin
+    # layers at the bed (plan.BedGap) pull the balanced z cut down into the bodies' meshes
     if n and cores == 2:
+        assert f"{n} of {n} body meshes start on one rank" in p.reasons["decomposition"]
         assert f"{n} keep their path to the column on one rank" in p.reasons["decomposition"]
 
 
@@ -554,14 +568,15 @@ def test_bodies_on_the_bed_are_held_until_the_bore_can_lift_them():
     plan = plan_case(scene)
     body, debris = plan.bodies[0], scene.debris[0]
     assert body.on_bed and 0 < body.hold_until_s < scene.run.end_time_s
-    draft = debris.mass_kg / (scene.fluids.water_density_kg_m3 * debris.size_m[0] * debris.size_m[1])
+    # it stands on the gap (plan.BedGap): the water must reach its draft above the gap
+    draft = debris.mass_kg / (scene.fluids.water_density_kg_m3 * debris.size_m[0] * debris.size_m[1]) + plan.bed_gap_m
     chanson = dam_break("chanson", scene.reservoir.depth_m, friction=scene.bed.friction_factor)
     depth = chanson.profile(np.array([debris.centre_m[0]]), body.hold_until_s).depth_m[0]
     assert depth == pytest.approx(draft, rel=1e-6)  # released exactly when the bore reaches its draft
     assert body.hold_until_s > float(chanson.arrival_time_s(debris.centre_m[0]))
     assert "hold_on_bed" in plan.reasons and body.name in plan.reasons["hold_on_bed"]
     floating = plan_case(load_scene(ROOT / "cases" / "1debris.yaml", ["bed.wet_depth_m=0.05"]))
-    assert floating.bodies[0].hold_until_s == 0.0  # 5 cm of water float the 26 mm draft: nothing to hold
+    assert floating.bodies[0].hold_until_s == 0.0  # 5 cm of water float the 26 mm draft + 7.5 mm gap: no hold
 
 
 def test_overlapping_body_meshes_are_named_in_the_warnings():
