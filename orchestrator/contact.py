@@ -248,9 +248,7 @@ def scene_obstacles(scene: Scene, plan=None) -> Obstacles:
             (col.x_m, col.y_m, col.height_m / 2.0),
             (col.size_x_m, col.size_y_m, col.height_m),
         )
-    # a plan that leaves a gap under resting bodies (plan.BedGap) has its bodies' bed on top of it
-    gap = float(getattr(plan, "bed_gap_m", 0.0) or 0.0) if plan is not None else 0.0
-    bed = PlaneObstacle("bed", "bed", (0.0, 0.0, gap), (0.0, 0.0, 1.0))
+    bed = PlaneObstacle("bed", "bed", (0.0, 0.0, 0.0), (0.0, 0.0, 1.0))
     return Obstacles(column, tuple(walls), bed)
 
 

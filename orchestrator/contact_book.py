@@ -152,8 +152,7 @@ class Geometry:
         # the modelled domain's walls: where the CFD has them (its upstream end is a wall
         # also when the reservoir is cut short; the downstream end only if it is a wall)
         self.obstacles = geo.scene_obstacles(
-            self.scene, SimpleNamespace(domain_m=info.domain_m, downstream_type=info.downstream_type,
-                                        bed_gap_m=info.bed_gap_m))
+            self.scene, SimpleNamespace(domain_m=info.domain_m, downstream_type=info.downstream_type))
         self.props = {p.name: p for p in info.bodies}
         self.sizes = info.body_sizes_m
 

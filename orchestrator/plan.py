@@ -182,8 +182,7 @@ class ModelPlan:
     bed_friction_calibration: float = 1.0
     #: the runner's stall limit (scene run.stall_limit_s; None: the runner's default)
     stall_limit_s: float | None = None
-    #: height of the water gap under bodies resting on the bed (BedGap; 0: none rests): the
-    #: lowest a body may go (the runner's bed)
+    #: height of the water gap under bodies resting on the bed (BedGap; 0: none rests)
     bed_gap_m: float = 0.0
 
     @property
@@ -830,7 +829,7 @@ def plan_case(scene: Scene) -> ModelPlan:
                 f"{gap.layer_m:.3g} m that the background and their meshes share: v1912's overset holes the cells of "
                 "one mesh over the other's wall-adjacent cells, so a body standing on the bed has no valid cell "
                 "under it and its underside keeps a stale pressure (it never floats: docs/stability.md); "
-                "the runner's bed for the bodies is the gap's top"
+                "the runner's bed stays the flume's: a released body that settles again sinks into the gap"
             )
         b0 = bodies[0]
         reasons["bodies"] = (

@@ -255,8 +255,6 @@ class CaseInfo:
     holds: tuple[tuple[str, float], ...] = ()
     #: plan.json stall_limit_s (scene run.stall_limit_s): None = the runner's default
     stall_limit_s: float | None = None
-    #: plan.json bed_gap_m: the gap under resting bodies, the lowest a body may go
-    bed_gap_m: float = 0.0
 
     @property
     def body_names(self) -> tuple[str, ...]:
@@ -321,7 +319,6 @@ def load_case_info(case_dir: str | Path, np_override: int | None = None) -> Case
         holds=tuple((str(b["name"]), float(b["hold_until_s"])) for b in plan.get("bodies", [])
                     if float(b.get("hold_until_s") or 0.0) > 0.0),
         stall_limit_s=float(plan["stall_limit_s"]) if plan.get("stall_limit_s") else None,
-        bed_gap_m=float(plan.get("bed_gap_m") or 0.0),
     )
 
 

@@ -117,10 +117,6 @@ class _PlanExtent:
     def downstream_type(self):
         return self.plan.get("downstream_type", "wall")
 
-    @property
-    def bed_gap_m(self):
-        return float(self.plan.get("bed_gap_m") or 0.0)
-
 
 def _forces_finite(case: Path) -> bool | None:
     from orchestrator.post import read_force_series
