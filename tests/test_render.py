@@ -428,8 +428,14 @@ def test_scene_files_mesh_at_a_coarse_cell_size(tmp_path, openfoam, name):
     assert summary["mesh_regions"] == 1 + len(plan.bodies)
     case = tmp_path / name
     # the bed layer holds background cells only, even where a body mesh dips below the bed
-    # the drag zone: the wet bed's layer and the first layer above the still water (docs/bed-friction.md)
-    assert _set_size(case, "bedLayer") == 2 * _first_layer_cells(plan.background)
+    # the drag zone: the layers up to the first above the still water (docs/bed-friction.md): the wet
+    # bed's and that one, and under a resting container the gap's four (plan.BedGap)
+    from orchestrator.render import friction_layer_top_m
+
+    top = friction_layer_top_m(plan.background.z, 0.015)
+    layers = int(np.sum(np.cumsum([s.length_m / s.cells for s in plan.background.z for _ in range(s.cells)]) <= top + 1e-9))
+    assert layers == (6 if plan.bodies else 2)
+    assert _set_size(case, "bedLayer") == layers * _first_layer_cells(plan.background)
 
 
 def test_max_delta_t_follows_the_scene(tmp_path):

@@ -705,8 +705,9 @@ def test_body_on_the_bed_does_not_sink_through_it(tmp_path, openfoam):
 
     The plan holds such a body until the bore can lift it; this is the fallback for a body
     that sinks anyway (released too early), so the hold is taken off here."""
+    # it first sinks through the 15 mm gap it stands on (plan.BedGap), then into the bed
     case = render(tmp_path, "bed", scene([{"name": "debris1", "centre_m": [0.8, 0.0], "placement": "on_bed"}],
-                                         end_time_s=0.06, wet_depth_m=0.015))
+                                         end_time_s=0.12, wet_depth_m=0.015))
     assert bodystate.release_holds(case, ["debris1"]) == ["debris1"]
     summary = run_case(case, quiet=True)
     record = json.loads((case / "run.json").read_text())
@@ -719,8 +720,9 @@ def test_body_on_the_bed_does_not_sink_through_it(tmp_path, openfoam):
         for step in steps:
             bed = [c for c in geometry.contacts(step.bodies, 1.0) if c.kind == "bed"]
             lowest.append(bed[0].distance_m)
-    # it sinks at most the tolerance plus what it covers while the solver stops (a few steps)
-    assert min(lowest) > -(tolerance + 0.003)
+    # it sinks at most the tolerance plus what it covers while the solver stops (a few steps; it
+    # arrives faster after falling through the 15 mm gap: 5.9 mm measured, 1 m/s-ish for ~3 steps)
+    assert min(lowest) > -(tolerance + 0.004)
 
 
 @pytest.mark.openfoam
@@ -746,12 +748,15 @@ def test_resumed_after_a_bed_runaway_the_body_stays_on_the_bed(tmp_path, openfoa
 
 @pytest.mark.openfoam
 def test_a_body_on_the_bed_is_held_then_released_when_the_bore_arrives(tmp_path, openfoam):
-    # 0.6 m downstream of the gate, Ritter's depth reaches the container's 26 mm draft at 0.61 s
-    data = scene([{"name": "debris1", "centre_m": [0.6, 0.0], "placement": "on_bed"}], end_time_s=0.64,
+    # 0.3 m downstream of the gate, Ritter's depth reaches the container's 26 mm draft plus the
+    # 15 mm gap it stands on (plan.BedGap: half a 3 cm body cell) at 0.50 s
+    data = scene([{"name": "debris1", "centre_m": [0.3, 0.0], "placement": "on_bed"}], end_time_s=0.53,
                  wet_depth_m=0.02)
     case = render(tmp_path, "held", data)
-    hold = json.loads((case / "plan.json").read_text())["bodies"][0]["hold_until_s"]
-    assert 0.55 < hold < 0.64
+    plan = json.loads((case / "plan.json").read_text())
+    hold = plan["bodies"][0]["hold_until_s"]
+    assert plan["bed_gap_m"] == pytest.approx(0.015)
+    assert 0.47 < hold < 0.52
     run_case(case, quiet=True)
     tracks = pd.read_csv(case / "bodies.csv")
     held = tracks[tracks["time_s"] < hold - 0.02]
@@ -766,7 +771,7 @@ def test_a_body_on_the_bed_is_held_then_released_when_the_bore_arrives(tmp_path,
     tilt = tracks[["q_xz", "q_yz", "q_zx", "q_zy"]].abs().to_numpy().max()
     assert tilt < 1e-9  # an upright body never pitches or rolls
     written = sorted(float(p.name) for p in (case / "processor0").iterdir() if p.name[0].isdigit())
-    for t in (0.05, 0.1, 0.3, 0.55):  # the regular writes before the release are kept
+    for t in (0.05, 0.1, 0.3, 0.45):  # the regular writes before the release are kept
         assert any(abs(w - t) < 1e-9 for w in written), (t, written)
     assert json.loads((case / "run.json").read_text())["status"] == "finished"
 
