@@ -37,7 +37,7 @@ from typing import Any, Literal
 import numpy as np
 
 from orchestrator.grid import BoxGrid, Segment, graded_segment
-from orchestrator.scene import DebrisBody, Scene, body_rotation, flume_extent, half_extent_z
+from orchestrator.scene import DebrisBody, Scene, body_rotation, draft_m, flume_extent, half_extent_z
 
 __all__ = [
     "BodyPlan",
@@ -699,7 +699,7 @@ def plan_case(scene: Scene) -> ModelPlan:
         wz.append((bed_layer, 2))
     if gap is not None:
         wz += [(z, 2) for z in gap.planes()]
-    thinnest = min([bed_layer or h] + (gap.planes()[:1] if gap else []))
+    thinnest = min([bed_layer or h] + ([gap.layer_m] if gap else []))
     if thinnest < 0.2 * h:
         warnings.append(
             f"bed layer {thinnest:.3g} m thick under {h:g} m cells (aspect ratio {h / thinnest:.0f}): "
@@ -732,9 +732,7 @@ def plan_case(scene: Scene) -> ModelPlan:
     reasons["grading"] = (
         f"outside the fine region cells grow by at most {growth:g} per cell up to {h_max:.3g} m "
         f"({scene.mesh.coarsening_ratio:g} x the finest); planes kept at the gate (x = 0), the impoundment level"
-        + (
-            ", the wet-bed surface" if bed_layer is not None else ""
-        )
+        + (", the wet-bed surface" if bed_layer is not None else "")
         + (f", {gap.layers} layers of {gap.layer_m:.3g} m at the bed (the gap under resting bodies)" if gap else "")
         + (" and the column's faces" if col else "")
         + f"; background {len(xs)} x {len(ysegs)} x {len(zs)} blocks"
@@ -1041,7 +1039,8 @@ def _hold_until_s(scene, body, gap_m: float = 0.0) -> float:
     """When a body resting on the bed should be released (s; 0 = it floats from the start).
 
     The body is released once the dam-break depth at its centre reaches its draft (its
-    mass over the water displaced per metre of immersion by its footprint). The depth
+    mass over the water displaced per metre of immersion by its footprint) plus ``gap_m``,
+    the gap it stands on (BedGap). The depth
     is the analytical dry-bed solution: Chanson with the scene's friction factor, or
     Ritter without friction; the thin wet bed is neglected (it only makes the release
     earlier). Bodies behind the gate (x < 0) float or not at once: no hold when the
@@ -1050,9 +1049,7 @@ def _hold_until_s(scene, body, gap_m: float = 0.0) -> float:
     from analytical.dambreak import dam_break
     from scipy.optimize import brentq
 
-    footprint = float(np.prod(np.asarray(body.size_m)[:2]))  # the body's length x width
-    # the water must reach the body's draft above the gap it stands on (BedGap)
-    draft = body.mass_kg / (scene.fluids.water_density_kg_m3 * footprint) + gap_m
+    draft = draft_m(body, scene.fluids.water_density_kg_m3) + gap_m
     x, h0, end = float(body.centre_m[0]), float(scene.reservoir.depth_m), float(scene.run.end_time_s)
     if x < 0 or draft <= scene.bed.wet_depth_m:
         return 0.0 if (h0 if x < 0 else scene.bed.wet_depth_m) >= draft else end

@@ -59,6 +59,7 @@ __all__ = [
     "default_column",
     "dump_scene_yaml",
     "flume_extent",
+    "draft_m",
     "half_extent_z",
     "load_scene",
     "parse_override",
@@ -380,6 +381,11 @@ def body_rotation(yaw_deg: float, pitch_deg: float, roll_deg: float) -> np.ndarr
     return rz @ ry @ rx
 
 
+def draft_m(body: DebrisTemplate, water_density_kg_m3: float) -> float:
+    """Draft of the upright box afloat (m): its mass over the water its footprint displaces per metre."""
+    return body.mass_kg / (water_density_kg_m3 * body.size_m[0] * body.size_m[1])
+
+
 def half_extent_z(body: DebrisTemplate) -> float:
     """Half the vertical extent of the rotated box (m)."""
     rot = body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg)
@@ -663,7 +669,7 @@ def _place(body: DebrisBody, scene: Scene, path: str, source: str | None) -> Deb
             if abs(body.pitch_deg) > _TOL or abs(body.roll_deg) > _TOL:
                 raise InputError(f"{path}.placement", "floating needs pitch_deg = roll_deg = 0", source)
             water = scene.reservoir.depth_m if x < 0 else scene.bed.wet_depth_m
-            draft = body.mass_kg / (scene.fluids.water_density_kg_m3 * body.size_m[0] * body.size_m[1])
+            draft = draft_m(body, scene.fluids.water_density_kg_m3)
             if draft < water:
                 z = water - draft + body.size_m[2] / 2.0
     return body.model_copy(update={"centre_m": (float(x), float(y), float(z)), "placement": placement})

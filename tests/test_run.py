@@ -512,6 +512,14 @@ def _solver_ranks(case: Path, solver: str) -> list[int]:
     return pids
 
 
+def _freeze_solver(case: Path, solver: str = "interFoam") -> list[int]:
+    """Freeze (SIGSTOP) the solver ranks running in ``case``; their PIDs."""
+    pids = _solver_ranks(case, solver)
+    for pid in pids:
+        os.kill(pid, signal.SIGSTOP)
+    return pids
+
+
 @pytest.mark.openfoam
 def test_a_stalled_solver_is_stopped_with_a_diagnosis(tmp_path, openfoam):
     """The solver's ranks frozen (SIGSTOP) mid-run, as a linear solver that never returns or a
@@ -525,9 +533,7 @@ def test_a_stalled_solver_is_stopped_with_a_diagnosis(tmp_path, openfoam):
 
     def freeze(step):
         if step.time_s > 0.05 and not frozen:
-            frozen.extend(_solver_ranks(case, "interFoam"))
-            for pid in frozen:
-                os.kill(pid, signal.SIGSTOP)
+            frozen.extend(_freeze_solver(case))
 
     t0 = time.perf_counter()
     with pytest.raises(DivergenceError) as err:
@@ -604,9 +610,7 @@ def test_a_stop_while_the_solver_is_stuck_in_a_step_kills_it_without_waiting(tmp
 
     def freeze_then_stop(step):
         if step.time_s > 0.12 and not frozen:
-            frozen.extend(_solver_ranks(case, "interFoam"))
-            for pid in frozen:
-                os.kill(pid, signal.SIGSTOP)
+            frozen.extend(_freeze_solver(case))
             stop.set()
 
     t0 = time.perf_counter()
