@@ -31,6 +31,10 @@ without contacts is post-processed up to where it got; what is missing is listed
 ``water_balance.csv``
     Per solver step, the water volume in the fluid mesh, the water leaving through the open
     boundaries and the balance error (:func:`read_water_balance`): the conservation check.
+``fringe_flux.csv``
+    Overset runs: per reconstructed time and overset zone (0: the background), the cell
+    counts and the net water and volume flux into the fringe cells
+    (:mod:`orchestrator.fringe`): where the overset loses or makes water.
 ``summary.json``
     The headline figures, the run's status, wall time and cell count, what is missing.
 
@@ -250,6 +254,8 @@ class Results:
     reached_time_s: float | None = None
     #: per step: water volume, outflow and the balance error (:func:`read_water_balance`)
     water_balance: pd.DataFrame | None = None
+    #: overset: per reconstructed time and zone, the flux into the fringe (:mod:`orchestrator.fringe`)
+    fringe_flux: pd.DataFrame | None = None
 
 
 # --------------------------------------------------------------------------- the case
@@ -1009,6 +1015,7 @@ def tables(case_dir: str | Path, arrival_threshold_m: float | None = None) -> Re
         missing.append("no column in the scene: no column forces or response")
     reached = _reached_time(data, gauges, forces, bodies)
     balance = read_water_balance(data.case)
+    fringe = _fringe_flux(data, missing)
     if balance is None:
         missing.append("no water balance output (postProcessing/waterVolume): rendered before it existed?")
     else:
@@ -1017,9 +1024,36 @@ def tables(case_dir: str | Path, arrival_threshold_m: float | None = None) -> Re
             missing.append(
                 f"water not conserved: {abs(b['max_error']) * 100:.2f} % of the initial water "
                 f"{'created' if b['max_error'] > 0 else 'lost'} by t = {b['time_of_max_error_s']:.3g} s "
-                f"(over the {WATER_BALANCE_TOLERANCE * 100:g} % bound; results/water_balance.csv; docs/stability.md)")
+                f"(over the {WATER_BALANCE_TOLERANCE * 100:g} % bound; results/water_balance.csv; docs/stability.md)"
+                + _fringe_note(fringe))
     return Results(data, gauges, gauge_summary, forces, bodies, impacts, response, pulses, heights, missing, reached,
-                   balance)
+                   balance, fringe)
+
+
+def _fringe_flux(data: CaseData, missing: list[str]) -> pd.DataFrame | None:
+    """The overset fringe flux of the reconstructed times (None when not overset or none has the fields)."""
+    if data.solver != "overInterDyMFoam":
+        return None
+    from orchestrator.fringe import fringe_table
+
+    try:
+        return fringe_table(data.case)
+    except (OSError, ValueError) as exc:
+        missing.append(f"no fringe flux: {exc}")
+        return None
+
+
+def _fringe_note(fringe: pd.DataFrame | None) -> str:
+    """What the background's fringe took in at the last reconstructed time, for the balance's message."""
+    if fringe is None or fringe.empty:
+        return ""
+    last = fringe[(fringe["zone"] == 0) & (fringe["time_s"] == fringe["time_s"].max())]
+    if last.empty:
+        return ""
+    row = last.iloc[0]
+    return (f"; at t = {row.time_s:g} s {row.water_into_fringe_m3_s:.3g} m3/s of water flowed into the "
+            f"background's {int(row.fringe)} overset fringe cells, which v1912 overwrites by interpolation "
+            f"(results/fringe_flux.csv; docs/openfoam-notes.md)")
 
 
 def _reached_time(data: CaseData, *frames: pd.DataFrame) -> float | None:
@@ -1168,6 +1202,8 @@ def post_case(case_dir: str | Path, *, comparisons: bool = True, snapshot: bool 
     }
     if results.water_balance is not None:
         written["water_balance"] = _write_csv(results.water_balance, out_dir / "water_balance.csv")
+    if results.fringe_flux is not None:
+        written["fringe_flux"] = _write_csv(results.fringe_flux, out_dir / "fringe_flux.csv")
     figures = headline(results)
     plots: dict[str, Path] = {}
     report_path = None

@@ -183,3 +183,47 @@ def test_markdown_marks_a_run_that_finished_badly():
                failed_checks=["water not conserved to 1 %"])
     text = markdown(pd.DataFrame([row]))
     assert "finished, NOT sane" in text and "+2.000 %" in text and "water not conserved" in text
+
+
+def _background_boundary_outflow(case: Path, time_name: str) -> float:
+    """The volume flux leaving the background mesh through its patches (walls carry none)."""
+    from foamlib import FoamFieldFile, FoamFile
+
+    boundary = FoamFile(case / "constant" / "polyMesh" / "boundary")[None]
+    owner = np.asarray(FoamFile(case / "constant" / "polyMesh" / "owner")[None])
+    zones = np.rint(np.asarray(FoamFieldFile(case / time_name / "zoneID").internal_field)).astype(int)
+    phi = FoamFieldFile(case / time_name / "phi").boundary_field
+    out = 0.0
+    for name, patch in boundary:
+        n, start = int(patch["nFaces"]), int(patch["startFace"])
+        if n == 0 or "value" not in phi[name]:
+            continue
+        values = np.broadcast_to(np.asarray(phi[name]["value"], float), (n,))
+        out += float(np.sum(values[zones[owner[start:start + n]] == 0]))
+    return out
+
+
+@pytest.mark.openfoam
+def test_the_fringe_flux_closes_the_background_continuity(small_hard, openfoam):
+    """What flows into the background's overset fringe is what its open patches let in: the
+    calculated cells are divergence-free (to the pressure solver's tolerance), so the
+    fringe is the only place the flow can go. A check that the faces are classified and signed
+    right; the water flux into the fringe is what the balance loses (docs/openfoam-notes.md)."""
+    from orchestrator.fringe import fringe_flux
+
+    _, _, table = small_hard
+    case = Path(_row(table, "tiny-flume").case)
+    latest = max((p for p in case.iterdir() if p.name.replace(".", "", 1).isdigit() and p.name != "0"),
+                 key=lambda p: float(p.name))
+    rows = {r.zone: r for r in fringe_flux(case, latest.name)}
+    assert set(rows) == {0, 1}
+    cells = json.loads((case / "run.json").read_text())["cells"]["total"]
+    assert sum(r.calculated + r.fringe + r.holes for r in rows.values()) == cells
+    bg = rows[0]
+    assert bg.fringe > 0 and bg.fringe_faces > 0
+    inflow = -_background_boundary_outflow(case, latest.name)
+    assert abs(bg.volume_into_fringe_m3_s) > 1e-4  # the bore is moving past the container
+    assert bg.volume_into_fringe_m3_s == pytest.approx(inflow, rel=0.1)
+    written = pd.read_csv(case / "results" / "fringe_flux.csv")
+    last = written[(written["zone"] == 0) & np.isclose(written["time_s"], float(latest.name))]
+    assert last["water_into_fringe_m3_s"].iloc[0] == pytest.approx(bg.water_into_fringe_m3_s)
