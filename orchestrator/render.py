@@ -89,11 +89,11 @@ class Numerics:
     n_alpha_subcycles: int = 1
     overset_interpolation: str = "cellVolumeWeight"
     #: PIMPLE `oversetAdjustPhi`: scale the flux leaving each mesh's fringe to what enters it
-    #: before the pressure solve. v1912 overwrites fringe cells by interpolation, so water
-    #: flowing into them is lost; with a container pinned at the column of `make
-    #: case-1debris` (3.5-3.6 s) the loss fell from 0.034 to 0.011 m3/s (1.18 to 0.39 % of the
-    #: water a second) at 1.19x the time steps (docs/openfoam-notes.md).
-    overset_adjust_phi: bool = True
+    #: before the pressure solve. Off: it cut the water lost around a container pinned at the
+    #: column (1.18 to 0.39 % a second) but created water around one sliding fast along the
+    #: bed (+2.1 % a second against -0.1 % without, short flume 1.1-1.2 s;
+    #: docs/openfoam-notes.md, session 9).
+    overset_adjust_phi: bool = False
     #: sixDoFRigidBodyMotion relaxation/damping of the body acceleration (tutorial values)
     acceleration_relaxation: float = 0.6
     acceleration_damping: float = 0.9
