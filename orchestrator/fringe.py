@@ -53,13 +53,12 @@ def _internal(path: Path) -> np.ndarray:
     return np.asarray(FoamFieldFile(path).internal_field)
 
 
-def _mesh_faces(case: Path, time_name: str) -> tuple[np.ndarray, np.ndarray]:
-    """owner and neighbour of the internal faces (a moving mesh keeps its topology in constant/)."""
+def _mesh_faces(case: Path) -> tuple[np.ndarray, np.ndarray]:
+    """owner and neighbour of the internal faces (the bodies' motion moves points only, so
+    the topology is constant/'s)."""
     from foamlib import FoamFile
 
-    mesh = case / time_name / "polyMesh"
-    if not (mesh / "owner").is_file():
-        mesh = case / "constant" / "polyMesh"
+    mesh = case / "constant" / "polyMesh"
     neighbour = np.asarray(FoamFile(mesh / "neighbour")[None], dtype=np.int64)
     owner = np.asarray(FoamFile(mesh / "owner")[None], dtype=np.int64)
     return owner[: len(neighbour)], neighbour
@@ -70,12 +69,14 @@ def has_fringe_fields(time_dir: str | Path) -> bool:
     return all((Path(time_dir) / name).is_file() for name in FIELDS)
 
 
-def fringe_flux(case_dir: str | Path, time_name: str) -> list[FringeFlux]:
+def fringe_flux(case_dir: str | Path, time_name: str,
+                faces: tuple[np.ndarray, np.ndarray] | None = None) -> list[FringeFlux]:
     """The net flux from calculated cells into fringe cells, per zone, at one written time.
 
     Only faces with both cells in the same zone count (the meshes of an overset case are
-    merged but share no faces). Raises FileNotFoundError when a field is missing (a time
-    written only in processor folders: reconstruct it first).
+    merged but share no faces). faces: the mesh's (owner, neighbour) when already read.
+    Raises FileNotFoundError when a field is missing (a time written only in processor
+    folders: reconstruct it first).
     """
     case = Path(case_dir)
     folder = case / time_name
@@ -86,7 +87,7 @@ def fringe_flux(case_dir: str | Path, time_name: str) -> list[FringeFlux]:
     zones = np.rint(_internal(folder / "zoneID")).astype(int)
     phi = _internal(folder / "phi")
     water = _internal(folder / "alphaPhi0.water")
-    owner, neighbour = _mesh_faces(case, time_name)
+    owner, neighbour = faces if faces is not None else _mesh_faces(case)
     if not (len(phi) == len(water) == len(neighbour)) or len(types) != len(zones):
         raise ValueError(f"{folder}: fields do not match the mesh ({len(phi)} face fluxes, "
                          f"{len(neighbour)} internal faces, {len(types)} cell types, {len(zones)} zone ids)")
@@ -100,36 +101,26 @@ def fringe_flux(case_dir: str | Path, time_name: str) -> list[FringeFlux]:
     rows = []
     for zone in np.unique(zones):
         in_zone = zones == zone
-        faces = (into | out) & (face_zone == zone)
+        ring = (into | out) & (face_zone == zone)
         rows.append(FringeFlux(
             time_s=float(time_name), zone=int(zone),
             calculated=int(np.sum(in_zone & (types == CALCULATED))),
             fringe=int(np.sum(in_zone & (types == FRINGE))),
             holes=int(np.sum(in_zone & (types == HOLE))),
-            water_into_fringe_m3_s=float(np.sum(sign[faces] * water[faces])),
-            volume_into_fringe_m3_s=float(np.sum(sign[faces] * phi[faces])),
-            fringe_faces=int(np.sum(faces))))
+            water_into_fringe_m3_s=float(np.sum(sign[ring] * water[ring])),
+            volume_into_fringe_m3_s=float(np.sum(sign[ring] * phi[ring])),
+            fringe_faces=int(np.sum(ring))))
     return rows
-
-
-def _time_names(case: Path) -> list[str]:
-    names = []
-    for path in case.iterdir():
-        try:
-            float(path.name)
-        except ValueError:
-            continue
-        if path.is_dir() and has_fringe_fields(path):
-            names.append(path.name)
-    return sorted(names, key=float)
 
 
 def fringe_table(case_dir: str | Path) -> pd.DataFrame | None:
     """:func:`fringe_flux` at every reconstructed time of a case that has the overset fields
     (None when there is none: not overset, or nothing reconstructed)."""
+    from orchestrator.run import _time_names
+
     case = Path(case_dir)
-    names = _time_names(case) if case.is_dir() else []
+    names = [name for _, name in _time_names(case) if has_fringe_fields(case / name)]
     if not names:
         return None
-    rows = [asdict(row) for name in names for row in fringe_flux(case, name)]
-    return pd.DataFrame(rows)
+    faces = _mesh_faces(case)
+    return pd.DataFrame([asdict(row) for name in names for row in fringe_flux(case, name, faces)])
