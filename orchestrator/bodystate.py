@@ -50,6 +50,7 @@ __all__ = [
     "recorded_states",
     "remove_state_files",
     "rest_on_bed",
+    "set_pimple_entry",
     "write_dictionary",
     "write_states",
     "forget_after",
@@ -439,6 +440,20 @@ def rest_on_bed(case_dir: str | Path, names: Sequence[str]) -> list[str]:
         return {**constraints, REST_ON_BED: {"sixDoFRigidBodyMotionConstraint": "plane", "normal": [0.0, 0.0, 1.0]}}
 
     return _edit_constraints(case_dir, names, rest)
+
+
+def set_pimple_entry(case_dir: str | Path, key: str, value: str) -> bool:
+    """Set `key value;` in the PIMPLE dictionary of the case's system/fvSolution, which the
+    solver reads when it (re)starts. Returns False if it already had that value (or the case
+    has no PIMPLE dictionary)."""
+    path = Path(case_dir) / "system" / "fvSolution"
+    parsed = _parsed(path)
+    pimple = parsed["PIMPLE"] if "PIMPLE" in parsed else None
+    if pimple is None or str(pimple.get(key, "")).lower() == value.lower():
+        return False
+    pimple[key] = value
+    write_dictionary(parsed, path)
+    return True
 
 
 def pinned_bodies(case_dir: str | Path) -> set[str]:

@@ -98,6 +98,11 @@ class ContactSettings:
     impact: keyword arguments for `analytical.impact.impact` / `pair_impact`
         (stiffness_N_m, friction_coefficient, damping_ratio, ...).
     added_mass_coefficient: C_a of the debris for the impact model.
+    adjust_phi_when_pinned: once every body is pinned, switch the overset flux adjustment
+        on (PIMPLE `oversetAdjustPhi yes` in system/fvSolution) for the rest of the run. A
+        pinned body loses water into the background's fringe at about 1 % a second; the
+        adjustment cut that to 0.4 % (docs/openfoam-notes.md, session 9). It stays off while
+        any body moves: around a body sliding fast along the bed it created water.
     """
 
     enabled: bool = True
@@ -109,6 +114,7 @@ class ContactSettings:
     window_s: float = 0.05
     bed_runaway_m_s: float = 1.0
     added_mass_coefficient: float = 0.0
+    adjust_phi_when_pinned: bool = True
     impact: dict = field(default_factory=dict)
 
     @property
@@ -464,7 +470,20 @@ class ContactBook:
                  f"({self.settings.max_events + 1} contacts within {self.settings.window_s:g} s): pinned there for the "
                  "rest of the run (debris damming; its hydrodynamic load then reaches the column through it, "
                  "which the column's force history does not include)")
+        if self.settings.adjust_phi_when_pinned:
+            self._adjust_phi_if_all_pinned(time_name)
         return pinned
+
+    def _adjust_phi_if_all_pinned(self, time_name: str) -> None:
+        """Every body pinned: the overset flux adjustment on from this restart (see ContactSettings)."""
+        bodies = {b.name for b in bodystate.read_body_properties(self.case)}
+        if not bodies or bodystate.pinned_bodies(self.case) != bodies:
+            return
+        if not bodystate.set_pimple_entry(self.case, "oversetAdjustPhi", "yes"):
+            return
+        self.run_record["overset_adjust_phi_from_s"] = float(time_name)
+        self.say(f"t = {time_name} s: every body is pinned: the overset flux adjustment (oversetAdjustPhi) is on "
+                 "from now on, to keep the water lost into the fringe around the pinned bodies small")
 
     # ---- the record
     def _record_resting(self, time_name: str, c: Contact, before: dict[str, BodyState],

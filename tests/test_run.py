@@ -233,6 +233,8 @@ def test_contact_book_pins_a_body_pressed_against_the_column_again_and_again(bod
     assert states[1] == elsewhere
     assert record["resting_contacts"] == settings.max_events and record["pinned"][0]["body"] == "debris1"
     assert bodystate.pinned_bodies(case) == {"debris1"} and "pinned there" in messages[-1]
+    # debris2 still moves: the overset flux adjustment stays off
+    assert "overset_adjust_phi_from_s" not in record and _pimple(case)["oversetAdjustPhi"] is False
     book.forget_events_after(0.01)  # a resumed run computing t > 0.01 s again
     assert len(json.loads((case / "contacts.json").read_text())) == 3
 
@@ -837,6 +839,8 @@ def test_a_body_the_flow_keeps_pressing_against_the_column_is_pinned(tmp_path, o
     assert {(e["type"], e["body"], e["other"]) for e in before} == {("resting", "debris1", "column")}
     assert record["pinned"] == [{"body": "debris1", "other": "column", "time_s": t_pin}]
     assert bodystate.pinned_bodies(case) == {"debris1"}
+    # its only body pinned, the rest of the run has the overset flux adjustment on
+    assert record["overset_adjust_phi_from_s"] == t_pin and _pimple(case)["oversetAdjustPhi"] is True
     # from the pin on the body does not move: its place at the pin, no velocity
     tracks = pd.read_csv(case / "bodies.csv")
     at_pin = tracks[np.isclose(tracks["time_s"], t_pin, rtol=0, atol=1e-9)]
@@ -847,6 +851,13 @@ def test_a_body_the_flow_keeps_pressing_against_the_column_is_pinned(tmp_path, o
     assert np.abs(after[["u_m_s", "v_m_s", "w_m_s", "omega_x_rad_s", "omega_y_rad_s",
                          "omega_z_rad_s"]].to_numpy()).max() < 1e-9
     assert _outside_everything(case, ["debris1"]) == []
+
+
+def _pimple(case: Path) -> dict:
+    """The PIMPLE dictionary of the case's system/fvSolution, as the solver reads it (foamlib)."""
+    from foamlib import FoamFile
+
+    return FoamFile(case / "system" / "fvSolution")["PIMPLE"].as_dict()
 
 
 @pytest.mark.parametrize("name, digits", [("1.46272017", 9), ("0.1", 1), ("0", 1), ("1.2e-05", 2), ("3.5", 2)])
