@@ -242,8 +242,9 @@ def mesh_steps(case_dir: str | Path, plan) -> list[Step]:
     Background blockMesh; for overset plans, blockMesh of each body sub-case
     (`bodies/<name>`), `mergeMeshes . bodies/<name> -overwrite` per body (v1912
     takes the master and the added case as arguments; there is no dictionary),
-    topoSet (a cellSet per body, and the bed layer's cell zone when the bed has
-    friction); then setFields (alpha.water, zoneID) and checkMesh.
+    topoSet (a cellSet per body, a faceZone of each body's faces that decomposePar
+    keeps on one rank, and the bed layer's cell zone when the bed has friction);
+    then setFields (alpha.water, zoneID) and checkMesh.
     """
     from orchestrator.render import BED_LAYER_ZONE, BODIES_DIR
 
@@ -256,12 +257,12 @@ def mesh_steps(case_dir: str | Path, plan) -> list[Step]:
     for name in bodies:
         steps.append(Step(f"mergeMeshes.{name}", ("mergeMeshes", ".", f"{BODIES_DIR}/{name}", "-overwrite"),
                           f"add body {name}'s mesh to the background", done=_has_patch(f"{name}Overset")))
-    sets = list(bodies)
+    sets = list(bodies) + [f"{name}_faces" for name in bodies]
     if float(plan.bed_friction_factor) > 0:
         sets.append(BED_LAYER_ZONE)
     if sets:
-        what = ["one cellSet per body mesh"] if bodies else []
-        what += ["the bed layer for friction"] if len(sets) > len(bodies) else []
+        what = ["one cellSet and one faceZone (for decomposePar) per body mesh"] if bodies else []
+        what += ["the bed layer for friction"] if len(sets) > 2 * len(bodies) else []
         steps.append(Step("topoSet", ("topoSet",), " and ".join(what), done=_has_cell_sets(sets)))
     steps.append(Step("setFields", ("setFields",),
                       "water (alpha.water)" + (" and overset zones (zoneID)" if bodies else ""), done=_fields_set))

@@ -980,11 +980,15 @@ def _quantile_cuts(pos: np.ndarray, wts: np.ndarray, n: int) -> list[float]:
 
 
 def _decompose(cores, background, bodies, body_boxes, travel_end, tan_spread, fine_z1, two_d, fy0, fy1):
-    """hierarchical (nx ny nz) with nx ny nz = cores, keeping body meshes on one rank.
+    """hierarchical (nx ny nz) with nx ny nz = cores.
 
-    Cut planes are estimated as cell-count quantiles per axis (hierarchical balances cell
-    counts). Candidates are scored by the bodies whose starting mesh is cut, then the
-    bodies whose path (to the column) is cut, then the processor-boundary area.
+    decomposePar keeps every body mesh whole on one rank whatever the cuts (a
+    preserveFaceZones constraint, templates/system/decomposeParDict.j2): it lumps the
+    body's cells into one point before cutting, which costs balance where a cut would have
+    crossed the body. Cut planes are estimated as cell-count quantiles per axis (hierarchical
+    balances cell counts). Candidates are scored by the bodies their cuts cross at the
+    start, then the bodies whose path (to the column) they cross, then the
+    processor-boundary area.
     """
     if cores == 1:
         return (1, 1, 1), "1 core: no decomposition"
@@ -1026,7 +1030,8 @@ def _decompose(cores, background, bodies, body_boxes, travel_end, tan_spread, fi
     text = f"hierarchical ({cand[0]} {cand[1]} {cand[2]}) over {cores} cores ({where})"
     if bodies:
         text += (
-            f": {len(bodies) - split_now} of {len(bodies)} body meshes start on one rank and "
+            f": every body mesh on one rank (decomposePar's preserveFaceZones constraint); "
+            f"{len(bodies) - split_now} of {len(bodies)} body meshes start clear of the balanced cuts and "
             f"{len(bodies) - split_path} keep their path to the column on one rank (a split body mesh costs about 19 % "
             "per step, DESIGN.md section 3)"
         )

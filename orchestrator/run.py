@@ -1240,7 +1240,7 @@ def _match_decomposition(case: Path, ranks: int, data: dict) -> None:
     coeffs["n"] = f"({ranks} 1 1)"
     bodystate.write_dictionary(parsed, path)
     data["decomposition_note"] = (f"--np {ranks} instead of the planned {planned}: hierarchical ({ranks} 1 1); "
-                                  "the plan's split kept body meshes on one rank, this one may not")
+                                  "decomposePar still keeps each body mesh on one rank (preserveFaceZones), at some cost in balance")
 
 
 def _slowest_step_s(arrivals: list[tuple[float, int]]) -> float | None:
