@@ -252,7 +252,8 @@ def markdown(table: pd.DataFrame) -> str:
         diagnosis = "; ".join([*r.failed_checks, *([r.diagnosis] if r.diagnosis else [])]) or "-"
         water = "-" if r.water_error is None or pd.isna(r.water_error) else f"{r.water_error * 100:+.3f} %"
         inside = "-" if r.deepest_inside_m is None or pd.isna(r.deepest_inside_m) else (
-            f"{r.deepest_inside_m * 1000:.2f}" + (f" ({r.inside_what})" if r.inside_what else ""))
+            f"{r.deepest_inside_m * 1000:.2f}" + (f" ({r.inside_what})" if isinstance(r.inside_what, str)
+                                                  and r.inside_what else ""))
         sink = "-" if r.bed_sink_m is None or pd.isna(r.bed_sink_m) else f"{r.bed_sink_m * 1000:.1f}"
         reached = f"{_fmt(r.reached_time_s, '.3f')} / {_fmt(r.end_time_s, '.2f')}"
         wall = "-" if r.wall_time_s is None or pd.isna(r.wall_time_s) else f"{r.wall_time_s / 60:.1f}"

@@ -183,6 +183,11 @@ def test_markdown_marks_a_run_that_finished_badly():
                failed_checks=["water not conserved to 1 %"])
     text = markdown(pd.DataFrame([row]))
     assert "finished, NOT sane" in text and "+2.000 %" in text and "water not conserved" in text
+    # beside a run that went inside the column, pandas makes the other run's None a NaN
+    inside = dict(row, case="d", deepest_inside_m=0.0017, inside_what="debris1 in column")
+    lines = markdown(pd.DataFrame([row, inside])).splitlines()
+    assert "| 0.00 | 1.0 |" in lines[2] and "nan" not in lines[2]
+    assert "| 1.70 (debris1 in column) |" in lines[3]
 
 
 def _background_boundary_outflow(case: Path, time_name: str) -> float:
