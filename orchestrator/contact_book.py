@@ -101,7 +101,7 @@ class ContactSettings:
     adjust_phi_when_pinned: once every body is pinned, switch the overset flux adjustment
         on (PIMPLE `oversetAdjustPhi yes` in system/fvSolution) for the rest of the run. A
         pinned body loses water into the background's fringe at about 1 % a second; the
-        adjustment cut that to 0.4 % (docs/openfoam-notes.md, session 9). It stays off while
+        adjustment cut that to 0.4-0.5 % (docs/openfoam-notes.md, sessions 9 and 10). It stays off while
         any body moves: around a body sliding fast along the bed it created water.
     """
 
@@ -476,7 +476,7 @@ class ContactBook:
 
     def _adjust_phi_if_all_pinned(self, time_name: str) -> None:
         """Every body pinned: the overset flux adjustment on from this restart (see ContactSettings)."""
-        bodies = {b.name for b in bodystate.read_body_properties(self.case)}
+        bodies = set(self.info.body_names)
         if not bodies or bodystate.pinned_bodies(self.case) != bodies:
             return
         if not bodystate.set_pimple_entry(self.case, "oversetAdjustPhi", "yes"):

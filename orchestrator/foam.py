@@ -257,12 +257,11 @@ def mesh_steps(case_dir: str | Path, plan) -> list[Step]:
     for name in bodies:
         steps.append(Step(f"mergeMeshes.{name}", ("mergeMeshes", ".", f"{BODIES_DIR}/{name}", "-overwrite"),
                           f"add body {name}'s mesh to the background", done=_has_patch(f"{name}Overset")))
-    sets = list(bodies) + [f"{name}_faces" for name in bodies]
-    if float(plan.bed_friction_factor) > 0:
-        sets.append(BED_LAYER_ZONE)
+    friction = float(plan.bed_friction_factor) > 0
+    sets = list(bodies) + [f"{name}_faces" for name in bodies] + ([BED_LAYER_ZONE] if friction else [])
     if sets:
         what = ["one cellSet and one faceZone (for decomposePar) per body mesh"] if bodies else []
-        what += ["the bed layer for friction"] if len(sets) > 2 * len(bodies) else []
+        what += ["the bed layer for friction"] if friction else []
         steps.append(Step("topoSet", ("topoSet",), " and ".join(what), done=_has_cell_sets(sets)))
     steps.append(Step("setFields", ("setFields",),
                       "water (alpha.water)" + (" and overset zones (zoneID)" if bodies else ""), done=_fields_set))
