@@ -48,9 +48,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Iterable, Sequence
 
+import numpy as np
+
 from orchestrator.bodystate import BodyState
 
 __all__ = [
+    "WATER_BALANCE_LIMIT",
     "Diagnosis",
     "DivergenceLimits",
     "HealthWatch",
@@ -60,6 +63,7 @@ __all__ = [
     "StepRecord",
     "foam_build",
     "parse_log",
+    "water_balance_diagnosis",
 ]
 
 _NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?|[-+]?nan|[-+]?inf"
@@ -68,6 +72,7 @@ _COURANT = re.compile(rf"mean: ({_NUM}) max: ({_NUM})", re.I)
 _EXEC = re.compile(rf"ExecutionTime = ({_NUM}) s\s+ClockTime = ({_NUM}) s")
 #: a NaN or an infinity as OpenFOAM prints them (nan, -nan, inf, -inf), as whole words
 _FINAL_RESIDUAL = re.compile(rf"Final residual = ({_NUM})")
+_ITERATIONS = re.compile(r"No Iterations (\d+)")
 _NONFINITE = re.compile(r"(?<![\w.])[-+]?(?:nan|inf)(?![\w])", re.I)
 _RANK = re.compile(r"^\[\d+\] ?")
 _BODY_FIELDS = {
@@ -242,7 +247,9 @@ class LogParser:
                 self.rereads += 1
             elif self.pcorr_failure is None and "Solving for pcorr" in line:
                 m = _FINAL_RESIDUAL.search(line)
-                if m and not float(m.group(1)) < 1.0:  # grew instead of falling: no solution
+                n = _ITERATIONS.search(line)
+                skipped = n is not None and int(n.group(1)) == 0  # the start-up projection, switched off
+                if m and not skipped and not float(m.group(1)) < 1.0:  # grew instead of falling: no solution
                     self.pcorr_failure = line
             if self._in_block and not line.startswith(tuple(_BODY_FIELDS)):
                 self._in_block = False
@@ -347,6 +354,9 @@ class LogTail:
 
 #: default stall limit: wall seconds without solver output (scene run.stall_limit_s overrides it)
 STALL_S = 600.0
+#: default water-balance stop: the fraction of the initial water created or lost (the stability
+#: check's MASS_TOLERANCE; scene run.water_balance_limit overrides it)
+WATER_BALANCE_LIMIT = 0.01
 
 
 @dataclass(frozen=True)
@@ -364,7 +374,11 @@ class DivergenceLimits:
     - a stall: the solver writes nothing to its log for `stall_s` seconds of wall time
       (None: the scene's run.stall_limit_s, set by the runner, else STALL_S), or for
       `stall_factor` times its slowest time step so far when that is longer (a linear
-      solver that never converges, a hung MPI rank: without this a run waits forever).
+      solver that never converges, a hung MPI rank: without this a run waits forever);
+    - water created or lost beyond `water_balance` of the initial volume (None: the scene's
+      run.water_balance_limit, set by the runner, else WATER_BALANCE_LIMIT, the stability
+      check's 1 %): the run can no longer be sane, so it stops instead of running on
+      (:func:`water_balance_diagnosis`).
     """
 
     courant_factor: float = 10.0
@@ -375,6 +389,7 @@ class DivergenceLimits:
     max_body_speed_m_s: float | None = None
     stall_s: float | None = None
     stall_factor: float = 20.0
+    water_balance: float | None = None
 
     def stall_limit_s(self, slowest_step_s: float | None) -> float:
         """Wall seconds without log output after which the solver counts as stalled."""
@@ -390,6 +405,8 @@ class DivergenceLimits:
             raise ValueError(f"min_delta_t_s must be > 0, got {self.min_delta_t_s}")
         if (self.stall_s is not None and not self.stall_s > 0) or not self.stall_factor > 0:
             raise ValueError("stall_s and stall_factor must be > 0")
+        if self.water_balance is not None and not self.water_balance > 0:
+            raise ValueError(f"water_balance must be > 0, got {self.water_balance}")
 
 
 @dataclass(frozen=True)
@@ -405,6 +422,27 @@ class Diagnosis:
     #: body_speed: the body and its velocity (m/s) when it was caught
     body: str | None = None
     velocity_m_s: tuple[float, float, float] | None = None
+
+
+def water_balance_diagnosis(balance, limit: float) -> Diagnosis | None:
+    """A diagnosis when the run's water balance (post.read_water_balance: ``time_s``,
+    ``initial_m3``, ``error``) first went beyond ``limit``, else None. The fields stay: the
+    run is not numerically broken, it has stopped being sane (its results up to there hold)."""
+    if balance is None or len(balance) == 0:
+        return None
+    err = np.asarray(balance["error"], float)
+    over = np.flatnonzero(np.isfinite(err) & (np.abs(err) > limit))
+    if not over.size:
+        return None
+    i = int(over[0])
+    t = float(balance["time_s"].iloc[i])
+    initial = float(balance["initial_m3"].iloc[0])
+    what = "created" if err[i] > 0 else "lost"
+    return Diagnosis(
+        "water", f"the water balance went beyond {100 * limit:.3g} % of the initial {initial:.4g} m3: {err[i]:+.2%} "
+        f"{what} by t = {t:.6g} s, so the run can no longer be sane (the overset makes and loses water at "
+        "the body meshes' fringes; docs/stability.md); the scene's run.water_balance_limit sets the limit",
+        t, None)
 
 
 class HealthWatch:

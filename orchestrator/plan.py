@@ -182,6 +182,8 @@ class ModelPlan:
     bed_friction_calibration: float = 1.0
     #: the runner's stall limit (scene run.stall_limit_s; None: the runner's default)
     stall_limit_s: float | None = None
+    #: the runner's water-balance stop (scene run.water_balance_limit; None: the runner's default)
+    water_balance_limit: float | None = None
     #: height of the water gap under bodies resting on the bed (BedGap; 0: none rests)
     bed_gap_m: float = 0.0
 
@@ -209,6 +211,7 @@ class ModelPlan:
             "bed_friction_factor": self.bed_friction_factor,
             "bed_friction_calibration": self.bed_friction_calibration,
             "stall_limit_s": self.stall_limit_s,
+            "water_balance_limit": self.water_balance_limit,
             "bed_gap_m": self.bed_gap_m,
             "background": _grid_dict(self.background),
             "bodies": [
@@ -910,6 +913,7 @@ def plan_case(scene: Scene) -> ModelPlan:
         bed_friction_factor=scene.bed.friction_factor,
         bed_friction_calibration=scene.bed.friction_calibration,
         stall_limit_s=scene.run.stall_limit_s,
+        water_balance_limit=scene.run.water_balance_limit,
         bed_gap_m=lift,
         velocity_scale_m_s=u_ref,
         time_step_estimate_s=dt,

@@ -94,6 +94,16 @@ class Numerics:
     #: bed (+2.1 % a second against -0.1 % without, short flume 1.1-1.2 s;
     #: docs/openfoam-notes.md, session 9).
     overset_adjust_phi: bool = False
+    #: The pcorr solve v1912's overInterDyMFoam runs on the flux it reads at every (re)start
+    #: (its correctPhi.H, unconditional there). It bypasses the overset coupling, so it pushes
+    #: every fringe cell's imbalance through the gaps between a body mesh and a wall or the
+    #: column: maxCo read 24-180 at restarts of `make case-1debris` (1.1-2.5 before them),
+    #: deltaT fell 20-70 fold and the column force jumped (103 N against 18.9 N the step
+    #: before, 3.5 s). Off (the default): a pcorr tolerance above any normalised residual
+    #: (<= 1) makes that solve a no-op, and the restart goes on from the flux the solver
+    #: wrote: 17.1 N, maxCo 1.5 (docs/openfoam-notes.md, session 11). pcorr is used nowhere
+    #: else (correctPhi is off).
+    restart_flux_projection: bool = False
     #: sixDoFRigidBodyMotion relaxation/damping of the body acceleration (tutorial values)
     acceleration_relaxation: float = 0.6
     acceleration_damping: float = 0.9

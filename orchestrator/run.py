@@ -109,8 +109,10 @@ from orchestrator.monitor import (
     LogParser,
     LogTail,
     Progress,
+    WATER_BALANCE_LIMIT,
     StepRecord,
     parse_log,
+    water_balance_diagnosis,
 )
 
 __all__ = [
@@ -140,6 +142,8 @@ STOP_KILL_TIMEOUT_S = 600.0
 #: if longer) after a user's stop request: it is stuck inside a time step (seen: the overset
 #: addressing of six bodies), and a writeNow is only read between steps, so it is killed.
 STOP_SILENT_KILL_S = 60.0
+#: wall seconds between two checks of the water balance while a segment runs (and one at its end)
+WATER_CHECK_S = 5.0
 #: _SegmentResult.reason of a segment the user stopped: written on request, killed (a second
 #: Ctrl-C or no answer), or stopped before its first time step
 STOPPED_REASONS = ("interrupt", "killed", "unstarted")
@@ -154,7 +158,7 @@ class RunError(DebrisfoamError):
 
 
 class DivergenceError(RunError):
-    """The solution diverged or stalled: `kind` (nan, courant, delta_t, fpe, left_domain, body_speed, stall), `cause`
+    """The solution diverged or stalled: `kind` (nan, courant, delta_t, fpe, left_domain, body_speed, stall, water), `cause`
     in words, the simulated `time_s` it showed at, the `last_good_time` kept and the log."""
 
     def __init__(self, kind: str, cause: str, time_s: float | None, last_good_time: str | None, log_path: Path):
@@ -165,7 +169,7 @@ class DivergenceError(RunError):
         self.log_path = Path(log_path)
         at = f" at t = {time_s:.6g} s" if time_s is not None else ""
         keep = f"; kept the last good time {last_good_time} s" if last_good_time is not None else ""
-        what = "solver stalled" if kind == "stall" else "solution diverged"
+        what = {"stall": "solver stalled", "water": "water balance out of bounds"}.get(kind, "solution diverged")
         super().__init__(f"{what}{at}: {cause}{keep}\n  log: {self.log_path}")
 
 
@@ -255,6 +259,8 @@ class CaseInfo:
     holds: tuple[tuple[str, float], ...] = ()
     #: plan.json stall_limit_s (scene run.stall_limit_s): None = the runner's default
     stall_limit_s: float | None = None
+    #: plan.json water_balance_limit (scene run.water_balance_limit): None = the runner's default
+    water_balance_limit: float | None = None
 
     @property
     def body_names(self) -> tuple[str, ...]:
@@ -319,6 +325,7 @@ def load_case_info(case_dir: str | Path, np_override: int | None = None) -> Case
         holds=tuple((str(b["name"]), float(b["hold_until_s"])) for b in plan.get("bodies", [])
                     if float(b.get("hold_until_s") or 0.0) > 0.0),
         stall_limit_s=float(plan["stall_limit_s"]) if plan.get("stall_limit_s") else None,
+        water_balance_limit=float(plan["water_balance_limit"]) if plan.get("water_balance_limit") else None,
     )
 
 
@@ -668,6 +675,8 @@ class _Runner:
             defaults["max_body_speed_m_s"] = 3.0 * info.velocity_scale_m_s
         if limits.stall_s is None and info.stall_limit_s is not None:
             defaults["stall_s"] = info.stall_limit_s
+        if limits.water_balance is None:
+            defaults["water_balance"] = info.water_balance_limit or WATER_BALANCE_LIMIT
         self.limits = DivergenceLimits(**{**asdict(limits), **defaults})
         self.stop = stop
         self.end_time_s = info.end_time_s
@@ -818,6 +827,7 @@ class _Runner:
         last_bump = 0.0
         scheduled: float | None = None  # simulated time of a scheduled contact stop
         last_output = time.perf_counter()  # wall clock of the last log line (the stall watch)
+        water_checked = last_output  # wall clock of the last water-balance check
         last_line = ""
         try:
             while True:
@@ -847,6 +857,9 @@ class _Runner:
                     diag = health.check_parser(parser)
                     if diag is not None and diag.time_s is None:  # before the first step: the start time
                         diag = replace(diag, time_s=start_value)
+                if diag is None and steps and (rc is not None or now - water_checked >= WATER_CHECK_S):
+                    water_checked = now
+                    diag = self._water_check()
                 if rc is not None:
                     break
                 if diag is not None and not killed:
@@ -943,6 +956,16 @@ class _Runner:
         if steps and steps[-1].delta_t_s:
             self.last_delta_t_s = steps[-1].delta_t_s
         return _SegmentResult(start_name, reason, rc, steps, parser, log, wall, cpu, diag, pending)
+
+    def _water_check(self) -> Diagnosis | None:
+        """The water-balance stop (DivergenceLimits.water_balance) on what the solver wrote so far."""
+        from orchestrator.post import read_water_balance
+
+        try:
+            balance = read_water_balance(self.case)
+        except (OSError, ValueError):  # a line being written: next time
+            return None
+        return water_balance_diagnosis(balance, self.limits.water_balance)
 
     @staticmethod
     def _silent_kill_s(arrivals: list[tuple[float, int]]) -> float:

@@ -295,6 +295,10 @@ class Run(_Model):
     stall_limit_s: float | None = Field(
         None, gt=0, description="wall seconds without solver output after which the runner stops the run as "
                                 "stalled; null = 600 s (or 20 x the slowest time step, when longer)")
+    water_balance_limit: float | None = Field(
+        None, gt=0, description="fraction of the initial water a run may create or lose (its water balance, "
+                                "results/water_balance.csv) before the runner stops it with a diagnosis; "
+                                "null = 0.01, the stability check's 1 % (docs/stability.md)")
 
 
 class Outputs(_Model):

@@ -176,7 +176,7 @@ def default_sweep_dir(sweep: Sweep | str | Path) -> Path:
 
 #: scene keys added after member ids were first issued: hashed only when set (not None), so
 #: that adding a key leaves the ids of existing members, and their finished runs, as they were
-LATE_KEYS = (("run", "max_delta_t_s"), ("run", "stall_limit_s"))
+LATE_KEYS = (("run", "max_delta_t_s"), ("run", "stall_limit_s"), ("run", "water_balance_limit"))
 
 
 def member_id(scene) -> str:

@@ -21,6 +21,7 @@ import io
 from dataclasses import replace
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from orchestrator.monitor import (
@@ -32,6 +33,7 @@ from orchestrator.monitor import (
     Progress,
     foam_build,
     parse_log,
+    water_balance_diagnosis,
 )
 
 LOGS = Path(__file__).parent / "data" / "logs"
@@ -181,6 +183,12 @@ def test_a_diverged_pcorr_is_the_diagnosis():
     assert diag.time_s == pytest.approx(0.1, abs=1e-6) and diag.since_s is None  # the restart's fields are good
     calm, calm_parser = parse_log(LOGS / "overInterDyMFoam-2bodies-contact.log")
     assert calm_parser.pcorr_failure is None  # converged pcorr solves are not failures
+    skipped = LogParser()  # the start-up projection switched off (Numerics.restart_flux_projection)
+    skipped.feed(["DICPCG:  Solving for pcorr, Initial residual = 1, Final residual = 1, No Iterations 0"])
+    assert skipped.pcorr_failure is None
+    stuck = LogParser()  # a solve that ran and got nowhere still is one
+    stuck.feed(["DICPCG:  Solving for pcorr, Initial residual = 1, Final residual = 1, No Iterations 1000"])
+    assert stuck.pcorr_failure is not None
 
 
 def test_stall_limit_follows_the_slowest_step():
@@ -216,3 +224,20 @@ def test_progress_bar_shows_time_dt_courant_and_bodies():
 def test_foam_build():
     assert foam_build("Build  : OPENFOAM=1912 patch=200626\n") == "1912 patch=200626"
     assert foam_build("no header") is None
+
+
+def test_the_water_balance_stop_names_the_first_time_beyond_the_limit():
+    import pandas as pd
+
+    t = np.linspace(0.0, 1.0, 11)
+    error = np.array([0, 0.001, -0.002, -0.004, -0.008, -0.0105, -0.02, -0.009, 0, 0, 0])
+    balance = pd.DataFrame({"time_s": t, "initial_m3": 0.05, "error": error})
+    diag = water_balance_diagnosis(balance, 0.01)
+    assert diag.kind == "water" and diag.time_s == pytest.approx(0.5) and diag.since_s is None
+    assert "-1.05% lost by t = 0.5 s" in diag.cause and "run.water_balance_limit" in diag.cause
+    assert water_balance_diagnosis(balance, 0.025) is None
+    made = water_balance_diagnosis(balance.assign(error=-error), 0.01)
+    assert made.time_s == pytest.approx(0.5) and "+1.05% created" in made.cause
+    assert water_balance_diagnosis(None, 0.01) is None  # a case without the function objects
+    with pytest.raises(ValueError, match="water_balance"):
+        DivergenceLimits(water_balance=0)
