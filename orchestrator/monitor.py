@@ -53,7 +53,6 @@ import numpy as np
 from orchestrator.bodystate import BodyState
 
 __all__ = [
-    "WATER_BALANCE_LIMIT",
     "Diagnosis",
     "DivergenceLimits",
     "HealthWatch",
@@ -70,9 +69,9 @@ _NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?|[-+]?nan|[-+]?inf"
 _VEC = re.compile(r"\(([^()]*)\)")
 _COURANT = re.compile(rf"mean: ({_NUM}) max: ({_NUM})", re.I)
 _EXEC = re.compile(rf"ExecutionTime = ({_NUM}) s\s+ClockTime = ({_NUM}) s")
-#: a NaN or an infinity as OpenFOAM prints them (nan, -nan, inf, -inf), as whole words
 _FINAL_RESIDUAL = re.compile(rf"Final residual = ({_NUM})")
 _ITERATIONS = re.compile(r"No Iterations (\d+)")
+#: a NaN or an infinity as OpenFOAM prints them (nan, -nan, inf, -inf), as whole words
 _NONFINITE = re.compile(r"(?<![\w.])[-+]?(?:nan|inf)(?![\w])", re.I)
 _RANK = re.compile(r"^\[\d+\] ?")
 _BODY_FIELDS = {
@@ -354,9 +353,6 @@ class LogTail:
 
 #: default stall limit: wall seconds without solver output (scene run.stall_limit_s overrides it)
 STALL_S = 600.0
-#: default water-balance stop: the fraction of the initial water created or lost (the stability
-#: check's MASS_TOLERANCE; scene run.water_balance_limit overrides it)
-WATER_BALANCE_LIMIT = 0.01
 
 
 @dataclass(frozen=True)
@@ -376,8 +372,8 @@ class DivergenceLimits:
       `stall_factor` times its slowest time step so far when that is longer (a linear
       solver that never converges, a hung MPI rank: without this a run waits forever);
     - water created or lost beyond `water_balance` of the initial volume (None: the scene's
-      run.water_balance_limit, set by the runner, else WATER_BALANCE_LIMIT, the stability
-      check's 1 %): the run can no longer be sane, so it stops instead of running on
+      run.water_balance_limit, set by the runner, else post.WATER_BALANCE_TOLERANCE, the
+      stability check's 1 %): the run can no longer be sane, so it stops instead of running on
       (:func:`water_balance_diagnosis`).
     """
 

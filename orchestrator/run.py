@@ -101,6 +101,7 @@ from analytical.errors import DebrisfoamError
 from orchestrator import bodystate, foam
 from orchestrator.contact_book import Contact, ContactBook, ContactSettings
 from orchestrator.jsonio import json_default
+from orchestrator.post import WATER_BALANCE_TOLERANCE, read_water_balance
 from orchestrator.bodystate import BodyProperties, BodyState
 from orchestrator.monitor import (
     Diagnosis,
@@ -109,7 +110,6 @@ from orchestrator.monitor import (
     LogParser,
     LogTail,
     Progress,
-    WATER_BALANCE_LIMIT,
     StepRecord,
     parse_log,
     water_balance_diagnosis,
@@ -676,7 +676,7 @@ class _Runner:
         if limits.stall_s is None and info.stall_limit_s is not None:
             defaults["stall_s"] = info.stall_limit_s
         if limits.water_balance is None:
-            defaults["water_balance"] = info.water_balance_limit or WATER_BALANCE_LIMIT
+            defaults["water_balance"] = info.water_balance_limit or WATER_BALANCE_TOLERANCE
         self.limits = DivergenceLimits(**{**asdict(limits), **defaults})
         self.stop = stop
         self.end_time_s = info.end_time_s
@@ -959,8 +959,6 @@ class _Runner:
 
     def _water_check(self) -> Diagnosis | None:
         """The water-balance stop (DivergenceLimits.water_balance) on what the solver wrote so far."""
-        from orchestrator.post import read_water_balance
-
         try:
             balance = read_water_balance(self.case)
         except (OSError, ValueError):  # a line being written: next time

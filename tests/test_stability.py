@@ -18,6 +18,7 @@ import pandas as pd
 import pytest
 
 from orchestrator.post import read_water_balance, water_balance_summary
+from orchestrator.run import load_case_info
 from orchestrator.stability import INSIDE_TOLERANCE_M, MASS_TOLERANCE, assess, markdown, stability_table
 
 from conftest import ROOT, run_cli
@@ -253,8 +254,7 @@ def test_a_restart_goes_on_at_the_courant_number_it_stopped_at(small_hard, openf
     checked = 0
     for name in ("close-to-column", "near-side-wall", "glancing"):
         case = Path(_row(table, name).case)
-        max_co = float(next(line.split()[1].rstrip(";") for line in (case / "system" / "controlDict").read_text()
-                            .splitlines() if line.startswith("maxCo")))
+        max_co = load_case_info(case).max_courant
         for log in sorted(case.glob("log.overInterDyMFoam.*")):  # one log per restart
             co = _startup_courant(log)
             if co is None:  # stopped before its first step
