@@ -39,6 +39,7 @@ __all__ = [
     "Bed",
     "Column",
     "DebrisBody",
+    "DebrisContact",
     "DebrisLayout",
     "DebrisTemplate",
     "Flume",
@@ -154,6 +155,41 @@ class Column(_Model):
     elements: int = Field(160, ge=1, description="Timoshenko elements of the MDOF model")
 
 
+class DebrisContact(_Model):
+    """How a debris body strikes the column, a wall or another body, and how it slides on the bed.
+
+    ``law: container`` (default) is the contact law calibrated on the study's Table 1 event
+    (analytical.contact_law, docs/contact-law.md): a spring of the container's own compliance,
+    far softer than a rigid box. ``law: asce7_kd`` is the rigid debris stiffness k_d backed out
+    of the study's ASCE 7-22 rows (3.0e6 N/m), undamped: ASCE 7-22's own assumption, an upper
+    bound. ``stiffness_N_m``, ``damping_ratio`` or ``restitution`` override the law's values;
+    give at most one of the last two.
+    """
+
+    law: Literal["container", "asce7_kd"] = Field(
+        "container", description="container: calibrated on the study's Table 1 event; asce7_kd: rigid debris "
+        "stiffness k_d, undamped (docs/contact-law.md)")
+    stiffness_N_m: float | None = Field(None, gt=0, description="contact stiffness k (N/m); null = the law's")
+    damping_ratio: float | None = Field(
+        None, ge=0, lt=1, description="contact dashpot as a fraction of 2 sqrt(k m_eff) (-); null = the law's")
+    restitution: float | None = Field(
+        None, gt=0, le=1, description="coefficient of restitution against a rigid wall (-), turned into the "
+        "damping ratio that gives it; null = from damping_ratio or the law")
+    friction_coefficient: float = Field(
+        0.3, ge=0, description="Coulomb coefficient at the contact point during an impact (-); polyethylene on "
+        "a smooth hard surface")
+    bed_friction_coefficient: float = Field(
+        0.3, ge=0, description="Coulomb coefficient while the body rests on the bed (-); polyethylene on the "
+        "flume's bed")
+
+    @field_validator("restitution")
+    @classmethod
+    def _one_loss(cls, value, info):
+        if value is not None and info.data.get("damping_ratio") is not None:
+            raise ValueError("give damping_ratio or restitution, not both")
+        return value
+
+
 class DebrisTemplate(_Model):
     """A debris body's shape, mass and pose, without its name and position.
 
@@ -184,6 +220,8 @@ class DebrisTemplate(_Model):
     velocity_m_s: tuple[float, float, float] = Field(
         (0.0, 0.0, 0.0), description="initial velocity [u, v, w] of the centre of mass (m/s); default at rest"
     )
+    contact: DebrisContact = Field(
+        DebrisContact(), description="contact law, its energy loss and friction (see DebrisContact)")
     upright: bool | None = Field(
         None,
         description="keep the body upright (it yaws, it does not pitch or roll): v1912 has no bed contact, so a "
