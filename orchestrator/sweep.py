@@ -37,6 +37,7 @@ the others; the store is rewritten after every member, so a crash loses nothing.
 
 from __future__ import annotations
 
+import asyncio
 import concurrent.futures
 import contextlib
 import datetime as _dt
@@ -506,7 +507,7 @@ def _stop_flag(stop: Any) -> tuple[threading.Event, Callable[[], None]]:
                 if stop.wait(timeout=1.0):
                     local.set()
                     return
-            except Exception:  # the scheduler is gone: nothing will ask us to stop
+            except (Exception, asyncio.CancelledError):  # the scheduler is gone: nothing will ask us to stop
                 return
 
     threading.Thread(target=bridge, name="debrisfoam-stop-bridge", daemon=True).start()
@@ -707,14 +708,58 @@ def _dask_executor(slots: int, scheduler: str | None, cluster_kwargs: dict | Non
             cluster = LocalCluster(**options)
         client = Client(cluster)
         describe = f"dask LocalCluster, {options['n_workers']} worker(s)"
+    stop = None
     try:
         stop = Event(f"debrisfoam-sweep-stop-{uuid.uuid4().hex}", client=client)
         yield _Executor(lambda fn, *args, key: client.submit(fn, *args, key=key, pure=False),
                         as_completed, stop, describe)
     finally:
-        client.close()
+        _close_dask(client, cluster, stop)
+
+
+class _DropCancelled(logging.Filter):
+    """Drops log records that carry an asyncio.CancelledError (what a scheduler's close does
+    to the requests still pending on it); every other record passes."""
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        exc = record.exc_info[1] if record.exc_info else None
+        return not isinstance(exc, asyncio.CancelledError)
+
+
+# the loggers that report a request cancelled by the scheduler's or a worker's close
+_SHUTDOWN_LOGGERS = ("distributed.event", "distributed.core", "distributed.utils", "distributed.worker",
+                     "distributed.scheduler", "distributed.client")
+
+
+def _close_dask(client: Any, cluster: Any, stop: Any) -> None:
+    """Shut a sweep's Dask executor down in order: the stop event, the client, the cluster.
+
+    Every member's stop bridge (:func:`_stop_flag`) keeps a one-second Event.wait open on the
+    scheduler until it notices its member has returned; a scheduler closed under such a wait
+    cancels it, and distributed logs that as an ERROR with an asyncio.CancelledError
+    traceback, on a sweep whose members all finished. So the stop event is set first (its
+    members are done, or stopping because the sweep is ending anyway): the pending waits
+    return, and the bridges end. Then the client closes, then the cluster (ours only: an
+    existing scheduler is left running). A CancelledError that still reaches the log during
+    these closes (a wait sent just before the set) is dropped; errors at any other time, and
+    other errors, are logged as ever.
+    """
+    if stop is not None:
+        with contextlib.suppress(Exception):
+            stop.set()
+    quiet = _DropCancelled()
+    loggers = [logging.getLogger(name) for name in _SHUTDOWN_LOGGERS]
+    for logger in loggers:
+        logger.addFilter(quiet)
+    try:
+        with contextlib.suppress(asyncio.CancelledError):
+            client.close()
         if cluster is not None:
-            cluster.close()
+            with contextlib.suppress(asyncio.CancelledError):
+                cluster.close()
+    finally:
+        for logger in loggers:
+            logger.removeFilter(quiet)
 
 
 def _open_executor(kind: str, slots: int, scheduler: str | None, cluster_kwargs: dict | None):
