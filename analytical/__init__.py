@@ -8,6 +8,7 @@ Public names (imported lazily, so `import analytical` stays cheap):
 * SDOF: `SDOF`, `sdof_response`, `oscillator_response`, `ForceResponse`
 * MDOF column: `Column`, `column_model`, `mdof_response`, `modes`
 * ASCE 7-22 6.11: `asce7_impact`, `dynamic_response_ratio`, `effective_stiffness`
+* contact law: `ContactLaw`, `contact_law`, `column_impact`, `calibrate`, `held_out`
 * empirical formulas: `haehnel_daly`, `matsutomi`, `ikeno`
 * fitting: `fit_sdof`, `fit_mdof`
 * dam break: `dam_break` (Ritter, Stoker, Chanson)
@@ -21,6 +22,8 @@ _EXPORTS = {
     "SDOF": "sdof", "sdof_response": "sdof", "oscillator_response": "sdof", "ForceResponse": "sdof",
     "Column": "column", "column_model": "mdof", "mdof_response": "mdof", "modes": "mdof",
     "asce7_impact": "asce7", "dynamic_response_ratio": "asce7", "effective_stiffness": "asce7",
+    "ContactLaw": "contact_law", "contact_law": "contact_law", "column_impact": "contact_law",
+    "calibrate": "contact_law", "held_out": "contact_law",
     "haehnel_daly": "formulas", "matsutomi": "formulas", "ikeno": "formulas",
     "fit_sdof": "fitting", "fit_mdof": "fitting",
     "dam_break": "dambreak",

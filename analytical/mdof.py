@@ -546,7 +546,7 @@ def mdof_response(
     column: Column,
     height_m: float,
     t,
-    method: str = "modal",
+    method: str | None = None,
     n_modes: int | None = None,
     dt: float | None = None,
 ) -> ForceResponse:
@@ -565,9 +565,10 @@ def mdof_response(
     t:
         Output times (s), 1-D, strictly increasing.
     method:
-        ``"modal"`` (default): exact modal superposition (mode-acceleration form, see the
-        module docstring). ``"newmark"``: direct Newmark constant-average-acceleration
-        integration of the full matrices.
+        ``"modal"``: exact modal superposition (mode-acceleration form, see the module
+        docstring); it needs damped modes. ``"newmark"``: direct Newmark
+        constant-average-acceleration integration of the full matrices. None (default):
+        modal for a damped column, Newmark for an undamped one (``damping_ratio = 0``).
     n_modes:
         Modal only: number of lowest modes (1 .. number of free DOFs); default None
         chooses them adaptively: all modes below 2 kHz (at least 10), then further bands
@@ -586,6 +587,8 @@ def mdof_response(
     ForceResponse
         ``time_s = t``, ``response_N`` = base shear, positive in the load direction.
     """
+    if method is None:
+        method = "modal" if column.damping_ratio > 0.0 or n_modes is not None else "newmark"
     if method not in METHODS:
         raise InputError("method", f"must be one of {', '.join(METHODS)}; got {method!r}")
     times = _times("t", t)

@@ -106,6 +106,82 @@ def cmd_asce7(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def impact_inputs(args: argparse.Namespace):
+    """(contact law, column, body keywords) for `analytical impact`: the scene's first (or
+    --body) debris body and column, or the study's container and column; --set changes
+    scene keys, or without --scene column.<field> and contact.<field>."""
+    from analytical.column import Column
+    from analytical.contact_law import contact_law
+
+    from orchestrator.contact import body_contact_law
+    from orchestrator.scene import DebrisContact, column_for_analysis, load_scene, parse_override
+
+    if getattr(args, "scene", None):
+        scene = load_scene(args.scene, list(args.set or []))
+        if scene.column is None:
+            raise InputError("column", "the scene has no column to strike", args.scene)
+        if not scene.debris:
+            raise InputError("debris", "the scene has no debris body", args.scene)
+        bodies = {b.name: b for b in scene.debris}
+        body = bodies.get(args.body) if args.body else scene.debris[0]
+        if body is None:
+            raise InputError("--body", f"no debris body {args.body!r} in the scene (bodies: {', '.join(bodies)})")
+        keywords = {"mass_kg": body.mass_kg, "size_m": body.size_m, "wall_thickness_m": body.wall_thickness_m,
+                    "friction_coefficient": body.contact.friction_coefficient}
+        return body_contact_law(body.contact), column_for_analysis(scene), keywords
+    if args.body:
+        raise InputError("--body", "needs --scene")
+    from dataclasses import fields, replace
+
+    column_fields = {f.name for f in fields(Column)}
+    contact_fields = set(DebrisContact.model_fields)
+    column_changes, contact_changes = {}, {}
+    for item in args.set or []:
+        path, value = parse_override(item)
+        key = ".".join(path)
+        if len(path) == 2 and path[0] == "column" and path[1] in column_fields:
+            column_changes[path[1]] = value
+        elif len(path) == 2 and path[0] == "contact" and path[1] in contact_fields:
+            contact_changes[path[1]] = value
+        else:
+            raise InputError(key, "unknown key for `analytical impact` without --scene: column.<field> ("
+                             f"{', '.join(sorted(column_fields))}) or contact.<field> ({', '.join(sorted(contact_fields))})")
+    try:
+        contact = DebrisContact(**contact_changes)
+    except Exception as exc:  # pydantic's ValidationError: name the first field it found wrong
+        errors = getattr(exc, "errors", lambda: [])()
+        field = "contact." + ".".join(str(x) for x in errors[0]["loc"]) if errors else "contact"
+        raise InputError(field, errors[0]["msg"] if errors else str(exc)) from None
+    column = replace(Column(), **column_changes) if column_changes else Column()
+    return body_contact_law(contact), column, {"friction_coefficient": contact.friction_coefficient}
+
+
+def cmd_impact(args: argparse.Namespace) -> int:
+    from analytical.asce7 import SEED_DEBRIS_STIFFNESS_N_M, asce7_impact
+    from analytical.contact_law import column_impact
+
+    law, column, body = impact_inputs(args)
+    r = column_impact(law, args.velocity, args.height, column=column, obliquity_deg=args.obliquity, **body)
+    asce = asce7_impact(args.velocity, body.get("mass_kg", 0.236), SEED_DEBRIS_STIFFNESS_N_M)
+    _emit(
+        {
+            "peak_force_N": r.peak_force_N,
+            "duration_s": r.duration_s,
+            "impulse_Ns": r.impulse_Ns,
+            "restitution": r.restitution,
+            "peak_base_shear_N": abs(r.base_shear.peak_N),
+            "contact_law": law.name,
+            "stiffness_N_m": law.stiffness_N_m,
+            "damping_ratio": law.damping_ratio,
+            "height_m": args.height,
+            "obliquity_deg": args.obliquity,
+            "asce7_kd_design_force_N": asce.force_N,
+        },
+        args.json,
+    )
+    return EXIT_OK
+
+
 def cmd_modes(args: argparse.Namespace) -> int:
     from analytical.mdof import column_model
 
@@ -463,6 +539,22 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--orientation", type=float, default=0.65, help="C_o (0.65 for logs, poles, containers)")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_asce7)
+
+    p = an_verbs.add_parser("impact", help="one debris strike on the column by the contact law: pulse, rebound, "
+                                           "base shear (docs/contact-law.md)")
+    p.add_argument("--velocity", type=float, required=True, help="the body's speed at the strike, m/s")
+    p.add_argument("--height", type=float, default=0.40,
+                   help="contact height above the column's base, m (default 0.40, the study's mean)")
+    p.add_argument("--obliquity", type=float, default=0.0,
+                   help="angle of the body's velocity from the face's normal, degrees (default 0, head on)")
+    p.add_argument("--scene", help="scene YAML whose debris body and column to use (default: the study's "
+                                   "0.236 kg container and acrylic column)")
+    p.add_argument("--body", help="which debris body of --scene (default: its first)")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE",
+                   help="override a dotted scene key (repeatable); without --scene: column.<field> or "
+                        "contact.<field>, e.g. contact.law=asce7_kd, contact.restitution=0.5")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_impact)
 
     p = an_verbs.add_parser("modes", help="natural frequencies of the MDOF column")
     _add_column_args(p)

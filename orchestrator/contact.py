@@ -43,6 +43,7 @@ from typing import Literal
 import numpy as np
 from scipy.spatial import ConvexHull, QhullError
 
+from analytical.contact_law import ContactLaw, contact_law
 from analytical.errors import InputError
 from analytical.impact import (
     DEFAULT_ADDED_MASS_COEFFICIENT,
@@ -71,6 +72,8 @@ __all__ = [
     "bed_clearance",
     "clamp_to_bed",
     "resolve",
+    "body_contact_law",
+    "pair_contact_law",
 ]
 
 #: Relative tolerance on lengths (times the larger box size) for coincident points.
@@ -449,9 +452,11 @@ def resolve(
     from the principal moments and the orientation; for a column contact, the column of
     ``scene`` (:func:`~orchestrator.scene.column_for_analysis`) struck at the contact
     point's height; a rigid wall for walls; for two bodies, their two-body effective mass on
-    one contact spring (no column). ``impact_options`` go to
-    :func:`~analytical.impact.impact` / :func:`~analytical.impact.pair_impact` (stiffness,
-    friction, damping, ...).
+    one contact spring (no column). The contact law and the friction coefficient are the
+    body's (its scene ``contact`` section, :func:`body_contact_law`; a body pair: the two
+    springs in series, :func:`pair_contact_law`); ``impact_options`` go to
+    :func:`~analytical.impact.impact` / :func:`~analytical.impact.pair_impact` on top of
+    them (stiffness, friction, damping, ...).
 
     Returns ``(result, new_states)``: ``new_states`` holds the bodies involved (``contact.body``,
     then ``contact.other`` for body pairs) with their post-impact velocities. A body that
@@ -483,7 +488,7 @@ def resolve(
             _impact_body(other, added_mass_coefficient),
             contact.point,
             n,
-            **impact_options,
+            **{**_scene_options(scene, body.name, other.name), **impact_options},
         )
         return result, (
             moved_body.replace(
@@ -506,10 +511,39 @@ def resolve(
         target = RigidWall()
     else:
         raise InputError("contact.kind", f"must be 'column', 'wall' or 'body', got {contact.kind!r}")
-    result = impact(_impact_body(body, added_mass_coefficient), contact.point, n, target, **impact_options)
+    result = impact(_impact_body(body, added_mass_coefficient), contact.point, n, target,
+                    **{**_scene_options(scene, body.name), **impact_options})
     return result, (
         moved.replace(velocity_m_s=result.velocity_out_m_s, angular_velocity_rad_s=result.angular_velocity_out_rad_s),
     )
+
+
+def body_contact_law(contact) -> ContactLaw:
+    """The contact law of a scene body's ``contact`` section (:class:`orchestrator.scene.DebrisContact`)."""
+    return contact_law(contact.law, contact.stiffness_N_m, contact.damping_ratio, contact.restitution)
+
+
+def pair_contact_law(a: ContactLaw, b: ContactLaw) -> ContactLaw:
+    """Two bodies' contact springs in series (``1/k = 1/k_a + 1/k_b``) with the mean of their
+    damping ratios: two seed containers give ``k / 2`` and their own damping."""
+    k = 1.0 / (1.0 / a.stiffness_N_m + 1.0 / b.stiffness_N_m)
+    name = a.name if a.name == b.name else f"{a.name} + {b.name}"
+    return ContactLaw(k, 0.5 * (a.damping_ratio + b.damping_ratio), f"{name}, body-body")
+
+
+def _scene_options(scene: Scene, name: str, other: str | None = None) -> dict:
+    """Impact keywords from the scene bodies' contact sections (empty for unknown bodies)."""
+    bodies = {b.name: b for b in scene.debris}
+    if name not in bodies or (other is not None and other not in bodies):
+        return {}
+    first = bodies[name].contact
+    law = body_contact_law(first)
+    friction = first.friction_coefficient
+    if other is not None:
+        second = bodies[other].contact
+        law = pair_contact_law(law, body_contact_law(second))
+        friction = 0.5 * (friction + second.friction_coefficient)
+    return {**law.options(), "friction_coefficient": friction}
 
 
 def _impact_body(state: BodyState, added_mass_coefficient: float) -> Body:

@@ -150,3 +150,52 @@ def test_a_bad_stall_limit_in_a_scene_exits_2_naming_file_and_field(tmp_path):
     proc = run_cli("render", str(path), "-o", str(tmp_path / "out"))
     assert proc.returncode == 2 and str(path) in proc.stderr and "run.stall_limit_s" in proc.stderr
     assert not (tmp_path / "out").exists()
+
+
+def test_analytical_impact_json_keys_and_table_1_event():
+    out = cli_json("analytical", "impact", "--velocity", "1.5", "--height", "0.4")
+    assert {"peak_force_N", "duration_s", "impulse_Ns", "restitution", "peak_base_shear_N"} <= set(out)
+    assert out["peak_force_N"] == pytest.approx(236.93, rel=0.10)
+    assert out["duration_s"] == pytest.approx(0.0047, rel=0.10)
+    assert 0.0 < out["restitution"] <= 1.0
+    rigid = cli_json("analytical", "impact", "--velocity", "1.5", "--set", "contact.law=asce7_kd")
+    assert rigid["peak_force_N"] > 4 * out["peak_force_N"]
+
+
+def test_analytical_impact_with_a_scene_uses_its_body_and_overrides():
+    lossy = cli_json("analytical", "impact", "--velocity", "1.6", "--scene", "cases/1debris.yaml",
+                     "--set", "debris.0.contact.restitution=0.5")
+    assert lossy["damping_ratio"] > 0.2
+    assert lossy["restitution"] < 0.6
+
+
+@pytest.mark.parametrize(
+    "args, field",
+    [
+        (["--velocity", "0"], "--velocity"),
+        (["--velocity", "-1"], "--velocity"),
+        (["--velocity", "1.5", "--height", "0.9"], "--height"),
+        (["--velocity", "1.5", "--height", "0"], "--height"),
+        (["--velocity", "1.5", "--set", "contact.stiffness_N_m=0"], "contact.stiffness_N_m"),
+        (["--velocity", "1.5", "--set", "contact.damping_ratio=-0.1"], "contact.damping_ratio"),
+        (["--velocity", "1.5", "--set", "contact.restitution=1.5"], "contact.restitution"),
+        (["--velocity", "1.5", "--set", "contact.restitution=0"], "contact.restitution"),
+        (["--velocity", "1.5", "--set", "contact.friction_coefficient=-1"], "contact.friction_coefficient"),
+        (["--velocity", "1.5", "--scene", "cases/1debris.yaml", "--set",
+          "debris.0.contact.bed_friction_coefficient=-1"], "debris.0.contact.bed_friction_coefficient"),
+        (["--velocity", "1.5", "--set", "contact.spring=1"], "contact.spring"),
+    ],
+)
+def test_analytical_impact_bad_input_exits_2_naming_the_field(args, field):
+    proc = run_cli("analytical", "impact", *args)
+    assert proc.returncode == 2, proc.stderr
+    assert field in proc.stderr
+    assert "Traceback" not in proc.stderr and proc.stdout == ""
+
+
+@pytest.mark.parametrize("model", ["sdof", "mdof"])
+def test_zero_column_damping_is_accepted(model):
+    out = cli_json("analytical", "response", "--model", model, "--magnitude", "236.93", "--duration", "0.0047",
+                   "--set", "column.damping_ratio=0")
+    damped = cli_json("analytical", "response", "--model", model, "--magnitude", "236.93", "--duration", "0.0047")
+    assert out["peak_N"] >= damped["peak_N"] > 0

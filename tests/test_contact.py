@@ -418,3 +418,26 @@ def test_a_hair_of_tilt_keeps_a_bed_contact_centred():
     rolled = body_rotation(0, 0, 1e-4)  # degrees
     w = box_plane_proximity((0, 0, 0.1), rolled, (0.15, 0.06, 0.06), (0, 0, 0), (0, 0, 1))
     assert abs(w.point[1]) < 1e-4
+
+
+def test_resolve_uses_each_bodys_contact_law_from_the_scene():
+    """The same column strike with the scene's default (container) law and with asce7_kd: the
+    rigid law gives a pulse about five times stronger and shorter; body pairs put the two
+    bodies' springs in series."""
+    from analytical.contact_law import ASCE7_KD, CONTAINER
+    from orchestrator.contact import pair_contact_law
+
+    base = load_scene(ROOT / "cases" / "1debris.yaml")
+    rigid = load_scene(ROOT / "cases" / "1debris.yaml", ["debris.0.contact.law=asce7_kd"])
+    name = base.debris[0].name
+    body = state(name, centre=(face_x(base) - 0.075 - 0.002, 0.0, 0.2), velocity=(1.5, 0.0, 0.0))
+    figures = {}
+    for label, scene in (("container", base), ("kd", rigid)):
+        (contact,) = find_contacts([body], scene_obstacles(scene), 0.005)
+        result, _ = resolve(contact, [body], scene)
+        figures[label] = (result.peak_force_N, result.duration_s, result.stiffness_N_m)
+    assert figures["container"][2] == pytest.approx(CONTAINER.stiffness_N_m)
+    assert figures["kd"][2] == pytest.approx(ASCE7_KD.stiffness_N_m)
+    assert figures["kd"][0] > 4 * figures["container"][0]
+    assert figures["kd"][1] < figures["container"][1] / 4
+    assert pair_contact_law(CONTAINER, CONTAINER).stiffness_N_m == pytest.approx(CONTAINER.stiffness_N_m / 2)

@@ -361,8 +361,14 @@ def test_newmark_conserves_energy_without_damping():
     tail = d.energy_J[d.time_s >= pulse.end_s + 2e-5]
     assert np.all(np.diff(tail) <= 1e-12 * tail[0]) and tail[-1] < 0.5 * tail[0]
     with pytest.raises(InputError) as info:  # the exact modal responses need damped modes
-        mdof.mdof_response(pulse, column, 0.6, np.linspace(0, 0.01, 11))
+        mdof.mdof_response(pulse, column, 0.6, np.linspace(0, 0.01, 11), method="modal")
     assert info.value.field == "column.damping_ratio"
+    # by default an undamped column is integrated by Newmark: its peak agrees with the exact
+    # modal response of a column with almost no damping
+    t = np.linspace(0, 0.005, 501)
+    undamped = mdof.mdof_response(pulse, column, 0.6, t)
+    nearly = mdof.mdof_response(pulse, Column(damping_ratio=1e-6, elements=40), 0.6, t)
+    assert undamped.peak_N == pytest.approx(nearly.peak_N, rel=2e-3)
 
 
 def test_peak_base_shear_converges_with_elements_and_time_step():
