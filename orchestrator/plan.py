@@ -693,12 +693,14 @@ def plan_case(scene: Scene) -> ModelPlan:
     )
 
     # ---- background grid
-    wx: list[tuple[float, int]] = [(0.0, 1)]
+    # setFields fills whole cells by their centres (boxToCell): the water is the scene's only where
+    # every face of its boxes is a cell face. So the gate, the impoundment level and the wet-bed
+    # surface are kept even when thin (a plane of the column's top 1 cm above a 0.39 m impoundment
+    # would otherwise drop the impoundment's and fill the reservoir to 0.40 m, 2.6 % too much water)
+    wx: list[tuple[float, int]] = [(0.0, 2)]
     wy: list[tuple[float, int]] = []
-    wz: list[tuple[float, int]] = [(h0, 1)]
+    wz: list[tuple[float, int]] = [(h0, 2)]
     if bed_layer is not None:
-        # kept even when thin: the wet bed's water volume is exact (setFields fills whole cells by
-        # their centres)
         wz.append((bed_layer, 2))
     if gap is not None:
         wz += [(z, 2) for z in gap.planes()]

@@ -331,6 +331,25 @@ def test_grid_has_planes_at_the_gate_the_impoundment_and_the_wet_bed():
     assert 0.4 in zs and 0.015 in zs
 
 
+@pytest.mark.parametrize("name, overrides", [
+    ("1debris", ()),
+    ("nodebris", ()),
+    # the column's top 1 cm above the impoundment: a useful plane there would be dropped for the
+    # column's hard one, and setFields would fill the reservoir's top cells to 0.40 m (2.6 % too much)
+    ("1debris", ("reservoir.depth_m=0.39", "column.height_m=0.4")),
+    ("nodebris", ("reservoir.depth_m=0.41", "column.height_m=0.4", "mesh.top_m=0.7")),
+])
+def test_every_face_of_every_water_box_is_a_cell_face(name, overrides):
+    """setFields fills whole cells by their centres: the water put in is the scene's only when
+    each box face is a plane of the background mesh. Expected: all six faces of each box are."""
+    p = plan_case(case(name, *overrides))
+    planes = {a: np.array(p.background.planes(a)) for a in "xyz"}
+    for box in p.water:
+        for d, axis in enumerate("xyz"):
+            for v in (box.min_m[d], box.max_m[d]):
+                assert np.abs(planes[axis] - v).min() < 1e-9, f"{box.name}: {axis} = {v} is not a cell face"
+
+
 def test_cells_are_fine_in_the_fine_region_and_never_coarser_than_the_limit():
     s = case("1debris")
     p = plan_case(s)

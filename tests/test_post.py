@@ -154,6 +154,23 @@ def test_gauge_elevation_of_a_step_is_exact():
     assert post.gauge_elevation(z, np.zeros(31), 0.0, 0.30) == (0.0, 1.0)
 
 
+def test_gauge_elevation_of_cell_values_integrates_cell_by_cell():
+    """Samples that are cell values (the `cell` scheme): a 15 mm bed layer full of water under
+    a 38.5 mm cell with alpha 0.3 and air above. Expected: 15 + 0.3 x 38.5 mm, the water in the
+    cells' column, exact with the faces, off by up to half a sample spacing without them."""
+    faces = np.array([0.0, 0.015, 0.0535, 0.092, 0.3])
+    z = np.linspace(0.0003, 0.2997, 51)  # 6 mm apart: no face falls on a sample
+    alpha = np.select([z < 0.015, z < 0.0535], [1.0, 0.3], 0.0)
+    h, coverage = post.gauge_elevation(z, alpha, 0.0, 0.30, faces_m=faces)
+    assert h == pytest.approx(0.015 + 0.3 * 0.0385, abs=1e-12) and coverage == pytest.approx(1.0)
+    trapezoid, _ = post.gauge_elevation(z, alpha, 0.0, 0.30)
+    assert abs(trapezoid - h) > 1e-4  # the same samples without the faces
+    # two faces between two samples: no single step to place, trapezoid as before
+    sparse = z[::10]
+    coarse = post.gauge_elevation(sparse, alpha[::10], 0.0, 0.30, faces_m=faces)[0]
+    assert coarse == pytest.approx(post.gauge_elevation(sparse, alpha[::10], 0.0, 0.30)[0])
+
+
 def test_gauge_elevation_holds_the_end_samples_to_the_bed_and_top():
     z = np.linspace(0.0005, 0.2995, 300)  # line starting just above the bed, as rendered
     alpha = (z < 0.1).astype(float)
