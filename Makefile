@@ -9,7 +9,7 @@ CELL    ?=
 OUT     ?= runs/1debris
 CASE_SET := $(if $(CELL),--set mesh.cell_size_m=$(CELL),)
 
-.PHONY: help venv openfoam test test-fast case-1debris sweep speed-error speed-error-debris stability synthetic-study bench clean
+.PHONY: help venv openfoam test test-fast case-1debris sweep speed-error speed-error-debris stability synthetic-study contact-law bench clean
 
 help:
 	@echo "make case-1debris [CELL=m]  the seed's 1-debris scene, end to end"
@@ -19,6 +19,7 @@ help:
 	@echo "make stability              the hard cases of cases/hard/ (about 2 h), then their stability table"
 	@echo "make test                   the test suite (installs the venv and OpenFOAM first)"
 	@echo "make synthetic-study        the seed's SDOF/MDOF/ASCE analysis on 22 synthetic records"
+	@echo "make contact-law            calibrate the contact law on Table 1, check it on Table 2 (docs/contact-law/)"
 	@echo "make bench                  benchmarks (figures go to benchmarks/*.md)"
 
 venv: $(STAMP)
@@ -77,6 +78,9 @@ stability: venv openfoam
 
 synthetic-study: venv
 	$(VENV)/bin/debrisfoam analytical study -o docs/synthetic-study
+
+contact-law: venv
+	$(VENV)/bin/debrisfoam analytical contact-law -o docs/contact-law
 
 bench: venv
 	$(PY) benchmarks/bench_analytical.py

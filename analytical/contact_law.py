@@ -317,7 +317,8 @@ def calibrate(event: ImpactEvent = SEED_TABLE1_EVENT, column: Column | None = No
 
     fit = least_squares(residual, x0=[math.log(k0), 0.01], bounds=([math.log(k0 / 10), 0.0],
                         [math.log(k0 * 10), max_damping_ratio]), diff_step=1e-3, xtol=1e-6)
-    law = ContactLaw(float(math.exp(fit.x[0])), float(fit.x[1]), "calibrated")
+    zeta = float(fit.x[1]) if fit.x[1] > 1e-6 else 0.0  # at the bound: undamped, not 1e-15
+    law = ContactLaw(float(math.exp(fit.x[0])), zeta, "calibrated")
     result = column_impact(law, event.velocity_m_s, event.height_m, column=column, mass_kg=event.mass_kg)
     peak, duration, impulse, shear = _figures(result)
     return Calibration(law, event, peak, duration, impulse, shear, result.restitution)

@@ -182,6 +182,19 @@ def cmd_impact(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def cmd_contact_law(args: argparse.Namespace) -> int:
+    from orchestrator.contact_report import write_contact_law_report
+
+    if args.strikes < 2:
+        raise InputError("--strikes", f"must be >= 2, got {args.strikes}")
+    summary = write_contact_law_report(Path(args.out), count=args.strikes)
+    cal = summary["calibration"]
+    _emit({"stiffness_N_m": cal["fitted_law"]["stiffness_N_m"], "damping_ratio": cal["fitted_law"]["damping_ratio"],
+           "table1_peak_force_N": cal["fitted_pulse"]["peak_force_N"],
+           "table1_duration_s": cal["fitted_pulse"]["duration_s"], "out": str(args.out)}, args.json)
+    return EXIT_OK
+
+
 def cmd_modes(args: argparse.Namespace) -> int:
     from analytical.mdof import column_model
 
@@ -555,6 +568,13 @@ def build_parser() -> argparse.ArgumentParser:
                         "contact.<field>, e.g. contact.law=asce7_kd, contact.restitution=0.5")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_impact)
+
+    p = an_verbs.add_parser("contact-law", help="calibrate the container's contact law on the study's Table 1 "
+                                                "event and check it on Table 2's held-out statistics, to files")
+    p.add_argument("-o", "--out", default="docs/contact-law", help="output folder (default docs/contact-law)")
+    p.add_argument("--strikes", type=int, default=22, help="held-out strikes (default 22, as the study's impacts)")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_contact_law)
 
     p = an_verbs.add_parser("modes", help="natural frequencies of the MDOF column")
     _add_column_args(p)

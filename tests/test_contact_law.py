@@ -123,3 +123,17 @@ def test_box_inertia_of_a_thin_walled_box_exceeds_the_solid_box():
 def test_law_validation_rejects_damping_at_one():
     with pytest.raises(InputError):
         ContactLaw(1e5, 1.0)
+
+
+def test_contact_law_report_writes_its_files(tmp_path):
+    import json
+
+    from tests.conftest import run_cli
+
+    proc = run_cli("analytical", "contact-law", "-o", str(tmp_path / "cl"), "--strikes", "4", "--json")
+    assert proc.returncode == 0, proc.stderr
+    out = json.loads(proc.stdout)
+    assert out["stiffness_N_m"] == pytest.approx(CONTAINER.stiffness_N_m, rel=0.01)
+    for name in ("calibration.json", "held_out.csv", "held_out.md", "contact_law.png", "summary.json", "report.md"):
+        assert (tmp_path / "cl" / name).stat().st_size > 0, name
+    assert run_cli("analytical", "contact-law", "-o", str(tmp_path / "x"), "--strikes", "1").returncode == 2
