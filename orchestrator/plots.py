@@ -7,8 +7,10 @@
                         simulated, analytical and seed arrival times marked (seed Fig. 10);
 ``column_forces.png``   hydrodynamic force (pressure, viscous, total), impact pulses and their
                         sum on the column; the base shear they cause at the load cell;
-``impacts.png``         each column impact's force history against the ASCE 7-22 (k_d, k_s)
-                        pulses and the SDOF/MDOF fitted pulses (seed Fig. 4b), and the peak
+``impacts.png``         each column impact's force history over the band of the study's MDOF
+                        pulses (Table 2: magnitude and duration within one standard deviation
+                        of the mean), against the ASCE 7-22 (k_d, k_s) pulses and the
+                        SDOF/MDOF fitted pulses (seed Fig. 4b), and the peak
                         force of every method at the simulated impact velocity;
 ``seed_fits.png``       the simulated base shear of each impact with the SDOF and MDOF fits
                         (seed Fig. 4a) and every pulse's response on the MDOF column (Fig. 5);
@@ -30,6 +32,8 @@ import os
 from pathlib import Path
 
 import numpy as np
+
+from analytical.contact_law import SEED_TABLE2_MDOF
 
 __all__ = ["PLOTS", "make_plots", "snapshot"]
 
@@ -163,6 +167,15 @@ def _events(comp, limit: int = 4) -> list[int]:
     return sorted(comp.fit_records)[:limit]
 
 
+def _seed_pulse_band(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The band of half-sines with the study's MDOF magnitudes and durations, each within one
+    standard deviation of its Table 2 mean: the lowest and highest such pulse at each time."""
+    (f_mean, f_std), (d_mean, d_std) = SEED_TABLE2_MDOF["peak_force_N"], SEED_TABLE2_MDOF["duration_s"]
+    curves = [f * np.where((t >= 0) & (t <= d), np.sin(np.pi * np.clip(t, 0, None) / d), 0.0)
+              for f in (f_mean - f_std, f_mean + f_std) for d in np.linspace(d_mean - d_std, d_mean + d_std, 5)]
+    return np.min(curves, axis=0), np.max(curves, axis=0)
+
+
 def plot_impacts(results, comp, path: Path) -> Path:
     plt = _pyplot()
     events = _events(comp)
@@ -180,7 +193,11 @@ def plot_impacts(results, comp, path: Path) -> Path:
         contact = rec["pulses"]["contact model (simulated)"]
         t0 = contact.start_s
         span = max(p.end_s for p in rec["pulses"].values() if np.isfinite(p.end_s)) - t0
+        span = max(span, 1.1 * (SEED_TABLE2_MDOF["duration_s"][0] + SEED_TABLE2_MDOF["duration_s"][1]))
         tt = np.linspace(t0 - 0.1 * span, t0 + 1.15 * span, 2000)
+        low, high = _seed_pulse_band(tt - t0)
+        ax.fill_between((tt - t0) * 1e3, low, high, color="0.85", lw=0,
+                        label="study's MDOF pulses (Table 2: mean +- std)")
         for method, pulse in rec["pulses"].items():
             ax.plot((tt - t0) * 1e3, pulse.force(tt), lw=2.0 if "contact" in method else 1.2,
                     color=_METHOD_COLOURS.get(method), label=method)

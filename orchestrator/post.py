@@ -23,14 +23,20 @@ without contacts is post-processed up to where it got; what is missing is listed
     orientation as ``yaw_deg pitch_deg roll_deg`` (intrinsic z-y'-x'', as scenes give it) and
     as the rotation matrix ``q_xx .. q_zz`` (body axes -> scene axes, row-major).
 ``impacts.csv``
-    One row per contact event that was an impact (see :data:`IMPACT_COLUMNS`).
+    One row per contact event that was an impact (see :data:`IMPACT_COLUMNS`): where
+    (``height_m``, the contact point's height on the column), the water level at the column's
+    face at that moment (``face_water_level_m``, the study's definition of impact height),
+    the body's lowest point above the bed and whether it was ``afloat``, the pulse.
 ``column_response.csv``
     The total load on the column's MDOF model and the base shear at the load cell it causes
     (the quantity the seed's experiments measured), split into its hydrodynamic and impact
     parts (see :func:`column_response`).
 ``water_balance.csv``
     Per solver step, the water volume in the fluid mesh, the water leaving through the open
-    boundaries and the balance error (:func:`read_water_balance`): the conservation check.
+    boundaries (in all and through each: the outlet's, and the atmosphere's over the top of
+    the air space) and the balance error (:func:`read_water_balance`): the conservation
+    check. Water leaving over the top passing :data:`ATMOSPHERE_LOSS_WARNING` of the initial
+    water is a warning (stderr, summary.json's ``missing``, the report).
 ``fringe_flux.csv``
     Overset runs: per reconstructed time and overset zone (0: the background), the cell
     counts and the net water and volume flux into the fringe cells
@@ -77,6 +83,7 @@ from __future__ import annotations
 import json
 import math
 import re
+import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Sequence
@@ -89,6 +96,7 @@ from orchestrator.jsonio import json_default
 
 __all__ = [
     "ARRIVAL_FRACTION",
+    "ATMOSPHERE_LOSS_WARNING",
     "GAP_FACTOR",
     "IMPACT_COLUMNS",
     "MIN_GAUGE_COVERAGE",
@@ -99,6 +107,7 @@ __all__ = [
     "PulseMetrics",
     "Results",
     "arrival_time",
+    "atmosphere_loss",
     "column_response",
     "gauge_elevation",
     "impact_metrics",
@@ -135,7 +144,8 @@ _EPS = 1e-9
 
 #: Columns of impacts.csv, in order.
 IMPACT_COLUMNS = [
-    "event", "time_s", "body", "other", "kind", "height_m", "point_x_m", "point_y_m", "point_z_m",
+    "event", "time_s", "body", "other", "kind", "height_m", "face_water_level_m", "body_clearance_m", "afloat",
+    "point_x_m", "point_y_m", "point_z_m",
     "normal_x", "normal_y", "normal_z", "impact_velocity_m_s", "normal_velocity_in_m_s",
     "tangential_velocity_in_m_s", "obliquity_deg", "peak_force_N", "time_of_peak_s", "duration_s",
     "impulse_Ns", "rebound_normal_velocity_m_s", "rebound_u_m_s", "rebound_v_m_s", "rebound_w_m_s",
@@ -414,6 +424,14 @@ WATER_BALANCE_TOLERANCE = 0.01
 #: function objects of the water balance (templates/system/controlDict.j2)
 WATER_VOLUME_FO = "waterVolume"
 WATER_OUTFLOW_FO_PREFIX = "waterOut_"
+#: the open top of the air space (render.BACKGROUND_PATCH_KINDS)
+ATMOSPHERE_PATCH = "atmosphere"
+#: water that left through the top of the air space, as a fraction of the initial water, above
+#: which post warns (stderr, summary.json, report.md): a flume's water leaves through its outlet,
+#: not its top, so more than this says the air space was cut below the run-up (plan.json
+#: reasons.domain_top; mesh.top_m raises it). The water balance books it as outflow and stays
+#: closed, so nothing else would say so.
+ATMOSPHERE_LOSS_WARNING = 0.001
 
 
 def _scalar_series(case: Path, function_object: str, stem: str) -> pd.DataFrame | None:
@@ -435,8 +453,11 @@ def read_water_balance(case_dir: str | Path) -> pd.DataFrame | None:
     mesh when overset) and ``waterOut_<patch>`` (the MULES water flux ``alphaPhi0.water``
     summed over each open patch) function objects. Columns: ``time_s``, ``volume_m3``,
     ``outflow_m3_s`` (all open patches; > 0 leaving), ``outflow_m3`` (cumulative, the
-    step's flux times its step), ``initial_m3`` and ``error`` = (volume + outflow -
-    initial) / initial: the water created (> 0) or lost (< 0) as a fraction of what there was.
+    step's flux times its step), ``outflow_<patch>_m3`` (cumulative, each open patch on its
+    own: ``outflow_atmosphere_m3`` is what left through the top of the air space,
+    ``outflow_downstream_m3`` through the outlet), ``initial_m3`` and ``error`` = (volume +
+    outflow - initial) / initial: the water created (> 0) or lost (< 0) as a fraction of what
+    there was.
 
     ``initial_m3`` is the volume before the first step: the first step's volume plus what it
     let out. On restarts a later piece replaces what an earlier one wrote after its start.
@@ -447,18 +468,37 @@ def read_water_balance(case_dir: str | Path) -> pd.DataFrame | None:
         return None
     t = volume["time"].to_numpy(float)
     outflow = np.zeros_like(t)
+    dt = np.diff(np.concatenate([[0.0], t]))
+    by_patch: dict[str, np.ndarray] = {}
     base = case / "postProcessing"
     for folder in sorted(base.glob(f"{WATER_OUTFLOW_FO_PREFIX}*")):
         flux = _scalar_series(case, folder.name, "surfaceFieldValue")
         if flux is not None and not flux.empty:
-            outflow += np.interp(t, flux["time"].to_numpy(float), flux["value"].to_numpy(float), left=0.0, right=0.0)
-    dt = np.diff(np.concatenate([[0.0], t]))
+            rate = np.interp(t, flux["time"].to_numpy(float), flux["value"].to_numpy(float), left=0.0, right=0.0)
+            outflow += rate
+            by_patch[folder.name[len(WATER_OUTFLOW_FO_PREFIX):]] = np.cumsum(rate * dt)
     cumulative = np.cumsum(outflow * dt)
     v = volume["value"].to_numpy(float)
     initial = v[0] + cumulative[0]
     error = (v + cumulative - initial) / initial if initial > 0 else np.full_like(v, np.nan)
     return pd.DataFrame({"time_s": t, "volume_m3": v, "outflow_m3_s": outflow, "outflow_m3": cumulative,
+                         **{f"outflow_{patch}_m3": out for patch, out in by_patch.items()},
                          "initial_m3": initial, "error": error})
+
+
+def atmosphere_loss(balance: pd.DataFrame | None) -> tuple[float, float | None] | None:
+    """The water that left through the top of the air space by the end, as a fraction of the
+    initial water, and the first time it passed :data:`ATMOSPHERE_LOSS_WARNING` (None: it
+    never did). None when the balance has no atmosphere patch."""
+    column = f"outflow_{ATMOSPHERE_PATCH}_m3"
+    if balance is None or balance.empty or column not in balance:
+        return None
+    initial = float(balance["initial_m3"].iloc[0])
+    if not initial > 0:
+        return None
+    fraction = balance[column].to_numpy(float) / initial
+    over = np.flatnonzero(fraction > ATMOSPHERE_LOSS_WARNING)
+    return float(fraction[-1]), (float(balance["time_s"].iloc[over[0]]) if over.size else None)
 
 
 def water_balance_summary(balance: pd.DataFrame | None) -> dict[str, float] | None:
@@ -468,14 +508,23 @@ def water_balance_summary(balance: pd.DataFrame | None) -> dict[str, float] | No
         return None
     err = balance["error"].to_numpy(float)
     worst = int(np.nanargmax(np.abs(err))) if np.isfinite(err).any() else 0
-    return {
+    out = {
         "initial_m3": float(balance["initial_m3"].iloc[0]),
         "final_m3": float(balance["volume_m3"].iloc[-1]),
         "outflow_m3": float(balance["outflow_m3"].iloc[-1]),
+        # each open patch apart: the outlet's is the flume's; the atmosphere's left over the top
+        "outflow_by_patch_m3": {c[len("outflow_"):-len("_m3")]: float(balance[c].iloc[-1])
+                                for c in balance.columns if c.startswith("outflow_") and c.endswith("_m3")
+                                and c != "outflow_m3"},
         "max_error": float(err[worst]),
         "time_of_max_error_s": float(balance["time_s"].iloc[worst]),
         "final_error": float(err[-1]),
     }
+    loss = atmosphere_loss(balance)
+    if loss is not None:
+        out["atmosphere_outflow_fraction"] = loss[0]
+        out["atmosphere_warning_time_s"] = loss[1]
+    return out
 
 
 def _read_xy(path: Path) -> tuple[np.ndarray, np.ndarray]:
@@ -885,6 +934,7 @@ def _impact_rows(data: CaseData, events: list[dict], missing: list[str]):
         rows.append({
             "event": int(e.get("event", len(rows) + 1)), "time_s": t_event, "body": e.get("body"),
             "other": e.get("other"), "kind": e.get("kind"), "height_m": float(e.get("height_m", np.nan)),
+            "face_water_level_m": np.nan, "body_clearance_m": np.nan, "afloat": None,
             "point_x_m": point[0], "point_y_m": point[1], "point_z_m": point[2],
             "normal_x": n[0], "normal_y": n[1], "normal_z": n[2],
             "impact_velocity_m_s": float(-(v_in @ n)),
@@ -900,6 +950,67 @@ def _impact_rows(data: CaseData, events: list[dict], missing: list[str]):
         if e.get("body") not in masses and masses:
             missing.append(f"impact event {e.get('event')}: body {e.get('body')!r} is not in plan.json")
     return pd.DataFrame(rows, columns=IMPACT_COLUMNS), pulses
+
+
+#: A body is afloat at an impact when its lowest point is this far above the gap it rests on.
+AFLOAT_CLEARANCE_M = 0.005
+#: The column-face gauge: on the column's width, at most this far upstream of its face (m).
+FACE_GAUGE_REACH_M = 0.10
+
+
+def _face_gauge(data: CaseData) -> str | None:
+    """The gauge at the column's upstream face (the study's impact height is its water level)."""
+    scene = data.scene
+    if scene is None or scene.column is None or not data.plan:
+        return None
+    col = scene.column
+    face = col.x_m - col.size_x_m / 2
+    best = None
+    for g in data.plan.get("gauges", []):
+        dx = face - float(g.get("x", np.nan))
+        if 0.0 <= dx <= FACE_GAUGE_REACH_M and abs(float(g.get("y", np.nan)) - col.y_m) <= col.size_y_m / 2:
+            if best is None or dx < best[0]:
+                best = (dx, g["name"])
+    return best[1] if best else None
+
+
+def _impact_context(data: CaseData, impacts: pd.DataFrame, gauges: pd.DataFrame, bodies: pd.DataFrame,
+                    missing: list[str]) -> pd.DataFrame:
+    """Each impact's water level at the column's face (its gauge, interpolated at the impact time:
+    the study's impact height), the body's lowest point above the bed, and whether it was afloat
+    (lowest point more than AFLOAT_CLEARANCE_M above the gap a resting body stands on)."""
+    if impacts.empty:
+        return impacts
+    out = impacts.copy()
+    gauge = _face_gauge(data)
+    column = f"{gauge}_elevation_m" if gauge else None
+    if column and column in gauges:
+        g = gauges[["time_s", column]].dropna()
+        if len(g):
+            out["face_water_level_m"] = np.interp(out["time_s"].to_numpy(float), g["time_s"], g[column])
+    elif data.scene is not None and data.scene.column is not None:
+        missing.append("no gauge at the column's upstream face: impacts.csv has no water level there "
+                       "(add one with `at: column_upstream_face`)")
+    sizes = {b["name"]: np.asarray(b["size_m"], float) for b in (data.plan or {}).get("bodies", [])}
+    gap = float((data.plan or {}).get("bed_gap_m", 0.0) or 0.0)
+    if bodies.empty or not sizes:
+        return out
+    clearances, afloat = [], []
+    for r in out.itertuples():
+        track = bodies[bodies["body"] == r.body]
+        if r.body not in sizes or track.empty:
+            clearances.append(np.nan)
+            afloat.append(None)
+            continue
+        i = int(np.argmin(np.abs(track["time_s"].to_numpy(float) - float(r.time_s))))
+        row = track.iloc[i]
+        q_z = np.array([row["q_zx"], row["q_zy"], row["q_zz"]], dtype=float)
+        low = float(row["z_m"]) - float(np.abs(q_z) @ (sizes[r.body] / 2)) - data.bed_z_m
+        clearances.append(low)
+        afloat.append(bool(low > gap + AFLOAT_CLEARANCE_M))
+    out["body_clearance_m"] = clearances
+    out["afloat"] = afloat
+    return out
 
 
 def _pulse_sum(pulses: dict[int, tuple[np.ndarray, np.ndarray]], t: np.ndarray) -> np.ndarray:
@@ -1046,6 +1157,7 @@ def tables(case_dir: str | Path, arrival_threshold_m: float | None = None) -> Re
         columns=_BODY_COLUMNS)
     if names and bodies.empty:
         missing.append("no body reports in the solver logs (and no bodies.csv from the runner)")
+    impacts = _impact_context(data, impacts, gauges, bodies, missing)
     if names and not events:
         missing.append("no contact events (contacts.json): no impact pulses")
     response, heights = pd.DataFrame(columns=["time_s"]), {}
@@ -1067,8 +1179,25 @@ def tables(case_dir: str | Path, arrival_threshold_m: float | None = None) -> Re
                 f"{'created' if b['max_error'] > 0 else 'lost'} by t = {b['time_of_max_error_s']:.3g} s "
                 f"(over the {WATER_BALANCE_TOLERANCE * 100:g} % bound; results/water_balance.csv; docs/stability.md)"
                 + _fringe_note(fringe))
+        warning = _atmosphere_warning(data, balance)
+        if warning:
+            missing.append(warning)
     return Results(data, gauges, gauge_summary, forces, bodies, impacts, response, pulses, heights, missing, reached,
                    balance, fringe)
+
+
+def _atmosphere_warning(data: CaseData, balance: pd.DataFrame | None) -> str | None:
+    """The sentence post warns with when more than :data:`ATMOSPHERE_LOSS_WARNING` of the water
+    left through the top of the air space; None otherwise."""
+    loss = atmosphere_loss(balance)
+    if loss is None or loss[1] is None:
+        return None
+    top = ((data.plan or {}).get("domain_m") or [None, None, [None, None]])[2][1]
+    where = f" at z = {top:.3g} m" if top is not None else ""
+    return (f"water left through the top of the air space{where}: {loss[0] * 100:.2f} % of the initial water "
+            f"by the end (past {ATMOSPHERE_LOSS_WARNING * 100:g} % at t = {loss[1]:.3g} s); the water balance "
+            "books it as outflow. The run-up rose above the modelled air space: raise it with mesh.top_m "
+            "(plan.json reasons.domain_top; results/water_balance.csv, outflow_atmosphere_m3)")
 
 
 def _fringe_flux(data: CaseData, missing: list[str]) -> pd.DataFrame | None:
@@ -1177,6 +1306,9 @@ def headline(results: Results) -> dict[str, Any]:
             "other": first["other"], "impact_velocity_m_s": _finite(first["impact_velocity_m_s"]),
             "peak_force_N": _finite(first["peak_force_N"]), "duration_s": _finite(first["duration_s"]),
             "impulse_Ns": _finite(first["impulse_Ns"]), "height_m": _finite(first["height_m"]),
+            "face_water_level_m": _finite(first["face_water_level_m"]),
+            "body_clearance_m": _finite(first["body_clearance_m"]),
+            "afloat": None if first["afloat"] is None or first["afloat"] != first["afloat"] else bool(first["afloat"]),
         }
         out["impacts"]["peak_force_N"] = _finite(imp["peak_force_N"].max())
     events = read_contact_events(data.case)
@@ -1231,6 +1363,9 @@ def post_case(case_dir: str | Path, *, comparisons: bool = True, snapshot: bool 
     """
     results = tables(case_dir, arrival_threshold_m)
     data = results.data
+    warning = _atmosphere_warning(data, results.water_balance)
+    if warning:
+        print(f"debrisfoam: warning: {data.case}: {warning}", file=sys.stderr)
     out_dir = data.case / RESULTS_DIR
     out_dir.mkdir(exist_ok=True)
     written = {

@@ -378,3 +378,19 @@ def test_a_real_tiny_run_post_processes_with_every_plot(tmp_path, openfoam):
     report = (case / "results/report.md").read_text()
     for file in PLOTS.values():
         assert f"]({file})" in report
+
+
+def test_impacts_carry_the_water_level_at_the_column_face_and_whether_the_body_floated():
+    """The study's impact height is the water level at the column's face: the face gauge (WG4,
+    10 mm upstream of it) interpolated at the impact; the body's lowest point comes from its
+    track and orientation, and a body that far above the bed is afloat."""
+    results = post.tables(DATA / "tiny-1debris")
+    row = results.impacts.iloc[0]
+    g = results.gauges[["time_s", "WG4_elevation_m"]].dropna()
+    assert row["face_water_level_m"] == pytest.approx(np.interp(row["time_s"], g["time_s"], g["WG4_elevation_m"]))
+    track = results.bodies[results.bodies["body"] == row["body"]]
+    at = track.iloc[int(np.argmin(np.abs(track["time_s"] - row["time_s"])))]
+    half = np.array(results.data.plan["bodies"][0]["size_m"]) / 2
+    q_z = np.abs([at["q_zx"], at["q_zy"], at["q_zz"]])
+    assert row["body_clearance_m"] == pytest.approx(at["z_m"] - q_z @ half - results.data.bed_z_m)
+    assert row["body_clearance_m"] > post.AFLOAT_CLEARANCE_M and row["afloat"]
