@@ -534,10 +534,20 @@ def _add_column_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a dotted scene key (repeatable)")
 
 
+def _version() -> str:
+    """The installed package's version (pyproject.toml), or 'unknown' when run from a bare tree."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("debrisfoam")
+    except PackageNotFoundError:
+        return "unknown (not installed)"
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _ArgParser(prog="debrisfoam", description=__doc__.splitlines()[0])
     parser.add_argument("--debug", action="store_true", help="re-raise errors with a full traceback")
-    parser.add_argument("--version", action="version", version="debrisfoam 0.1.0")
+    parser.add_argument("--version", action="version", version=f"debrisfoam {_version()}")
     verbs = parser.add_subparsers(dest="verb", required=True, parser_class=_ArgParser)
 
     # analytical

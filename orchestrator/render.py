@@ -34,7 +34,15 @@ from analytical.errors import InputError
 from orchestrator.grid import BoxGrid
 from orchestrator.plan import max_delta_t_s
 
-TEMPLATE_DIR = Path(__file__).resolve().parent.parent / "templates"
+def _template_dir() -> Path:
+    """The bundled templates: in an installed wheel the package data orchestrator/templates/,
+    in the source tree the repository's templates/ (pyproject.toml maps one to the other)."""
+    here = Path(__file__).resolve().parent
+    installed = here / "templates"
+    return installed if installed.is_dir() else here.parent / "templates"
+
+
+TEMPLATE_DIR = _template_dir()
 
 #: Background patches and what they are, by the planner's patch names.
 BACKGROUND_PATCH_KINDS = {
