@@ -9,17 +9,19 @@ CELL    ?=
 OUT     ?= runs/1debris
 CASE_SET := $(if $(CELL),--set mesh.cell_size_m=$(CELL),)
 
-.PHONY: help venv openfoam test test-fast case-1debris sweep speed-error speed-error-debris stability synthetic-study contact-law bench clean
+.PHONY: help venv openfoam test test-fast case-1debris sweep speed-error speed-error-debris stability synthetic-study contact-law results-1debris bench clean
 
 help:
-	@echo "make case-1debris [CELL=m]  the seed's 1-debris scene, end to end"
+	@echo "make venv                   the Python environment only (.venv, the package installed editable)"
+	@echo "make case-1debris [CELL=m]  the study's 1-debris scene, end to end (about 30 min on 2 cores)"
+	@echo "make results-1debris        after it: its table, plots and summary to docs/results/case-1debris/"
 	@echo "make sweep SWEEP=mesh-study a sweep from cases/sweeps/ (runs/sweeps/<name>; run again to resume)"
 	@echo "make speed-error            mesh study + hand-made baseline, then the speed-against-error report"
 	@echo "make speed-error-debris     mesh study with one container to its impact, then its report"
 	@echo "make stability              the hard cases of cases/hard/ (about 2 h), then their stability table"
 	@echo "make test                   the test suite (installs the venv and OpenFOAM first)"
 	@echo "make synthetic-study        the seed's SDOF/MDOF/ASCE analysis on 22 synthetic records"
-	@echo "make contact-law            calibrate the contact law on Table 1, check it on Table 2 (docs/contact-law/)"
+	@echo "make contact-law            calibrate the contact law on Table 1, check it on Table 2 (docs/results/contact-law/)"
 	@echo "make bench                  benchmarks (figures go to benchmarks/*.md)"
 
 venv: $(STAMP)
@@ -50,6 +52,11 @@ test-fast: venv
 case-1debris: venv openfoam
 	$(VENV)/bin/debrisfoam case cases/1debris.yaml -o $(OUT) $(CASE_SET)
 
+# After make case-1debris: its table beside the study's figures, its plots and summary, to
+# docs/results/case-1debris/ (the page the README's table comes from).
+results-1debris: venv
+	$(VENV)/bin/debrisfoam report case $(OUT) -o docs/results/case-1debris
+
 # make sweep SWEEP=mesh-study [EXECUTOR=dask]: cases/sweeps/$(SWEEP).yaml -> runs/sweeps/<name>
 SWEEP    ?= mesh-study
 EXECUTOR ?= local
@@ -63,13 +70,13 @@ NICE ?=
 speed-error: venv openfoam
 	-$(NICE) $(VENV)/bin/debrisfoam sweep cases/sweeps/mesh-study.yaml
 	-$(NICE) $(VENV)/bin/debrisfoam sweep cases/sweeps/mesh-study-hand.yaml
-	$(VENV)/bin/debrisfoam report speed-error runs/sweeps/mesh-study --baseline runs/sweeps/mesh-study-hand
+	$(VENV)/bin/debrisfoam report speed-error runs/sweeps/mesh-study --baseline runs/sweeps/mesh-study-hand -o docs/results/speed-error
 
 # The mesh study with one container (to its first impact on the column), then its report in
 # runs/sweeps/debris-mesh-study/report/ (about 1 h of solver time on 2 cores: 19, 17 and 25 min measured).
 speed-error-debris: venv openfoam
 	-$(NICE) $(VENV)/bin/debrisfoam sweep cases/sweeps/debris-mesh-study.yaml
-	$(VENV)/bin/debrisfoam report speed-error runs/sweeps/debris-mesh-study
+	$(VENV)/bin/debrisfoam report speed-error runs/sweeps/debris-mesh-study -o docs/results/speed-error-debris
 
 # The hard cases (cases/hard/, about 2 h on 2 cores), then their table in docs/stability.md.
 stability: venv openfoam
@@ -77,10 +84,10 @@ stability: venv openfoam
 	$(VENV)/bin/debrisfoam report stability runs/sweeps/hard-cases -o runs/sweeps/hard-cases/stability.md
 
 synthetic-study: venv
-	$(VENV)/bin/debrisfoam analytical study -o docs/synthetic-study
+	$(VENV)/bin/debrisfoam analytical study -o docs/results/synthetic-study
 
 contact-law: venv
-	$(VENV)/bin/debrisfoam analytical contact-law -o docs/contact-law
+	$(VENV)/bin/debrisfoam analytical contact-law -o docs/results/contact-law
 
 bench: venv
 	$(PY) benchmarks/bench_analytical.py

@@ -502,6 +502,14 @@ def cmd_report_speed_error(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def cmd_report_case(args: argparse.Namespace) -> int:
+    from orchestrator.case_report import write_case_report
+
+    path = write_case_report(args.case_dir, args.out)
+    _emit({"report": str(path)}, args.json)
+    return EXIT_OK
+
+
 def cmd_report_stability(args: argparse.Namespace) -> int:
     from orchestrator.stability import markdown, stability_table
 
@@ -581,7 +589,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = an_verbs.add_parser("contact-law", help="calibrate the container's contact law on the study's Table 1 "
                                                 "event and check it on Table 2's held-out statistics, to files")
-    p.add_argument("-o", "--out", default="docs/contact-law", help="output folder (default docs/contact-law)")
+    p.add_argument("-o", "--out", default="docs/results/contact-law",
+                   help="output folder (default docs/results/contact-law)")
     p.add_argument("--strikes", type=int, default=22, help="held-out strikes (default 22, as the study's impacts)")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_contact_law)
@@ -626,7 +635,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_dambreak)
 
     p = an_verbs.add_parser("study", help="the seed's SDOF/MDOF/ASCE analysis on synthetic records (Table 2, Fig. 7)")
-    p.add_argument("-o", "--out", default="docs/synthetic-study", help="output folder (tables and plots)")
+    p.add_argument("-o", "--out", default="docs/results/synthetic-study", help="output folder (tables and plots)")
     p.add_argument("--records", type=int, default=22, help="number of synthetic records (default 22, as the seed)")
     p.add_argument("--seed", type=int, default=2019, help="random seed")
     p.add_argument("--base", choices=["rigid", "calibrated"], default="rigid", help="column base model of the records")
@@ -718,6 +727,13 @@ def build_parser() -> argparse.ArgumentParser:
                    help="extrapolate both set-ups to this cell size (default 0.015, the seed's; 0: none)")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_report_speed_error)
+    p = rp_verbs.add_parser("case", help="one post-processed run beside the study's figures: a results page "
+                                         "with its plots (make results-1debris)")
+    p.add_argument("case_dir", help="a run folder with results/ (debrisfoam post has run)")
+    p.add_argument("-o", "--out", required=True, help="output folder (report.md, plots, summary.json)")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_report_case)
+
     p = rp_verbs.add_parser("stability", help="for every member of a sweep: finished with sane physics (water "
                                               "conserved, no body inside a wall, finite forces) or stopped with "
                                               "a diagnosis (the table of docs/stability.md)")

@@ -171,6 +171,40 @@ def test_gauge_elevation_of_cell_values_integrates_cell_by_cell():
     assert coarse == pytest.approx(post.gauge_elevation(sparse, alpha[::10], 0.0, 0.30)[0])
 
 
+def _write_fo(case: Path, name: str, stem: str, column: str, rows) -> None:
+    """A function object's .dat as v1912 writes it (header, then time and value)."""
+    folder = case / "postProcessing" / name / "0"
+    folder.mkdir(parents=True)
+    lines = ["# Region type : patch x", f"# Time            \t{column}"]
+    lines += [f"{t:<18.8g}\t{v:.10e}" for t, v in rows]
+    (folder / f"{stem}.dat").write_text("\n".join(lines) + "\n")
+
+
+def test_water_balance_books_each_open_patch_apart(tmp_path):
+    """100 steps of 0.01 s: 1e-4 m3/s leaves through the outlet, 2e-5 m3/s over the top, from a
+    1.0 m3 start. Expected: outflow_downstream_m3 and outflow_atmosphere_m3 add up to outflow_m3;
+    the atmosphere's 0.2 % of the water passes the 0.1 % warning at t = 0.5 s (1e-3 m3)."""
+    t = np.round(np.arange(1, 101) * 0.01, 10)
+    volume = 1.0 - (1e-4 + 2e-5) * t
+    _write_fo(tmp_path, "waterVolume", "volFieldValue", "volIntegrate(alpha.water)", zip(t, volume))
+    _write_fo(tmp_path, "waterOut_downstream", "surfaceFieldValue", "sum(alphaPhi0.water)", ((x, 1e-4) for x in t))
+    _write_fo(tmp_path, "waterOut_atmosphere", "surfaceFieldValue", "sum(alphaPhi0.water)", ((x, 2e-5) for x in t))
+    b = post.read_water_balance(tmp_path)
+    assert b["outflow_downstream_m3"].iloc[-1] == pytest.approx(1e-4)
+    assert b["outflow_atmosphere_m3"].iloc[-1] == pytest.approx(2e-5)
+    np.testing.assert_allclose(b["outflow_downstream_m3"] + b["outflow_atmosphere_m3"], b["outflow_m3"], rtol=1e-12)
+    assert b["error"].abs().max() < 1e-12
+    summary = post.water_balance_summary(b)
+    assert summary["outflow_by_patch_m3"] == {"atmosphere": pytest.approx(2e-5), "downstream": pytest.approx(1e-4)}
+    assert summary["atmosphere_outflow_fraction"] == pytest.approx(2e-5, rel=1e-3)
+    assert summary["atmosphere_warning_time_s"] is None  # 0.002 % of the water: no warning
+    # 100 times as much over the top: 0.2 % by the end, past 0.1 % at t = 0.51 s
+    shutil.rmtree(tmp_path / "postProcessing" / "waterOut_atmosphere")
+    _write_fo(tmp_path, "waterOut_atmosphere", "surfaceFieldValue", "sum(alphaPhi0.water)", ((x, 2e-3) for x in t))
+    fraction, when = post.atmosphere_loss(post.read_water_balance(tmp_path))
+    assert fraction == pytest.approx(2e-3, rel=1e-2) and when == pytest.approx(0.51)
+
+
 def test_gauge_elevation_holds_the_end_samples_to_the_bed_and_top():
     z = np.linspace(0.0005, 0.2995, 300)  # line starting just above the bed, as rendered
     alpha = (z < 0.1).astype(float)
@@ -394,3 +428,20 @@ def test_impacts_carry_the_water_level_at_the_column_face_and_whether_the_body_f
     q_z = np.abs([at["q_zx"], at["q_zy"], at["q_zz"]])
     assert row["body_clearance_m"] == pytest.approx(at["z_m"] - q_z @ half - results.data.bed_z_m)
     assert row["body_clearance_m"] > post.AFLOAT_CLEARANCE_M and row["afloat"]
+
+
+def test_case_report_puts_the_first_impact_beside_the_study(debris_case, tmp_path):
+    from tests.conftest import run_cli
+
+    case, _ = debris_case
+    proc = run_cli("report", "case", str(case), "-o", str(tmp_path / "page"))
+    assert proc.returncode == 0, proc.stderr
+    text = (tmp_path / "page" / "report.md").read_text()
+    impact = pd.read_csv(case / "results" / "impacts.csv").iloc[0]
+    assert f"| impact velocity | {impact['impact_velocity_m_s']:.2f} m/s | 1.6 +- 0.13 m/s | missed |" in text
+    assert "| afloat at the impact | yes" in text
+    assert f"| pulse magnitude | {impact['peak_force_N']:.0f} N | MDOF fits 171 +- 63 N | missed |" in text
+    for plot in ("gauges.png", "impacts.png", "summary.json"):
+        assert (tmp_path / "page" / plot).is_file()
+    missing = run_cli("report", "case", str(tmp_path), "-o", str(tmp_path / "x"))
+    assert missing.returncode == 2 and "summary.json" in missing.stderr

@@ -1,0 +1,133 @@
+"""`debrisfoam report case RUN -o DIR`: one run's answers beside the study's figures, to a results page.
+
+Reads a post-processed run (``RUN/results/summary.json``, ``impacts.csv``) and writes into DIR:
+  report.md      the table: arrivals, the first impact (time, velocity, contact height, water level
+                 at the column's face, afloat or not, pulse, base shear), water balance, wall time,
+                 each beside the study's figure and the target where there is one
+  summary.json   the run's summary, copied
+  *.png          the run's gauges, column forces, impacts and tracks plots, copied
+``make results-1debris`` runs it on ``make case-1debris``'s folder; the README's table comes from it.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import pandas as pd
+
+from analytical.contact_law import SEED_IMPACT_HEIGHTS_M, SEED_IMPACT_VELOCITY_M_S, SEED_TABLE2_MDOF
+from analytical.errors import InputError
+
+__all__ = ["write_case_report"]
+
+PLOTS = ("gauges.png", "column_forces.png", "impacts.png", "tracks.png")
+#: The study's experiment and model arrivals (s) at WG2 and WG3 (its section 4.1.2).
+STUDY_ARRIVALS_S = {"WG2": (0.91, 0.88), "WG3": (1.39, 1.20)}
+#: Wall-time target of the default run (min).
+WALL_TARGET_MIN = 30.0
+
+
+def _fmt(value, spec: str, unit: str = "") -> str:
+    if value is None or value != value:
+        return "-"
+    return f"{value:{spec}}{unit}"
+
+
+def _band(name: str, k: float = 2.0) -> tuple[float, float]:
+    mean, std = SEED_TABLE2_MDOF[name]
+    return mean - k * std, mean + k * std
+
+
+def _within(value, low: float, high: float) -> str:
+    if value is None or value != value:
+        return "-"
+    return "met" if low <= value <= high else "missed"
+
+
+def _rows(head: dict, first_impact: dict | None) -> list[tuple[str, str, str, str]]:
+    rows = []
+    arrivals = head.get("comparisons", {}).get("arrival_errors_s", {})
+    for gauge in ("WG2", "WG3"):
+        g = head.get("gauges", {}).get(gauge, {})
+        errors = arrivals.get(gauge, {})
+        experiment, model = STUDY_ARRIVALS_S[gauge]
+        rows.append((f"bore arrival at {gauge}", _fmt(g.get("arrival_s"), ".3f", " s"),
+                     f"experiment {experiment} s, the study's model {model} s; Chanson {_fmt(errors.get('Chanson'), '+.3f', ' s')} off",
+                     "-"))
+    if first_impact is None:
+        rows.append(("first impact on the column", "none", "the study: 22 single-container impacts", "missed"))
+        return rows
+    u_mean, u_std = SEED_IMPACT_VELOCITY_M_S
+    low_h, high_h, mean_h = SEED_IMPACT_HEIGHTS_M
+    afloat = first_impact.get("afloat")
+    rows += [
+        ("first impact: time", _fmt(first_impact.get("time_s"), ".3f", " s"), "-", "-"),
+        ("impact velocity", _fmt(first_impact.get("impact_velocity_m_s"), ".2f", " m/s"),
+         f"{u_mean} +- {u_std} m/s", _within(first_impact.get("impact_velocity_m_s"), u_mean - 2 * u_std,
+                                            u_mean + 2 * u_std)),
+        ("afloat at the impact", {True: "yes", False: "no"}.get(afloat, "-") +
+         f" (lowest point {_fmt(first_impact.get('body_clearance_m'), '.3f', ' m')} above the bed)",
+         "carried afloat", {True: "met", False: "missed"}.get(afloat, "-")),
+        ("contact point above the bed", _fmt(first_impact.get("height_m"), ".3f", " m"), ">= 0.05 m",
+         _within(first_impact.get("height_m"), 0.05, float("inf"))),
+        ("water level at the column's face (the study's impact height)",
+         _fmt(first_impact.get("face_water_level_m"), ".3f", " m"), f"{low_h}-{high_h} m, mean {mean_h} m", "-"),
+    ]
+    for name, label, scale, unit, spec in (("peak_force_N", "pulse magnitude", 1.0, " N", ".0f"),
+                                           ("duration_s", "pulse duration", 1e3, " ms", ".2f"),
+                                           ("impulse_Ns", "pulse impulse", 1.0, " N s", ".3f")):
+        mean, std = SEED_TABLE2_MDOF[name]
+        value = first_impact.get(name)
+        low, high = _band(name)
+        rows.append((label, _fmt(value * scale if value is not None else None, spec, unit),
+                     f"MDOF fits {mean * scale:{spec}} +- {std * scale:{spec}}{unit}", _within(value, low, high)))
+    shear = head.get("column_response", {}).get("peak_base_shear_N")
+    rows.append(("peak base shear at the load cell", _fmt(shear, ".0f", " N"), "not tabulated by the study", "-"))
+    return rows
+
+
+def write_case_report(case_dir: str | Path, out_dir: str | Path) -> Path:
+    """Write the results page of a post-processed run (see the module notes); returns report.md."""
+    case, out = Path(case_dir), Path(out_dir)
+    summary_path = case / "results" / "summary.json"
+    if not summary_path.is_file():
+        raise InputError("case_dir", f"no results/summary.json: run `debrisfoam post {case}` first", str(case))
+    head = json.loads(summary_path.read_text())
+    impacts_path = case / "results" / "impacts.csv"
+    first = None
+    if impacts_path.is_file():
+        impacts = pd.read_csv(impacts_path)
+        column = impacts[impacts["kind"] == "column"].sort_values("time_s")
+        if len(column):
+            row = column.iloc[0]
+            first = {k: (None if pd.isna(v) else v) for k, v in row.to_dict().items()}
+            if isinstance(first.get("afloat"), str):
+                first["afloat"] = first["afloat"] == "True"
+    out.mkdir(parents=True, exist_ok=True)
+    for name in PLOTS:
+        if (case / "results" / name).is_file():
+            shutil.copy2(case / "results" / name, out / name)
+    shutil.copy2(summary_path, out / "summary.json")
+    rows = _rows(head, first)
+    balance = head.get("water_balance") or {}
+    wall = (head.get("wall_time_s") or {}).get("total_s")
+    rows.append(("water balance at the end", _fmt(100 * balance["final_error"], "+.2f", " %") if balance else "-",
+                 "conserved to 1 %", _within(abs(balance.get("final_error", float("nan"))), 0.0, 0.01)))
+    rows.append(("time steps / wall time", f"{head.get('time_steps', '-')} / {_fmt(wall / 60 if wall else None, '.1f', ' min')}",
+                 f"at most {WALL_TARGET_MIN:g} min on 2 cores", _within(wall / 60 if wall else None, 0.0, WALL_TARGET_MIN)))
+    lines = [f"# `{head.get('scene', case.name)}`: the run beside the study", "",
+             "Generated by `make results-1debris` (`debrisfoam report case RUN -o DIR`) from a finished run; "
+             "never edited by hand.", "",
+             f"{head.get('cells', '-')} cells, {head.get('end_time_s', '-')} s simulated, status "
+             f"{head.get('status', '-')}; {head.get('impacts', {}).get('on_column', 0)} impacts on the column. Targets: "
+             "impact velocity within the study's mean +- 2 std; pulse within its MDOF mean +- 2 std.", "",
+             "| figure | this run | the study | target |", "|---|---|---|---|"]
+    lines += [f"| {a} | {b} | {c} | {d} |" for a, b, c, d in rows]
+    lines += ["", *(f"![{p[:-4]}]({p})" for p in PLOTS if (out / p).is_file()), ""]
+    if head.get("missing"):
+        lines += ["What the post-processing could not give:", "", *(f"- {m}" for m in head["missing"]), ""]
+    path = out / "report.md"
+    path.write_text("\n".join(lines))
+    return path
