@@ -21,6 +21,10 @@ Physics used for the extents (shallow-water characteristics, ``c0 = sqrt(g h0)``
   against the flow. Behind a supercritical front nothing travels upstream, so an outlet
   need only clear the column's wake; a wall reflects a bore that runs back at no more
   than ``c0``.
+* Top. The air space is trimmed to 1.5 ``h0`` unless the front (at most ``2 c0``) can reach
+  a closed end or a column across at least :data:`RUNUP_BLOCKAGE` of the width within the
+  run: the bore then runs up it to about the stagnation head of Ritter's front,
+  ``(2 c0)^2 / 2g = 2 h0`` (:data:`RUNUP_DEPTHS`), and the air space goes up to the walls.
 
 Cell sizes: ``mesh.cell_size_m`` (h) inside the fine region, then growing by at most
 ``mesh.growth_ratio`` per cell up to ``h x mesh.coarsening_ratio``.
@@ -70,6 +74,22 @@ _MEASURED_CORES = 2
 #: v1912 counts hole and fringe faces in its Courant number, and the flow past a body is
 #: faster than the front. Before this factor the planner's debris estimates were 3-4x short.
 STEP_FACTOR = {"interFoam": 1.25, "overInterDyMFoam": 2.8}
+#: The trimmed air space: this many impoundment depths (mesh.top_m null, trim_domain true).
+TOP_TRIM = 1.5
+#: Run-up of the bore against a closed end or an obstacle, in impoundment depths: the stagnation
+#: head u^2/2g of the fastest water a dam break makes, Ritter's front at u = 2 sqrt(g h0), plus its
+#: depth (none at Ritter's tip): 2 h0. A wet bed and bed friction only slow the front. Measured on
+#: a 2D closed tank at 2 cm cells (0.4 m reservoir, end wall 0.8 m past the gate, 1 s): over a
+#: 1.5 h0 top at the end wall 1.8 % of the water left on a dry bed, 1.3 and 1.5 % on 15 and 40 mm
+#: wet beds (h0 = 0.2 m), and the water ran up the wall to 1.8 h0 under h0 = 0.4 m on a 15 mm bed:
+#: the wet bed's own front (Stoker: its depth plus its u^2/2g, 0.7 h0) is no bound for a wall.
+RUNUP_DEPTHS = 2.0
+#: An obstacle sends its run-up over the trimmed top only when it blocks this fraction of the
+#: flume's width or more; a narrower one sends up a jet over its face and the bore passes round it.
+#: Measured on the tiny flume of tests/data/post/tiny-nodebris.yaml (dry bed, h0 = 0.2 m, 2.5 cm
+#: cells, open end, 1 s) under a 1.5 h0 top: a column across a third of the width let 0.008 % of
+#: the water over the top, half 0.19 %, two thirds 0.39 %, the whole width 1.9 %.
+RUNUP_BLOCKAGE = 0.4
 #: Every decision the plan records a reason for.
 REASON_KEYS = (
     "solver",
@@ -638,22 +658,57 @@ def plan_case(scene: Scene) -> ModelPlan:
                 "outlet: the domain is cut short of the closed end, whose reflection arrives after the run"
             )
 
-    # ---- top
+    # ---- top: what can run up, and to where (RUNUP_DEPTHS)
+    runup = RUNUP_DEPTHS * h0
+    runup_from = []  # what the fastest front (2 c0) reaches within the run
+    if downstream_type == "wall" and x_hi / u_ref < T:
+        runup_from.append(f"the closed end wall (x = {x_hi:.3g} m, reached from {x_hi / u_ref:.2g} s)")
+    blockage = 0.0
+    if col:
+        blockage = 1.0 if full_width_col else max(0.0, min(col.y_m + col.size_y_m / 2, fy1)
+                                                   - max(col.y_m - col.size_y_m / 2, fy0)) / width
+    if col and 0.0 < col_x0 and col_x0 / u_ref < T and blockage >= RUNUP_BLOCKAGE:
+        runup_from.append(f"the column across {blockage:.0%} of the width (x = {col_x0:.3g} m, reached from "
+                          f"{col_x0 / u_ref:.2g} s)")
+    runup_why = (
+        f"the bore can run up {' and '.join(runup_from)} to about {runup:.3g} m ({RUNUP_DEPTHS:g} h0: the stagnation "
+        f"head u^2/2g of Ritter's front, u = 2 sqrt(g h0) = {u_ref:.3g} m/s, the fastest water of the dam break)"
+    ) if runup_from else ""
     if scene.mesh.top_m is not None:
         z_hi = scene.mesh.top_m
         reasons["domain_top"] = f"air space up to mesh.top_m = {z_hi:g} m (set in the scene)"
+        if runup_from and runup > z_hi + 1e-9 and z_hi < scene.flume.height_m - 1e-9:
+            reasons["domain_top"] += f": below the run-up ({runup_why})"
+            warnings.append(
+                f"mesh.top_m = {z_hi:g} m is below the run-up the bore can reach ({runup:.3g} m at "
+                f"{' and '.join(runup_from)}): water may leave through the top of the air space (post reports it "
+                f"apart from the outlet's and warns past 0.1 %)"
+            )
     elif not scene.mesh.trim_domain:
         z_hi = scene.flume.height_m
         reasons["domain_top"] = f"air space up to the flume's wall height ({z_hi:g} m): mesh.trim_domain is false"
     else:
         body_top = max((hi[2] for _, hi in body_boxes), default=0.0)
-        z_hi = min(scene.flume.height_m, max(1.5 * h0, body_top))
-        reasons["domain_top"] = (
-            f"air space up to z = {z_hi:.3g} m = min(flume height {scene.flume.height_m:g} m, 1.5 x impoundment"
-            + (", the top of the highest body mesh" if body_top > 1.5 * h0 else "")
-            + "): the free surface never rises above the impoundment except splash-up at the column; water above "
-            "leaves through the open atmosphere patch"
-        )
+        trim = max(TOP_TRIM * h0, body_top)
+        if runup_from and runup > trim:
+            z_hi = scene.flume.height_m
+            reasons["domain_top"] = (
+                f"air space up to the walls (z = {z_hi:g} m, the flume's height), not trimmed to {trim:.3g} m: "
+                + runup_why + f", above the trim; water that rises over the walls leaves the flume there too"
+            )
+        else:
+            z_hi = min(scene.flume.height_m, trim)
+            reasons["domain_top"] = (
+                f"air space up to z = {z_hi:.3g} m = min(flume height {scene.flume.height_m:g} m, {TOP_TRIM:g} x impoundment"
+                + (", the top of the highest body mesh" if body_top > TOP_TRIM * h0 else "")
+                + "): "
+                + (runup_why + ", within it" if runup_from else
+                   "no closed end, and no obstacle across {:.0%} of the width or more, within the bore's reach "
+                   "during the run: nothing runs up above the trim".format(RUNUP_BLOCKAGE)
+                   + (f" (the column, across {blockage:.0%} of the width, sends up a jet over its face: splash-up "
+                      "that mostly falls back)" if col else ""))
+                + "; water above leaves through the open atmosphere patch (post reports it apart)"
+            )
 
     # ---- fine region
     fine_x0 = min([-h0] + [lo[0] for lo, _ in body_boxes] + ([col_x0 - mc] if col else []))

@@ -32,7 +32,7 @@ from orchestrator.plan import (
     estimated_steps,
     plan_case,
 )
-from orchestrator.scene import body_rotation, load_scene, scene_from_dict
+from orchestrator.scene import apply_overrides, body_rotation, load_scene, scene_from_dict
 
 ROOT = Path(__file__).resolve().parent.parent
 CASES = ROOT / "cases"
@@ -348,6 +348,61 @@ def test_every_face_of_every_water_box_is_a_cell_face(name, overrides):
         for d, axis in enumerate("xyz"):
             for v in (box.min_m[d], box.max_m[d]):
                 assert np.abs(planes[axis] - v).min() < 1e-9, f"{box.name}: {axis} = {v} is not a cell face"
+
+
+def tank(*overrides: str):
+    """A 2D closed tank: 0.4 m reservoir 0.2 m deep, the end wall 0.8 m past the gate, 0.6 m walls."""
+    data = {
+        "name": "tank",
+        "flume": {"length_m": 1.2, "width_m": 0.2, "height_m": 0.6, "downstream_end": "closed"},
+        "reservoir": {"length_m": 0.4, "depth_m": 0.2, "gate": "instant"},
+        "bed": {"wet_depth_m": 0.015, "friction_factor": 0.0293},
+        "debris": [],
+        "gauges": [{"name": "WG1", "x_m": 0.6, "y_m": 0.0}],
+        "mesh": {"cell_size_m": 0.02, "coarsening_ratio": 1},
+        "run": {"end_time_s": 1.0, "cores": 1},
+    }
+    return scene_from_dict(apply_overrides(data, list(overrides), "tank"), "tank")
+
+
+def test_a_closed_end_the_bore_reaches_keeps_the_air_space_up_to_the_walls():
+    """Expected: the bore reaches the end wall (0.8 m at 2 sqrt(g h0) = 2.8 m/s: from 0.29 s) within
+    the 1 s run and can run up 2 h0 = 0.4 m, above the 1.5 h0 = 0.3 m trim: the air space goes up
+    to the walls (0.6 m) and the plan says why."""
+    p = plan_case(tank())
+    assert p.downstream_type == "wall" and p.domain_m[2][1] == pytest.approx(0.6)
+    why = p.reasons["domain_top"]
+    assert "up to the walls" in why and "closed end wall" in why and "0.4 m" in why and "2 h0" in why
+    assert 0.6 in [round(z, 9) for z in p.background.planes("z")]
+
+
+def test_a_closed_end_out_of_reach_keeps_the_trim():
+    """0.2 s: the front (at most 2.8 m/s) cannot reach the end wall 0.8 m away. Expected: trimmed
+    to 1.5 h0 = 0.3 m, the reason saying nothing runs up."""
+    p = plan_case(tank("run.end_time_s=0.2"))
+    assert p.domain_m[2][1] == pytest.approx(0.3)
+    assert "nothing runs up" in p.reasons["domain_top"]
+
+
+def test_run_up_at_the_column_depends_on_how_much_of_the_width_it_blocks():
+    """The seed's column blocks 13 % of the flume: its splash-up is left to the atmosphere patch
+    (the air space stays at 1.5 h0 = 0.6 m). Across the whole width (2D) it acts as a wall: the air
+    space goes up to the 0.8 m walls."""
+    narrow = plan_case(case("1debris"))
+    assert narrow.domain_m[2][1] == pytest.approx(0.6)
+    assert "13% of the width" in narrow.reasons["domain_top"]
+    wide = plan_case(case("nodebris", "column.size_y_m=1.5"))
+    assert wide.two_d and wide.domain_m[2][1] == pytest.approx(0.8)
+    assert "the column across 100% of the width" in wide.reasons["domain_top"]
+    half = plan_case(case("nodebris", "column.size_y_m=0.75"))
+    assert half.domain_m[2][1] == pytest.approx(0.8)
+
+
+def test_a_top_set_below_the_run_up_is_a_warning():
+    p = plan_case(tank("mesh.top_m=0.3"))
+    assert p.domain_m[2][1] == pytest.approx(0.3)
+    assert any("mesh.top_m = 0.3 m is below the run-up" in w for w in p.warnings)
+    assert not any("mesh.top_m" in w for w in plan_case(tank("mesh.top_m=0.5")).warnings)
 
 
 def test_cells_are_fine_in_the_fine_region_and_never_coarser_than_the_limit():
