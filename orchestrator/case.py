@@ -8,7 +8,9 @@ that holds a *different* case is never overwritten: that is bad input (exit 2).
 
 from __future__ import annotations
 
+import json
 import math
+import sys
 import threading
 import time
 from pathlib import Path
@@ -38,6 +40,14 @@ def _same_case(case: Path, scene) -> bool:
         return load_scene(existing).model_dump() == scene.model_dump()
     except InputError:
         return False
+
+
+def _plan_warnings(case: Path) -> list[str]:
+    """The planner's warnings recorded in the case's plan.json."""
+    try:
+        return list(json.loads((case / "plan.json").read_text()).get("warnings", []))
+    except (OSError, ValueError):
+        return []
 
 
 def prepare_case(scene_path: str | Path, out_dir: str | Path, sets: Sequence[str] = ()) -> tuple[Path, bool]:
@@ -78,6 +88,8 @@ def run_full_case(scene_path: str | Path, out_dir: str | Path | None = None, set
     case, rendered = prepare_case(scene_path, out_dir or default_case_dir(scene_path), sets)
     if not quiet:
         print(f"debrisfoam: {'rendered' if rendered else 'resuming'} {case}", flush=True)
+    for message in _plan_warnings(case):  # before anything runs, on every start
+        print(f"debrisfoam: warning: {message}", file=sys.stderr, flush=True)
     run = run_case(case, np=np, quiet=quiet, stop_event=stop_event)
     with _POST_LOCK:
         post = post_case(case)

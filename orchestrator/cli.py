@@ -32,6 +32,12 @@ class _ArgParser(argparse.ArgumentParser):
 # --------------------------------------------------------------------------- helpers
 
 
+def warn(messages, where: str = "") -> None:
+    """Each planner or check warning on stderr, one line each (also in --json output)."""
+    for message in messages or ():
+        print(f"debrisfoam: warning: {where}{message}", file=sys.stderr)
+
+
 def _emit(result: dict[str, Any], as_json: bool, out=sys.stdout) -> None:
     if as_json:
         json.dump(result, out, indent=2, default=json_default)
@@ -316,7 +322,8 @@ def cmd_render(args: argparse.Namespace) -> int:
     except ImportError:
         return _missing("`render` (scene schema, planner and templates)", 3)
     summary = render_from_file(args.scene, Path(args.out), list(args.set or []), force=args.force, mesh=args.mesh)
-    _emit(summary, args.json)
+    _emit({k: v for k, v in summary.items() if args.json or k != "warnings"}, args.json)
+    warn(summary["warnings"])
     return EXIT_OK
 
 
@@ -325,8 +332,9 @@ def cmd_preview(args: argparse.Namespace) -> int:
         from orchestrator.preview import preview_scene_file
     except ImportError:
         return _missing("`preview`", 3)
-    preview_scene_file(args.scene, Path(args.out), list(args.set or []))
+    warnings = preview_scene_file(args.scene, Path(args.out), list(args.set or []), warnings=True)
     print(f"preview written to {args.out}")
+    warn(warnings)
     return EXIT_OK
 
 
@@ -455,6 +463,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
             _emit(plan, True)
         else:
             _print_dry_run(plan)
+        for m in plan["members"]:
+            warn(m["warnings"], f"member {m['member']} ({m['id']}): ")
         return EXIT_OK
     progress_stream = sys.stderr if args.json else sys.stdout
 

@@ -72,15 +72,17 @@ _ISO_DIRECTION = np.array([-0.22, -1.0, 0.75])
 # ------------------------------------------------------------------------- public API
 
 
-def preview_scene_file(path: str | Path, out_png: str | Path, overrides: Sequence[str] = ()) -> Path:
+def preview_scene_file(path: str | Path, out_png: str | Path, overrides: Sequence[str] = (),
+                       warnings: bool = False):
     """Load the scene in ``path`` (with ``key.path=value`` overrides), plan it, draw it to ``out_png``.
 
     An :class:`~analytical.errors.InputError` from loading the scene passes through unchanged.
-    Returns the path of the PNG written.
+    Returns the path of the PNG written, or with ``warnings`` the planner's warnings.
     """
     scene = load_scene(path, list(overrides))
     plan = plan_case(scene)
-    return preview_scene(scene, plan, out_png)
+    written = preview_scene(scene, plan, out_png)
+    return list(plan.warnings) if warnings else written
 
 
 def preview_scene(scene: Scene, plan: ModelPlan, out_png: str | Path) -> Path:

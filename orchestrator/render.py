@@ -587,7 +587,8 @@ def render_from_file(scene_path: str | Path, out_dir: Path, sets: Sequence[str] 
     scene = load_scene(scene_path, list(sets))
     plan = plan_case(scene)
     case = render_case(scene, plan, out_dir, force=force, overrides=sets)
-    summary: dict[str, Any] = {"case": str(case), "solver": plan.solver, "planned_cells": int(plan.cell_count)}
+    summary: dict[str, Any] = {"case": str(case), "solver": plan.solver, "planned_cells": int(plan.cell_count),
+                               "warnings": list(plan.warnings)}
     if scene.outputs.preview:
         from orchestrator.preview import preview_scene
 

@@ -1048,6 +1048,7 @@ def dry_run(sweep: Sweep | str | Path, out_dir: str | Path | None = None, *, exe
             "solver": m.plan.solver, "two_d": m.plan.two_d, "cores": sw.member_cores(m),
             "cells": m.plan.cell_count, "estimated_wall_time_s": round(m.estimated_wall_time_s, 1),
             "state": member_state(out / m.id),
+            "warnings": list(m.plan.warnings),
         })
     todo = [r for r in members if r["state"] != "finished"]
     slots = slots or _default_slots(max((r["cores"] for r in members), default=1))

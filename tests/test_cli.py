@@ -199,3 +199,24 @@ def test_zero_column_damping_is_accepted(model):
                    "--set", "column.damping_ratio=0")
     damped = cli_json("analytical", "response", "--model", model, "--magnitude", "236.93", "--duration", "0.0047")
     assert out["peak_N"] >= damped["peak_N"] > 0
+
+
+def test_plan_warnings_reach_the_terminal_and_the_json(tmp_path):
+    """The 2x3 layout's overlapping body meshes (v1912 may never finish their overset
+    addressing) are said on stderr by render, in render --json, and per member by sweep --dry-run."""
+    import json
+
+    proc = run_cli("render", "cases/6debris-2x3.yaml", "-o", str(tmp_path / "c"), "--set", "outputs.preview=false")
+    assert proc.returncode == 0, proc.stderr
+    lines = [line for line in proc.stderr.splitlines() if line.startswith("debrisfoam: warning: ")]
+    assert lines and all("overlap" in line or "debris" in line for line in lines)
+    plan = json.loads((tmp_path / "c" / "plan.json").read_text())
+    assert len(lines) == len(plan["warnings"]) > 0
+    out = json.loads(run_cli("render", "cases/6debris-2x3.yaml", "-o", str(tmp_path / "d"), "--set",
+                             "outputs.preview=false", "--json").stdout)
+    assert out["warnings"] == plan["warnings"]
+    dry = run_cli("sweep", "cases/sweeps/debris-layouts.yaml", "--dry-run", "-o", str(tmp_path / "s"))
+    assert dry.returncode == 0, dry.stderr
+    assert any(line.startswith("debrisfoam: warning: member ") and "overlap" in line for line in dry.stderr.splitlines())
+    clean = run_cli("render", "cases/nodebris.yaml", "-o", str(tmp_path / "n"), "--set", "outputs.preview=false")
+    assert clean.returncode == 0 and "warning" not in clean.stderr
