@@ -9,7 +9,7 @@ CELL    ?=
 OUT     ?= runs/1debris
 CASE_SET := $(if $(CELL),--set mesh.cell_size_m=$(CELL),)
 
-.PHONY: help venv openfoam test test-fast case-1debris sweep speed-error speed-error-debris stability synthetic-study contact-law results-1debris bench clean
+.PHONY: help venv openfoam test test-fast case-1debris sweep speed-error speed-error-debris stability synthetic-study contact-law results-1debris scene-doc bench clean
 
 help:
 	@echo "make venv                   the Python environment only (.venv, the package installed editable)"
@@ -21,6 +21,7 @@ help:
 	@echo "make stability              the hard cases of cases/hard/ (about 2 h), then their stability table"
 	@echo "make test                   the test suite (installs the venv and OpenFOAM first)"
 	@echo "make synthetic-study        the seed's SDOF/MDOF/ASCE analysis on 22 synthetic records"
+	@echo "make scene-doc              docs/scene.md, the scene reference, from the schema"
 	@echo "make contact-law            calibrate the contact law on Table 1, check it on Table 2 (docs/results/contact-law/)"
 	@echo "make bench                  benchmarks (figures go to benchmarks/*.md)"
 
@@ -85,6 +86,10 @@ stability: venv openfoam
 
 synthetic-study: venv
 	$(VENV)/bin/debrisfoam analytical study -o docs/results/synthetic-study
+
+# docs/scene.md, the scene reference, from the schema itself (a test checks it is current)
+scene-doc: venv
+	$(VENV)/bin/debrisfoam schema --markdown > docs/scene.md
 
 contact-law: venv
 	$(VENV)/bin/debrisfoam analytical contact-law -o docs/results/contact-law

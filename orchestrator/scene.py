@@ -144,14 +144,16 @@ class Column(_Model):
     size_y_m: float = Field(gt=0, description="footprint across the flow (m)")
     height_m: float = Field(gt=0, description="height above the floor (m)")
     wall_thickness_m: float = Field(gt=0, description="wall of the hollow section (m)")
-    youngs_modulus_Pa: float = Field(gt=0)
-    density_kg_m3: float = Field(gt=0)
-    poisson_ratio: float = Field(gt=-1, lt=0.5)
-    shear_coefficient: float = Field(gt=0)
+    youngs_modulus_Pa: float = Field(gt=0, description="Young's modulus of the column's material (Pa)")
+    density_kg_m3: float = Field(gt=0, description="density of the column's material (kg/m3)")
+    poisson_ratio: float = Field(gt=-1, lt=0.5, description="Poisson's ratio (-)")
+    shear_coefficient: float = Field(gt=0, description="Timoshenko shear coefficient of the section (-)")
     natural_frequency_Hz: float = Field(70.0, gt=0, description="measured first frequency (Hz)")
     stiffness_N_m: float = Field(4.685e5, gt=0, description="measured lateral stiffness (N/m)")
-    damping_ratio: float = Field(0.045, ge=0, lt=1)
-    base: Literal["rigid", "calibrated"] = "rigid"
+    damping_ratio: float = Field(0.045, ge=0, lt=1, description="measured damping ratio (-); 0 = undamped")
+    base: Literal["rigid", "calibrated"] = Field(
+        "rigid", description="rigid: the study's MDOF (geometry only, f1 88 Hz); calibrated: a base spring tuned "
+        "to natural_frequency_Hz")
     elements: int = Field(160, ge=1, description="Timoshenko elements of the MDOF model")
 
 
@@ -203,7 +205,7 @@ class DebrisTemplate(_Model):
     """
 
     size_m: tuple[Pos, Pos, Pos] = Field(description="[length, width, height] (m)")
-    mass_kg: float = Field(gt=0)
+    mass_kg: float = Field(gt=0, description="mass (kg)")
     wall_thickness_m: float | None = Field(None, gt=0, description="null = solid or inertia given")
     moment_of_inertia_kg_m2: tuple[Pos, Pos, Pos] | None = Field(
         None, description="principal moments about the body axes through the centre (kg m^2)"
@@ -214,9 +216,9 @@ class DebrisTemplate(_Model):
         "local water is deep enough, else on the bed; given: centre_m[2] as written. "
         "Default: given when centre_m has z, else on_bed",
     )
-    yaw_deg: float = 0.0
-    pitch_deg: float = 0.0
-    roll_deg: float = 0.0
+    yaw_deg: float = Field(0.0, description="turn about z (degrees; 0: length along the flow)")
+    pitch_deg: float = Field(0.0, description="then about the new y (degrees)")
+    roll_deg: float = Field(0.0, description="then about the newest x (degrees)")
     velocity_m_s: tuple[float, float, float] = Field(
         (0.0, 0.0, 0.0), description="initial velocity [u, v, w] of the centre of mass (m/s); default at rest"
     )
@@ -260,7 +262,7 @@ class DebrisLayout(_Model):
     spacing_m: tuple[NonNeg, NonNeg] = Field(
         (0.25, 0.15), description="centre-to-centre spacing [along the flow, across] (m)"
     )
-    name_prefix: str = "debris"
+    name_prefix: str = Field("debris", description="bodies are named <name_prefix>1, 2, ...")
     body: DebrisTemplate
 
 
@@ -271,22 +273,23 @@ class Gauge(_Model):
     upstream of the upstream face (x_m and y_m are then computed).
     """
 
-    name: str
-    x_m: float | None = None
-    y_m: float | None = None
-    at: Literal["column_upstream_face"] | None = None
+    name: str = Field(description="the gauge's name in the results (e.g. WG2)")
+    x_m: float | None = Field(None, description="x of the gauge (m); null with `at`")
+    y_m: float | None = Field(None, description="y of the gauge (m); null with `at`")
+    at: Literal["column_upstream_face"] | None = Field(
+        None, description="place it on the column's centreline, offset_m upstream of its upstream face")
     offset_m: float = Field(0.01, ge=0, description="upstream distance from the face when `at` is used (m)")
 
 
 class Fluids(_Model):
     """Water and air properties (defaults: fresh water and air at 20 C)."""
 
-    water_density_kg_m3: float = Field(998.2, gt=0)
-    water_viscosity_m2_s: float = Field(1.0e-6, gt=0)
-    air_density_kg_m3: float = Field(1.0, gt=0)
-    air_viscosity_m2_s: float = Field(1.48e-5, gt=0)
-    surface_tension_N_m: float = Field(0.07, ge=0)
-    gravity_m_s2: float = Field(9.81, gt=0)
+    water_density_kg_m3: float = Field(998.2, gt=0, description="(kg/m3)")
+    water_viscosity_m2_s: float = Field(1.0e-6, gt=0, description="kinematic viscosity (m2/s)")
+    air_density_kg_m3: float = Field(1.0, gt=0, description="(kg/m3)")
+    air_viscosity_m2_s: float = Field(1.48e-5, gt=0, description="kinematic viscosity (m2/s)")
+    surface_tension_N_m: float = Field(0.07, ge=0, description="water-air surface tension (N/m)")
+    gravity_m_s2: float = Field(9.81, gt=0, description="gravitational acceleration (m/s2)")
 
 
 class Mesh(_Model):
@@ -345,15 +348,16 @@ class Outputs(_Model):
     probe_interval_s: float | None = Field(
         0.01, gt=0, description="sampling interval of gauges and forces; null = every time step (s)"
     )
-    fields: tuple[str, ...] = ("alpha.water", "U", "p_rgh")
+    fields: tuple[str, ...] = Field(("alpha.water", "U", "p_rgh"), description="fields written at each write "
+                                    "interval")
     preview: bool = Field(True, description="draw the scene to preview.png when rendering")
 
 
 class Scene(_Model):
     """A resolved, validated scene (every body placed, every gauge positioned)."""
 
-    name: str = "scene"
-    description: str = ""
+    name: str = Field("scene", description="the scene's name (run folders and reports)")
+    description: str = Field("", description="one line on what the scene is")
     flume: Flume
     reservoir: Reservoir
     bed: Bed = Bed()
