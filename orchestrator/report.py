@@ -188,7 +188,8 @@ def write_report(results, comp, figures: dict, tables: dict[str, Path], plots: d
         out += ["## 3D snapshot", "", f"![snapshot]({plots['snapshot'].name})", ""]
 
     out += ["## Definitions", "",
-            f"- Gauge elevation: trapezoidal integral of alpha.water over the sampled line (bed to top); a line "
+            f"- Gauge elevation: the water in the cells along the sampled line (each cell's alpha.water up to its "
+            f"faces; bed to top); a line "
             f"covered over less than {100 * MIN_GAUGE_COVERAGE:g} % of its length (a body in the way, or cells the "
             "sampler could not find) gives no value.",
             "- Impact metrics: peak of the contact force; duration from the first rise above zero to the last "
