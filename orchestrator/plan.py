@@ -40,6 +40,7 @@ from typing import Any, Literal
 
 import numpy as np
 
+from analytical.contact_law import box_inertia
 from orchestrator.grid import BoxGrid, Segment, graded_segment
 from orchestrator.scene import DebrisBody, Scene, body_rotation, draft_m, flume_extent, half_extent_z
 
@@ -286,28 +287,9 @@ def _grid_dict(grid: BoxGrid) -> dict[str, Any]:
 def body_inertia(
     size_m: tuple[float, float, float], mass_kg: float, wall_thickness_m: float | None
 ) -> tuple[float, float, float]:
-    """Principal moments of inertia (kg m^2) of a closed box about its body axes.
-
-    A closed box of uniform walls ``wall_thickness_m`` thick (the material density follows
-    from the mass and the wall volume), or a solid box when the thickness is None or at
-    least half the smallest side.
-    """
-    a, b, c = size_m
-    t = wall_thickness_m
-    if t is None or 2 * t >= min(size_m):
-        return (
-            mass_kg * (b * b + c * c) / 12.0,
-            mass_kg * (a * a + c * c) / 12.0,
-            mass_kg * (a * a + b * b) / 12.0,
-        )
-    ai, bi, ci = a - 2 * t, b - 2 * t, c - 2 * t
-    vo, vi = a * b * c, ai * bi * ci
-    rho = mass_kg / (vo - vi)
-    return (
-        rho * (vo * (b * b + c * c) - vi * (bi * bi + ci * ci)) / 12.0,
-        rho * (vo * (a * a + c * c) - vi * (ai * ai + ci * ci)) / 12.0,
-        rho * (vo * (a * a + b * b) - vi * (ai * ai + bi * bi)) / 12.0,
-    )
+    """Principal moments of inertia (kg m^2) of a closed box about its body axes
+    (:func:`analytical.contact_law.box_inertia`: uniform walls, or solid)."""
+    return box_inertia(size_m, mass_kg, wall_thickness_m)
 
 
 @dataclass(frozen=True)
