@@ -56,7 +56,7 @@ case-1debris: venv openfoam
 # After make case-1debris: its table beside the study's figures, its plots and summary, to
 # docs/results/case-1debris/ (the page the README's table comes from).
 results-1debris: venv
-	$(VENV)/bin/debrisfoam report case $(OUT) -o docs/results/case-1debris
+	$(VENV)/bin/debrisfoam report case $(OUT) -o docs/results/case-1debris --force
 
 # make sweep SWEEP=mesh-study [EXECUTOR=dask]: cases/sweeps/$(SWEEP).yaml -> runs/sweeps/<name>
 SWEEP    ?= mesh-study
@@ -85,14 +85,14 @@ stability: venv openfoam
 	$(VENV)/bin/debrisfoam report stability runs/sweeps/hard-cases -o runs/sweeps/hard-cases/stability.md
 
 synthetic-study: venv
-	$(VENV)/bin/debrisfoam analytical study -o docs/results/synthetic-study
+	$(VENV)/bin/debrisfoam analytical study -o docs/results/synthetic-study --force
 
 # docs/scene.md, the scene reference, from the schema itself (a test checks it is current)
 scene-doc: venv
 	$(VENV)/bin/debrisfoam schema --markdown > docs/scene.md
 
 contact-law: venv
-	$(VENV)/bin/debrisfoam analytical contact-law -o docs/results/contact-law
+	$(VENV)/bin/debrisfoam analytical contact-law -o docs/results/contact-law --force
 
 bench: venv
 	$(PY) benchmarks/bench_analytical.py

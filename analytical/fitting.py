@@ -51,7 +51,9 @@ class PulseFit:
     """A fitted impact pulse and how well its modelled response matches the record.
 
     Forces in N, times in s. `time_s`/`model_N`/`measured_N` cover the fit window;
-    `measured_N` has the fitted offset removed.
+    `measured_N` has the fitted offset (`offset_N`) removed. `peak_measured_N` is the
+    record's peak above its own baseline (the quiet stretch before the impact), the same
+    whichever model is fitted.
     """
 
     model: str
@@ -186,7 +188,7 @@ def _result(model, shape, prep, x, a, b, fitted, **structural) -> PulseFit:
         start_s=float(x[1]),
         impulse_Ns=float(pulse.impulse_Ns),
         rmse_N=float(np.sqrt(np.mean((fitted - prep.y) ** 2))),
-        peak_measured_N=float(np.max(measured)),
+        peak_measured_N=float(np.max(prep.y) - prep.baseline_N),  # above the record's own baseline: one value per record
         peak_model_N=float(np.max(model_n)),
         offset_N=float(b),
         time_s=prep.t,

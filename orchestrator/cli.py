@@ -20,16 +20,74 @@ from analytical.errors import DebrisfoamError, InputError
 from orchestrator.jsonio import json_default
 
 EXIT_OK, EXIT_FAILURE, EXIT_BAD_INPUT = 0, 1, 2
+#: A fit whose RMSE exceeds this fraction of the measured peak is reported as poor.
+POOR_FIT_RMSE_FRACTION = 0.20
+
+
+class _HelpFormatter(argparse.ArgumentDefaultsHelpFormatter):
+    """Help that states every option's default (unless it is None or the help says it already)."""
+
+    def _get_help_string(self, action):
+        text = action.help or ""
+        if action.default in (None, False, argparse.SUPPRESS) or "default" in text:
+            return text
+        return super()._get_help_string(action)
 
 
 class _ArgParser(argparse.ArgumentParser):
     """argparse that reports usage errors as InputError (exit 2 through our handler)."""
+
+    def __init__(self, *args, **kwargs):
+        kwargs.setdefault("formatter_class", _HelpFormatter)
+        super().__init__(*args, **kwargs)
 
     def error(self, message: str) -> None:  # noqa: D401 - argparse API
         raise InputError("arguments", f"{message} (see `{self.prog} --help`)")
 
 
 # --------------------------------------------------------------------------- helpers
+
+
+def output_path(path: str | Path, flag: str, force: bool, folder: bool) -> Path:
+    """Check an output path before anything is computed: a folder that can be made and holds
+    nothing yet (or `--force`), or a file whose folder exists and which is not there yet (or
+    `--force`). Bad paths are bad input naming the flag: nothing already computed is touched."""
+    out = Path(path)
+    if folder:
+        if out.exists() and not out.is_dir():
+            raise InputError(flag, f"{out} is a file, not a folder")
+        if out.is_dir() and any(out.iterdir()) and not force:
+            raise InputError(flag, f"{out} holds files already: give --force to overwrite them, or another folder")
+        try:
+            out.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise InputError(flag, f"cannot create the folder {out}: {exc.strerror}") from None
+        return out
+    if out.is_dir():
+        raise InputError(flag, f"{out} is a folder; give a file name")
+    if out.exists() and not force:
+        raise InputError(flag, f"{out} exists: give --force to overwrite it, or another name")
+    if not out.parent.is_dir():
+        try:
+            out.parent.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise InputError(flag, f"cannot create the folder {out.parent}: {exc.strerror}") from None
+    return out
+
+
+class _Flags:
+    """Rename the fields of InputErrors raised inside to the flags the user typed."""
+
+    def __init__(self, **flags: str):
+        self.flags = flags
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, kind, exc, tb):
+        if isinstance(exc, InputError) and exc.field in self.flags:
+            raise InputError(self.flags[exc.field], exc.rule, exc.source) from None
+        return False
 
 
 def warn(messages, where: str = "") -> None:
@@ -49,6 +107,8 @@ def _emit(result: dict[str, Any], as_json: bool, out=sys.stdout) -> None:
                 value = f"{value:.6g}"
             elif isinstance(value, list):
                 value = ", ".join(f"{v:.6g}" if isinstance(v, float) else str(v) for v in value)
+            elif isinstance(value, dict):
+                value = json.dumps(value, default=json_default)
             out.write(f"{key:<{width}}  {value}\n")
 
 
@@ -93,19 +153,24 @@ def _time_axis(t_end: float, dt: float):
 def cmd_asce7(args: argparse.Namespace) -> int:
     from analytical.asce7 import asce7_impact
 
-    r = asce7_impact(
-        velocity_m_s=args.velocity,
-        mass_kg=args.mass,
-        stiffness_N_m=args.stiffness,
-        importance=args.importance,
-        orientation=args.orientation,
-    )
+    with _Flags(velocity_m_s="--velocity", mass_kg="--mass", stiffness_N_m="--stiffness", importance="--importance",
+                orientation="--orientation"):
+        r = asce7_impact(
+            velocity_m_s=args.velocity,
+            mass_kg=args.mass,
+            stiffness_N_m=args.stiffness,
+            importance=args.importance,
+            orientation=args.orientation,
+        )
     _emit(
         {
             "force_N": r.force_N,
             "nominal_force_N": r.nominal_force_N,
             "duration_s": r.duration_s,
             "impulse_Ns": r.impulse_Ns,
+            "orientation_C_o": args.orientation,
+            "importance_I_tsu": args.importance,
+            "note": "force_N is the design force I_tsu C_o F_ni; nominal_force_N is F_ni = u sqrt(k m)",
         },
         args.json,
     )
@@ -193,7 +258,7 @@ def cmd_contact_law(args: argparse.Namespace) -> int:
 
     if args.strikes < 2:
         raise InputError("--strikes", f"must be >= 2, got {args.strikes}")
-    summary = write_contact_law_report(Path(args.out), count=args.strikes)
+    summary = write_contact_law_report(output_path(args.out, "-o/--out", args.force, folder=True), count=args.strikes)
     cal = summary["calibration"]
     _emit({"stiffness_N_m": cal["fitted_law"]["stiffness_N_m"], "damping_ratio": cal["fitted_law"]["damping_ratio"],
            "table1_peak_force_N": cal["fitted_pulse"]["peak_force_N"],
@@ -260,17 +325,25 @@ def cmd_fit(args: argparse.Namespace) -> int:
             fit = fit_mdof(time_s, force_N, column=column, height_m=args.height, shape=args.pulse)
     except InputError as exc:
         raise exc.with_source(str(args.record)) from None
-    _emit(
-        {
-            "magnitude_N": fit.magnitude_N,
-            "duration_s": fit.duration_s,
-            "impulse_Ns": fit.impulse_Ns,
-            "rmse_N": fit.rmse_N,
-            "peak_measured_N": fit.peak_measured_N,
-            "peak_model_N": fit.peak_model_N,
-        },
-        args.json,
-    )
+    result = {
+        "magnitude_N": fit.magnitude_N,
+        "duration_s": fit.duration_s,
+        "impulse_Ns": fit.impulse_Ns,
+        "rmse_N": fit.rmse_N,
+        "peak_measured_N": fit.peak_measured_N,
+        "peak_model_N": fit.peak_model_N,
+        "offset_removed_N": fit.offset_N,
+        "start_s": fit.start_s,
+        "natural_frequency_Hz": fit.natural_frequency_Hz,
+        "damping_ratio": fit.damping_ratio,
+        "stiffness_N_m": fit.stiffness_N_m,
+        "height_m": fit.height_m,
+    }
+    _emit({k: v for k, v in result.items() if v is not None}, args.json)
+    if fit.rmse_N > POOR_FIT_RMSE_FRACTION * fit.peak_measured_N:
+        warn([f"poor fit: RMSE {fit.rmse_N:.3g} N is {100 * fit.rmse_N / fit.peak_measured_N:.0f} % of the measured "
+              f"peak {fit.peak_measured_N:.4g} N (over {100 * POOR_FIT_RMSE_FRACTION:.0f} %): the {args.model} model "
+              "does not describe this record well"])
     return EXIT_OK
 
 
@@ -281,6 +354,9 @@ def cmd_dambreak(args: argparse.Namespace) -> int:
 
     solution = dam_break(args.model, args.h0, hr_m=args.hr, friction=args.friction)
     if args.arrival is not None:
+        if not args.arrival > 0:
+            raise InputError("--arrival", f"must be downstream of the gate (x > 0 m, where the front arrives), got "
+                                          f"{args.arrival}")
         _emit({"arrival_s": float(solution.arrival_time_s(args.arrival))}, args.json)
         return EXIT_OK
     if args.profile is None or not args.out:
@@ -302,7 +378,10 @@ def cmd_dambreak(args: argparse.Namespace) -> int:
 def cmd_study(args: argparse.Namespace) -> int:
     from orchestrator.study import run_synthetic_study
 
-    summary = run_synthetic_study(Path(args.out), seed=args.seed, n_records=args.records, column_base=args.base)
+    if args.records < 2:
+        raise InputError("--records", f"must be >= 2 (a mean and a spread need two records), got {args.records}")
+    out = output_path(args.out, "-o/--out", args.force, folder=True)
+    summary = run_synthetic_study(out, seed=args.seed, n_records=args.records, column_base=args.base)
     _emit(summary, args.json)
     return EXIT_OK
 
@@ -366,7 +445,11 @@ def cmd_render(args: argparse.Namespace) -> int:
         from orchestrator.render import render_from_file
     except ImportError:
         return _missing("`render` (scene schema, planner and templates)", 3)
-    summary = render_from_file(args.scene, Path(args.out), list(args.set or []), force=args.force, mesh=args.mesh)
+    out = Path(args.out)
+    if not out.exists():
+        output_path(out, "-o/--out", False, folder=True)
+        out.rmdir()  # only checked: render makes it when the scene is valid
+    summary = render_from_file(args.scene, out, list(args.set or []), force=args.force, mesh=args.mesh)
     _emit({k: v for k, v in summary.items() if args.json or k != "warnings"}, args.json)
     warn(summary["warnings"])
     return EXIT_OK
@@ -377,8 +460,14 @@ def cmd_preview(args: argparse.Namespace) -> int:
         from orchestrator.preview import preview_scene_file
     except ImportError:
         return _missing("`preview`", 3)
-    warnings = preview_scene_file(args.scene, Path(args.out), list(args.set or []), warnings=True)
-    print(f"preview written to {args.out}")
+    if Path(args.out).suffix.lower() != ".png":
+        raise InputError("-o/--out", f"must name a .png file (the preview is a PNG image), got {args.out}")
+    out = output_path(args.out, "-o/--out", args.force, folder=False)
+    warnings = preview_scene_file(args.scene, out, list(args.set or []), warnings=True)
+    if args.json:
+        _emit({"preview": str(out), "warnings": warnings}, True)
+    else:
+        print(f"preview written to {out}")
     warn(warnings)
     return EXIT_OK
 
@@ -389,6 +478,9 @@ def cmd_run(args: argparse.Namespace) -> int:
 
     if args.stall_limit is not None and not args.stall_limit > 0:
         raise InputError("--stall-limit", f"must be > 0 seconds, got {args.stall_limit}")
+    if not Path(args.case_dir).is_dir():
+        raise InputError("case_dir", "no such folder: render a case into it first (debrisfoam render SCENE -o DIR)",
+                         str(args.case_dir))
 
     try:
         limits = DivergenceLimits(stall_s=args.stall_limit) if args.stall_limit is not None else None
@@ -560,7 +652,10 @@ def cmd_report_speed_error(args: argparse.Namespace) -> int:
 def cmd_report_case(args: argparse.Namespace) -> int:
     from orchestrator.case_report import write_case_report
 
-    path = write_case_report(args.case_dir, args.out)
+    if not (Path(args.case_dir) / "results" / "summary.json").is_file():
+        raise InputError("case_dir", f"no results/summary.json: run `debrisfoam post {args.case_dir}` first",
+                         str(args.case_dir))
+    path = write_case_report(args.case_dir, output_path(args.out, "-o/--out", args.force, folder=True))
     _emit({"report": str(path)}, args.json)
     return EXIT_OK
 
@@ -623,7 +718,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--stiffness", type=float, required=True, help="stiffness k (lesser of debris and structure), N/m")
     p.add_argument("--importance", type=float, default=1.0, help="I_tsu (1.0 for tsunami risk category II)")
     p.add_argument("--orientation", type=float, default=0.65, help="C_o (0.65 for logs, poles, containers)")
-    p.add_argument("--json", action="store_true")
+    p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_asce7)
 
     p = an_verbs.add_parser("impact", help="one debris strike on the column by the contact law: pulse, rebound, "
@@ -647,38 +742,45 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--out", default="docs/results/contact-law",
                    help="output folder (default docs/results/contact-law)")
     p.add_argument("--strikes", type=int, default=22, help="held-out strikes (default 22, as the study's impacts)")
+    p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_contact_law)
 
     p = an_verbs.add_parser("modes", help="natural frequencies of the MDOF column")
     _add_column_args(p)
     p.add_argument("--count", type=int, default=6, help="how many frequencies to print (default 6)")
-    p.add_argument("--json", action="store_true")
+    p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_modes)
 
     p = an_verbs.add_parser("response", help="force response (SDOF R = k u, or MDOF base shear) to a pulse")
-    p.add_argument("--model", choices=["sdof", "mdof"], required=True)
-    p.add_argument("--pulse", choices=["half-sine", "rectangular", "triangular"], default="half-sine")
+    p.add_argument("--model", choices=["sdof", "mdof"], required=True,
+                   help="sdof: R = k u of the study's oscillator; mdof: base shear of the Timoshenko column")
+    p.add_argument("--pulse", choices=["half-sine", "rectangular", "triangular"], default="half-sine",
+                   help="pulse shape")
     p.add_argument("--magnitude", type=float, required=True, help="pulse peak force, N")
     p.add_argument("--duration", type=float, required=True, help="pulse duration, s")
     p.add_argument("--height", type=float, default=0.40, help="impact height above the column base, m (mdof)")
     p.add_argument("--t-end", type=float, default=0.05, help="length of the response record, s (default 0.05)")
     p.add_argument("--out", help="write the response to this CSV (time_s,response_N)")
     _add_column_args(p)
-    p.add_argument("--json", action="store_true")
+    p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_response)
 
     p = an_verbs.add_parser("fit", help="fit an impact pulse to a measured force-response record (CSV time_s,force_N)")
-    p.add_argument("--model", choices=["sdof", "mdof"], required=True)
+    p.add_argument("--model", choices=["sdof", "mdof"], required=True,
+                   help="sdof: fit magnitude, duration, damping, stiffness, frequency within the study's bounds; "
+                        "mdof: magnitude and duration on the column model")
     p.add_argument("record", help="CSV with columns time_s,force_N")
-    p.add_argument("--pulse", choices=["half-sine", "rectangular", "triangular"], default="half-sine")
+    p.add_argument("--pulse", choices=["half-sine", "rectangular", "triangular"], default="half-sine",
+                   help="pulse shape fitted")
     p.add_argument("--height", type=float, default=0.40, help="impact height above the column base, m (mdof)")
     _add_column_args(p)
-    p.add_argument("--json", action="store_true")
+    p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_fit)
 
     p = an_verbs.add_parser("dambreak", help="dam-break solutions: Ritter, Stoker, Chanson")
-    p.add_argument("--model", choices=["ritter", "stoker", "chanson"], required=True)
+    p.add_argument("--model", choices=["ritter", "stoker", "chanson"], required=True,
+                   help="ritter: dry bed; stoker: wet bed (--hr); chanson: dry bed with friction (--friction)")
     p.add_argument("--h0", type=float, required=True, help="impoundment depth, m")
     p.add_argument("--hr", type=float, default=0.0, help="downstream depth (stoker), m")
     p.add_argument("--friction", type=float, default=None, help="Darcy friction factor f (chanson)")
@@ -686,7 +788,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--profile", type=float, default=None, help="time, s: write the profile to --out")
     p.add_argument("--points", type=int, default=401, help="profile points (default 401)")
     p.add_argument("--out", help="CSV for --profile (x_m,depth_m,velocity_m_s)")
-    p.add_argument("--json", action="store_true")
+    p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_dambreak)
 
     p = an_verbs.add_parser("study", help="the seed's SDOF/MDOF/ASCE analysis on synthetic records (Table 2, Fig. 7)")
@@ -694,7 +796,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--records", type=int, default=22, help="number of synthetic records (default 22, as the seed)")
     p.add_argument("--seed", type=int, default=2019, help="random seed")
     p.add_argument("--base", choices=["rigid", "calibrated"], default="rigid", help="column base model of the records")
-    p.add_argument("--json", action="store_true")
+    p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
+    p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_study)
 
     # scenes
@@ -718,22 +821,26 @@ def build_parser() -> argparse.ArgumentParser:
 
     # CFD
     p = verbs.add_parser("render", help="render an OpenFOAM case from a scene YAML")
-    p.add_argument("scene")
-    p.add_argument("-o", "--out", required=True)
-    p.add_argument("--set", action="append", metavar="KEY=VALUE")
+    p.add_argument("scene", help="scene YAML (debrisfoam scenes lists the shipped ones; docs/scene.md)")
+    p.add_argument("-o", "--out", required=True, help="case folder to write (new or empty, or --force)")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE",
+                   help="override a dotted scene key, value as YAML (repeatable), e.g. mesh.cell_size_m=0.03")
     p.add_argument("--force", action="store_true", help="overwrite a non-empty output folder")
     p.add_argument("--mesh", action="store_true", help="also build the mesh and print checkMesh's verdict")
-    p.add_argument("--json", action="store_true")
+    p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_render)
 
     p = verbs.add_parser("preview", help="draw the scene (flume, column, debris, gauges) to a PNG")
-    p.add_argument("scene")
-    p.add_argument("-o", "--out", required=True)
-    p.add_argument("--set", action="append", metavar="KEY=VALUE")
+    p.add_argument("scene", help="scene YAML (debrisfoam scenes lists the shipped ones; docs/scene.md)")
+    p.add_argument("-o", "--out", required=True, help="the .png file to write")
+    p.add_argument("--force", action="store_true", help="overwrite an existing file")
+    p.add_argument("--json", action="store_true", help="print JSON (the file and the planner's warnings)")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE",
+                   help="override a dotted scene key, value as YAML (repeatable), e.g. mesh.cell_size_m=0.03")
     p.set_defaults(func=cmd_preview)
 
     p = verbs.add_parser("run", help="run a rendered case (resumable: run it again to resume)")
-    p.add_argument("case_dir")
+    p.add_argument("case_dir", help="a rendered case folder (debrisfoam render)")
     p.add_argument("--np", type=int, default=None, help="MPI ranks (default: the plan's decomposition)")
     p.add_argument("--quiet", action="store_true", help="no progress bar or messages (CI, sweeps)")
     p.add_argument("--reconstruct", choices=["latest", "all", "none"], default="latest",
@@ -741,27 +848,28 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--stall-limit", type=float, default=None, metavar="S",
                    help="stop the run as stalled after S wall seconds without solver output (default: the "
                         "scene's run.stall_limit_s, else 600 s)")
-    p.add_argument("--json", action="store_true")
+    p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_run)
 
     p = verbs.add_parser("post", help="post-process a run (finished or not) into DIR/results/: tables, "
                                       "comparisons, plots, report.md")
-    p.add_argument("case_dir")
+    p.add_argument("case_dir", help="a rendered case folder (debrisfoam render)")
     p.add_argument("--tables-only", action="store_true", help="only the tables and summary.json (no comparisons, "
                                                               "plots or report)")
     p.add_argument("--no-snapshot", action="store_true", help="skip the pyvista 3D snapshot")
     p.add_argument("--arrival-threshold", type=float, default=None, metavar="M",
                    help="rise above the initial level (m) that marks the bore's arrival (default 2 %% of h0)")
-    p.add_argument("--json", action="store_true")
+    p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_post)
 
     p = verbs.add_parser("case", help="render + run + post in one go (run it again to resume)")
-    p.add_argument("scene")
+    p.add_argument("scene", help="scene YAML (debrisfoam scenes lists the shipped ones; docs/scene.md)")
     p.add_argument("-o", "--out", default=None, help="case folder (default: runs/<scene name>)")
-    p.add_argument("--set", action="append", metavar="KEY=VALUE")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE",
+                   help="override a dotted scene key, value as YAML (repeatable), e.g. mesh.cell_size_m=0.03")
     p.add_argument("--np", type=int, default=None, help="MPI ranks (default: the scene's run.cores)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
-    p.add_argument("--json", action="store_true")
+    p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_case)
 
     p = verbs.add_parser("sweep", help="run a parameter sweep (a base scene and axes; see docs/sweeps.md); "
@@ -778,7 +886,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--dry-run", action="store_true", help="list the members, cell counts and estimated wall times; "
                                                           "run nothing")
     p.add_argument("--retry-failed", action="store_true", help="run failed members again (they resume)")
-    p.add_argument("--json", action="store_true")
+    p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_sweep)
 
     rp = verbs.add_parser("report", help="reports across runs: speed-error (a sweep's cost against its errors), "
@@ -799,12 +907,13 @@ def build_parser() -> argparse.ArgumentParser:
                         "the member's whole wall time")
     p.add_argument("--extrapolate-to", type=float, default=0.015, metavar="M",
                    help="extrapolate both set-ups to this cell size (default 0.015, the seed's; 0: none)")
-    p.add_argument("--json", action="store_true")
+    p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_report_speed_error)
     p = rp_verbs.add_parser("case", help="one post-processed run beside the study's figures: a results page "
                                          "with its plots (make results-1debris)")
     p.add_argument("case_dir", help="a run folder with results/ (debrisfoam post has run)")
     p.add_argument("-o", "--out", required=True, help="output folder (report.md, plots, summary.json)")
+    p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_report_case)
 
@@ -813,7 +922,7 @@ def build_parser() -> argparse.ArgumentParser:
                                               "a diagnosis (the table of docs/stability.md)")
     p.add_argument("sweep_dir", help="a sweep folder, e.g. runs/sweeps/hard-cases")
     p.add_argument("-o", "--out", default=None, help="also write the Markdown table to this file")
-    p.add_argument("--json", action="store_true")
+    p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_report_stability)
     return parser
 
@@ -821,6 +930,8 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in argv
+    if debug:  # accepted anywhere on the line, as the first option or after the verb
+        argv = ["--debug", *(a for a in argv if a != "--debug")]
     try:
         args = build_parser().parse_args(argv)
         return int(args.func(args) or EXIT_OK)

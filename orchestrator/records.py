@@ -25,6 +25,8 @@ def read_force_record(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
 
     path = Path(path)
     source = str(path)
+    if path.is_dir():
+        raise InputError("record", "is a folder; give the CSV file (columns time_s,force_N)", source)
     if not path.is_file():
         raise InputError("record", "file not found", source)
     try:

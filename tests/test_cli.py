@@ -10,7 +10,8 @@ from tests.conftest import cli_json, run_cli
 
 def test_asce7_json_keys_and_values():
     out = cli_json("analytical", "asce7", "--velocity", "1.5", "--mass", "0.236", "--stiffness", "4.685e5")
-    assert set(out) == {"force_N", "nominal_force_N", "duration_s", "impulse_Ns"}
+    assert {"force_N", "nominal_force_N", "duration_s", "impulse_Ns", "orientation_C_o", "importance_I_tsu"} <= set(out)
+    assert "design force" in out["note"]
     assert out["nominal_force_N"] == pytest.approx(1.5 * np.sqrt(4.685e5 * 0.236), rel=1e-12)
     assert out["force_N"] == pytest.approx(0.65 * out["nominal_force_N"], rel=1e-12)
     assert out["impulse_Ns"] == pytest.approx(2 * 0.65 * 0.236 * 1.5, rel=1e-12)
@@ -93,9 +94,21 @@ def test_fit_recovers_a_known_pulse(tmp_path):
     shifted = np.interp(t - 0.01, frame["time_s"], frame["response_N"], left=0.0)
     _write_record(tmp_path / "rec.csv", t, shifted + 3.0)
     out = cli_json("analytical", "fit", "--model", "mdof", str(tmp_path / "rec.csv"), "--height", "0.4")
-    assert set(out) == {"magnitude_N", "duration_s", "impulse_Ns", "rmse_N", "peak_measured_N", "peak_model_N"}
+    assert {"magnitude_N", "duration_s", "impulse_Ns", "rmse_N", "peak_measured_N", "peak_model_N",
+            "offset_removed_N", "height_m"} <= set(out)
     assert out["magnitude_N"] == pytest.approx(200, rel=0.02)
     assert out["duration_s"] == pytest.approx(0.005, rel=0.02)
+    assert out["offset_removed_N"] == pytest.approx(3.0, abs=0.5)
+    # one measured peak per record whatever the model; the SDOF fit shows its fitted oscillator
+    sdof = run_cli("analytical", "fit", "--model", "sdof", str(tmp_path / "rec.csv"), "--json")
+    assert sdof.returncode == 0
+    sdof_out = __import__("json").loads(sdof.stdout)
+    assert sdof_out["peak_measured_N"] == pytest.approx(out["peak_measured_N"], rel=1e-12)
+    assert {"natural_frequency_Hz", "damping_ratio", "stiffness_N_m"} <= set(sdof_out)
+    if sdof_out["rmse_N"] > 0.2 * sdof_out["peak_measured_N"]:
+        assert "poor fit" in sdof.stderr
+    else:
+        assert "poor fit" not in sdof.stderr
 
 
 @pytest.mark.parametrize(
@@ -220,3 +233,58 @@ def test_plan_warnings_reach_the_terminal_and_the_json(tmp_path):
     assert any(line.startswith("debrisfoam: warning: member ") and "overlap" in line for line in dry.stderr.splitlines())
     clean = run_cli("render", "cases/nodebris.yaml", "-o", str(tmp_path / "n"), "--set", "outputs.preview=false")
     assert clean.returncode == 0 and "warning" not in clean.stderr
+
+
+@pytest.mark.parametrize(
+    "args, field",
+    [
+        (["run", "{tmp}/no-such-case"], "case_dir"),
+        (["render", "cases/1debris.yaml", "-o", "/proc/forbidden/case"], "-o/--out"),
+        (["preview", "cases/1debris.yaml", "-o", "{tmp}"], "-o/--out"),
+        (["preview", "cases/1debris.yaml", "-o", "{tmp}/p.pdf"], "-o/--out"),
+        (["preview", "cases/1debris.yaml", "-o", "{tmp}/p.jpg"], "-o/--out"),
+        (["preview", "cases/1debris.yaml", "-o", "{tmp}/existing.png"], "-o/--out"),
+        (["analytical", "study", "--records", "0", "-o", "{tmp}/study"], "--records"),
+        (["analytical", "study", "-o", "{tmp}/full"], "-o/--out"),
+        (["analytical", "dambreak", "--model", "ritter", "--h0", "0.4", "--arrival", "-1"], "--arrival"),
+        (["analytical", "fit", "--model", "mdof", "{tmp}"], "record"),
+        (["analytical", "asce7", "--velocity", "-1", "--mass", "0.2", "--stiffness", "1e5"], "--velocity"),
+        (["analytical", "asce7", "--velocity", "1", "--mass", "0", "--stiffness", "1e5"], "--mass"),
+        (["analytical", "contact-law", "-o", "{tmp}/full"], "-o/--out"),
+        (["report", "case", "{tmp}", "-o", "{tmp}/page"], "case_dir"),
+        (["analytical", "modes", "--set", "column.base=nope", "--debug"], None),
+    ],
+)
+def test_every_bad_input_exits_2_naming_the_flag_and_writes_nothing(tmp_path, args, field):
+    (tmp_path / "existing.png").write_bytes(b"kept")
+    (tmp_path / "full").mkdir()
+    (tmp_path / "full" / "kept.txt").write_text("kept")
+    before = sorted(p.relative_to(tmp_path) for p in tmp_path.rglob("*"))
+    proc = run_cli(*[a.replace("{tmp}", str(tmp_path)) for a in args])
+    if field is None:  # --debug after the verb is accepted: the traceback is shown
+        assert proc.returncode != 0 and "Traceback" in proc.stderr and "unrecognized" not in proc.stderr
+        return
+    assert proc.returncode == 2, proc.stderr
+    assert field in proc.stderr and "Traceback" not in proc.stderr and "unexpected" not in proc.stderr
+    assert sorted(p.relative_to(tmp_path) for p in tmp_path.rglob("*")) == before
+    assert (tmp_path / "existing.png").read_bytes() == b"kept"
+
+
+def test_every_option_says_what_it_is():
+    """Every option of every verb has help text (argparse's own --help aside)."""
+    import argparse
+
+    from orchestrator.cli import build_parser
+
+    missing = []
+
+    def walk(parser, path):
+        for action in parser._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                for name, sub in action.choices.items():
+                    walk(sub, f"{path} {name}")
+            elif not isinstance(action, argparse._HelpAction) and not action.help:
+                missing.append(f"{path}: {'/'.join(action.option_strings) or action.dest}")
+
+    walk(build_parser(), "debrisfoam")
+    assert not missing, missing
