@@ -182,7 +182,6 @@ def impact_inputs(args: argparse.Namespace):
     --body) debris body and column, or the study's container and column; --set changes
     scene keys, or without --scene column.<field> and contact.<field>."""
     from analytical.column import Column
-    from analytical.contact_law import contact_law
 
     from orchestrator.contact import body_contact_law
     from orchestrator.scene import DebrisContact, column_for_analysis, load_scene, parse_override

@@ -676,7 +676,7 @@ def plan_case(scene: Scene) -> ModelPlan:
             z_hi = scene.flume.height_m
             reasons["domain_top"] = (
                 f"air space up to the walls (z = {z_hi:g} m, the flume's height), not trimmed to {trim:.3g} m: "
-                + runup_why + f", above the trim; water that rises over the walls leaves the flume there too"
+                + runup_why + ", above the trim; water that rises over the walls leaves the flume there too"
             )
         else:
             z_hi = min(scene.flume.height_m, trim)

@@ -173,10 +173,10 @@ def _half_sine_spectrum(r):
         free = math.pi / 2
     else:
         free = 2 * beta * abs(math.cos(math.pi * r)) / abs(1 - beta**2)
-    forced, l = 0.0, 1
-    while beta < 1 and l / (1 + beta) <= r:  # forced-phase maxima at t_l = l T / (1 + beta)
-        forced = max(forced, math.sin(2 * math.pi * l * beta / (1 + beta)) / (1 - beta))
-        l += 1
+    forced, n = 0.0, 1
+    while beta < 1 and n / (1 + beta) <= r:  # forced-phase maxima at t_n = n T / (1 + beta)
+        forced = max(forced, math.sin(2 * math.pi * n * beta / (1 + beta)) / (1 - beta))
+        n += 1
     return max(free, forced)
 
 

@@ -17,7 +17,6 @@ import pandas as pd
 import pytest
 import yaml
 
-from orchestrator import post
 from orchestrator.render import render_from_file
 from orchestrator.run import run_case
 from tests.conftest import run_cli
