@@ -442,6 +442,78 @@ def rest_on_bed(case_dir: str | Path, names: Sequence[str]) -> list[str]:
     return _edit_constraints(case_dir, names, rest)
 
 
+def lift_rest_on_bed(case_dir: str | Path, names: Sequence[str]) -> list[str]:
+    """Remove the `rest_on_bed` constraint of the named bodies (the water can carry them again).
+    Returns the bodies freed now."""
+    def lift(constraints: dict) -> dict | None:
+        if REST_ON_BED not in constraints:
+            return None
+        return {k: v for k, v in constraints.items() if k != REST_ON_BED}
+
+    return _edit_constraints(case_dir, names, lift)
+
+
+def rest_to_hold(case_dir: str | Path, names: Sequence[str]) -> list[str]:
+    """Turn the `rest_on_bed` constraint of the named bodies into the planner's hold (the same
+    plane, named `holdOnBedPlane`): the runner raises such a body onto the gap's top, where its
+    underside has overset donors, and holds it there until the water lifts it
+    (`orchestrator.bedwatch`). Returns the bodies changed."""
+    def to_hold(constraints: dict) -> dict | None:
+        if REST_ON_BED not in constraints:
+            return None
+        kept = {k: v for k, v in constraints.items() if k != REST_ON_BED}
+        return {**kept, "holdOnBedPlane": {"sixDoFRigidBodyMotionConstraint": "plane", "normal": [0.0, 0.0, 1.0]}}
+
+    return _edit_constraints(case_dir, names, to_hold)
+
+
+def bed_constraints(case_dir: str | Path) -> dict[str, str]:
+    """How the runner keeps each body on the bed now: "pinned", "hold" (the planner's initial
+    hold), "rest" (`rest_on_bed`) or "" (free)."""
+    out = {}
+    for name, coeffs in _body_dicts(_parsed(Path(case_dir) / DYNAMIC_MESH_DICT)):
+        keys = set((coeffs.get("constraints") or {}).keys())
+        out[name] = ("pinned" if "pinnedPoint" in keys else "hold" if "holdOnBedPlane" in keys
+                     else "rest" if REST_ON_BED in keys else "")
+    return out
+
+
+#: The restraint that carries a resting body's bed friction (`set_bed_friction`).
+BED_FRICTION = "bedFriction"
+
+
+def set_bed_friction(case_dir: str | Path, coefficients: dict[str, float | None]) -> list[str]:
+    """Set (a number, N s/m) or remove (None) the `linearDamper` restraint `bedFriction` of the
+    named bodies: a force -coeff * velocity on the centre of mass (v1912's sixDoF restraint). The
+    runner sizes it to the Coulomb friction of a body resting on the bed (`orchestrator.bedwatch`).
+    Returns the bodies changed."""
+    path = Path(case_dir) / DYNAMIC_MESH_DICT
+    parsed = _parsed(path)
+    changed = []
+    for name, coeffs in _body_dicts(parsed):
+        if name not in coefficients:
+            continue
+        restraints = dict(coeffs.get("restraints") or {})
+        value = coefficients[name]
+        old = restraints.get(BED_FRICTION)
+        if value is None:
+            if old is None:
+                continue
+            del restraints[BED_FRICTION]
+        else:
+            if old is not None and math.isclose(float(old.get("coeff", -1.0)), value, rel_tol=1e-9):
+                continue
+            restraints[BED_FRICTION] = {"sixDoFRigidBodyMotionRestraint": "linearDamper", "coeff": float(value)}
+        if restraints:
+            coeffs["restraints"] = restraints
+        elif "restraints" in coeffs:
+            del coeffs["restraints"]
+        changed.append(name)
+    if changed:
+        write_dictionary(parsed, path)
+    return changed
+
+
 def set_pimple_entry(case_dir: str | Path, key: str, value: str) -> bool:
     """Set `key value;` in the PIMPLE dictionary of the case's system/fvSolution, which the
     solver reads when it (re)starts. Returns False if it already had that value (or the case

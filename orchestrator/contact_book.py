@@ -91,13 +91,21 @@ class ContactSettings:
         cannot represent: the body is pinned where it is for the rest of the run (debris
         held against the column or a wall by the flow); two bodies: ContactError. A body
         lifted out of the bed more than `max_events` times within `window_s` is kept on
-        the bed's plane from then on (`bodystate.rest_on_bed`).
+        the bed's plane (`bodystate.rest_on_bed`) until the water measured around it can carry
+        it (`orchestrator.bedwatch`).
     bed_runaway_m_s: so is a body found sinking into the bed faster than this. Settling
         bodies closed on the bed at 0.2-0.6 m/s in the hard cases; where each lift pulled
         the body down harder, the speeds went 0.5, 0.8, 2.0, 6.9 m/s to a blow-up.
     impact: keyword arguments for `analytical.impact.impact` / `pair_impact`
         (stiffness_N_m, friction_coefficient, damping_ratio, ...).
     added_mass_coefficient: C_a of the debris for the impact model.
+    float_margin_m: a body the runner keeps on the bed (the planner's hold, `rest_on_bed`) is
+        freed once the water depth measured around it exceeds the height of its underside plus
+        its draft plus this margin (`orchestrator.bedwatch`). 5 mm: the depth reading's own spread
+        on a still 15 mm wet bed at 4 cm cells is under 1 mm, the bore's surface near a body
+        moves by a few mm from one sample to the next.
+    bed_friction: Coulomb friction (the scene's `debris[].contact.bed_friction_coefficient`)
+        on a body while it is kept on the bed (`orchestrator.bedwatch`).
     adjust_phi_when_pinned: once every body is pinned, switch the overset flux adjustment
         on (PIMPLE `oversetAdjustPhi yes` in system/fvSolution) for the rest of the run. A
         pinned body loses water into the background's fringe at about 1 % a second; the
@@ -115,6 +123,8 @@ class ContactSettings:
     bed_runaway_m_s: float = 1.0
     added_mass_coefficient: float = 0.0
     adjust_phi_when_pinned: bool = True
+    float_margin_m: float = 0.005
+    bed_friction: bool = True
     impact: dict = field(default_factory=dict)
 
     @property
@@ -441,8 +451,9 @@ class ContactBook:
         Each lift out of the bed moves the body mesh at the next step, and the flux of that
         jump pulls the body down harder: on the short flume the closing speed doubled from
         lift to lift (0.7, 1.4, 3.4, 7.5 m/s) until the body-speed check stopped the run.
-        Constrained to the bed's plane the body still slides and yaws, but cannot sink or
-        lift off again: a body that would float later is held (recorded, and said)."""
+        Constrained to the bed's plane the body still slides and yaws (with bed friction), but
+        cannot sink; `orchestrator.bedwatch` raises it onto the gap's top and frees it once the water
+        measured around it can carry it (recorded, and said)."""
         if not bodystate.rest_on_bed(self.case, [state.name]):
             return
         events = self._read_events()
@@ -452,8 +463,8 @@ class ContactBook:
                        "velocity_in_m_s": list(state.velocity_m_s)})
         self._write_events(events)
         self.run_record.setdefault("rest_on_bed", []).append({"body": state.name, "time_s": float(time_name)})
-        self.say(f"t = {time_name} s: {state.name}: {why}: kept on the bed from now on (it slides and yaws, "
-                 "but can no longer sink or float)")
+        self.say(f"t = {time_name} s: {state.name}: {why}: kept on the bed (it slides and yaws, but cannot "
+                 "sink) until the water measured around it can carry it")
 
     def _pin(self, time_name: str, c: Contact, state: BodyState) -> BodyState:
         """Freeze a body the flow keeps pressing against an obstacle (debris damming), record it."""

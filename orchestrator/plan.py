@@ -860,7 +860,8 @@ def plan_case(scene: Scene) -> ModelPlan:
             "contact, so a body heavier than its buoyancy would sink through the floor) until the analytical "
             "dam-break depth at the body's centre (Chanson with the scene's f; Ritter if f = 0) reaches its "
             "draft" + (f" plus the {lift:.3g} m gap it stands on" if lift else "")
-            + "; the runner then removes the bed-plane constraint: " + ", ".join(holds)
+            + " (the estimate here: the runner frees each body once the water it measures all round the body "
+            "floats it and lifts it by its weight, orchestrator/bedwatch.py): " + ", ".join(holds)
             if holds else "no body rests on the bed: none is held"
         )
         if gap is not None:

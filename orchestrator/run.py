@@ -99,6 +99,7 @@ from typing import Any, Callable, Sequence
 
 from analytical.errors import DebrisfoamError
 from orchestrator import bodystate, foam
+from orchestrator.bedwatch import BedWatch
 from orchestrator.contact_book import Contact, ContactBook, ContactSettings
 from orchestrator.jsonio import json_default
 from orchestrator.post import WATER_BALANCE_TOLERANCE, read_water_balance
@@ -688,6 +689,8 @@ class _Runner:
         self.on_step = on_step
         self.record = _Record(self.case)
         self.book = ContactBook(info, contact, self.record.data, self.say)
+        #: bodies on the bed: freed on the measured water depth, their bed friction (set in _run_steps)
+        self.bedwatch: BedWatch | None = None
         self.progress: Progress | None = None
         self.last_steps: list[StepRecord] = []
         #: stop latency in time steps (measured while a segment runs) and the last deltaT
@@ -776,10 +779,11 @@ class _Runner:
 
     def solve_segment(self, start_value: float, start_name: str, progress: Progress) -> _SegmentResult:
         """Run the solver from `start_name` to the segment's end (see `segment_span`)."""
-        # a body held on the bed is let go at its release time: that time is a temporary end
-        # (closer releases are due now, see run_case), reached on the case's write grid
+        # without the depth watch (no bodies), a body held on the bed would be let go at the
+        # planner's release time: a temporary end (closer releases are due now, see run_case)
         soon = _MIN_SEGMENT_FRACTION * self.write_interval_s
-        end = min([t for _, t in self.info.holds if start_value + soon < t < self.end_time_s - _EPS_T]
+        holds = [] if self.bedwatch is not None else self.info.holds
+        end = min([t for _, t in holds if start_value + soon < t < self.end_time_s - _EPS_T]
                   + [self.end_time_s])
         if self.info.adjustable_time_step:
             seg_end, seg_interval = segment_span(start_value, end, self.write_interval_s)
@@ -813,6 +817,7 @@ class _Runner:
         stop_reason: str | None = None
         diag: Diagnosis | None = None
         pending: list[Contact] = []
+        bed_why: str | None = None
         killed = False
         started = _now()
         t0, cpu0 = time.perf_counter(), _cpu_s()
@@ -904,6 +909,14 @@ class _Runner:
                             rereads_at_request = parser.rereads
                             pending = [c for c, _ in ahead]
                             _request_stop_at(self.case, t_stop, start_value)
+                if stop_reason is None and new and self.bedwatch is not None and steps[-1].bodies:
+                    # a body on the bed the measured water can carry, or whose friction needs resizing
+                    why = self.bedwatch.why_stop(steps[-1].bodies, steps[-1].time_s)
+                    if why is not None:
+                        stop_reason, requested_at = "bed", time.perf_counter()
+                        rereads_at_request = parser.rereads
+                        bed_why = why
+                        _request_write_now(self.case)
                 if requested_at is not None:
                     if stop_reason == "contact" and self.stop.requested:
                         stop_reason = "interrupt"  # the write is requested already
@@ -943,6 +956,8 @@ class _Runner:
         if pending:
             seg["stopped_for"] = [{"body": c.body, "other": c.other, "gap_m": round(c.distance_m, 6),
                                    "closing_m_s": round(c.approach_m_s, 4)} for c in pending]
+        if bed_why is not None:
+            seg["stopped_for_bed"] = bed_why
         if diag is not None:
             seg["diagnosis"] = diag.cause
         self.record.data["segments"].append(seg)
@@ -1137,6 +1152,8 @@ def _run_steps(info: CaseInfo, runner: _Runner, stop: _StopFlag, quiet: bool, re
     if info.bodies:  # scene, obstacles, imports: once, before the solver competes for the cores
         t_setup = time.perf_counter()
         runner.book.geometry
+        runner.bedwatch = BedWatch.for_case(case, runner.contact.float_margin_m, runner.say,
+                                            friction=runner.contact.bed_friction)
         runner.between_s += time.perf_counter() - t_setup
     handlers = _install_handlers(stop)
     progress = None
@@ -1147,7 +1164,8 @@ def _run_steps(info: CaseInfo, runner: _Runner, stop: _StopFlag, quiet: bool, re
         while reached < info.end_time_s - _EPS_T:
             # a release closer than a tenth of a write interval is due now: a stop lands on a
             # written time name (rounded), and v1912 may not take a step over what remains
-            due = [b for b, t in info.holds if t <= reached + _MIN_SEGMENT_FRACTION * info.write_interval_s]
+            due = [] if runner.bedwatch is not None else [
+                b for b, t in info.holds if t <= reached + _MIN_SEGMENT_FRACTION * info.write_interval_s]
             for body in bodystate.release_holds(case, due):
                 runner.say(f"t = {name} s: {body} released from the bed (the bore is deep enough to lift it)")
             states = runner.restore_bodies(name)
@@ -1161,7 +1179,15 @@ def _run_steps(info: CaseInfo, runner: _Runner, stop: _StopFlag, quiet: bool, re
                     bodystate.prepare_restart(case, name, resolved, "contact")
                 if events:
                     data["contacts"] = data.get("contacts", 0) + events
+                states = resolved
                 runner.between_s += time.perf_counter() - t_between
+            if states and runner.bedwatch is not None:  # after the book: it may have put a body to rest
+                freed, raised = runner.bedwatch.at_restart(name, states)
+                if raised != states:
+                    bodystate.prepare_restart(case, name, raised, "freed")
+                for body in freed:
+                    data.setdefault("freed", []).append({"body": body, "time_s": float(name)})
+                rec.save()
             seg = runner.solve_segment(reached, name, progress)
             if seg.diagnosis is not None or (seg.returncode not in (0, None) and
                                              (seg.parser.fpe or seg.returncode == 136)):

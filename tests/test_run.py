@@ -753,14 +753,15 @@ def test_resumed_after_a_bed_runaway_the_body_stays_on_the_bed(tmp_path, openfoa
 
 
 @pytest.mark.openfoam
-def test_a_body_on_the_bed_is_held_then_released_when_the_bore_arrives(tmp_path, openfoam):
+def test_a_body_on_the_bed_is_held_until_the_measured_water_can_lift_it(tmp_path, openfoam):
     # 0.3 m downstream of the gate, Ritter's depth reaches the container's 26 mm draft plus the
-    # 15 mm gap it stands on (plan.BedGap: half a 3 cm body cell) at 0.50 s
+    # 15 mm gap it stands on (plan.BedGap: half a 3 cm body cell) at 0.50 s: the planner's estimate.
+    # The runner holds it until the depth it measures all round it exceeds its underside plus its
+    # draft plus the 5 mm margin and the water pushes it up by its weight (orchestrator.bedwatch)
     data = scene([{"name": "debris1", "centre_m": [0.3, 0.0], "placement": "on_bed"}], end_time_s=0.53,
                  wet_depth_m=0.02)
     # this coarse case (2-cell body standing in a 2 cm wet bed) loses 3.1 % of its water by 0.53 s,
-    # with or without the restart projection (session 11): the runner's 1 % water stop would end it
-    # at 0.37 s, before the release this test is about
+    # with or without the restart projection: the runner's 1 % water stop would end it at 0.37 s
     data["run"]["water_balance_limit"] = 0.05
     case = render(tmp_path, "held", data)
     plan = json.loads((case / "plan.json").read_text())
@@ -768,22 +769,34 @@ def test_a_body_on_the_bed_is_held_then_released_when_the_bore_arrives(tmp_path,
     assert plan["bed_gap_m"] == pytest.approx(0.015)
     assert 0.47 < hold < 0.52
     run_case(case, quiet=True)
+    record = json.loads((case / "run.json").read_text())
+    freed = [f["time_s"] for f in record.get("freed", [])]
+    depth = pd.read_csv(case / "body_depth.csv").dropna(subset=["depth_m"])
+    assert len(depth) > 40  # a reading every 0.01 s
+    # held while the water measured all round it could not float it
+    assert len(freed) == 1  # measured: freed at 0.418 s (49.0 mm all round, 46.3 mm needed; lift 3.85 N)
+    held_until = freed[0]
+    shallow = depth[(depth["depth_m"] <= depth["float_depth_m"]) & (depth["time_s"] < held_until)]
+    assert shallow["time_s"].max() > 0.3 and all(shallow["constraint"] == "hold")
     tracks = pd.read_csv(case / "bodies.csv")
-    held = tracks[tracks["time_s"] < hold - 0.02]
+    held = tracks[tracks["time_s"] < held_until - 1e-9]
     assert len(held) > 10
     assert np.ptp(held["z_m"]) < 1e-9 and np.abs(held["w_m_s"]).max() < 1e-9  # neither sinks nor lifts
-    record = json.loads((case / "run.json").read_text())
+    # freed only once the water was deep enough all round and lifted it by its weight; then it rose
+    at = depth[np.isclose(depth["time_s"], freed[0])].iloc[-1]
+    assert at["depth_m"] > at["float_depth_m"] and at["lift_N"] >= at["weight_N"]
+    assert tracks["z_m"].iloc[-1] > held["z_m"].iloc[-1] + 0.005
     bed_stops = [float(seg["end_time"]) for seg in record["segments"]
                  if any(c.get("other") == "bed" for c in seg.get("stopped_for", []))]
-    assert all(t > hold - 0.01 for t in bed_stops)  # no bed clamp while held (some may follow the release)
+    assert all(t > held_until - 0.01 for t in bed_stops)  # no bed clamp while held
     mesh_dict = (case / "constant" / "dynamicMeshDict").read_text()
-    assert "holdOnBedPlane" not in mesh_dict and "keepUpright" in mesh_dict  # released, still upright
+    assert "holdOnBedPlane" not in mesh_dict and "keepUpright" in mesh_dict  # freed, still upright
     tilt = tracks[["q_xz", "q_yz", "q_zx", "q_zy"]].abs().to_numpy().max()
     assert tilt < 1e-9  # an upright body never pitches or rolls
     written = sorted(float(p.name) for p in (case / "processor0").iterdir() if p.name[0].isdigit())
-    for t in (0.05, 0.1, 0.3, 0.45):  # the regular writes before the release are kept
+    for t in (0.05, 0.1, 0.3, 0.45):  # the regular writes are kept
         assert any(abs(w - t) < 1e-9 for w in written), (t, written)
-    assert json.loads((case / "run.json").read_text())["status"] == "finished"
+    assert record["status"] == "finished"
 
 
 @pytest.mark.openfoam

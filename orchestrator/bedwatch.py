@@ -1,0 +1,274 @@
+"""Bodies on the bed: free them once the measured water can carry them, and their bed friction.
+
+v1912 has no contact, so the runner keeps a body on the bed with a sixDoF `plane` constraint:
+the planner's initial hold (`holdOnBedPlane`, until the bore arrives) or the contact book's
+`rest_on_bed` (a body the flow keeps pulling into the bed). This module decides, from the water
+depth measured around each body while the solver runs (`orchestrator.waterdepth`), when such a
+constraint comes off, and gives a resting body Coulomb friction.
+
+**Free floating.** The water can carry a body once the depth all round it
+(`waterdepth.depth_around`: the 10 % quantile over a ring of columns around it) exceeds the
+height of its underside above the bed (at least the top of the planner's gap, plan.BedGap) plus
+its draft (mass over water density times footprint) plus `ContactSettings.float_margin_m`
+(default 5 mm). Then:
+
+- a held body (`holdOnBedPlane`, standing on the gap's top) is freed (the constraint removed at a
+  restart) once, besides, the fluid's vertical force on it (`waterdepth.read_lift`: the forces
+  function object on its wall, averaged over the last 0.01 s) is at least its weight: the model's
+  own word that it can lift the body. In a fast bore the water jets through the gap under a held
+  body and sucks it down: at 1-1.8 m/s under 50-58 mm of water the lift was 1.8-2.2 N against the
+  container's 2.3 N weight (hydrostatics: about 4 N), and freed on the depth alone it sank 7.3 mm
+  through the gap onto the bed in 0.1 s (docs/stability.md);
+- a body resting on the bed (`restOnBedPlane`, put there by the contact book) is raised onto the
+  gap's top and held there (its constraint becomes `holdOnBedPlane`), then freed as above. On the
+  bed its underside faces only overset holes and keeps a stale pressure (260 Pa under 70 mm of
+  water, where hydrostatics gives about 700 Pa: 1.5 N up against its 2.3 N weight); on the gap it
+  has donors and floats (tests/test_float_off.py).
+
+While the solver runs, a new sample that shows either stops it (writeNow) so that the restart can
+act. The bed constraint is put back only by the contact book, on evidence that the body is being
+pulled into the bed (lifted out of it more than `max_events` times within `window_s`, or found
+sinking faster than `bed_runaway_m_s`); a body put back is raised again only once the depth has
+also risen `float_margin_m` above the depth it was put back at (otherwise the same water would
+raise it at once). The planner's `hold_until_s` (Ritter's or Chanson's depth at the body reaching
+the draft plus the gap) is an estimate only; the runner goes by what it measures.
+
+**Bed friction.** While a body is constrained to the bed it gets a v1912 `linearDamper`
+restraint (`bodystate.set_bed_friction`): a force -c u on its centre of mass. The runner sets
+c = mu N / max(|u_h|, `FRICTION_FLOOR_M_S`) at every restart, with mu the scene's
+`debris[].contact.bed_friction_coefficient`, u_h the horizontal velocity at the restart and N
+the body's weight less its buoyancy in the measured water (N = m g - rho g A min(d - z_b, H),
+A its footprint, d the measured depth, z_b its underside, H its height; N >= 0), so that the
+force is Coulomb's mu N against the sliding at the restart's speed. While the body slides, the
+damper's force follows the speed; the runner stops the solver to set c again whenever the
+speed leaves [u0 / `FRICTION_BAND`, u0 * `FRICTION_BAND`] (u0 the speed it was set for), so the
+force stays within 25 % of mu N. Limits: friction acts on the centre of mass only (no torque
+against yaw); N is the one of the last restart (the depth may change within a segment); below
+the floor speed the damper acts as a viscous one (time constant m u_floor / (mu N), 40 ms for
+the seed's container on a 15 mm wet bed), so a body never sticks exactly (no static friction);
+each refresh is a solver restart.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable, Sequence
+
+import numpy as np
+
+from orchestrator import bodystate, waterdepth
+from orchestrator.bodystate import BodyState
+
+#: below this horizontal speed the friction damper is sized for it (m/s)
+FRICTION_FLOOR_M_S = 0.05
+#: the solver is stopped to resize the damper when the speed leaves [u0 / band, u0 * band]
+FRICTION_BAND = 1.25
+#: simulated seconds between two stops to resize a damper (a body the bore sets moving would
+#: otherwise stop the solver every few time steps)
+FRICTION_MIN_INTERVAL_S = 0.02
+#: what the runner records of every sample it reads (in the case)
+DEPTH_CSV = "body_depth.csv"
+_FIELDS = ("time_s", "body", "depth_m", "columns", "underside_m", "float_depth_m", "lift_N", "weight_N",
+           "constraint", "friction_N_s_m")
+
+
+@dataclass(frozen=True)
+class BodyAfloat:
+    """What decides whether a body floats: its mass, size, draft and bed friction."""
+
+    name: str
+    mass_kg: float
+    size_m: tuple[float, float, float]
+    draft_m: float
+    bed_friction: float
+
+
+def underside_m(state: BodyState, size: Sequence[float], bed_z: float = 0.0) -> float:
+    """Height of a body's lowest point above the bed plane."""
+    rot = np.asarray(state.orientation, dtype=float).reshape(3, 3)
+    half = 0.5 * float(np.abs(rot[2, :]) @ np.asarray(size, dtype=float))
+    return float(state.centre_of_mass_m[2]) - half - bed_z
+
+
+@dataclass
+class BedWatch:
+    """The runner's watch over bodies on the bed (see the module notes)."""
+
+    case: Path
+    bodies: dict[str, BodyAfloat]
+    grid: waterdepth.Grid | None
+    margin_m: float
+    rho: float
+    g: float
+    bed_z: float
+    initial_depth_m: dict[str, float]
+    say: Callable[[str], None]
+    friction: bool = True
+    constraints: dict[str, str] = field(default_factory=dict)
+    rested_at_depth: dict[str, float] = field(default_factory=dict)
+    friction_speed: dict[str, float] = field(default_factory=dict)
+    last_sample_s: float = -math.inf
+    gap_m: float = 0.0
+    restart_s: float = 0.0
+
+    @classmethod
+    def for_case(cls, case: Path, margin_m: float, say: Callable[[str], None], friction: bool = True) -> "BedWatch":
+        import yaml
+
+        plan = json.loads((case / "plan.json").read_text())
+        scene = yaml.safe_load((case / "scene.yaml").read_text())
+        rho = float(scene.get("fluids", {}).get("water_density_kg_m3", 998.2))
+        g = float(scene.get("fluids", {}).get("gravity_m_s2", 9.81))
+        mu = {d["name"]: float((d.get("contact") or {}).get("bed_friction_coefficient", 0.3))
+              for d in scene.get("debris") or []}
+        bodies, initial = {}, {}
+        for b in plan.get("bodies") or []:
+            size = tuple(float(v) for v in b["size_m"])
+            mass = float(b["mass_kg"])
+            bodies[b["name"]] = BodyAfloat(b["name"], mass, size, mass / (rho * size[0] * size[1]),
+                                           mu.get(b["name"], 0.3))
+            x, y = (float(v) for v in b["centre_of_mass_m"][:2])
+            initial[b["name"]] = max((float(w["max_m"][2]) - float(w["min_m"][2]) for w in plan.get("water") or []
+                                      if w["min_m"][0] <= x <= w["max_m"][0] and w["min_m"][1] <= y <= w["max_m"][1]),
+                                     default=0.0)
+        grid = waterdepth.install(case) if bodies else None
+        bed_z = float(plan["domain_m"][2][0])
+        return cls(case, bodies, grid, margin_m, rho, g, bed_z, initial, say, friction,
+                   gap_m=float(plan.get("bed_gap_m") or 0.0))
+
+    # ---- the measurement
+    def depth(self, sample: waterdepth.Sample | None, state: BodyState) -> tuple[float, int] | None:
+        if sample is None or self.grid is None:
+            return None
+        body = self.bodies[state.name]
+        return waterdepth.depth_around(sample, self.grid.cell_m, state.centre_of_mass_m, state.orientation,
+                                       body.size_m)
+
+    def float_depth_m(self, state: BodyState) -> float:
+        """The depth that frees a constrained body: its underside (the gap's top if lower), its
+        draft, the margin, and
+        after a `rest_on_bed`, the margin above the depth it was put back at."""
+        body = self.bodies[state.name]
+        # a body below the gap's top is raised onto it when freed (at_restart)
+        need = max(underside_m(state, body.size_m, self.bed_z), self.gap_m) + body.draft_m + self.margin_m
+        rested = self.rested_at_depth.get(state.name)
+        return need if rested is None else max(need, rested + self.margin_m)
+
+    def normal_force_N(self, state: BodyState, depth_m: float) -> float:
+        """Weight less buoyancy of a body standing with its underside where it is, in `depth_m`."""
+        body = self.bodies[state.name]
+        immersed = min(max(depth_m - underside_m(state, body.size_m, self.bed_z), 0.0), body.size_m[2])
+        return max(body.mass_kg * self.g - self.rho * self.g * body.size_m[0] * body.size_m[1] * immersed, 0.0)
+
+    def lift_N(self, name: str, until_s: float = math.inf) -> float | None:
+        return waterdepth.read_lift(self.case, name, until_s)
+
+    def can_float(self, state: BodyState, measured: tuple[float, int] | None, lift: float | None) -> bool:
+        """The water all round is deep enough and the fluid already pushes the body up by its weight."""
+        body = self.bodies[state.name]
+        return (measured is not None and measured[0] > self.float_depth_m(state)
+                and lift is not None and lift >= body.mass_kg * self.g)
+
+    # ---- at a restart
+    def at_restart(self, time_name: str, states: Sequence[BodyState]) -> tuple[list[str], list[BodyState]]:
+        """Free the constrained bodies the water measured at `time_name` can carry (raising onto
+        the gap's top those that lie below it), and size the friction of the bodies still on the
+        bed. Returns the bodies freed and every body's state to restart with."""
+        self.restart_s = float(time_name)
+        if not self.bodies:
+            return [], list(states)
+        now = bodystate.bed_constraints(self.case)
+        sample = waterdepth.read_at(self.case, self.grid, float(time_name)) if self.grid else None
+        freed, coeffs, out = [], {}, []
+        for state in states:
+            kind = now.get(state.name, "")
+            if kind == "rest" and self.constraints.get(state.name) != "rest":
+                measured = self.depth(sample, state)
+                self.rested_at_depth[state.name] = measured[0] if measured else 0.0
+            measured = self.depth(sample, state)
+            depth = measured[0] if measured else self.initial_depth_m.get(state.name, 0.0)
+            lift = self.lift_N(state.name, float(time_name))
+            if kind == "rest" and measured is not None and depth > self.float_depth_m(state):
+                # deep enough: back onto the gap's top, held there until the water lifts it
+                bodystate.rest_to_hold(self.case, [state.name])
+                kind = "hold"
+                below = self.gap_m - underside_m(state, self.bodies[state.name].size_m, self.bed_z)
+                self.say(f"t = {time_name} s: {state.name}: {depth * 1000:.1f} mm of water around it: raised "
+                         f"{max(below, 0.0) * 1000:.2f} mm onto the gap's top and held there until the water lifts it")
+                if below > 1e-6:
+                    x, y, z = state.centre_of_mass_m
+                    vx, vy, _ = state.velocity_m_s
+                    state = state.with_changes(centre_of_mass_m=(x, y, z + below), velocity_m_s=(vx, vy, 0.0))
+                lift = None  # measured on the bed, where the underside is stale
+            elif kind == "hold" and self.can_float(state, measured, lift):
+                bodystate.release_holds(self.case, [state.name])
+                self.say(f"t = {time_name} s: {state.name} freed from the bed: {depth * 1000:.1f} mm of water "
+                         f"around it, it floats in {self.float_depth_m(state) * 1000:.1f} mm; the water pushes it "
+                         f"up by {lift:.3g} N")
+                freed.append(state.name)
+                kind = ""
+            out.append(state)
+            if kind in ("hold", "rest") and self.friction:
+                body = self.bodies[state.name]
+                speed = max(math.hypot(*state.velocity_m_s[:2]), FRICTION_FLOOR_M_S)
+                coeffs[state.name] = body.bed_friction * self.normal_force_N(state, depth) / speed
+                self.friction_speed[state.name] = speed
+            else:
+                coeffs[state.name] = None
+                self.friction_speed.pop(state.name, None)
+            now[state.name] = kind
+            self._record(float(time_name), state, measured, lift, kind, coeffs[state.name])
+        bodystate.set_bed_friction(self.case, coeffs)
+        self.constraints = now
+        return freed, out
+
+    # ---- while the solver runs
+    def why_stop(self, states: Sequence[BodyState], time_s: float) -> str | None:
+        """A reason to stop the solver now, or None: a constrained body the newest sample shows
+        afloat, or a resting body whose speed has left its friction band."""
+        for state in states:
+            kind = self.constraints.get(state.name, "")
+            speed0 = self.friction_speed.get(state.name)
+            if kind in ("hold", "rest") and speed0 is not None and time_s - self.restart_s >= FRICTION_MIN_INTERVAL_S:
+                speed = max(math.hypot(*state.velocity_m_s[:2]), FRICTION_FLOOR_M_S)
+                if not speed0 / FRICTION_BAND <= speed <= speed0 * FRICTION_BAND:
+                    return (f"{state.name} slides at {speed:.3g} m/s, its bed friction was set for "
+                            f"{speed0:.3g} m/s")
+        if self.grid is None:
+            return None
+        sample = waterdepth.read_latest(self.case, self.grid, after_s=self.last_sample_s)
+        if sample is None:
+            return None
+        self.last_sample_s = sample.time_s
+        waterdepth.prune(self.case)
+        why = None
+        for state in states:
+            kind = self.constraints.get(state.name, "")
+            measured = self.depth(sample, state)
+            lift = self.lift_N(state.name)
+            self._record(sample.time_s, state, measured, lift, kind, None)
+            deep = measured is not None and measured[0] > self.float_depth_m(state)
+            if why is None and ((kind == "hold" and self.can_float(state, measured, lift)) or (kind == "rest" and deep)):
+                why = (f"{state.name}: {measured[0] * 1000:.1f} mm of water around it at t = {sample.time_s:.4g} s, "
+                       f"it floats in {self.float_depth_m(state) * 1000:.1f} mm" + (
+                           "" if lift is None else f"; the water pushes it up by {lift:.3g} N"))
+        return why
+
+    def _record(self, t: float, state: BodyState, measured: tuple[float, int] | None, lift: float | None,
+                kind: str, coeff: float | None) -> None:
+        path = self.case / DEPTH_CSV
+        new = not path.is_file()
+        with open(path, "a", newline="") as fh:
+            w = csv.writer(fh)
+            if new:
+                w.writerow(_FIELDS)
+            body = self.bodies[state.name]
+            w.writerow([f"{t:.8g}", state.name, "" if measured is None else f"{measured[0]:.5f}",
+                        0 if measured is None else measured[1],
+                        f"{underside_m(state, body.size_m, self.bed_z):.5f}", f"{self.float_depth_m(state):.5f}",
+                        "" if lift is None else f"{lift:.4f}", f"{body.mass_kg * self.g:.4f}",
+                        kind or "free", "" if coeff is None else f"{coeff:.5g}"])

@@ -1,0 +1,100 @@
+"""The runner's watch over bodies on the bed: the depth read around a body, when it is freed, its
+bed friction, and the dictionary edits that carry them (no solver run; tests/test_float_carry.py
+and tests/test_bed_friction.py run the real thing)."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from conftest import ROOT, run_cli
+from orchestrator import bodystate, waterdepth
+from orchestrator.bedwatch import BedWatch, underside_m
+from orchestrator.bodystate import BodyState
+
+SCENE = ROOT / "tests" / "data" / "scenes" / "float-carry.yaml"
+SIZE = (0.15, 0.06, 0.06)
+
+
+@pytest.fixture(scope="module")
+def case(tmp_path_factory):
+    out = tmp_path_factory.mktemp("bedwatch") / "case"
+    proc = run_cli("render", str(SCENE), "-o", str(out))
+    assert proc.returncode == 0, proc.stderr
+    return out
+
+
+def _sample(depth_of) -> waterdepth.Sample:
+    xs, ys = np.arange(0.02, 1.0, 0.04), np.arange(-0.18, 0.2, 0.04)
+    xy = np.array([(x, y) for x in xs for y in ys])
+    return waterdepth.Sample(0.3, xy, np.array([depth_of(x, y) for x, y in xy]))
+
+
+def test_the_depth_around_a_body_is_the_water_all_round_it():
+    centre, rot = (0.4, 0.0, 0.0375), np.eye(3)
+    still = _sample(lambda x, y: 0.080)
+    assert waterdepth.depth_around(still, 0.04, centre, rot, SIZE)[0] == pytest.approx(0.080)
+    # a bore whose front stands at the body's middle: deep upstream, the wet bed downstream. A
+    # median would call it deep; the water is not under all of the body yet
+    front = _sample(lambda x, y: 0.080 if x < 0.4 else 0.016)
+    depth, columns = waterdepth.depth_around(front, 0.04, centre, rot, SIZE)
+    assert depth == pytest.approx(0.016) and columns > 10
+    # the ring starts a background cell off the footprint: the body's own hole cells are not read
+    inside = _sample(lambda x, y: 0.0 if waterdepth.footprint_distance(
+        np.array([[x, y]]), centre, rot, SIZE)[0] < 0.04 else 0.05)
+    assert waterdepth.depth_around(inside, 0.04, centre, rot, SIZE)[0] == pytest.approx(0.05)
+
+
+def test_the_sampled_columns_cover_the_flume_from_the_body_down(case):
+    plan = json.loads((case / "plan.json").read_text())
+    grid = waterdepth.install(case)
+    assert grid.xy[:, 0].min() < 0.4 - 0.075 and grid.xy[:, 0].max() > plan["domain_m"][0][1] - 0.04
+    assert grid.z.max() > 0.25  # up to the reservoir's level
+    control = (case / "system" / "controlDict").read_text()
+    assert control.count('#include "bodyDepth"') == 1
+    waterdepth.install(case)  # once only
+    assert (case / "system" / "controlDict").read_text().count('#include "bodyDepth"') == 1
+
+
+def _state(z=0.0375, u=(0.0, 0.0, 0.0)) -> BodyState:
+    return BodyState("debris1", 0.0, (0.4, 0.0, z), velocity_m_s=u)
+
+
+def test_a_body_is_freed_when_the_water_all_round_exceeds_its_underside_draft_and_margin(case):
+    watch = BedWatch.for_case(case, 0.005, lambda m: None)
+    draft = 0.236 / (998.2 * 0.15 * 0.06)
+    standing = _state()  # on the 7.5 mm gap
+    assert underside_m(standing, SIZE) == pytest.approx(0.0075)
+    assert watch.float_depth_m(standing) == pytest.approx(0.0075 + draft + 0.005)
+    # a body that sank onto the bed is raised onto the gap when freed: it floats from there
+    assert watch.float_depth_m(_state(z=0.03)) == pytest.approx(0.0075 + draft + 0.005)
+    # put back on the bed at 40 mm of water: freed again only 5 mm deeper than that
+    watch.rested_at_depth["debris1"] = 0.045
+    assert watch.float_depth_m(standing) == pytest.approx(0.050)
+
+
+def test_bed_friction_is_mu_times_weight_less_buoyancy(case):
+    watch = BedWatch.for_case(case, 0.005, lambda m: None)
+    g, weight = 9.81, 0.236 * 9.81
+    assert watch.normal_force_N(_state(), 0.0) == pytest.approx(weight)
+    # 15 mm of water, 7.5 mm of it above the gap's top: 0.66 N of buoyancy
+    assert watch.normal_force_N(_state(), 0.015) == pytest.approx(weight - 998.2 * g * 0.15 * 0.06 * 0.0075)
+    assert watch.normal_force_N(_state(), 0.2) == 0.0  # the water carries it
+
+
+def test_the_runner_edits_the_bed_constraints_and_the_friction_damper(case):
+    assert bodystate.bed_constraints(case) == {"debris1": "hold"}
+    assert bodystate.set_bed_friction(case, {"debris1": 2.5}) == ["debris1"]
+    assert bodystate.set_bed_friction(case, {"debris1": 2.5}) == []  # unchanged
+    text = (case / "constant" / "dynamicMeshDict").read_text()
+    assert "linearDamper" in text and "bedFriction" in text
+    assert bodystate.release_holds(case, ["debris1"]) == ["debris1"]
+    assert bodystate.bed_constraints(case) == {"debris1": ""}
+    assert bodystate.rest_on_bed(case, ["debris1"]) == ["debris1"]
+    assert bodystate.bed_constraints(case) == {"debris1": "rest"}
+    assert bodystate.lift_rest_on_bed(case, ["debris1"]) == ["debris1"]
+    assert bodystate.set_bed_friction(case, {"debris1": None}) == ["debris1"]
+    text = (case / "constant" / "dynamicMeshDict").read_text()
+    assert "linearDamper" not in text and "restOnBedPlane" not in text
