@@ -113,7 +113,7 @@ def _emit(result: dict[str, Any], as_json: bool, out=sys.stdout) -> None:
 
 
 def column_from_args(args: argparse.Namespace):
-    """The column for analytical verbs: the scene's (with --set) or the seed's."""
+    """The column for analytical verbs: the scene's (with --set) or the study's."""
     if getattr(args, "scene", None):
         from orchestrator.scene import column_for_analysis, load_scene
 
@@ -687,7 +687,7 @@ def cmd_report_stability(args: argparse.Namespace) -> int:
 
 
 def _add_column_args(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--scene", help="scene YAML whose column to use (default: the seed's column)")
+    p.add_argument("--scene", help="scene YAML whose column to use (default: the study's column)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a dotted scene key (repeatable)")
 
 
@@ -790,9 +790,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_dambreak)
 
-    p = an_verbs.add_parser("study", help="the seed's SDOF/MDOF/ASCE analysis on synthetic records (Table 2, Fig. 7)")
+    p = an_verbs.add_parser("study", help="the study's SDOF/MDOF/ASCE analysis on synthetic records (Table 2, Fig. 7)")
     p.add_argument("-o", "--out", default="docs/results/synthetic-study", help="output folder (tables and plots)")
-    p.add_argument("--records", type=int, default=22, help="number of synthetic records (default 22, as the seed)")
+    p.add_argument("--records", type=int, default=22, help="number of synthetic records (default 22, as the study)")
     p.add_argument("--seed", type=int, default=2019, help="random seed")
     p.add_argument("--base", choices=["rigid", "calibrated"], default="rigid", help="column base model of the records")
     p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
@@ -905,7 +905,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "idle machine, without other jobs' turns on a shared one), the solver's wall time, or "
                         "the member's whole wall time")
     p.add_argument("--extrapolate-to", type=float, default=0.015, metavar="M",
-                   help="extrapolate both set-ups to this cell size (default 0.015, the seed's; 0: none)")
+                   help="extrapolate both set-ups to this cell size (default 0.015, the study's; 0: none)")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_report_speed_error)
     p = rp_verbs.add_parser("case", help="one post-processed run beside the study's figures: a results page "
