@@ -145,7 +145,7 @@ class BedWatch:
         if sample is None or self.grid is None:
             return None
         body = self.bodies[state.name]
-        return waterdepth.depth_around(sample, self.grid.cell_m, state.centre_of_mass_m, state.orientation,
+        return waterdepth.depth_around(sample, self.grid.ring_m, state.centre_of_mass_m, state.orientation,
                                        body.size_m)
 
     def float_depth_m(self, state: BodyState) -> float:

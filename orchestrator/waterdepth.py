@@ -6,7 +6,7 @@ the weight the water does not carry. Both read this module's measurement:
 
 - `install(case)` writes `system/bodyDepth`, a `sets` function object with one `cloud` set:
   vertical columns of points on a regular grid (`COLUMN_SPACING_CELLS` background cells
-  apart) covering the flume from the most upstream body's tail to the domain's downstream end,
+  apart, wider if that would make more than `MAX_COLUMNS`) covering the flume from the most upstream body's tail to the domain's downstream end,
   the full width, from the bed to the highest still water (the reservoir) plus a cell, every
   `POINT_SPACING_CELLS` of a background cell. `#include "bodyDepth"` goes into controlDict's
   `functions`. It samples `alpha.water` (the containing cell's value, `cell`: the
@@ -19,14 +19,15 @@ the weight the water does not carry. Both read this module's measurement:
   of alpha times the point spacing.
 - `depth_around(sample, state, size)`: the depth all around a body, the `DEPTH_QUANTILE` (10 %)
   quantile over the columns whose horizontal distance from the body's footprint lies between one
-  and `RING_CELLS` background cells (a median reads deep water while a bore's front stands at the
-  body's middle). The
+  background cell plus `RING_SPACINGS` column spacings (a median reads deep water while a bore's
+  front stands at the body's middle). The
   inner limit keeps the ring off the background cells that the body's overset cuts as holes
   (they keep stale values: docs/openfoam-notes.md, "A gauge line through an overset region").
 
-Cost, measured on the tiny float-off case (see docs/stability.md): a few ms per sample. On the
-seed's flume at 4 cm cells the grid is about 30,000 points; every sample is a new file, and
-`prune` keeps only the newest few while the run goes on.
+Cost: on the tiny flume (360 columns of 36 points) the runs took no longer than without it as
+far as the shared machine shows. On the seed's flume at 4 cm cells the grid is 1,500 columns of
+55 points (82,500 points, about 3 MB a sample; not timed there); every sample is a new file, and
+`prune` keeps only the newest `KEEP_SAMPLES` while the run goes on.
 """
 
 from __future__ import annotations
@@ -44,12 +45,15 @@ import numpy as np
 NAME = "bodyDepth"
 #: simulated seconds between samples (the runner acts on the newest one)
 SAMPLE_INTERVAL_S = 0.01
-#: columns this many background cells apart, in x and in y
+#: columns this many background cells apart, in x and in y, or wider so that there are at most
+#: MAX_COLUMNS of them (the seed's flume at 4 cm: 2,997 columns at one cell, 1,500 at 1.41 cells)
 COLUMN_SPACING_CELLS = 1.0
+MAX_COLUMNS = 1500
 #: points this fraction of a background cell apart along each column
 POINT_SPACING_CELLS = 0.2
-#: the ring of columns read around a body: from one background cell off its footprint to this many
-RING_CELLS = 2.5
+#: the ring of columns read around a body: from one background cell off its footprint to that plus
+#: this many column spacings
+RING_SPACINGS = 1.5
 #: the depth around a body is this quantile of its ring's columns: the water must be deep all round
 #: it. The median read 73-78 mm around the float-carry container while the bore's front stood
 #: at its middle, 15 mm of wet bed still under its downstream half (docs/stability.md)
@@ -57,17 +61,23 @@ DEPTH_QUANTILE = 0.1
 #: the forces function object of each body (its wall patch): postProcessing/lift_<body>/<start>/force.dat
 LIFT_PREFIX = "lift_"
 #: sample folders kept in postProcessing/bodyDepth while the run goes on (the runner reads the newest)
-KEEP_SAMPLES = 50
+KEEP_SAMPLES = 10
 
 
 @dataclass(frozen=True)
 class Grid:
-    """The sampled columns: their (x, y), the point heights, the background cell size."""
+    """The sampled columns: their (x, y), the point heights, the background cell size, the columns' spacing."""
 
     xy: np.ndarray  # (n, 2)
     z: np.ndarray  # (k,)
     dz: float
     cell_m: float
+    spacing_m: float = 0.0
+
+    @property
+    def ring_m(self) -> tuple[float, float]:
+        """The ring of columns read around a body: its inner and outer distance from the footprint."""
+        return self.cell_m, self.cell_m + RING_SPACINGS * (self.spacing_m or self.cell_m)
 
     def points(self) -> np.ndarray:
         xy = np.repeat(self.xy, len(self.z), axis=0)
@@ -97,9 +107,9 @@ def grid_for(plan: dict[str, Any], scene: dict[str, Any]) -> Grid | None:
         return None
     (x0, x1), (y0, y1), (z0, z1) = (tuple(float(v) for v in a) for a in plan["domain_m"])
     h = float(scene["mesh"]["cell_size_m"])
-    step = COLUMN_SPACING_CELLS * h
     tail = min(float(b["centre_of_mass_m"][0]) - max(float(s) for s in b["size_m"]) for b in bodies)
     start = max(x0, tail - 2 * h)
+    step = max(COLUMN_SPACING_CELLS * h, math.sqrt((x1 - start) * (y1 - y0) / MAX_COLUMNS))
     xs = np.arange(start + step / 2, x1 - 1e-3 * h, step)
     ys = np.arange(y0 + step / 2, y1 - 1e-3 * h, step)
     water_top = max((float(w["max_m"][2]) for w in plan.get("water") or []), default=z1 - z0)
@@ -107,7 +117,7 @@ def grid_for(plan: dict[str, Any], scene: dict[str, Any]) -> Grid | None:
     top = min(z1, water_top + h)
     zs = np.arange(z0 + dz / 2, top, dz)
     xy = np.array([(x, y) for x in xs for y in ys], dtype=float)
-    return Grid(xy, zs, dz, h)
+    return Grid(xy, zs, dz, h, step)
 
 
 def _lift_object(body: str) -> str:
@@ -248,12 +258,12 @@ def footprint_distance(xy: np.ndarray, centre: Sequence[float], orientation: Seq
     return np.hypot(np.maximum(lx, 0.0), np.maximum(ly, 0.0))
 
 
-def depth_around(sample: Sample, cell_m: float, centre: Sequence[float], orientation: Sequence[Sequence[float]],
-                 size: Sequence[float]) -> tuple[float, int] | None:
+def depth_around(sample: Sample, ring_m: tuple[float, float], centre: Sequence[float],
+                 orientation: Sequence[Sequence[float]], size: Sequence[float]) -> tuple[float, int] | None:
     """The water depth (m) all around a body: the `DEPTH_QUANTILE` quantile over the ring of
-    columns around it, and how many columns."""
+    columns `ring_m` (inner, outer distance) off its footprint, and how many columns."""
     dist = footprint_distance(sample.xy, centre, orientation, size)
-    ring = (dist >= cell_m * 0.999) & (dist <= RING_CELLS * cell_m)
+    ring = (dist >= ring_m[0] * 0.999) & (dist <= ring_m[1] * (1 + 1e-9))
     if not ring.any():
         return None
     return float(np.quantile(sample.depth_m[ring], DEPTH_QUANTILE)), int(ring.sum())

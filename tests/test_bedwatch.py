@@ -16,6 +16,7 @@ from orchestrator.bodystate import BodyState
 
 SCENE = ROOT / "tests" / "data" / "scenes" / "float-carry.yaml"
 SIZE = (0.15, 0.06, 0.06)
+RING = (0.04, 0.10)  # the ring read around a body at 4 cm cells and columns
 
 
 @pytest.fixture(scope="module")
@@ -35,23 +36,23 @@ def _sample(depth_of) -> waterdepth.Sample:
 def test_the_depth_around_a_body_is_the_water_all_round_it():
     centre, rot = (0.4, 0.0, 0.0375), np.eye(3)
     still = _sample(lambda x, y: 0.080)
-    assert waterdepth.depth_around(still, 0.04, centre, rot, SIZE)[0] == pytest.approx(0.080)
+    assert waterdepth.depth_around(still, RING, centre, rot, SIZE)[0] == pytest.approx(0.080)
     # a bore whose front stands at the body's middle: deep upstream, the wet bed downstream. A
     # median would call it deep; the water is not under all of the body yet
     front = _sample(lambda x, y: 0.080 if x < 0.4 else 0.016)
-    depth, columns = waterdepth.depth_around(front, 0.04, centre, rot, SIZE)
+    depth, columns = waterdepth.depth_around(front, RING, centre, rot, SIZE)
     assert depth == pytest.approx(0.016) and columns > 10
     # the ring starts a background cell off the footprint: the body's own hole cells are not read
     inside = _sample(lambda x, y: 0.0 if waterdepth.footprint_distance(
         np.array([[x, y]]), centre, rot, SIZE)[0] < 0.04 else 0.05)
-    assert waterdepth.depth_around(inside, 0.04, centre, rot, SIZE)[0] == pytest.approx(0.05)
+    assert waterdepth.depth_around(inside, RING, centre, rot, SIZE)[0] == pytest.approx(0.05)
 
 
 def test_the_sampled_columns_cover_the_flume_from_the_body_down(case):
     plan = json.loads((case / "plan.json").read_text())
     grid = waterdepth.install(case)
-    assert grid.xy[:, 0].min() < 0.4 - 0.075 and grid.xy[:, 0].max() > plan["domain_m"][0][1] - 0.04
-    assert grid.z.max() > 0.25  # up to the reservoir's level
+    assert grid.xy[:, 0].min() < 0.3 - 0.075 and grid.xy[:, 0].max() > plan["domain_m"][0][1] - 0.04
+    assert grid.z.max() > max(w["max_m"][2] for w in plan["water"])  # up to the reservoir's level
     control = (case / "system" / "controlDict").read_text()
     assert control.count('#include "bodyDepth"') == 1
     waterdepth.install(case)  # once only
