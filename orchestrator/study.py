@@ -149,72 +149,115 @@ def table2_markdown(stats: dict) -> str:
     return "\n".join(lines) + "\n"
 
 
-def plot_figure7(results: dict[str, list[RecordAnalysis]], path: Path) -> None:
+#: The study's figures at _DPI from figures _WIDTH_IN wide: 1,575 px, a report page at 100 %,
+#: no text under 9 pt (legends and ticks included).
+_DPI = 150
+_WIDTH_IN = 10.5
+_SMALL = 9
+#: One colour per method in every panel and figure (as in orchestrator.plots).
+_COLOURS = {"asce_kd": "#2c7bb6", "asce_ks": "#74add1", "sdof": "#e66101", "sdof_column_mass": "#7b3294",
+            "mdof": "#1a9641", "true": "0.55"}
+
+
+def _pyplot():
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    return plt
+
+
+def _save(fig, path: Path) -> None:
+    fig.savefig(path, dpi=_DPI)
+    _pyplot().close(fig)
+
+
+def figure7(results: dict[str, list[RecordAnalysis]]):
+    """Peak modelled vs peak measured base shear, a panel per variant on shared scales, one legend."""
+    plt = _pyplot()
     markers = {"asce_kd": "s", "asce_ks": "D", "sdof": "^", "sdof_column_mass": "v", "mdof": "o"}
-    fig, axes = plt.subplots(1, len(results), figsize=(5.2 * len(results), 5), squeeze=False)
+    fig, axes = plt.subplots(1, len(results), figsize=(_WIDTH_IN, 4.9), squeeze=False, sharex=True, sharey=True,
+                             layout="constrained")
+    top = max(max(a.peak_measured_N, *a.peak_model_N.values()) for analyses in results.values() for a in analyses)
     for ax, (variant, analyses) in zip(axes[0], results.items()):
         measured = np.array([a.peak_measured_N for a in analyses])
-        top = 0.0
         for method in METHODS:
             model = np.array([a.peak_model_N[method] for a in analyses])
-            top = max(top, model.max(), measured.max())
-            ax.scatter(measured, model, marker=markers[method], label=LABELS[method], alpha=0.8)
+            ax.scatter(measured, model, marker=markers[method], s=22, color=_COLOURS[method], label=LABELS[method],
+                       alpha=0.8)
         ax.plot([0, 1.05 * top], [0, 1.05 * top], "k--", lw=1, label="1:1")
         ax.set_xlim(0, 1.05 * top)
         ax.set_ylim(0, 1.05 * top)
         ax.set_xlabel("max measured base shear (N)")
-        ax.set_ylabel("max modelled base shear, MDOF column (N)")
         make_base, fit_base = VARIANTS[variant]
-        ax.set_title(f"records: {make_base} base; fits: {fit_base} base")
+        ax.set_title(f"records: {make_base} base\nfits: {fit_base} base", fontsize=10)
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=8)
-    fig.suptitle("Synthetic Fig. 7: peak modelled vs peak measured response (22 records)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    axes[0, 0].set_ylabel("max modelled base shear, MDOF column (N)")
+    handles, labels = axes[0, 0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside lower center", ncol=len(labels), fontsize=_SMALL)
+    n = len(next(iter(results.values())))
+    fig.suptitle(f"Synthetic Fig. 7: peak modelled vs peak measured response ({n} records)", fontsize=11)
+    return fig
 
 
-def plot_figure4(analysis: RecordAnalysis, record_t: np.ndarray, column: Column, path: Path) -> None:
-    import matplotlib
+def plot_figure7(results: dict[str, list[RecordAnalysis]], path: Path) -> None:
+    _save(figure7(results), path)
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
 
+def figure4(analysis: RecordAnalysis, record_t: np.ndarray, column: Column):
+    """One record with its fits (left) and every method's pulse against the true one (right).
+
+    The right panel spans every pulse whole: a fitted SDOF pulse may start well before the
+    true impact and last longer than it. The fits are dashed over the true pulse (solid,
+    grey): on a synthetic record the truth is known, so a fit on it is a check of the fit.
+    """
     from analytical.mdof import mdof_response
 
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2))
+    plt = _pyplot()
+    fig = plt.figure(figsize=(_WIDTH_IN, 5.2), layout="constrained")
+    grid = fig.add_gridspec(2, 2, height_ratios=[3.8, 1.0])
+    ax1, ax2 = fig.add_subplot(grid[0, 0]), fig.add_subplot(grid[0, 1])
     mdof_fit, sdof_fit = analysis.fits["mdof"], analysis.fits["sdof"]
     ax1.plot(mdof_fit.time_s * 1e3, mdof_fit.measured_N, color="0.6", lw=1, label="record (offset removed)")
-    ax1.plot(sdof_fit.time_s * 1e3, sdof_fit.model_N, label=f"SDOF fit (rmse {sdof_fit.rmse_N:.1f} N)")
-    ax1.plot(mdof_fit.time_s * 1e3, mdof_fit.model_N, label=f"MDOF fit (rmse {mdof_fit.rmse_N:.1f} N)")
+    ax1.plot(sdof_fit.time_s * 1e3, sdof_fit.model_N, ls="--", color=_COLOURS["sdof"],
+             label=f"SDOF fit (rmse {sdof_fit.rmse_N:.1f} N)")
+    ax1.plot(mdof_fit.time_s * 1e3, mdof_fit.model_N, ls="--", color=_COLOURS["mdof"],
+             label=f"MDOF fit (rmse {mdof_fit.rmse_N:.1f} N)")
     t = np.arange(record_t[0], record_t[-1], 2e-5)
     for method in ("asce_ks",):
         r = mdof_response(analysis.pulses[method], column, analysis.height_m, t)
-        ax1.plot(t * 1e3, r.response_N, lw=0.8, ls=":", label=f"{LABELS[method]} pulse on MDOF")
+        ax1.plot(t * 1e3, r.response_N, lw=0.9, ls=":", color=_COLOURS[method], label=f"{LABELS[method]} pulse on the MDOF column")
     ax1.set_xlabel("time (ms)")
     ax1.set_ylabel("base shear (N)")
-    ax1.set_title(f"record {analysis.index}: fits (cf. seed Fig. 4a / 5)")
-    ax1.legend(fontsize=8)
+    ax1.set_title(f"record {analysis.index}: fits (cf. seed Fig. 4a / 5)", fontsize=10)
     ax1.grid(alpha=0.3)
     t0 = analysis.true_pulse.start_s
-    tt = np.linspace(t0 - 1e-3, t0 + 1.2e-2, 2000)
-    for method in METHODS + ("true",):
-        p = analysis.pulses[method]
-        ax2.plot((tt - t0) * 1e3, p.force(tt), label=LABELS[method], lw=2 if method == "true" else 1.2,
-                 ls="--" if method == "true" else "-")
+    pulses = {method: analysis.pulses[method] for method in METHODS + ("true",)}
+    lo = min([t0] + [p.start_s for p in pulses.values() if np.isfinite(p.start_s)])
+    hi = max([t0] + [p.end_s for p in pulses.values() if np.isfinite(p.end_s)])
+    pad = 0.05 * (hi - lo)
+    tt = np.linspace(lo - pad, hi + pad, 3000)
+    for method, p in pulses.items():
+        true = method == "true"
+        fitted = method in ("sdof", "sdof_column_mass", "mdof")
+        ax2.plot((tt - t0) * 1e3, p.force(tt), label=LABELS[method], lw=3.0 if true else 1.4, color=_COLOURS[method], ls="--" if fitted else "-",
+                 zorder=1 if true else 2)
+    ax2.set_xlim((lo - pad - t0) * 1e3, (hi + pad - t0) * 1e3)
     ax2.set_xlabel("time from impact (ms)")
     ax2.set_ylabel("impact force (N)")
-    ax2.set_title("impact force histories (cf. seed Fig. 4b)")
-    ax2.legend(fontsize=8)
+    ax2.set_title("impact forces (cf. seed Fig. 4b); dashed: fitted to the record", fontsize=10)
     ax2.grid(alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    for j, (ax, ncol) in enumerate(((ax1, 1), (ax2, 2))):  # each legend under its panel
+        below = fig.add_subplot(grid[1, j])
+        below.axis("off")
+        below.legend(*ax.get_legend_handles_labels(), loc="upper center", ncol=ncol, fontsize=_SMALL,
+                     frameon=False)
+    return fig
+
+
+def plot_figure4(analysis: RecordAnalysis, record_t: np.ndarray, column: Column, path: Path) -> None:
+    _save(figure4(analysis, record_t, column), path)
 
 
 def run_synthetic_study(out_dir: Path, seed: int = 2019, n_records: int = 22, column_base: str = "rigid",

@@ -86,8 +86,8 @@ def unlisted(fig) -> list[str]:
     return missing
 
 
-def check_figure(fig) -> None:
-    width, height = fig.get_size_inches() * plots._DPI
+def check_figure(fig, dpi: float = plots._DPI) -> None:
+    width, height = fig.get_size_inches() * dpi
     assert width <= MAX_WIDTH_PX and height <= MAX_HEIGHT_PX, f"{width:.0f} x {height:.0f} px"
     assert not texts_outside(fig), texts_outside(fig)
     assert not small_texts(fig), small_texts(fig)
@@ -291,5 +291,49 @@ def test_gauge_names_are_not_under_the_column(real):
             e = t.get_window_extent(renderer)
             overlap = max(0.0, min(e.x1, x1) - max(e.x0, x0)) * max(0.0, min(e.y1, y1) - max(e.y0, y0))
             assert overlap == 0.0, f"{t.get_text()} drawn over the column"
+    finally:
+        plots._pyplot().close(fig)
+
+
+# --------------------------------------------------------------------------- the synthetic study
+
+
+@pytest.fixture(scope="module")
+def study():
+    from analytical.synthetic import analyse_record, make_records
+    from orchestrator.study import variant_columns
+
+    column, fit_column = variant_columns("rigid")
+    records = make_records(3, seed=2019, column=column)
+    return column, [analyse_record(r, column=column, fit_column=fit_column) for r in records]
+
+
+def test_study_figure4_draws_every_pulse_whole(study):
+    """Record 0 of seed 2019: its SDOF pulses start 2-3 ms before the true impact."""
+    from orchestrator import study as st
+
+    column, analyses = study
+    a = analyses[0]
+    assert min(a.pulses[m].start_s for m in ("sdof", "sdof_column_mass")) < a.true_pulse.start_s - 1e-3
+    fig = st.figure4(a, a.fits["mdof"].time_s, column)
+    try:
+        check_figure(fig, st._DPI)
+        check_pulses_whole(fig)
+        ax, = pulse_axes(fig)
+        fitted = [line for line in ax.lines if line.get_label() in ("SDOF fit", "SDOF fit, m_s = column mass",
+                                                                    "MDOF fit")]
+        assert len(fitted) == 3 and all(line.get_linestyle() == "--" for line in fitted)
+    finally:
+        plots._pyplot().close(fig)
+
+
+def test_study_figure7_fits_a_report(study):
+    from orchestrator import study as st
+
+    _, analyses = study
+    fig = st.figure7({"rigid": analyses, "calibrated": analyses, "calibrated-fit-rigid": analyses})
+    try:
+        check_figure(fig, st._DPI)
+        assert len({ax.get_xlim() for ax in fig.axes}) == 1  # one scale for the three variants
     finally:
         plots._pyplot().close(fig)
