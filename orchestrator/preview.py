@@ -6,7 +6,8 @@ three views, from the whole to the detail:
 
 * top: an isometric view of the simulated domain (``plan.domain_m``) inside the flume;
 * middle: a plan view from above of the region of interest (the plan's fine region, the
-  column, the debris and the gauges), with names;
+  column, the debris and the gauges), with names and x and y scales (bodies side by side,
+  whose full names would overlap, are numbered by what follows their common prefix);
 * bottom: a strip with the whole flume from above, the simulated part against the full
   reservoir and the full downstream length.
 
@@ -57,6 +58,15 @@ COLOURS = {
     "gauge": "#1a9641",
 }
 
+#: Text sizes (VTK font size, pixels): names of gauges, bodies and the column, and the scale
+#: marks, at least 16 px, so that their letters (small in VTK's font) read at 100 % in a report;
+#: the corner texts (headline, view titles) use pyvista's scale, which grows with the window.
+_LABEL_PX = 18
+_BODY_LABEL_PX = 16
+_LEGIBLE_BODY_LABEL_PX = 12
+_MIN_BODY_LABEL_PX = 9
+_TICK_PX = 18
+_CORNER_SIZE = 10
 #: Height of the three views as fractions of the image (isometric, plan, whole flume).
 _ROW_WEIGHTS = (0.50, 0.37, 0.13)
 #: Opacities: water in the simulated domain, water outside it, flume walls.
@@ -296,13 +306,13 @@ def _draw_isometric(plotter, geo: _Geometry, scene: Scene, plan: ModelPlan) -> N
     _add_common(plotter, geo, body_meshes=True)
     lift = 0.02 * (geo.domain_bounds[5] - geo.domain_bounds[4])
     for top, text in _debris_groups(geo.debris_tops, geo.debris_names, _CROWDED_M):
-        _labels(plotter, [top + [0.0, 0.0, lift]], [text], COLOURS["debris"], 11)
-    _labels(plotter, geo.gauge_tops, geo.gauge_names, COLOURS["gauge"], 12)
+        _labels(plotter, [top + [0.0, 0.0, lift]], [text], COLOURS["debris"], _BODY_LABEL_PX)
+    _labels(plotter, geo.gauge_tops, geo.gauge_names, COLOURS["gauge"], _LABEL_PX)
     if geo.column_top is not None:
-        _labels(plotter, [geo.column_top], ["column"], COLOURS["column"], 12)
+        _labels(plotter, [geo.column_top], ["column"], COLOURS["column"], _LABEL_PX)
     gate = (0.0, geo.flume_bounds[3], scene.reservoir.depth_m)
-    _labels(plotter, [gate], ["gate (x = 0)"], "#555555", 10, bold=False)
-    plotter.add_text(_headline(scene, plan), position="upper_left", font_size=9, color=COLOURS["text"])
+    _labels(plotter, [gate], ["gate (x = 0)"], "#555555", _TICK_PX, bold=False)
+    plotter.add_text(_headline(scene, plan), position="upper_left", font_size=_CORNER_SIZE, color=COLOURS["text"])
     entries = [["simulated domain", COLOURS["domain"]], ["fine-mesh region", COLOURS["fine"]]]
     entries += [["water at t = 0", COLOURS["water"]]] if geo.water else []
     entries += [["column", COLOURS["column"]]] if geo.column is not None else []
@@ -323,38 +333,71 @@ def _draw_isometric(plotter, geo: _Geometry, scene: Scene, plan: ModelPlan) -> N
 def _draw_plan_view(plotter, geo: _Geometry) -> None:
     _add_common(plotter, geo, body_meshes=True, gauge_dots=True)
     b = geo.detail_bounds
+    _set_camera(plotter, (0.0, 0.0, 1.0), (0.0, 1.0, 0.0), b, row=1, margin=1.22)
+    px_per_m = WINDOW_SIZE_PX[0] / (2.0 * plotter.camera.parallel_scale * _view_aspect(row=1))
     # each name just above its body's upstream corner, so rows and columns of bodies stay legible
-    corners = [(box.bounds[0], box.bounds[3], box.bounds[5]) for box in geo.debris]
-    _labels(plotter, corners, geo.debris_names, COLOURS["debris"], 9)
+    corners = np.array([(box.bounds[0], box.bounds[3], box.bounds[5]) for box in geo.debris]).reshape(-1, 3)
+    names, size = list(geo.debris_names), _body_label_px(corners, geo.debris_names, px_per_m)
+    prefix = os.path.commonprefix(names) if len(names) > 1 else ""
+    short = [n[len(prefix):] for n in names]
+    if size < _LEGIBLE_BODY_LABEL_PX and prefix and all(short):
+        # bodies side by side: each numbered by what follows the common prefix, the prefix said once
+        short_size = _body_label_px(corners, short, px_per_m)
+        if short_size > size:
+            names, size = short, short_size
+            top = (corners[:, 0].min(), corners[:, 1].max() + 1.6 * size / px_per_m, corners[:, 2].max())
+            _labels(plotter, [top], [f"{prefix}N = body N"], COLOURS["debris"], _BODY_LABEL_PX)
+    _labels(plotter, corners, names, COLOURS["debris"], size)
     inside = (geo.gauge_tops[:, 0] >= b[0]) & (geo.gauge_tops[:, 0] <= b[1])
     names = [f"{n} " for n, ok in zip(geo.gauge_names, inside) if ok]  # each name ends at its gauge
     _labels(
-        plotter, geo.gauge_tops[inside], names, COLOURS["gauge"], 11, justification_horizontal="right", shape=None
+        plotter, geo.gauge_tops[inside], names, COLOURS["gauge"], _LABEL_PX, justification_horizontal="right",
+        shape=None,
     )
     if geo.column_top is not None:
         x_face = geo.column.bounds[1]
-        _labels(plotter, [(x_face, geo.column_top[1], geo.column_top[2])], [" column"], COLOURS["column"], 11)
-    _scale_marks(plotter, b[0], b[1], geo.flume_bounds[2], _nice_step((b[1] - b[0]) / 10.0), 10)
-    plotter.add_text("plan view (from above): region of interest", position="upper_left", font_size=9,
+        _labels(plotter, [(x_face, geo.column_top[1], geo.column_top[2])], [" column"], COLOURS["column"], _LABEL_PX)
+    _scale_marks(plotter, b[0], b[1], geo.flume_bounds[2], _nice_step((b[1] - b[0]) / 10.0), _TICK_PX)
+    # y marks just inside the view's left edge
+    x_left = plotter.camera.focal_point[0] - plotter.camera.parallel_scale * _view_aspect(row=1)
+    y0, y1 = geo.flume_bounds[2], geo.flume_bounds[3]
+    _y_marks(plotter, x_left + 6.0 / px_per_m, y0, y1, _nice_step((y1 - y0) / 4.0), _TICK_PX)
+    plotter.add_text("plan view (from above): region of interest", position="upper_left", font_size=_CORNER_SIZE,
                      color=COLOURS["text"])
-    _set_camera(plotter, (0.0, 0.0, 1.0), (0.0, 1.0, 0.0), b, row=1, margin=1.22)
+
+
+def _body_label_px(corners: np.ndarray, names: Sequence[str], px_per_m: float) -> int:
+    """The largest size up to _BODY_LABEL_PX at which no two names overlap in the plan view.
+
+    VTK drops a label that would overlap another, so names of bodies side by side (the 2x3
+    layout) must shrink rather than vanish; the letters are about 0.6 of the size wide.
+    """
+    size = float(_BODY_LABEL_PX)
+    for i in range(len(corners)):
+        for j in range(i + 1, len(corners)):
+            dx, dy = np.abs(corners[i, :2] - corners[j, :2]) * px_per_m
+            if dy >= 1.3 * size:
+                continue
+            width = 0.62 * max(len(names[i]), len(names[j])) + 1.0
+            size = min(size, max(dy / 1.3, dx / width))
+    return int(max(_MIN_BODY_LABEL_PX, size))
 
 
 def _draw_whole_flume(plotter, geo: _Geometry, scene: Scene, plan: ModelPlan) -> None:
     _add_common(plotter, geo, body_meshes=False, gauge_dots=True, line_scale=0.6)
     f = geo.flume_bounds
     step = _nice_step((f[1] - f[0]) / 8.0)
-    _scale_marks(plotter, f[0], f[1], f[2], step, 9)
+    _scale_marks(plotter, f[0], f[1], f[2], step, _TICK_PX)
     (dx0, dx1), _, _ = plan.domain_m
     text = (
         f"whole flume, x = {f[0]:.2f} .. {f[1]:.2f} m: simulated x = {dx0:.2f} .. {dx1:.2f} m "
         f"({-dx0:.2f} of {scene.reservoir.length_m:.2f} m of reservoir)"
     )
-    plotter.add_text(text, position="upper_left", font_size=8, color=COLOURS["text"])
+    plotter.add_text(text, position="upper_left", font_size=_CORNER_SIZE, color=COLOURS["text"])
     if dx0 - f[0] > 0.1 * (f[1] - f[0]):
         _labels(
             plotter, [(f[0] + 0.03 * (dx0 - f[0]), 0.0, scene.reservoir.depth_m)],
-            ["reservoir not simulated"], "#555555", 9, bold=False, shape=None,
+            ["reservoir not simulated"], "#555555", _TICK_PX, bold=False, shape=None,
         )
     _set_camera(plotter, (0.0, 0.0, 1.0), (0.0, 1.0, 0.0), f, row=2, margin=1.25)
 
@@ -404,6 +447,33 @@ def _scale_marks(plotter, x0: float, x1: float, y: float, step: float, font_size
         always_visible=True,
         justification_vertical="top",
     )
+
+
+def _y_marks(plotter, x: float, y0: float, y1: float, step: float, font_size: int) -> None:
+    """y labels at x = ``x`` every ``step`` metres between the walls, each right of its mark."""
+    first = math.ceil(y0 / step - 1e-9) * step
+    marks = np.arange(first, y1 + 1e-9, step)
+    if marks.size == 0:
+        return
+    points = np.column_stack([np.full(marks.size, x), marks, np.zeros(marks.size)])
+    plotter.add_point_labels(
+        points,
+        [f" y = {m:g} m" if abs(m) < 1e-9 else f" {m:g}" for m in marks],
+        font_size=font_size,
+        text_color="#555555",
+        bold=False,
+        show_points=True,
+        point_color="#555555",
+        point_size=4,
+        shape=None,
+        always_visible=True,
+        justification_vertical="center",
+    )
+
+
+def _view_aspect(row: int) -> float:
+    """Width over height of view ``row`` in pixels."""
+    return WINDOW_SIZE_PX[0] / (WINDOW_SIZE_PX[1] * _ROW_WEIGHTS[row] / sum(_ROW_WEIGHTS))
 
 
 def _nice_step(raw: float) -> float:

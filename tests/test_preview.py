@@ -149,3 +149,33 @@ def test_cli_preview_bad_override_exits_2(tmp_path):
     proc = run_cli("preview", "cases/1debris.yaml", "-o", str(tmp_path / "p.png"), "--set", "mesh.cell_size_m=-1")
     assert proc.returncode == 2
     assert "mesh.cell_size_m" in proc.stderr
+
+
+def test_labels_are_legible_and_the_plan_view_has_both_scales(monkeypatch, tmp_path):
+    """Every name and scale mark at a size that reads at 100 % (VTK sizes in pixels; the marks
+    were 9-10 px), x marks in the plan view and the whole-flume strip, y marks in the plan view,
+    and each of six bodies side by side named (numbered after the prefix they share)."""
+    import pyvista as pv
+
+    points, corner = [], []
+    add_point_labels, add_text = pv.Plotter.add_point_labels, pv.Plotter.add_text
+
+    def spy_points(self, pts, labels, *args, **kwargs):
+        points.append(([str(s).strip() for s in labels], kwargs.get("font_size")))
+        return add_point_labels(self, pts, labels, *args, **kwargs)
+
+    def spy_text(self, text, *args, **kwargs):
+        corner.append((text, kwargs.get("font_size")))
+        return add_text(self, text, *args, **kwargs)
+
+    monkeypatch.setattr(pv.Plotter, "add_point_labels", spy_points)
+    monkeypatch.setattr(pv.Plotter, "add_text", spy_text)
+    preview_scene_file(_scene_path("6debris-2x3"), tmp_path / "six.png")
+    assert points and corner
+    assert min(size for _, size in points) >= 12, points
+    assert min(size for _, size in corner) >= 10, corner
+    labels = [label for names, _ in points for label in names]
+    assert labels.count("x = 0 m") == 2, "x marks in the plan view and in the whole-flume strip"
+    assert "y = 0 m" in labels and any(label.startswith("-") for names, _ in points if "y = 0 m" in names
+                                       for label in names), "y marks on both sides of the centreline"
+    assert {"1", "2", "3", "4", "5", "6"} <= set(labels) and "debrisN = body N" in labels
