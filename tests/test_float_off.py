@@ -43,3 +43,38 @@ def test_a_resting_container_floats_up_to_its_draft(openfoam, tmp_path):
     assert z_max > z_eq + 0.5 * (z_eq - z0)
     assert (z0 + z_max) / 2 == pytest.approx(z_eq, abs=0.002)
     assert track["z_m"].iloc[-1] < z_max  # and is on its way back down by 0.25 s
+
+
+@pytest.mark.openfoam
+@pytest.mark.slow
+def test_a_container_kept_on_the_bed_is_raised_onto_its_gap_and_freed_once_the_water_can_lift_it(openfoam, tmp_path):
+    """The same container lying on the bed itself (its underside 5 mm below the gap's top, where the
+    body mesh's cells under it are overset holes and its underside pressure is stale) with the
+    runner's rest-on-bed constraint, under 50 mm of still water. The runner must raise it onto the
+    gap's top and hold it there once it measures the depth all round (50 mm > 5 + 26.3 + 5 mm), free
+    it once the water lifts it by its weight, and the container must then float up."""
+    from orchestrator import bodystate
+
+    case = tmp_path / "rest-off"
+    proc = run_cli("render", str(SCENE), "-o", str(case))
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    plan = json.loads((case / "plan.json").read_text())
+    gap, height = plan["bed_gap_m"], plan["bodies"][0]["size_m"][2]
+    start = bodystate.coefficient_states(case)[0]
+    x, y, z = start.centre_of_mass_m
+    bodystate.write_states(case, [start.with_changes(centre_of_mass_m=(x, y, z - gap))])  # on the bed
+    assert bodystate.rest_on_bed(case, ["debris1"]) == ["debris1"]
+    proc = run_cli("run", str(case))
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    record = json.loads((case / "run.json").read_text())
+    depth = pd.read_csv(case / "body_depth.csv")
+    kinds = depth.drop_duplicates("constraint")["constraint"].tolist()
+    assert kinds == ["rest", "hold", "free"]  # on the bed, then held on the gap, then free
+    assert len(record.get("freed", [])) == 1 and not record.get("bed_clamps")
+    track = pd.read_csv(case / "bodies.csv").drop_duplicates("time_s", keep="last")
+    bottom = track["z_m"] - height / 2
+    freed = record["freed"][0]["time_s"]
+    raised = depth[depth["constraint"] == "hold"]
+    assert raised["underside_m"].min() == pytest.approx(gap, abs=1e-6)  # raised onto the gap's top
+    assert bottom[track["time_s"] < raised["time_s"].min() - 1e-9].max() < 1e-6  # it lay on the bed till then
+    assert bottom[track["time_s"] > freed].max() > gap + 0.005  # and floats up once free
