@@ -5,7 +5,10 @@ The scene (tests/data/scenes/float-off.yaml) stands the seed's container (0.236 
 height where it displaces its own weight, overshoot it and come back (a lightly damped heave
 oscillation about that height). Before the planner left a gap under resting bodies
 (orchestrator/plan.py, BedGap), the underside carried a stale overset pressure: the container
-was pulled into the bed and the run diverged at 0.2 s.
+was pulled into the bed and the run diverged at 0.2 s. The second test lays the container on the
+bed itself, kept there by the runner's rest-on-bed constraint: the runner must raise it onto its
+gap and free it once it measures the water deep enough all round and lifting it
+(orchestrator/bedwatch.py).
 """
 
 from __future__ import annotations
