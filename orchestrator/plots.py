@@ -525,8 +525,9 @@ def figure_tracks(results, comp):
     plan_in = 3.0
     if xlim and ylim:  # the plan axes are about 6.8 in wide beside their legend
         plan_in = float(np.clip(6.8 * (ylim[1] - ylim[0]) / (xlim[1] - xlim[0]), 1.6, 6.5))
-    fig = plt.figure(figsize=(_WIDTH_IN, plan_in + 3.4), layout="constrained")
-    ax, axv = fig.subplots(2, 1, height_ratios=[plan_in + 0.7, 2.3])
+    speeds_in = 1.0 if bodies.empty else 2.3  # without tracks the lower panel only says why
+    fig = plt.figure(figsize=(_WIDTH_IN, plan_in + speeds_in + 1.1), layout="constrained")
+    ax, axv = fig.subplots(2, 1, height_ratios=[plan_in + 0.7, speeds_in])
     box = None
     if x_lo is not None:
         ax.add_patch(Rectangle((x_lo, y_lo), x_hi - x_lo, y_hi - y_lo, fill=False, lw=1.2, color="0.3",
@@ -556,8 +557,7 @@ def figure_tracks(results, comp):
                               "alpha": 0.8})
     if bodies.empty:
         why = "no debris in this scene" if scene is not None and not scene.debris else "no body tracks in this run"
-        ax.text(0.5, 0.92, why, transform=ax.transAxes, ha="center", fontsize=10)
-        _empty(axv, why)
+        _empty(axv, f"{why}: no tracks, no speeds")
     else:
         starts = []
         for body, track in bodies.groupby("body"):
