@@ -59,7 +59,9 @@ def _plot(path: Path, container_hist, kd_hist, held, kd_held) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(1, 5, figsize=(15, 3.6), gridspec_kw={"width_ratios": [2.2, 1, 1, 1, 1]})
+    fig = plt.figure(figsize=(10.5, 7.5))
+    grid = fig.add_gridspec(2, 4, height_ratios=[1.0, 1.1])
+    axes = [fig.add_subplot(grid[0, :])] + [fig.add_subplot(grid[1, i]) for i in range(4)]
     ax = axes[0]
     e = SEED_TABLE1_EVENT
     t = np.linspace(0.0, 8e-3, 801)
@@ -71,7 +73,7 @@ def _plot(path: Path, container_hist, kd_hist, held, kd_held) -> None:
     ax.set_xlabel("time from first contact (ms)")
     ax.set_ylabel("contact force (N)")
     ax.set_title(f"Table 1 event: {e.velocity_m_s} m/s, {e.height_m} m up", fontsize=10)
-    ax.legend(fontsize=8, loc="upper right")
+    ax.legend(fontsize=9, loc="upper right")
     for ax, (name, label, scale) in zip(axes[1:], _FIGURES):
         values = getattr(held, name) * scale
         rng = np.random.default_rng(0)
@@ -82,19 +84,22 @@ def _plot(path: Path, container_hist, kd_hist, held, kd_held) -> None:
             mean, std = (v * scale for v in SEED_TABLE2_MDOF[name])
             ax.errorbar([0], [mean], yerr=[[2 * std], [2 * std]], fmt="none", ecolor="0.6", capsize=4, lw=1)
             ax.errorbar([0], [mean], yerr=[std], fmt="ks", capsize=4, label="study: mean, 1 and 2 std")
-            ax.set_xticks([0, 1, 2], ["study", "container", "k_d"], fontsize=8)
+            ax.set_xticks([0, 1, 2], ["study", "container", "k_d"], fontsize=9)
             ax.set_xlim(-0.6, 2.6)
         else:
-            ax.set_xticks([1, 2], ["container", "k_d"], fontsize=8)
+            ax.set_xticks([1, 2], ["container", "k_d"], fontsize=9)
             ax.set_xlim(0.4, 2.6)
         ax.set_yscale("log")
+        ax.yaxis.set_major_locator(matplotlib.ticker.LogLocator(subs=(1.0, 2.0, 5.0)))
         ax.yaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
-        ax.yaxis.set_minor_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
-        ax.tick_params(axis="y", which="minor", labelsize=7)
+        ax.yaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
         ax.set_title(label, fontsize=10)
-    axes[1].legend(fontsize=7, loc="lower right")
-    fig.suptitle("Contact law: calibrated on Table 1, checked on 22 held-out strikes at 1.60 +- 0.13 m/s, "
-                 "0.16-0.50 m up (Table 2)", fontsize=10)
+    handles = [h for h in axes[1].get_legend_handles_labels()[0]]
+    axes[0].add_artist(axes[0].get_legend())
+    axes[0].legend(handles, [h.get_label() for h in handles], fontsize=9, loc="center right",
+                   title="bottom row", title_fontsize=9)
+    fig.suptitle("Contact law: calibrated on Table 1 (top), checked on 22 held-out strikes at 1.60 +- 0.13 m/s,\n"
+                 "0.16-0.50 m up, against the study's Table 2 (bottom)", fontsize=11)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
