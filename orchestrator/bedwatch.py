@@ -100,7 +100,7 @@ class BedWatch:
 
     case: Path
     bodies: dict[str, BodyAfloat]
-    grid: waterdepth.Grid | None
+    axis: waterdepth.ZAxis | None
     margin_m: float
     rho: float
     g: float
@@ -114,6 +114,8 @@ class BedWatch:
     last_sample_s: float = -math.inf
     gap_m: float = 0.0
     restart_s: float = 0.0
+    #: where each body's columns were placed (its centre's x, y at the restart)
+    placed: dict[str, tuple[float, float]] = field(default_factory=dict)
 
     @classmethod
     def for_case(cls, case: Path, margin_m: float, say: Callable[[str], None], friction: bool = True) -> "BedWatch":
@@ -135,17 +137,19 @@ class BedWatch:
             initial[b["name"]] = max((float(w["max_m"][2]) - float(w["min_m"][2]) for w in plan.get("water") or []
                                       if w["min_m"][0] <= x <= w["max_m"][0] and w["min_m"][1] <= y <= w["max_m"][1]),
                                      default=0.0)
-        grid = waterdepth.install(case) if bodies else None
+        axis = waterdepth.z_axis(plan, scene) if bodies else None
+        if axis is not None:
+            waterdepth.install(case, axis)  # the lift of every body; columns once a restart needs them
         bed_z = float(plan["domain_m"][2][0])
-        return cls(case, bodies, grid, margin_m, rho, g, bed_z, initial, say, friction,
+        return cls(case, bodies, axis, margin_m, rho, g, bed_z, initial, say, friction,
                    gap_m=float(plan.get("bed_gap_m") or 0.0))
 
     # ---- the measurement
     def depth(self, sample: waterdepth.Sample | None, state: BodyState) -> tuple[float, int] | None:
-        if sample is None or self.grid is None:
+        if sample is None or self.axis is None:
             return None
         body = self.bodies[state.name]
-        return waterdepth.depth_around(sample, self.grid.ring_m, state.centre_of_mass_m, state.orientation,
+        return waterdepth.depth_around(sample, self.axis.ring_m, state.centre_of_mass_m, state.orientation,
                                        body.size_m)
 
     def float_depth_m(self, state: BodyState) -> float:
@@ -182,7 +186,7 @@ class BedWatch:
         if not self.bodies:
             return [], list(states)
         now = bodystate.bed_constraints(self.case)
-        sample = waterdepth.read_at(self.case, self.grid, float(time_name)) if self.grid else None
+        sample = waterdepth.read_at(self.case, self.axis, float(time_name)) if self.axis else None
         freed, coeffs, out = [], {}, []
         for state in states:
             kind = now.get(state.name, "")
@@ -224,6 +228,14 @@ class BedWatch:
             self._record(float(time_name), state, measured, lift, kind, coeffs[state.name])
         bodystate.set_bed_friction(self.case, coeffs)
         self.constraints = now
+        # columns for the next segment around the bodies kept on the bed and those near it (a body
+        # closer to the bed than its own height may be put back on it; body_depth.csv records them)
+        near = [s for s in out if now.get(s.name) in ("hold", "rest")
+                or underside_m(s, self.bodies[s.name].size_m, self.bed_z) < self.bodies[s.name].size_m[2]]
+        if self.axis is not None:
+            waterdepth.install(self.case, self.axis, [(s.centre_of_mass_m, s.orientation, self.bodies[s.name].size_m)
+                                                      for s in near])
+        self.placed = {s.name: (float(s.centre_of_mass_m[0]), float(s.centre_of_mass_m[1])) for s in near}
         return freed, out
 
     # ---- while the solver runs
@@ -238,9 +250,12 @@ class BedWatch:
                 if not speed0 / FRICTION_BAND <= speed <= speed0 * FRICTION_BAND:
                     return (f"{state.name} slides at {speed:.3g} m/s, its bed friction was set for "
                             f"{speed0:.3g} m/s")
-        if self.grid is None:
+        for state in states:
+            if self.constraints.get(state.name) in ("hold", "rest") and not self._covered(state):
+                return f"{state.name} slid off the water columns placed around it"
+        if self.axis is None or not self.placed:
             return None
-        sample = waterdepth.read_latest(self.case, self.grid, after_s=self.last_sample_s)
+        sample = waterdepth.read_latest(self.case, self.axis, after_s=self.last_sample_s)
         if sample is None:
             return None
         self.last_sample_s = sample.time_s
@@ -248,7 +263,7 @@ class BedWatch:
         why = None
         for state in states:
             kind = self.constraints.get(state.name, "")
-            measured = self.depth(sample, state)
+            measured = self.depth(sample, state) if self._covered(state) else None
             lift = self.lift_N(state.name)
             self._record(sample.time_s, state, measured, lift, kind, None)
             deep = measured is not None and measured[0] > self.float_depth_m(state)
@@ -257,6 +272,12 @@ class BedWatch:
                        f"it floats in {self.float_depth_m(state) * 1000:.1f} mm" + (
                            "" if lift is None else f"; the water pushes it up by {lift:.3g} N"))
         return why
+
+    def _covered(self, state: BodyState) -> bool:
+        """The columns placed at the last restart still ring the body."""
+        placed = self.placed.get(state.name)
+        return (placed is not None and self.axis is not None
+                and math.dist(placed, state.centre_of_mass_m[:2]) <= waterdepth.TRAVEL_CELLS * self.axis.cell_m)
 
     def _record(self, t: float, state: BodyState, measured: tuple[float, int] | None, lift: float | None,
                 kind: str, coeff: float | None) -> None:

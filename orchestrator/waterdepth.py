@@ -4,30 +4,34 @@ The runner frees a body it keeps on the bed (the planner's initial hold, `rest_o
 the water *measured* around it can carry it, and sets the bed friction of a resting body from
 the weight the water does not carry. Both read this module's measurement:
 
-- `install(case)` writes `system/bodyDepth`, a `sets` function object with one `cloud` set:
-  vertical columns of points on a regular grid (`COLUMN_SPACING_CELLS` background cells
-  apart, wider if that would make more than `MAX_COLUMNS`) covering the flume from the most upstream body's tail to the domain's downstream end,
-  the full width, from the bed to the highest still water (the reservoir) plus a cell, every
-  `POINT_SPACING_CELLS` of a background cell. `#include "bodyDepth"` goes into controlDict's
-  `functions`. It samples `alpha.water` (the containing cell's value, `cell`: the
-  sum over a column is then the water volume of its cells per unit area; `cellPoint` smeared the
-  15 mm wet bed's surface into a 4 cm cell and read it 19.5-20 mm) every `SAMPLE_INTERVAL_S` of simulated
-  time into `postProcessing/bodyDepth/<time>/depth_alpha.water.xy` (x y z alpha). A point
-  in two meshes is sampled in the first one found, the background (merged first); points in
-  no cell (inside the column) are left out by OpenFOAM.
-- `read_latest(case)` reads the newest complete sample: each column's water depth, the sum
-  of alpha times the point spacing.
-- `depth_around(sample, state, size)`: the depth all around a body, the `DEPTH_QUANTILE` (10 %)
+- `install(case, axis, around)` writes `system/bodyDepth`, included once in controlDict's
+  `functions`: a `forces` function object on every body's wall (`lift_<body>`, every step: the
+  runner reads its vertical part, `read_lift`), and, when bodies are on or near the bed (kept
+  there by the runner, or with their underside less than their height above it), a `sets`
+  function object with one `cloud` set: vertical columns a background cell apart around those
+  bodies (the ring read around each, widened by `TRAVEL_CELLS` both ways), one point per
+  background cell layer (`ZAxis`) from the bed to the highest still water plus a cell. The runner
+  writes it at every restart (the solver reads it when it starts). It samples `alpha.water` (the
+  containing cell's value, `interpolationScheme cell`: the sum of alpha times the layer heights
+  is the water volume of the column's cells per unit area; `cellPoint` smeared the 15 mm wet
+  bed's surface into the 4 cm cell above it and read 19.5-20 mm) every `SAMPLE_INTERVAL_S` of
+  simulated time into `postProcessing/bodyDepth/<time>/depth_alpha.water.xy` (x y z alpha). A
+  point in two meshes is sampled in the first one found, the background (merged first); points
+  in no cell (inside the column) are left out by OpenFOAM.
+- `read_latest` / `read_at` read a sample: each column's water depth.
+- `depth_around(sample, ring, ...)`: the depth all around a body, the `DEPTH_QUANTILE` (10 %)
   quantile over the columns whose horizontal distance from the body's footprint lies between one
-  background cell plus `RING_SPACINGS` column spacings (a median reads deep water while a bore's
-  front stands at the body's middle). The
-  inner limit keeps the ring off the background cells that the body's overset cuts as holes
-  (they keep stale values: docs/openfoam-notes.md, "A gauge line through an overset region").
+  background cell and `RING_CELLS` more (a median reads deep water while a bore's front stands at
+  the body's middle). The inner limit keeps the ring off the background cells that the body's
+  overset cuts as holes (they keep stale values: docs/openfoam-notes.md, "A gauge line through an
+  overset region").
 
-Cost: on the tiny flume (360 columns of 36 points) the runs took no longer than without it as
-far as the shared machine shows. On the seed's flume at 4 cm cells the grid is 1,500 columns of
-55 points (82,500 points, about 3 MB a sample; not timed there); every sample is a new file, and
-`prune` keeps only the newest `KEEP_SAMPLES` while the run goes on.
+Cost: v1912's `sets` searches every point's cell again whenever the mesh moves, i.e. at every
+time step of an overset run, whatever its write interval. A grid over the whole tiny flume (380
+columns of 25 points, 7,000 cells) made its steps 2.5 times slower (0.27-0.36 s against 0.13-0.14 s
+of CPU; 23.3 s against 9.1 s for 0.2 s); hence columns only around the bodies on or near the bed,
+one point per layer, and none while every body is clear of it. Every sample is a new file; `prune` keeps the newest
+`KEEP_SAMPLES`.
 """
 
 from __future__ import annotations
@@ -45,15 +49,12 @@ import numpy as np
 NAME = "bodyDepth"
 #: simulated seconds between samples (the runner acts on the newest one)
 SAMPLE_INTERVAL_S = 0.01
-#: columns this many background cells apart, in x and in y, or wider so that there are at most
-#: MAX_COLUMNS of them (the seed's flume at 4 cm: 2,997 columns at one cell, 1,500 at 1.41 cells)
-COLUMN_SPACING_CELLS = 1.0
-MAX_COLUMNS = 1500
-#: points this fraction of a background cell apart along each column
-POINT_SPACING_CELLS = 0.2
-#: the ring of columns read around a body: from one background cell off its footprint to that plus
-#: this many column spacings
-RING_SPACINGS = 1.5
+#: the ring of columns read around a body: from one background cell off its footprint to this many
+#: more
+RING_CELLS = 1.5
+#: the columns reach this many background cells beyond the ring both ways; a body that slides
+#: farther from where they were placed stops the solver so that the restart places them again
+TRAVEL_CELLS = 1.5
 #: the depth around a body is this quantile of its ring's columns: the water must be deep all round
 #: it. The median read 73-78 mm around the float-carry container while the bore's front stood
 #: at its middle, 15 mm of wet bed still under its downstream half (docs/stability.md)
@@ -69,23 +70,34 @@ KEEP_SAMPLES = 10
 
 
 @dataclass(frozen=True)
-class Grid:
-    """The sampled columns: their (x, y), the point heights, the background cell size, the columns' spacing."""
+class ZAxis:
+    """The background's cell layers from the bed up to the highest still water plus a cell: each
+    layer's centre and height. A column samples one point per layer, so its depth is the water
+    volume of its cells per unit area."""
 
-    xy: np.ndarray  # (n, 2)
-    z: np.ndarray  # (k,)
-    dz: float
-    cell_m: float
-    spacing_m: float = 0.0
+    z: np.ndarray  # (k,) centres
+    dz: np.ndarray  # (k,) heights
+    cell_m: float  # the background's cell size (mesh.cell_size_m)
 
     @property
     def ring_m(self) -> tuple[float, float]:
         """The ring of columns read around a body: its inner and outer distance from the footprint."""
-        return self.cell_m, self.cell_m + RING_SPACINGS * (self.spacing_m or self.cell_m)
+        return self.cell_m, (1.0 + RING_CELLS) * self.cell_m
+
+    def layer(self, z: np.ndarray) -> np.ndarray:
+        return np.clip(np.searchsorted(self.z[:-1] + 0.5 * np.diff(self.z), z), 0, len(self.z) - 1)
+
+
+@dataclass(frozen=True)
+class Grid:
+    """The sampled columns (x, y) and their layers."""
+
+    xy: np.ndarray  # (n, 2)
+    axis: ZAxis
 
     def points(self) -> np.ndarray:
-        xy = np.repeat(self.xy, len(self.z), axis=0)
-        z = np.tile(self.z, len(self.xy))
+        xy = np.repeat(self.xy, len(self.axis.z), axis=0)
+        z = np.tile(self.axis.z, len(self.xy))
         return np.column_stack([xy, z])
 
 
@@ -104,24 +116,48 @@ def _scene(case: Path) -> dict[str, Any]:
     return yaml.safe_load((case / "scene.yaml").read_text())
 
 
-def grid_for(plan: dict[str, Any], scene: dict[str, Any]) -> Grid | None:
-    """The columns for a case's plan.json and resolved scene.yaml (None without bodies)."""
-    bodies = plan.get("bodies") or []
-    if not bodies:
-        return None
-    (x0, x1), (y0, y1), (z0, z1) = (tuple(float(v) for v in a) for a in plan["domain_m"])
+def z_axis(plan: dict[str, Any], scene: dict[str, Any]) -> ZAxis:
+    """The background's layers up to the highest still water (the reservoir) plus a cell."""
+    from orchestrator.grid import Segment
+
     h = float(scene["mesh"]["cell_size_m"])
-    tail = min(float(b["centre_of_mass_m"][0]) - max(float(s) for s in b["size_m"]) for b in bodies)
-    start = max(x0, tail - 2 * h)
-    step = max(COLUMN_SPACING_CELLS * h, math.sqrt((x1 - start) * (y1 - y0) / MAX_COLUMNS))
-    xs = np.arange(start + step / 2, x1 - 1e-3 * h, step)
-    ys = np.arange(y0 + step / 2, y1 - 1e-3 * h, step)
-    water_top = max((float(w["max_m"][2]) for w in plan.get("water") or []), default=z1 - z0)
-    dz = POINT_SPACING_CELLS * h
-    top = min(z1, water_top + h)
-    zs = np.arange(z0 + dz / 2, top, dz)
-    xy = np.array([(x, y) for x in xs for y in ys], dtype=float)
-    return Grid(xy, zs, dz, h, step)
+    (z0, z1) = (float(v) for v in plan["domain_m"][2])
+    water_top = max((float(w["max_m"][2]) for w in plan.get("water") or []), default=z1)
+    planes = {round(z0, 12)}
+    for seg in plan["background"]["z"]:
+        start, end, n = float(seg["start_m"]), float(seg["end_m"]), int(seg["cells"])
+        first, last = Segment(start, end, n, float(seg.get("grading", 1.0))).cell_sizes_m()
+        q = (last / first) ** (1.0 / (n - 1)) if n > 1 else 1.0
+        sizes = first * q ** np.arange(n)  # blockMesh's geometric progression
+        planes.update(round(v, 12) for v in start + np.cumsum(sizes) * (end - start) / sizes.sum())
+    planes = np.array(sorted(planes))
+    top = np.searchsorted(planes, min(water_top + h, z1) - 1e-9) + 1
+    planes = planes[: max(2, top + 1)]
+    return ZAxis(0.5 * (planes[1:] + planes[:-1]), np.diff(planes), h)
+
+
+def grid_for(plan: dict[str, Any], axis: ZAxis,
+             around: Sequence[tuple[Sequence[float], Sequence[float], Sequence[float]]]) -> Grid:
+    """Columns a background cell apart around the bodies `around` ((centre, orientation, size) each):
+    the ring `axis.ring_m` off each footprint, widened by `TRAVEL_CELLS` both ways so that it still
+    covers the ring of a body that has slid that far."""
+    (x0, x1), (y0, y1), _ = (tuple(float(v) for v in a) for a in plan["domain_m"])
+    h = axis.cell_m
+    inner, outer = axis.ring_m
+    travel = TRAVEL_CELLS * h
+    cols: set[tuple[int, int]] = set()
+    for centre, orientation, size in around:
+        reach = outer + travel + 0.5 * math.hypot(size[0], size[1])
+        ix = np.arange(math.floor((centre[0] - reach - x0) / h), math.ceil((centre[0] + reach - x0) / h) + 1)
+        iy = np.arange(math.floor((centre[1] - reach - y0) / h), math.ceil((centre[1] + reach - y0) / h) + 1)
+        gx, gy = np.meshgrid(ix, iy, indexing="ij")
+        xy = np.column_stack([x0 + (gx.ravel() + 0.5) * h, y0 + (gy.ravel() + 0.5) * h])
+        d = footprint_distance(xy, centre, orientation, size)
+        keep = ((d >= inner - travel) & (d <= outer + travel) & (xy[:, 0] > x0) & (xy[:, 0] < x1)
+                & (xy[:, 1] > y0) & (xy[:, 1] < y1))
+        cols.update(zip(gx.ravel()[keep].tolist(), gy.ravel()[keep].tolist()))
+    ij = np.array(sorted(cols), dtype=float).reshape(-1, 2)
+    return Grid(np.column_stack([x0 + (ij[:, 0] + 0.5) * h, y0 + (ij[:, 1] + 0.5) * h]), axis)
 
 
 def _lift_object(body: str) -> str:
@@ -140,45 +176,45 @@ def _lift_object(body: str) -> str:
 
 
 def _function_object(grid: Grid, bodies: Sequence[str] = ()) -> str:
-    pts = "\n".join(f"                ({x:.6g} {y:.6g} {z:.6g})" for x, y, z in grid.points())
     lifts = "".join(_lift_object(b) for b in bodies)
-    return (
-        "// written by the runner (orchestrator/waterdepth.py): alpha.water on vertical columns, for the\n"
-        "// water depth around each body (when a body on the bed can float, its bed friction)\n"
-        f"{NAME}\n{{\n"
-        "    type            sets;\n"
-        "    libs            (sampling);\n"
-        "    writeControl    runTime;\n"
-        f"    writeInterval   {SAMPLE_INTERVAL_S:g};\n"
-        "    setFormat       raw;\n"
-        "    interpolationScheme cell;\n"
-        "    fields          (alpha.water);\n"
-        "    sets\n    (\n"
-        "        depth\n        {\n"
-        "            type    cloud;\n"
-        "            axis    xyz;\n"
-        "            points\n            (\n"
-        f"{pts}\n"
-        "            );\n"
-        "        }\n"
-        "    );\n"
-        "}\n"
-        "// the fluid force on each body's wall, every time step (the runner reads its vertical part)\n"
-        f"{lifts}"
-    )
+    text = ("// written by the runner (orchestrator/waterdepth.py) at every restart: alpha.water on vertical\n"
+            "// columns around the bodies it keeps on the bed, and the fluid force on every body\n")
+    if len(grid.xy):
+        pts = "\n".join(f"                ({x:.6g} {y:.6g} {z:.6g})" for x, y, z in grid.points())
+        text += (
+            f"{NAME}\n{{\n"
+            "    type            sets;\n"
+            "    libs            (sampling);\n"
+            "    writeControl    runTime;\n"
+            f"    writeInterval   {SAMPLE_INTERVAL_S:g};\n"
+            "    setFormat       raw;\n"
+            "    interpolationScheme cell;\n"
+            "    fields          (alpha.water);\n"
+            "    sets\n    (\n"
+            "        depth\n        {\n"
+            "            type    cloud;\n"
+            "            axis    xyz;\n"
+            "            points\n            (\n"
+            f"{pts}\n"
+            "            );\n"
+            "        }\n"
+            "    );\n"
+            "}\n"
+        )
+    return text + lifts
 
 
-def install(case_dir: str | Path) -> Grid | None:
-    """Write system/bodyDepth and include it in controlDict's functions (once). Returns the grid."""
-    case = Path(case_dir)
+def install(case_dir: str | Path, axis: ZAxis,
+            around: Sequence[tuple[Sequence[float], Sequence[float], Sequence[float]]] = ()) -> Grid:
+    """Write system/bodyDepth (the columns around the bodies `around`, the lift of every body) and
+    include it in controlDict's functions (once). The solver reads it when it (re)starts."""
     import json
 
+    case = Path(case_dir)
     plan = json.loads((case / "plan.json").read_text())
-    grid = grid_for(plan, _scene(case))
-    if grid is None:
-        return None
+    grid = grid_for(plan, axis, around)
     path = case / "system" / NAME
-    text = _function_object(grid, [b["name"] for b in plan["bodies"]])
+    text = _function_object(grid, [b["name"] for b in plan.get("bodies") or []])
     if not path.is_file() or path.read_text() != text:
         path.write_text(text)
     control = case / "system" / "controlDict"
@@ -204,7 +240,7 @@ def _sample_dirs(case: Path) -> list[tuple[float, Path]]:
     return sorted(out)
 
 
-def read_sample(path: Path, grid: Grid, time_s: float) -> Sample | None:
+def read_sample(path: Path, axis: ZAxis, time_s: float) -> Sample | None:
     """One sample folder's column depths; None if its file is missing or being written."""
     f = path / "depth_alpha.water.xy"
     try:
@@ -213,25 +249,26 @@ def read_sample(path: Path, grid: Grid, time_s: float) -> Sample | None:
         return None
     if data.size == 0 or data.shape[1] < 4:
         return None
-    # the columns' points are written in order; a point outside the mesh is left out
-    keys = np.round(data[:, :2] / (0.01 * grid.cell_m)).astype(np.int64)
+    # one point per layer; a point outside the mesh (inside the column) is left out
+    keys = np.round(data[:, :2] / (0.01 * axis.cell_m)).astype(np.int64)
     uniq, inverse = np.unique(keys, axis=0, return_inverse=True)
-    depth = np.bincount(inverse.ravel(), weights=np.clip(data[:, 3], 0.0, 1.0)) * grid.dz
-    return Sample(time_s, uniq * 0.01 * grid.cell_m, depth)
+    weights = np.clip(data[:, 3], 0.0, 1.0) * axis.dz[axis.layer(data[:, 2])]
+    depth = np.bincount(inverse.ravel(), weights=weights)
+    return Sample(time_s, uniq * 0.01 * axis.cell_m, depth)
 
 
-def read_latest(case_dir: str | Path, grid: Grid, after_s: float = -math.inf) -> Sample | None:
+def read_latest(case_dir: str | Path, axis: ZAxis, after_s: float = -math.inf) -> Sample | None:
     """The newest complete sample later than `after_s` (None if none)."""
     for t, path in reversed(_sample_dirs(Path(case_dir))):
         if t <= after_s:
             return None
-        sample = read_sample(path, grid, t)
+        sample = read_sample(path, axis, t)
         if sample is not None:
             return sample
     return None
 
 
-def read_at(case_dir: str | Path, grid: Grid, time_s: float, tolerance_s: float | None = None) -> Sample | None:
+def read_at(case_dir: str | Path, axis: ZAxis, time_s: float, tolerance_s: float | None = None) -> Sample | None:
     """The newest sample at or before `time_s` (within `tolerance_s`, default one sample interval)."""
     tol = SAMPLE_INTERVAL_S * 1.01 if tolerance_s is None else tolerance_s
     for t, path in reversed(_sample_dirs(Path(case_dir))):
@@ -239,7 +276,7 @@ def read_at(case_dir: str | Path, grid: Grid, time_s: float, tolerance_s: float 
             continue
         if t < time_s - tol:
             return None
-        sample = read_sample(path, grid, t)
+        sample = read_sample(path, axis, t)
         if sample is not None:
             return sample
     return None

@@ -48,14 +48,28 @@ def test_the_depth_around_a_body_is_the_water_all_round_it():
     assert waterdepth.depth_around(inside, RING, centre, rot, SIZE)[0] == pytest.approx(0.05)
 
 
-def test_the_sampled_columns_cover_the_flume_from_the_body_down(case):
+def test_the_columns_ring_the_bodies_kept_on_the_bed_one_point_per_layer(case):
     plan = json.loads((case / "plan.json").read_text())
-    grid = waterdepth.install(case)
-    assert grid.xy[:, 0].min() < 0.3 - 0.075 and grid.xy[:, 0].max() > plan["domain_m"][0][1] - 0.04
-    assert grid.z.max() > max(w["max_m"][2] for w in plan["water"])  # up to the reservoir's level
+    axis = waterdepth.z_axis(plan, waterdepth._scene(case))
+    assert axis.z.max() > max(w["max_m"][2] for w in plan["water"])  # up to the reservoir's level
+    assert axis.dz[:4] == pytest.approx([plan["bed_gap_m"] / 4] * 4)  # the gap's four layers
+    # a still 25 mm wet bed read through its layers: exactly 25 mm
+    wet = axis.z < 0.025
+    assert float(axis.dz[wet].sum()) == pytest.approx(0.025)
+    grid = waterdepth.install(case, axis)  # every body free: no columns, only the lift
+    assert len(grid.xy) == 0 and "cloud" not in (case / "system" / "bodyDepth").read_text()
+    centre = (0.3, 0.0, 0.0375)
+    grid = waterdepth.install(case, axis, [(centre, np.eye(3), SIZE)])
+    d = waterdepth.footprint_distance(grid.xy, centre, np.eye(3), SIZE)
+    inner, outer = axis.ring_m
+    travel = waterdepth.TRAVEL_CELLS * axis.cell_m
+    assert d.min() >= inner - travel - 1e-9 and d.max() <= outer + travel + 1e-9
+    assert 30 < len(grid.xy) < 200
+    text = (case / "system" / "bodyDepth").read_text()
+    assert "cloud" in text and "lift_debris1" in text
     control = (case / "system" / "controlDict").read_text()
     assert control.count('#include "bodyDepth"') == 1
-    waterdepth.install(case)  # once only
+    waterdepth.install(case, axis)  # once only
     assert (case / "system" / "controlDict").read_text().count('#include "bodyDepth"') == 1
 
 
