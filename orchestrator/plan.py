@@ -1085,14 +1085,19 @@ def _decompose(cores, background, bodies, body_boxes, travel_end, tan_spread, fi
 
 
 def _hold_until_s(scene, body, gap_m: float = 0.0) -> float:
-    """When a body resting on the bed should be released (s; 0 = it floats from the start).
+    """When a body resting on the bed should float off (s; 0 = it floats from the start): an estimate.
 
-    The body is released once the dam-break depth at its centre reaches its draft (its
+    The runner frees a held body on what it measures (the depth all round the body and the
+    fluid's lift on it, orchestrator/bedwatch.py); this estimate says when the bore should let it,
+    and whether the body is held at all. The estimate is the time the dam-break depth at its
+    centre reaches its draft (its
     mass over the water displaced per metre of immersion by its footprint) plus ``gap_m``,
     the gap it stands on (BedGap). The depth
     is the analytical dry-bed solution: Chanson with the scene's friction factor, or
     Ritter without friction; the thin wet bed is neglected (it only makes the release
-    earlier). Bodies behind the gate (x < 0) float or not at once: no hold when the
+    earlier). The simulated bore can be later: over a 15 mm wet bed its steep front reached
+    the far end of a container 0.4 m from the gate after 0.35 s, where Ritter's depth reached
+    draft plus gap at 0.285 s (docs/stability.md). Bodies behind the gate (x < 0) float or not at once: no hold when the
     still water already floats them. Capped at the end time (held throughout).
     """
     from analytical.dambreak import dam_break
