@@ -96,6 +96,7 @@ contact-law: venv
 
 bench: venv
 	$(PY) benchmarks/bench_analytical.py
+	$(PY) benchmarks/bench_preview.py
 
 clean:
 	rm -rf $(VENV) .pytest_cache build *.egg-info

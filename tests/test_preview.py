@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import time
 from pathlib import Path
 
 import numpy as np
@@ -36,14 +35,10 @@ def _debris_pixels(rgb: np.ndarray) -> int:
 
 @pytest.fixture(scope="module")
 def images(tmp_path_factory) -> dict[str, Path]:
-    """Each shipped case drawn once (into a folder that does not exist yet), with its draw time."""
+    """Each shipped case drawn once (into a folder that does not exist yet). Its draw time is a
+    benchmark (benchmarks/bench_preview.py), not a test."""
     out = tmp_path_factory.mktemp("preview")
-    made = {}
-    for name in CASES:
-        start = time.perf_counter()
-        made[name] = preview_scene_file(_scene_path(name), out / "new" / "folder" / f"{name}.png", [])
-        made[name + ":seconds"] = time.perf_counter() - start
-    return made
+    return {name: preview_scene_file(_scene_path(name), out / "new" / "folder" / f"{name}.png", []) for name in CASES}
 
 
 @pytest.mark.parametrize("name", CASES)
@@ -83,13 +78,6 @@ def test_images_differ_between_scenes(images):
     a, b = _pixels(images["nodebris"]), _pixels(images["6debris-2x3"])
     changed = float((np.abs(a - b).max(axis=-1) > 30).mean())
     assert changed > 0.01, f"only {changed:.2%} of the pixels differ"
-
-
-def test_preview_is_fast(images):
-    # DESIGN target: < 5 s per preview (measured about 0.8 s here, 2.5 s for the first
-    # one in a process, which loads VTK); the bound is loose for a busy machine
-    worst = max(images[name + ":seconds"] for name in CASES)
-    assert worst < 10.0, f"slowest preview took {worst:.1f} s"
 
 
 def test_preview_scene_from_a_plan_makes_the_folder(tmp_path):
