@@ -8,7 +8,9 @@ the 5 mm margin and the water pushes it up by its weight (orchestrator.bedwatch)
 The outcome the issue names: while the depth at it exceeds its draft by 10 mm, its bottom stays at
 least 5 mm above the bed; and it rises off the gap it stood on. Released at the planner's time
 instead (Ritter's depth reaching draft plus gap), containers sank through the gap onto the bed and
-stayed there (docs/stability.md, "Free floating").
+stayed there (docs/stability.md, "Why a released container sank back"). The scene's 1-cell body
+margin keeps the test under 3 minutes, but is too thin for the flow to carry the floating body
+downstream; with the default 3-cell margin it was carried at 0.75 m/s (7.8 min, docs/stability.md).
 """
 
 from __future__ import annotations
