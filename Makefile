@@ -45,6 +45,7 @@ openfoam:
 	fi
 
 test: venv openfoam
+	$(VENV)/bin/ruff check .
 	$(PY) -m pytest -q
 
 test-fast: venv
