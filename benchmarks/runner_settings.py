@@ -9,7 +9,7 @@ smallest side, a 3-cell margin) and debris scenes run at maxCo 2.5 (v1912's over
 number counts hole/fringe faces). Each setting changes the rendered case before the run:
 
 - overset interpolation (fvSchemes oversetInterpolation method): cellVolumeWeight or
-  inverseDistance (trackingInverseDistance crashes in parallel, DESIGN.md 3);
+  inverseDistance (trackingInverseDistance crashes in parallel: docs/openfoam-notes.md);
 - PIMPLE nOuterCorrectors / nCorrectors;
 - p_rgh tolerance / relTol and p_rghFinal relTol (PBiCGStab + DILU; GAMG fails with overset);
 - body mesh size (scene mesh.body_cells_across: cells across the body's smallest side);
@@ -457,7 +457,7 @@ def main() -> None:
         "",
         "Settings: `reference` is the most careful; `default` is what the templates render for overInterDyMFoam "
         f"(`Numerics.for_solver`) at the debris scenes' maxCo {SCENE['run']['max_courant']:g}; every other setting "
-        "is `default` with one lever changed (`corr1` is the default before session 3, which created water), "
+        "is `default` with one lever changed (`corr1`, one pressure corrector, creates water: docs/openfoam-notes.md, \"Pressure and flux\"), "
         "and each `ref-*` setting is `reference` with one lever made cheaper."
         + (" " + note if note else ""),
         "",
