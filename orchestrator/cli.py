@@ -1,6 +1,6 @@
 """The `debrisfoam` command line.
 
-Exit codes (DESIGN.md section 6): 0 success; 2 bad input (the message names the
+Exit codes (as in the README): 0 success; 2 bad input (the message names the
 file and the field); 1 anything else, with a message saying what failed and where
 its log is. `--debug` re-raises instead, for a full traceback.
 

@@ -1,7 +1,7 @@
 """Debris contact: geometry, event detection and resolution (no OpenFOAM here).
 
 OpenFOAM v1912 has no contact: a body on an overset mesh passes through the column and the
-walls silently (DESIGN.md sections 3-4). The runner watches every body's pose from the
+walls silently (docs/openfoam-notes.md, "Contact: v1912 has none"). The runner watches every body's pose from the
 solver's per-step report and uses this module to
 
 * build the obstacles of a scene (:func:`scene_obstacles`): the column as an axis-aligned

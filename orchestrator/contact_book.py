@@ -109,7 +109,7 @@ class ContactSettings:
     adjust_phi_when_pinned: once every body is pinned, switch the overset flux adjustment
         on (PIMPLE `oversetAdjustPhi yes` in system/fvSolution) for the rest of the run. A
         pinned body loses water into the background's fringe at about 1 % a second; the
-        adjustment cut that to 0.4-0.5 % (docs/openfoam-notes.md, sessions 9 and 10). It stays off while
+        adjustment cut that to 0.4-0.5 % (docs/openfoam-notes.md, "Water balance"). It stays off while
         any body moves: around a body sliding fast along the bed it created water.
     """
 

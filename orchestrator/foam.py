@@ -58,7 +58,7 @@ class StepError(DebrisfoamError):
 
 
 def foam_env(base: dict[str, str] | None = None) -> dict[str, str]:
-    """The environment OpenFOAM v1912 needs here (DESIGN.md section 3).
+    """The environment OpenFOAM v1912 needs here (docs/openfoam-notes.md, "Environment").
 
     WM_PROJECT_DIR for the etc/ files (caseDicts, controlDict); mpirun as root
     needs the two OMPI_ALLOW_RUN_AS_ROOT variables. `base` defaults to os.environ.

@@ -7,7 +7,8 @@ there. Faces between a calculated cell (0) and a fringe cell keep their flux (th
 is lost to the mesh and what leaves one is created. The water balance of the background
 (:func:`orchestrator.post.read_water_balance`) changes at exactly the background's net
 inflow into its fringe, apart from the water held in its fringe and hole cells changing
-(small once the bodies stop). docs/openfoam-notes.md (session 9) has the measurement that
+(small once the bodies stop). docs/openfoam-notes.md ("Water balance: where the overset loses
+water") has the measurement that
 tied the two together on `make case-1debris`.
 
 :func:`fringe_flux` reads one written (reconstructed) time: ``cellTypes``, ``zoneID``,

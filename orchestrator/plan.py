@@ -61,17 +61,17 @@ __all__ = [
 
 #: Multiplier on the simulated time when sizing the domain (10 % margin).
 SAFETY = 1.10
-#: Wall time per cell per time step on 2 cores (s), DESIGN.md section 3: interFoam
+#: Wall time per cell per time step on 2 cores (s; docs/openfoam-notes.md, "Cost"): interFoam
 #: 2-5 us (mid value). overInterDyMFoam measured on the seed's 1-debris scene at 4 cm
 #: (111k cells, 3,760 of them the body's): 374 steps to t = 1.19 s in 413 s of solver CPU,
-#: 10 us per cell-step (5.9 us with the coarser 1,280-cell body mesh of session 1).
+#: 10 us per cell-step (5.9 us with a coarser 1,280-cell body mesh).
 US_PER_CELL_STEP = {"interFoam": 3.5e-6, "overInterDyMFoam": 10.0e-6}
 #: Cores at which US_PER_CELL_STEP was measured.
 _MEASURED_CORES = 2
 #: Measured time steps over the steps the Courant limit at Ritter's front speed predicts
 #: (run.max_courant x smallest horizontal cell / 2 sqrt(g h0)), where maxDeltaT does not bind.
 #: interFoam: 1.11 and 1.39 (the no-debris mesh study at 4 and 3 cm, README). overInterDyMFoam:
-#: 2.3-4.3, median 2.8, over the six debris hard cases of docs/stability.md (session 3-4 runs):
+#: 2.3-4.3, median 2.8, over six debris hard cases of docs/stability.md (runs before the gap under resting bodies):
 #: v1912 counts hole and fringe faces in its Courant number, and the flow past a body is
 #: faster than the front. Before this factor the planner's debris estimates were 3-4x short.
 STEP_FACTOR = {"interFoam": 1.25, "overInterDyMFoam": 2.8}
@@ -893,7 +893,7 @@ def plan_case(scene: Scene) -> ModelPlan:
     )
     reasons["bed_friction"] = (
         f"Darcy f = {scene.bed.friction_factor:g} as a drag rho (f/8)|U|U on the first cell layer above the bed: "
-        "without friction the front arrives 15-30 % early (DESIGN.md section 3); the drag is multiplied by "
+        "without friction the front arrives 15-30 % early (docs/openfoam-notes.md); the drag is multiplied by "
         f"bed.friction_calibration = {scene.bed.friction_calibration:g}, calibrated against Chanson's arrival "
         "times (docs/bed-friction.md)"
     )
@@ -986,7 +986,7 @@ def estimated_steps(plan: ModelPlan) -> int:
 
 
 def estimate_wall_time_s(plan: ModelPlan) -> float:
-    """Solver wall time (s): cells x steps x DESIGN.md section 3's per-cell-step cost.
+    """Solver wall time (s): cells x steps x the measured per-cell-step cost (US_PER_CELL_STEP).
 
     Steps = end time / the plan's time-step estimate (with STEP_FACTOR); the cost per cell-step was
     measured on 2 cores and is scaled as 2 / cores (ideal speed-up, optimistic above 2).
@@ -1077,7 +1077,7 @@ def _decompose(cores, background, bodies, body_boxes, travel_end, tan_spread, fi
             f": every body mesh on one rank (decomposePar's preserveFaceZones constraint); "
             f"{len(bodies) - split_now} of {len(bodies)} body meshes start clear of the balanced cuts and "
             f"{len(bodies) - split_path} keep their path to the column on one rank (a split body mesh costs about 19 % "
-            "per step, DESIGN.md section 3)"
+            "per step, docs/openfoam-notes.md)"
         )
     else:
         text += ": the smallest processor boundary"

@@ -18,7 +18,7 @@ orientation) with the outline of its overset mesh, the gauges (green vertical li
 fine-mesh region (orange outline), and a text block with the plan's headline (solver, 2D or
 3D, cell count, estimated wall time). :func:`preview_scene_file` loads, plans and draws.
 
-Coordinates as everywhere (DESIGN.md section 2): x along the flume, 0 at the gate; y across,
+Coordinates as everywhere (docs/scene.md): x along the flume, 0 at the gate; y across,
 0 on the centreline; z up from the floor; metres.
 """
 

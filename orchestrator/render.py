@@ -11,7 +11,7 @@ directives: blocks `<% %>`, variables `<< >>`, comments `<# #>`; undefined names
 raise (StrictUndefined). Filters format numbers, vectors, lists and tensors the
 way OpenFOAM reads them.
 
-A rendered case (DESIGN.md section 6) holds, beside `system/`, `constant/` and `0/`:
+A rendered case holds, beside `system/`, `constant/` and `0/`:
 `bodies/<name>/` (one blockMesh sub-case per debris body, merged into the
 background by `mergeMeshes`), `scene.yaml` (resolved scene), `plan.json` and a
 `README.md` with the exact commands to run it by hand.
@@ -76,10 +76,10 @@ CAREFUL_COURANT = 1.0
 
 @dataclass(frozen=True)
 class Numerics:
-    """Linear solvers, PIMPLE and overset settings (the levers of DESIGN.md section 3).
+    """Linear solvers, PIMPLE and overset settings (the levers of benchmarks/runner_settings.md).
 
     Defaults: interFoam as the v1912 damBreak tutorial (GAMG for p_rgh); overset as
-    measured in DESIGN.md section 3: cellVolumeWeight, PBiCGStab/DILU for p_rgh at
+    measured in docs/openfoam-notes.md ("Overset: setting up six-DoF bodies"): cellVolumeWeight, PBiCGStab/DILU for p_rgh at
     tolerance 1e-7 / relTol 0.05 (GAMG fails with overset); the PIMPLE correctors depend on
     the scene's maxCo (`for_solver`).
     """
@@ -100,7 +100,7 @@ class Numerics:
     #: before the pressure solve. Off: it cut the water lost around a container pinned at the
     #: column (1.18 to 0.39 % a second) but created water around one sliding fast along the
     #: bed (+2.1 % a second against -0.1 % without, short flume 1.1-1.2 s;
-    #: docs/openfoam-notes.md, session 9).
+    #: docs/openfoam-notes.md, "Water balance: where the overset loses water").
     overset_adjust_phi: bool = False
     #: The pcorr solve v1912's overInterDyMFoam runs on the flux it reads at every (re)start
     #: (its correctPhi.H, unconditional there). It bypasses the overset coupling, so it pushes
@@ -109,7 +109,7 @@ class Numerics:
     #: deltaT fell 20-70 fold and the column force jumped (103 N against 18.9 N the step
     #: before, 3.5 s). Off (the default): a pcorr tolerance above any normalised residual
     #: (<= 1) makes that solve a no-op, and the restart goes on from the flux the solver
-    #: wrote: 17.1 N, maxCo 1.5 (docs/openfoam-notes.md, session 11). pcorr is used nowhere
+    #: wrote: 17.1 N, maxCo 1.5 (docs/openfoam-notes.md, "Restarts: the start-up flux projection"). pcorr is used nowhere
     #: else (correctPhi is off).
     restart_flux_projection: bool = False
     #: sixDoFRigidBodyMotion relaxation/damping of the body acceleration (tutorial values)

@@ -6,7 +6,7 @@ expanded into bodies, bodies placed on the bed, gauges placed at the column) and
 validated. Every problem is an :class:`~analytical.errors.InputError` naming the dotted
 field, the rule and the file; nothing downstream sees an invalid scene.
 
-Coordinates (DESIGN.md section 2): ``x`` along the flume, 0 at the gate, positive
+Coordinates (also in docs/scene.md): ``x`` along the flume, 0 at the gate, positive
 downstream; ``y`` across, 0 on the centreline; ``z`` up from the floor. The flume runs
 from ``x = -reservoir.length_m`` (its upstream wall) to
 ``x = flume.length_m - reservoir.length_m`` (its downstream end). Lengths in metres,
@@ -374,7 +374,7 @@ class Scene(_Model):
 
 
 def default_column(x_m: float = 5.0, y_m: float = 0.0) -> Column:
-    """The seed's acrylic column (DESIGN.md section 2) at (x_m, y_m).
+    """The reference study's acrylic column (:class:`analytical.column.Column`'s defaults) at (x_m, y_m).
 
     0.20 x 0.20 x 0.80 m hollow section, 5 mm wall, E = 2.50 GPa, rho = 1200 kg/m^3,
     nu = 0.375, shear coefficient 0.50, measured 70 Hz, 4.685e5 N/m, damping 0.045.

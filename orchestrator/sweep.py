@@ -1061,6 +1061,6 @@ def dry_run(sweep: Sweep | str | Path, out_dir: str | Path | None = None, *, exe
         # `workers` members at a time, each started when one ends; unknown on an existing scheduler
         "estimated_sweep_wall_time_s": None if scheduler else round(
             _makespan([r["estimated_wall_time_s"] for r in todo], slots), 1),
-        "note": "estimates are solver time only (DESIGN.md section 3 costs per cell-step); meshing and "
+        "note": "estimates are solver time only (docs/openfoam-notes.md, Cost: costs per cell-step); meshing and "
                 "post-processing add seconds to minutes per member",
     }
