@@ -70,7 +70,7 @@ def test_arrivals_against_chanson_and_the_seed():
                             "arrival_s": [np.nan, 0.95, 1.30]})
     table = compare.arrival_table(scene, summary).set_index(["gauge", "reference"])
     assert "WG1" not in table.index.get_level_values(0)  # upstream of the gate: no front to arrive
-    # Chanson with the seed's f = 0.0293 (DESIGN.md section 3: 0.871 s and 1.201 s)
+    # Chanson with the study's f = 0.0293 (docs/bed-friction.md: 0.871 s and 1.201 s)
     assert table.loc[("WG2", "Chanson"), "reference_arrival_s"] == pytest.approx(0.871, abs=1e-3)
     assert table.loc[("WG3", "Chanson"), "reference_arrival_s"] == pytest.approx(1.201, abs=1e-3)
     assert table.loc[("WG2", "seed experiment (WG2)"), "reference_arrival_s"] == 0.91

@@ -53,7 +53,7 @@ def test_solver_cpu_time_is_the_last_execution_time_of_every_solver_log_counted_
     (tmp_path / "log.interFoam").write_text("ExecutionTime = 3 s  ClockTime = 9 s\nEnd\n")
     (tmp_path / "log.interFoam.orig").write_text("ExecutionTime = 100 s  ClockTime = 100 s\n")  # not a segment's
     for named in (["log.interFoam.1", "log.interFoam", "missing"],
-                  # records before session 6 named the live log for every segment: not three times the last
+                  # older records name the live log for every segment: not three times the last
                   ["log.interFoam", "log.interFoam", "log.interFoam"]):
         (tmp_path / "run.json").write_text(json.dumps({"segments": [{"log": n} for n in named]}))
         assert solver_cpu_s(tmp_path) == pytest.approx(15.25)

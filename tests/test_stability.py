@@ -93,7 +93,7 @@ def small_hard(tmp_path_factory):
 
 SMALL = sorted(p.stem for p in (ROOT / "cases" / "hard" / "small").glob("*.yaml"))
 #: measured and not yet mended (docs/stability.md). small-max-impoundment lost 2.6 % of its water
-#: (its 2-cell container sinks into the bed under the deeper bore); since session 11 the runner's
+#: (its 2-cell container sinks into the bed under the deeper bore); the runner's
 #: water-balance stop ends it with that diagnosis, which is what the test asks for.
 KNOWN: dict[str, str] = {}
 
@@ -249,7 +249,7 @@ def test_a_restart_goes_on_at_the_courant_number_it_stopped_at(small_hard, openf
     """A restart continues from the flux the solver wrote: its start-up Courant number is one the
     solver would have stepped at (maxCo, with slack for the landing step). v1912's start-up pcorr
     projection, left on, read up to 1.9 maxCo here (72 times up to 180 in `make case-1debris`)
-    and the time step and the column force jumped (docs/openfoam-notes.md, session 11)."""
+    and the time step and the column force jumped (docs/openfoam-notes.md, "Restarts: the start-up flux projection")."""
     _, _, table = small_hard
     checked = 0
     for name in ("close-to-column", "near-side-wall", "glancing"):

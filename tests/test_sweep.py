@@ -352,7 +352,7 @@ def test_a_late_scene_key_changes_no_id_until_it_is_set():
     hashed (the mesh study's finished members keep their folders); set, they make a new member."""
     scene = load_scene(ROOT / "cases" / "nodebris.yaml", ["mesh.cell_size_m=0.08"])
     assert scene.run.max_delta_t_s is None and scene.run.stall_limit_s is None
-    assert member_id(scene) == "b92a230c1196"  # the id the mesh study's 8 cm member has had since session 2
+    assert member_id(scene) == "b92a230c1196"  # the id the mesh study's 8 cm member has always had
     for late in ("run.max_delta_t_s=0.05", "run.stall_limit_s=1800"):
         assert member_id(load_scene(ROOT / "cases" / "nodebris.yaml",
                                     ["mesh.cell_size_m=0.08", late])) != "b92a230c1196"
