@@ -2,7 +2,7 @@
 
 A :class:`Column` is a frozen, validated description of a rectangular hollow (or solid)
 cantilever column loaded laterally along ``x`` (the flume direction). Its defaults are
-the seed study's acrylic column (DESIGN.md section 2; seed section 3.1):
+the reference study's acrylic column (the study's section 3.1):
 
 * 0.20 x 0.20 x 0.80 m square hollow section, 5 mm wall;
 * E = 2.50 GPa, rho = 1200 kg/m^3, nu = 0.375, Timoshenko shear coefficient 0.50

@@ -32,7 +32,7 @@ Supports
 base displacement and restrains the base rotation by a rotational spring ``k_theta``
 (N m/rad) found with Brent's method so that the model's first frequency equals
 ``column.natural_frequency_Hz`` (the measured 70 Hz; the rigid-base beam gives about
-88 Hz, DESIGN.md section 2). Damping is Rayleigh, ``C = a0 M + a1 K``, with
+88 Hz). Damping is Rayleigh, ``C = a0 M + a1 K``, with
 ``column.damping_ratio`` on modes 1 and 2 of the model (Chopra 2017, section 11.4).
 
 Base shear: which formula and why
