@@ -312,7 +312,7 @@ def _seed_procedure(results, column, notes: list[str]):
     if column is None or on_column.empty:
         return pd.DataFrame(), pd.DataFrame(), records
     if len(on_column) > MAX_FITTED_IMPACTS:
-        notes.append(f"the seed's fits were made for the {MAX_FITTED_IMPACTS} largest of {len(on_column)} column "
+        notes.append(f"the study's fits were made for the {MAX_FITTED_IMPACTS} largest of {len(on_column)} column "
                      f"impacts")
         on_column = on_column.nlargest(MAX_FITTED_IMPACTS, "peak_force_N")
     height_of = {int(r.event): float(r.height_m) for r in on_column.itertuples()}

@@ -438,7 +438,10 @@ def test_case_report_puts_the_first_impact_beside_the_study(debris_case, tmp_pat
     assert proc.returncode == 0, proc.stderr
     text = (tmp_path / "page" / "report.md").read_text()
     impact = pd.read_csv(case / "results" / "impacts.csv").iloc[0]
-    assert f"| impact velocity | {impact['impact_velocity_m_s']:.2f} m/s | 1.6 +- 0.13 m/s | missed |" in text
+    speed = impact["normal_velocity_in_m_s"] / np.cos(np.radians(impact["obliquity_deg"]))
+    assert (f"| impact speed (along the contact normal, obliquity) | {speed:.2f} m/s "
+            f"({impact['impact_velocity_m_s']:.2f} m/s, {impact['obliquity_deg']:.0f} degrees) | 1.6 +- 0.13 m/s | "
+            "missed |") in text
     assert "| afloat at the impact | yes" in text
     assert f"| pulse magnitude | {impact['peak_force_N']:.0f} N | MDOF fits 171 +- 63 N | missed |" in text
     for plot in ("gauges.png", "impacts.png", "summary.json"):
