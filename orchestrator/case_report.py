@@ -23,7 +23,7 @@ from analytical.errors import InputError
 
 __all__ = ["write_case_report"]
 
-PLOTS = ("gauges.png", "column_forces.png", "impacts.png", "tracks.png")
+PLOTS = ("preview.png", "gauges.png", "column_forces.png", "impacts.png", "tracks.png")
 #: The study's experiment and model arrivals (s) at WG2 and WG3 (its section 4.1.2).
 STUDY_ARRIVALS_S = {"WG2": (0.91, 0.88), "WG3": (1.39, 1.20)}
 #: Wall-time target of the default run (min).
@@ -112,9 +112,11 @@ def write_case_report(case_dir: str | Path, out_dir: str | Path) -> Path:
             if isinstance(first.get("afloat"), str):
                 first["afloat"] = first["afloat"] == "True"
     out.mkdir(parents=True, exist_ok=True)
-    for name in PLOTS:
-        if (case / "results" / name).is_file():
-            shutil.copy2(case / "results" / name, out / name)
+    for name in PLOTS:  # the scene's preview lies in the case, the rest in its results
+        for where in (case / "results" / name, case / name):
+            if where.is_file():
+                shutil.copy2(where, out / name)
+                break
     shutil.copy2(summary_path, out / "summary.json")
     rows = _rows(head, first)
     balance = head.get("water_balance") or {}

@@ -321,7 +321,7 @@ def _draw_pulse(ax, tt: np.ndarray, t0: float, method: str, pulse) -> None:
 
 def _pulse_panels(ax, ax_fit, rec, comp, event: int) -> None:
     """Left: the simulated contact pulse against the pulses ASCE 7-22 predicts from the impact
-    velocity, over the band of the study's MDOF pulses. Right: the seed's SDOF and MDOF pulses,
+    velocity, over the band of the study's MDOF pulses. Right: the study's SDOF and MDOF pulses,
     fitted to the base shear this contact pulse caused, beside that pulse: a fit close to it
     shows the inverse procedure works, not that the contact model is right."""
     pulses = rec["pulses"]
@@ -342,7 +342,7 @@ def _pulse_panels(ax, ax_fit, rec, comp, event: int) -> None:
     _draw_pulse(ax_fit, tt, t0, "contact model (simulated)", contact)
     for method, pulse in fitted.items():
         _draw_pulse(ax_fit, tt, t0, method, pulse)
-    ax_fit.set_title(f"event {event}: the seed's fits to this run's base shear", fontsize=10, loc="left")
+    ax_fit.set_title(f"event {event}: the study's fits to this run's base shear", fontsize=10, loc="left")
     # the fitted pulses peak mid-panel; the note goes where the long SDOF pulse is still low
     _note(ax_fit, [m for m in _missing_pulses(rec, comp, event) if "fit" in m], width=40, left=True)
 
@@ -406,8 +406,8 @@ def figure_impacts(results, comp):
         panels += [ax, ax_fit]
     _legend_axes(fig.add_subplot(grid[len(events), :]), panels)
     _formula_panel(fig.add_subplot(grid[len(events) + 1, :]), comp, events)
-    fig.suptitle("Impact pulses on the column (cf. seed Fig. 4b). Left: the contact model's pulse and the "
-                 "ASCE 7-22 pulses from the\nimpact velocity. Right: the seed's SDOF and MDOF pulses, fitted to "
+    fig.suptitle("Impact pulses on the column (cf. the study's Fig. 4b). Left: the contact model's pulse and the "
+                 "ASCE 7-22 pulses from the\nimpact velocity. Right: the study's SDOF and MDOF pulses, fitted to "
                  "the base shear that the contact pulse caused.", fontsize=10)
     return fig
 
@@ -425,7 +425,7 @@ def figure_seed_fits(results, comp):
     events = _events(comp)
     if not events:
         fig, ax = plt.subplots(figsize=(_WIDTH_IN, 4.0), layout="constrained")
-        _empty(ax, "no impact on the column in this run:\nno response to fit (seed section 3.3), "
+        _empty(ax, "no impact on the column in this run:\nno response to fit (the study's section 3.3), "
                    "no pulses to apply to the MDOF column")
         return fig
     row_in = 3.0 if len(events) <= 2 else 2.5
@@ -465,8 +465,8 @@ def figure_seed_fits(results, comp):
     for ax in panels[-2:]:
         ax.set_xlabel("time from impact (ms)")
     _legend_axes(fig.add_subplot(grid[len(events), :]), panels, ncol=2)
-    fig.suptitle("Left: the seed's SDOF and MDOF fits to the simulated base shear (cf. seed Fig. 4a). "
-                 "Right: the response of the\nMDOF column to every pulse (cf. seed Fig. 5), fitted ones dashed.",
+    fig.suptitle("Left: the study's SDOF and MDOF fits to the simulated base shear (cf. the study's Fig. 4a). "
+                 "Right: the response of the\nMDOF column to every pulse (cf. the study's Fig. 5), fitted ones dashed.",
                  fontsize=10)
     return fig
 
@@ -585,7 +585,7 @@ def figure_tracks(results, comp):
     ax.set_xlabel("x along the flume (m)")
     ax.set_ylabel("y across (m)")
     ax.set_title("Debris tracks (centre of mass) in plan view, and the spreading areas (ASCE 7-22 6.11.5.1)\n"
-                 "from the debris's start line (cf. seed Fig. 14)", fontsize=10, loc="left")
+                 "from the debris's start line (cf. the study's Fig. 14)", fontsize=10, loc="left")
     _legend(ax, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     ax.grid(alpha=0.3)
     return fig
