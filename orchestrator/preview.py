@@ -434,9 +434,14 @@ def _scale_marks(plotter, x0: float, x1: float, y: float, step: float, font_size
     if marks.size == 0:
         return
     points = np.column_stack([marks, np.full(marks.size, y), np.zeros(marks.size)])
+    _scale_labels(plotter, points, [f"x = {m:g} m" if abs(m) < 1e-9 else f"{m:g}" for m in marks], font_size, "top")
+
+
+def _scale_labels(plotter, points, labels, font_size: int, vertical: str) -> None:
+    """Grey scale marks with their labels (one style for both axes)."""
     plotter.add_point_labels(
         points,
-        [f"x = {m:g} m" if abs(m) < 1e-9 else f"{m:g}" for m in marks],
+        labels,
         font_size=font_size,
         text_color="#555555",
         bold=False,
@@ -445,7 +450,7 @@ def _scale_marks(plotter, x0: float, x1: float, y: float, step: float, font_size
         point_size=4,
         shape=None,
         always_visible=True,
-        justification_vertical="top",
+        justification_vertical=vertical,
     )
 
 
@@ -456,19 +461,8 @@ def _y_marks(plotter, x: float, y0: float, y1: float, step: float, font_size: in
     if marks.size == 0:
         return
     points = np.column_stack([np.full(marks.size, x), marks, np.zeros(marks.size)])
-    plotter.add_point_labels(
-        points,
-        [f" y = {m:g} m" if abs(m) < 1e-9 else f" {m:g}" for m in marks],
-        font_size=font_size,
-        text_color="#555555",
-        bold=False,
-        show_points=True,
-        point_color="#555555",
-        point_size=4,
-        shape=None,
-        always_visible=True,
-        justification_vertical="center",
-    )
+    _scale_labels(plotter, points, [f" y = {m:g} m" if abs(m) < 1e-9 else f" {m:g}" for m in marks], font_size,
+                  "center")
 
 
 def _view_aspect(row: int) -> float:
