@@ -72,18 +72,18 @@ NICE ?=
 speed-error: venv openfoam
 	-$(NICE) $(VENV)/bin/debrisfoam sweep cases/sweeps/mesh-study.yaml
 	-$(NICE) $(VENV)/bin/debrisfoam sweep cases/sweeps/mesh-study-hand.yaml
-	$(VENV)/bin/debrisfoam report speed-error runs/sweeps/mesh-study --baseline runs/sweeps/mesh-study-hand -o docs/results/speed-error
+	$(VENV)/bin/debrisfoam report speed-error runs/sweeps/mesh-study --baseline runs/sweeps/mesh-study-hand -o docs/results/speed-error --force
 
 # The mesh study with one container (to its first impact on the column), then its report in
 # runs/sweeps/debris-mesh-study/report/ (about 1 h of solver time on 2 cores: 19, 17 and 25 min measured).
 speed-error-debris: venv openfoam
 	-$(NICE) $(VENV)/bin/debrisfoam sweep cases/sweeps/debris-mesh-study.yaml
-	$(VENV)/bin/debrisfoam report speed-error runs/sweeps/debris-mesh-study -o docs/results/speed-error-debris
+	$(VENV)/bin/debrisfoam report speed-error runs/sweeps/debris-mesh-study -o docs/results/speed-error-debris --force
 
 # The hard cases (cases/hard/, about 2 h on 2 cores), then their table in docs/stability.md.
 stability: venv openfoam
 	-$(NICE) $(VENV)/bin/debrisfoam sweep cases/sweeps/hard-cases.yaml
-	$(VENV)/bin/debrisfoam report stability runs/sweeps/hard-cases -o runs/sweeps/hard-cases/stability.md
+	$(VENV)/bin/debrisfoam report stability runs/sweeps/hard-cases -o runs/sweeps/hard-cases/stability.md --force
 
 synthetic-study: venv
 	$(VENV)/bin/debrisfoam analytical study -o docs/results/synthetic-study --force

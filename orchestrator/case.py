@@ -96,6 +96,7 @@ def run_full_case(scene_path: str | Path, out_dir: str | Path | None = None, set
     summary = final_summary(post.headline)
     summary["results"] = str(post.results_dir)
     summary["report"] = str(post.report) if post.report else None
+    summary["warnings"] = _plan_warnings(case)
     summary["wall_time_s"] = round(time.perf_counter() - t0, 1)
     summary["solver_wall_s"] = round(run.solver_wall_s, 1)
     return summary

@@ -303,8 +303,7 @@ def cmd_response(args: argparse.Namespace) -> int:
     if args.out:
         import pandas as pd
 
-        out = Path(args.out)
-        out.parent.mkdir(parents=True, exist_ok=True)
+        out = output_path(args.out, "--out", args.force, folder=False)
         pd.DataFrame({"time_s": response.time_s, "response_N": response.response_N}).to_csv(out, index=False)
     _emit({"peak_N": float(response.peak_N), "time_of_peak_s": float(response.time_of_peak_s)}, args.json)
     return EXIT_OK
@@ -367,8 +366,7 @@ def cmd_dambreak(args: argparse.Namespace) -> int:
     depth, velocity = solution.profile(x, t)
     import pandas as pd
 
-    out = Path(args.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
+    out = output_path(args.out, "--out", args.force, folder=False)
     pd.DataFrame({"x_m": x, "depth_m": depth, "velocity_m_s": velocity}).to_csv(out, index=False)
     _emit({"front_position_m": x_front, "csv": str(out)}, args.json)
     return EXIT_OK
@@ -638,6 +636,8 @@ def cmd_report_speed_error(args: argparse.Namespace) -> int:
     extrapolate = args.extrapolate_to if args.extrapolate_to and args.extrapolate_to > 0 else None
     study = speed_error(args.sweep_dir, list(args.baseline or []), reference=args.reference, time=args.time,
                         extrapolate_to_m=extrapolate)
+    if args.out:
+        output_path(args.out, "-o/--out", args.force, folder=True)
     files = write_report(study, args.out)
     if args.json:
         _emit(study.headline(), True)
@@ -665,9 +665,7 @@ def cmd_report_stability(args: argparse.Namespace) -> int:
     table = stability_table(args.sweep_dir)
     text = markdown(table)
     if args.out:
-        out = Path(args.out)
-        out.parent.mkdir(parents=True, exist_ok=True)
-        out.write_text(text)
+        output_path(args.out, "-o/--out", args.force, folder=False).write_text(text)
     if args.json:
         _emit({"members": table.to_dict(orient="records")}, True)
         return EXIT_OK
@@ -761,6 +759,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--height", type=float, default=0.40, help="impact height above the column base, m (mdof)")
     p.add_argument("--t-end", type=float, default=0.05, help="length of the response record, s (default 0.05)")
     p.add_argument("--out", help="write the response to this CSV (time_s,response_N)")
+    p.add_argument("--force", action="store_true", help="overwrite an existing --out file")
     _add_column_args(p)
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_response)
@@ -787,6 +786,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--profile", type=float, default=None, help="time, s: write the profile to --out")
     p.add_argument("--points", type=int, default=401, help="profile points (default 401)")
     p.add_argument("--out", help="CSV for --profile (x_m,depth_m,velocity_m_s)")
+    p.add_argument("--force", action="store_true", help="overwrite an existing --out file")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_dambreak)
 
@@ -898,6 +898,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="another sweep folder whose members join the table, e.g. the hand-made set-up "
                         "(repeatable)")
     p.add_argument("-o", "--out", default=None, help="output folder (default: SWEEP_DIR/report)")
+    p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
     p.add_argument("--reference", default=None, metavar="MEMBER_ID",
                    help="member to measure the others against (default: the finest finished member)")
     p.add_argument("--time", choices=["cpu", "solver", "wall"], default="cpu",
@@ -921,6 +922,7 @@ def build_parser() -> argparse.ArgumentParser:
                                               "a diagnosis (the table of docs/stability.md)")
     p.add_argument("sweep_dir", help="a sweep folder, e.g. runs/sweeps/hard-cases")
     p.add_argument("-o", "--out", default=None, help="also write the Markdown table to this file")
+    p.add_argument("--force", action="store_true", help="overwrite an existing -o file")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_report_stability)
     return parser

@@ -252,6 +252,12 @@ def test_plan_warnings_reach_the_terminal_and_the_json(tmp_path):
         (["analytical", "asce7", "--velocity", "1", "--mass", "0", "--stiffness", "1e5"], "--mass"),
         (["analytical", "contact-law", "-o", "{tmp}/full"], "-o/--out"),
         (["report", "case", "{tmp}", "-o", "{tmp}/page"], "case_dir"),
+        (["analytical", "response", "--model", "mdof", "--magnitude", "200", "--duration", "0.005", "--out",
+          "{tmp}/existing.png"], "--out"),
+        (["analytical", "dambreak", "--model", "ritter", "--h0", "0.4", "--profile", "0.5", "--out",
+          "{tmp}/existing.png"], "--out"),
+        (["analytical", "response", "--model", "mdof", "--magnitude", "200", "--duration", "0.005", "--out",
+          "{tmp}/full"], "--out"),
         (["analytical", "modes", "--set", "column.base=nope", "--debug"], None),
     ],
 )
