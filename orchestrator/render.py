@@ -34,15 +34,15 @@ from analytical.errors import InputError
 from orchestrator.grid import BoxGrid
 from orchestrator.plan import max_delta_t_s
 
-def _template_dir() -> Path:
-    """The bundled templates: in an installed wheel the package data orchestrator/templates/,
-    in the source tree the repository's templates/ (pyproject.toml maps one to the other)."""
+def bundled_dir(installed: str, in_repository: str) -> Path:
+    """A folder shipped with the package: in an installed wheel the package data
+    orchestrator/<installed>/, in the source tree the repository's <in_repository>/
+    (pyproject.toml maps one to the other)."""
     here = Path(__file__).resolve().parent
-    installed = here / "templates"
-    return installed if installed.is_dir() else here.parent / "templates"
+    return here / installed if (here / installed).is_dir() else here.parent / in_repository
 
 
-TEMPLATE_DIR = _template_dir()
+TEMPLATE_DIR = bundled_dir("templates", "templates")
 
 #: Background patches and what they are, by the planner's patch names.
 BACKGROUND_PATCH_KINDS = {

@@ -17,6 +17,7 @@ from pydantic import BaseModel
 from pydantic_core import PydanticUndefined
 
 from analytical.errors import InputError
+from orchestrator.render import bundled_dir
 from orchestrator.scene import DebrisBody, DebrisLayout, Scene
 
 __all__ = ["SchemaRow", "markdown", "schema_rows", "scenes_dir", "shipped_scenes"]
@@ -158,9 +159,7 @@ def markdown(rows: list[SchemaRow]) -> str:
 
 def scenes_dir() -> Path:
     """The shipped example scenes: the repository's cases/, or the installed package's scenes/."""
-    here = Path(__file__).resolve().parent
-    installed = here / "scenes"
-    return installed if installed.is_dir() else here.parent / "cases"
+    return bundled_dir("scenes", "cases")
 
 
 def shipped_scenes() -> list[tuple[Path, str]]:
