@@ -369,6 +369,14 @@ def _edit_constraints(case_dir: str | Path, names: Sequence[str],
     ones, or None to leave that body as it is; the file is written once, if anything
     changed. Returns the bodies changed.
     """
+    return _edit_motion_entry(case_dir, names, "constraints", lambda _name, entry: edit(entry))
+
+
+def _edit_motion_entry(case_dir: str | Path, names, key: str,
+                       edit: Callable[[str, dict], dict | None]) -> list[str]:
+    """Change one sub-dictionary (`constraints` or `restraints`) of the named bodies' sixDoF
+    coefficients: `edit(name, entry)` returns the new entry (empty: removed) or None to leave
+    the body as it is. The file is written once, if anything changed; returns the bodies changed."""
     if not names:
         return []
     path = Path(case_dir) / DYNAMIC_MESH_DICT
@@ -377,13 +385,13 @@ def _edit_constraints(case_dir: str | Path, names: Sequence[str],
     for name, coeffs in _body_dicts(parsed):
         if name not in names:
             continue
-        new = edit(dict(coeffs.get("constraints") or {}))
+        new = edit(name, dict(coeffs.get(key) or {}))
         if new is None:
             continue
         if new:
-            coeffs["constraints"] = new
-        elif "constraints" in coeffs:
-            del coeffs["constraints"]
+            coeffs[key] = new
+        elif key in coeffs:
+            del coeffs[key]
         changed.append(name)
     if changed:
         write_dictionary(parsed, path)
@@ -487,31 +495,20 @@ def set_bed_friction(case_dir: str | Path, coefficients: dict[str, float | None]
     named bodies: a force -coeff * velocity on the centre of mass (v1912's sixDoF restraint). The
     runner sizes it to the Coulomb friction of a body resting on the bed (`orchestrator.bedwatch`).
     Returns the bodies changed."""
-    path = Path(case_dir) / DYNAMIC_MESH_DICT
-    parsed = _parsed(path)
-    changed = []
-    for name, coeffs in _body_dicts(parsed):
-        if name not in coefficients:
-            continue
-        restraints = dict(coeffs.get("restraints") or {})
+    def edit(name: str, restraints: dict) -> dict | None:
         value = coefficients[name]
         old = restraints.get(BED_FRICTION)
         if value is None:
             if old is None:
-                continue
+                return None
             del restraints[BED_FRICTION]
         else:
             if old is not None and math.isclose(float(old.get("coeff", -1.0)), value, rel_tol=1e-9):
-                continue
+                return None
             restraints[BED_FRICTION] = {"sixDoFRigidBodyMotionRestraint": "linearDamper", "coeff": float(value)}
-        if restraints:
-            coeffs["restraints"] = restraints
-        elif "restraints" in coeffs:
-            del coeffs["restraints"]
-        changed.append(name)
-    if changed:
-        write_dictionary(parsed, path)
-    return changed
+        return restraints
+
+    return _edit_motion_entry(case_dir, list(coefficients), "restraints", edit)
 
 
 def set_pimple_entry(case_dir: str | Path, key: str, value: str) -> bool:

@@ -23,6 +23,16 @@ def run_cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
     )
 
 
+def render_and_run(scene: Path, case: Path, *sets: str) -> dict:
+    """Render ``scene`` into ``case`` (with ``--set`` overrides) and run it with the CLI, each step
+    asserted to succeed; the case's plan.json."""
+    overrides = [a for item in sets for a in ("--set", item)]
+    for args in (("render", str(scene), "-o", str(case), *overrides), ("run", str(case))):
+        proc = run_cli(*args)
+        assert proc.returncode == 0, proc.stderr[-2000:]
+    return json.loads((case / "plan.json").read_text())
+
+
 def cli_json(*args: str) -> dict:
     proc = run_cli(*args, "--json")
     assert proc.returncode == 0, proc.stderr

@@ -11,13 +11,12 @@ friction's, mu g (1 - buoyancy fraction) = 2.10 m/s2; the water's own drag on th
 
 from __future__ import annotations
 
-import json
 
 import numpy as np
 import pandas as pd
 import pytest
 
-from conftest import ROOT, run_cli
+from conftest import ROOT, render_and_run
 from orchestrator.bedwatch import FRICTION_BAND
 
 SCENE = ROOT / "tests" / "data" / "scenes" / "bed-friction.yaml"
@@ -26,12 +25,9 @@ RHO, G = 998.2, 9.81
 
 def _slide(tmp_path, mu: float) -> tuple[pd.DataFrame, dict, pd.DataFrame]:
     case = tmp_path / f"mu{mu:g}"
-    for args in (("render", str(SCENE), "-o", str(case), "--set", f"debris.0.contact.bed_friction_coefficient={mu}"),
-                 ("run", str(case))):
-        proc = run_cli(*args)
-        assert proc.returncode == 0, proc.stderr[-2000:]
+    plan = render_and_run(SCENE, case, f"debris.0.contact.bed_friction_coefficient={mu}")
     track = pd.read_csv(case / "bodies.csv").drop_duplicates("time_s", keep="last").sort_values("time_s")
-    return track, json.loads((case / "plan.json").read_text()), pd.read_csv(case / "body_depth.csv")
+    return track, plan, pd.read_csv(case / "body_depth.csv")
 
 
 def _deceleration(track: pd.DataFrame) -> float:

@@ -21,7 +21,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from conftest import ROOT, run_cli
+from conftest import ROOT, render_and_run
 
 SCENE = ROOT / "tests" / "data" / "scenes" / "float-carry.yaml"
 
@@ -30,10 +30,7 @@ SCENE = ROOT / "tests" / "data" / "scenes" / "float-carry.yaml"
 @pytest.mark.slow
 def test_a_container_reached_by_a_bore_deeper_than_its_draft_leaves_the_bed_and_floats(openfoam, tmp_path):
     case = tmp_path / "float-carry"
-    for args in (("render", str(SCENE), "-o", str(case)), ("run", str(case))):
-        proc = run_cli(*args)
-        assert proc.returncode == 0, proc.stderr[-2000:]
-    plan = json.loads((case / "plan.json").read_text())
+    plan = render_and_run(SCENE, case)
     body = plan["bodies"][0]
     mass, (length, width, height) = body["mass_kg"], body["size_m"]
     draft = mass / (998.2 * length * width)

@@ -18,7 +18,7 @@ import json
 import pandas as pd
 import pytest
 
-from conftest import ROOT, run_cli
+from conftest import ROOT, render_and_run, run_cli
 
 SCENE = ROOT / "tests" / "data" / "scenes" / "float-off.yaml"
 
@@ -27,10 +27,7 @@ SCENE = ROOT / "tests" / "data" / "scenes" / "float-off.yaml"
 @pytest.mark.slow
 def test_a_resting_container_floats_up_to_its_draft(openfoam, tmp_path):
     case = tmp_path / "float-off"
-    for args in (("render", str(SCENE), "-o", str(case)), ("run", str(case))):
-        proc = run_cli(*args)
-        assert proc.returncode == 0, proc.stderr[-2000:]
-    plan = json.loads((case / "plan.json").read_text())
+    plan = render_and_run(SCENE, case)
     body = plan["bodies"][0]
     mass, (length, width, height) = body["mass_kg"], body["size_m"]
     draft = mass / (998.2 * length * width)
