@@ -60,7 +60,7 @@ def main() -> None:
     fit_m_s, fit_m = best_of(lambda: fit_mdof(tr, record, column=column, height_m=0.40), repeat=3)
     fit_s_s, _ = best_of(lambda: fit_sdof(tr, record, column=column), repeat=3)
 
-    from orchestrator.study import run_variant
+    from orchestrator.studies.synthetic import run_variant
 
     _, study_s = run_variant("rigid", n_records=22, seed=2019, workers=2)
 

@@ -17,7 +17,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from orchestrator.preview import preview_scene_file  # noqa: E402
+from orchestrator.report.preview import preview_scene_file  # noqa: E402
 
 SCENES = ("1debris", "6debris-2x3", "nodebris")
 TARGET_S = 5.0

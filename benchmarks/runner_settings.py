@@ -4,7 +4,7 @@ A small dam break (0.5 m x 0.25 m reservoir, 0.12 m wet bed, 0.4 m wide flume, 0
 x = 1.2 m, 4 cm cells) carries one 1:40 container (0.15 x 0.06 x 0.06 m, 0.236 kg) floating at
 x = 0.35 m towards the column; 1.0 s simulated (--end-time; the bore reaches the column at about
 0.55 s, so its force peaks inside the run), 2 ranks, run by
-`orchestrator.run.run_case`. The body mesh is the scene defaults' (4 cells across the body's
+`orchestrator.run.runner.run_case`. The body mesh is the scene defaults' (4 cells across the body's
 smallest side, a 3-cell margin) and debris scenes run at maxCo 2.5 (v1912's overset Courant
 number counts hole/fringe faces). Each setting changes the rendered case before the run:
 
@@ -19,7 +19,7 @@ Errors against the most careful setting ("reference"): the debris track (the lar
 distance between the two centres of mass at the same time, over the reference's largest
 displacement), the column force (x, pressure + viscous: peak, and RMS of the difference over
 the reference's peak, at the reference's samples); and, on its own, the water balance of each
-run (`orchestrator.post.read_water_balance`: the largest relative water created (+) or lost (-)).
+run (`orchestrator.results.post.read_water_balance`: the largest relative water created (+) or lost (-)).
 
 Also measured: the runner's own cost (its CPU time over the solver's wall time, and the
 solver wall time of a bare `mpirun` against `run_case` with the progress bar drawn).
@@ -53,10 +53,11 @@ import yaml
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from orchestrator import bodystate, foam  # noqa: E402
-from orchestrator.post import read_force_series, read_water_balance, water_balance_summary  # noqa: E402
-from orchestrator.render import render_from_file  # noqa: E402
-from orchestrator.run import RunInterrupted, load_case_info, run_case  # noqa: E402
+from orchestrator.case import bodystate  # noqa: E402
+from orchestrator.case import foam  # noqa: E402
+from orchestrator.results.post import read_force_series, read_water_balance, water_balance_summary  # noqa: E402
+from orchestrator.pipeline import render_from_file  # noqa: E402
+from orchestrator.run.runner import RunInterrupted, load_case_info, run_case  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 OUT = HERE / "runner_settings.md"
@@ -336,7 +337,7 @@ def _set_end(case: Path, end_s: float) -> None:
 
 def templates_default_note() -> str:
     """'' when DEFAULT is what the templates render for overInterDyMFoam, else a sentence saying how they differ."""
-    from orchestrator.render import Numerics
+    from orchestrator.case.render import Numerics
 
     n = Numerics.for_solver("overInterDyMFoam", DEFAULT.max_courant)
     rendered = Setting("templates", interpolation=n.overset_interpolation, n_outer=n.n_outer_correctors,

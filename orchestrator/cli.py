@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import Any, Sequence
 
 from analytical.errors import DebrisfoamError, InputError
-from orchestrator.jsonio import json_default
+from orchestrator.core.jsonio import json_default
 
 EXIT_OK, EXIT_FAILURE, EXIT_BAD_INPUT = 0, 1, 2
 #: A fit whose RMSE exceeds this fraction of the measured peak is reported as poor.
@@ -115,14 +115,14 @@ def _emit(result: dict[str, Any], as_json: bool, out=sys.stdout) -> None:
 def column_from_args(args: argparse.Namespace):
     """The column for analytical verbs: the scene's (with --set) or the study's."""
     if getattr(args, "scene", None):
-        from orchestrator.scene import column_for_analysis, load_scene
+        from orchestrator.scene.schema import column_for_analysis, load_scene
 
         return column_for_analysis(load_scene(args.scene, list(args.set or [])))
     from dataclasses import fields, replace
 
     from analytical.column import Column
 
-    from orchestrator.scene import parse_override
+    from orchestrator.scene.schema import parse_override
 
     column = Column()
     names = {f.name for f in fields(Column)}
@@ -183,8 +183,8 @@ def impact_inputs(args: argparse.Namespace):
     scene keys, or without --scene column.<field> and contact.<field>."""
     from analytical.column import Column
 
-    from orchestrator.contact import body_contact_law
-    from orchestrator.scene import DebrisContact, column_for_analysis, load_scene, parse_override
+    from orchestrator.run.contact import body_contact_law
+    from orchestrator.scene.schema import DebrisContact, column_for_analysis, load_scene, parse_override
 
     if getattr(args, "scene", None):
         scene = load_scene(args.scene, list(args.set or []))
@@ -253,7 +253,7 @@ def cmd_impact(args: argparse.Namespace) -> int:
 
 
 def cmd_contact_law(args: argparse.Namespace) -> int:
-    from orchestrator.contact_report import write_contact_law_report
+    from orchestrator.report.contact_report import write_contact_law_report
 
     if args.strikes < 2:
         raise InputError("--strikes", f"must be >= 2, got {args.strikes}")
@@ -312,7 +312,7 @@ def cmd_response(args: argparse.Namespace) -> int:
 def cmd_fit(args: argparse.Namespace) -> int:
     from analytical.fitting import fit_mdof, fit_sdof
 
-    from orchestrator.records import read_force_record
+    from orchestrator.results.records import read_force_record
 
     time_s, force_N = read_force_record(args.record)
     column = column_from_args(args)
@@ -373,7 +373,7 @@ def cmd_dambreak(args: argparse.Namespace) -> int:
 
 
 def cmd_study(args: argparse.Namespace) -> int:
-    from orchestrator.study import run_synthetic_study
+    from orchestrator.studies.synthetic import run_synthetic_study
 
     if args.records < 2:
         raise InputError("--records", f"must be >= 2 (a mean and a spread need two records), got {args.records}")
@@ -387,13 +387,13 @@ def cmd_study(args: argparse.Namespace) -> int:
 
 
 def _missing(what: str, issue: int) -> int:
-    from orchestrator.errors import MissingFeatureError
+    from orchestrator.core.errors import MissingFeatureError
 
     raise MissingFeatureError(f"{what} is not built yet (tracked in issue {issue}); the analytical verbs work today")
 
 
 def cmd_scenes(args: argparse.Namespace) -> int:
-    from orchestrator.schema_doc import scenes_dir, shipped_scenes
+    from orchestrator.scene.reference import scenes_dir, shipped_scenes
 
     scenes = shipped_scenes()
     if args.json:
@@ -408,8 +408,8 @@ def cmd_scenes(args: argparse.Namespace) -> int:
 
 
 def cmd_validate(args: argparse.Namespace) -> int:
-    from orchestrator.plan import plan_case
-    from orchestrator.scene import load_scene
+    from orchestrator.plan.planner import plan_case
+    from orchestrator.scene.schema import load_scene
 
     scene = load_scene(args.scene, list(args.set or []))
     plan = plan_case(scene)
@@ -421,7 +421,7 @@ def cmd_validate(args: argparse.Namespace) -> int:
 
 
 def cmd_schema(args: argparse.Namespace) -> int:
-    from orchestrator.schema_doc import markdown, schema_rows, select
+    from orchestrator.scene.reference import markdown, schema_rows, select
 
     rows = select(schema_rows(), args.key)
     if args.markdown:
@@ -439,7 +439,7 @@ def cmd_schema(args: argparse.Namespace) -> int:
 
 def cmd_render(args: argparse.Namespace) -> int:
     try:
-        from orchestrator.render import render_from_file
+        from orchestrator.pipeline import render_from_file
     except ImportError:
         return _missing("`render` (scene schema, planner and templates)", 3)
     out = Path(args.out)
@@ -454,7 +454,7 @@ def cmd_render(args: argparse.Namespace) -> int:
 
 def cmd_preview(args: argparse.Namespace) -> int:
     try:
-        from orchestrator.preview import preview_scene_file
+        from orchestrator.report.preview import preview_scene_file
     except ImportError:
         return _missing("`preview`", 3)
     if Path(args.out).suffix.lower() != ".png":
@@ -470,8 +470,8 @@ def cmd_preview(args: argparse.Namespace) -> int:
 
 
 def cmd_run(args: argparse.Namespace) -> int:
-    from orchestrator.monitor import DivergenceLimits
-    from orchestrator.run import RunInterrupted, run_case
+    from orchestrator.run.monitor import DivergenceLimits
+    from orchestrator.run.runner import RunInterrupted, run_case
 
     if args.stall_limit is not None and not args.stall_limit > 0:
         raise InputError("--stall-limit", f"must be > 0 seconds, got {args.stall_limit}")
@@ -498,7 +498,7 @@ def cmd_run(args: argparse.Namespace) -> int:
 
 
 def cmd_post(args: argparse.Namespace) -> int:
-    from orchestrator.post import post_case
+    from orchestrator.results.post import post_case
 
     summary = post_case(args.case_dir, comparisons=not args.tables_only, snapshot=not args.no_snapshot,
                         arrival_threshold_m=args.arrival_threshold)
@@ -538,8 +538,8 @@ def cmd_post(args: argparse.Namespace) -> int:
 
 
 def cmd_case(args: argparse.Namespace) -> int:
-    from orchestrator.case import run_full_case
-    from orchestrator.run import RunInterrupted
+    from orchestrator.pipeline import run_full_case
+    from orchestrator.run.runner import RunInterrupted
 
     try:
         summary = run_full_case(args.scene, args.out, list(args.set or []), np=args.np, quiet=args.quiet)
@@ -589,7 +589,7 @@ def _print_dry_run(plan: dict[str, Any], out=sys.stdout) -> None:
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:
-    from orchestrator.sweep import dry_run, run_sweep
+    from orchestrator.studies.sweep import dry_run, run_sweep
 
     if args.dry_run:
         plan = dry_run(args.sweep, args.out, executor=args.executor, scheduler=args.scheduler, workers=args.workers)
@@ -631,7 +631,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
 
 
 def cmd_report_speed_error(args: argparse.Namespace) -> int:
-    from orchestrator.speed_error import markdown, speed_error, write_report
+    from orchestrator.studies.speed_error import markdown, speed_error, write_report
 
     extrapolate = args.extrapolate_to if args.extrapolate_to and args.extrapolate_to > 0 else None
     study = speed_error(args.sweep_dir, list(args.baseline or []), reference=args.reference, time=args.time,
@@ -649,7 +649,7 @@ def cmd_report_speed_error(args: argparse.Namespace) -> int:
 
 
 def cmd_report_case(args: argparse.Namespace) -> int:
-    from orchestrator.case_report import write_case_report
+    from orchestrator.report.case_report import write_case_report
 
     if not (Path(args.case_dir) / "results" / "summary.json").is_file():
         raise InputError("case_dir", f"no results/summary.json: run `debrisfoam post {args.case_dir}` first",
@@ -660,7 +660,7 @@ def cmd_report_case(args: argparse.Namespace) -> int:
 
 
 def cmd_report_stability(args: argparse.Namespace) -> int:
-    from orchestrator.stability import markdown, stability_table
+    from orchestrator.studies.stability import markdown, stability_table
 
     table = stability_table(args.sweep_dir)
     text = markdown(table)

@@ -4,7 +4,7 @@ The golden cases are rendered from small hand-made plans (below) rather than fro
 the planner, so that they change only when a template or the render context
 changes. Review the diff (`git diff tests/golden`) before committing it.
 
-The plans are real `orchestrator.plan.ModelPlan`s, built by hand.
+The plans are real `orchestrator.plan.planner.ModelPlan`s, built by hand.
 """
 
 from __future__ import annotations
@@ -20,8 +20,8 @@ ROOT = Path(__file__).resolve().parent.parent
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
-from orchestrator.grid import BoxGrid, Segment  # noqa: E402
-from orchestrator.plan import BodyPlan, GaugePlan, ModelPlan, WaterBox  # noqa: E402
+from orchestrator.plan.grid import BoxGrid, Segment  # noqa: E402
+from orchestrator.plan.planner import BodyPlan, GaugePlan, ModelPlan, WaterBox  # noqa: E402
 
 GOLDEN_DIR = Path(__file__).resolve().parent / "golden"
 
@@ -99,7 +99,7 @@ GOLDEN_PLANS = {
 
 def golden_files(name: str) -> dict[str, str]:
     """The rendered OpenFOAM files of golden case `name` (path -> text)."""
-    from orchestrator.render import build_context, render_files
+    from orchestrator.case.render import build_context, render_files
 
     return render_files(build_context(None, GOLDEN_PLANS[name]()))
 

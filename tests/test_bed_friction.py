@@ -3,7 +3,7 @@
 The scene (tests/data/scenes/bed-friction.yaml) stands the seed's container on the 7.5 mm gap
 over a 15 mm wet bed, far from the dam break, and gives it 0.6 m/s along the flume. The water is
 shallower than its draft, so the runner keeps it on the bed and gives it the friction of
-orchestrator.bedwatch: a sixDoF linearDamper sized at every restart to mu N at the speed then,
+orchestrator.run.bedwatch: a sixDoF linearDamper sized at every restart to mu N at the speed then,
 N its weight less the buoyancy of the 7.5 mm of it under water. Run once with the scene's
 bed_friction_coefficient 0.3 and once with 0: the difference of the two decelerations is the
 friction's, mu g (1 - buoyancy fraction) = 2.10 m/s2; the water's own drag on the body is in both.
@@ -17,7 +17,7 @@ import pandas as pd
 import pytest
 
 from conftest import ROOT, render_and_run
-from orchestrator.bedwatch import FRICTION_BAND
+from orchestrator.run.bedwatch import FRICTION_BAND
 
 SCENE = ROOT / "tests" / "data" / "scenes" / "bed-friction.yaml"
 RHO, G = 998.2, 9.81

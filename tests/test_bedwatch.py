@@ -10,9 +10,10 @@ import numpy as np
 import pytest
 
 from conftest import ROOT, run_cli
-from orchestrator import bodystate, waterdepth
-from orchestrator.bedwatch import BedWatch, underside_m
-from orchestrator.bodystate import BodyState
+from orchestrator.case import bodystate
+from orchestrator.run import waterdepth
+from orchestrator.run.bedwatch import BedWatch, underside_m
+from orchestrator.case.bodystate import BodyState
 
 SCENE = ROOT / "tests" / "data" / "scenes" / "float-carry.yaml"
 SIZE = (0.15, 0.06, 0.06)

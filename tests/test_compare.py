@@ -11,9 +11,10 @@ import pandas as pd
 import pytest
 
 from analytical.asce7 import SEED_DEBRIS_STIFFNESS_N_M, asce7_impact
-from orchestrator import compare, post
-from orchestrator.plots import PLOTS
-from orchestrator.scene import load_scene
+from orchestrator.results import compare
+from orchestrator.results import post
+from orchestrator.report.plots import PLOTS
+from orchestrator.scene.schema import load_scene
 
 DATA = Path(__file__).parent / "data" / "post"
 ROOT = Path(__file__).resolve().parent.parent

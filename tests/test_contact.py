@@ -1,4 +1,4 @@
-"""Contact geometry, event detection and resolution (orchestrator.contact).
+"""Contact geometry, event detection and resolution (orchestrator.run.contact).
 
 Distances, points and normals against hand values for face, edge and vertex configurations;
 exactness against brute-force surface sampling and consistency with the scene's
@@ -16,7 +16,7 @@ import pytest
 from scipy.spatial import cKDTree
 
 from analytical.errors import InputError
-from orchestrator.contact import (
+from orchestrator.run.contact import (
     BodyState,
     BoxObstacle,
     Obstacles,
@@ -30,8 +30,8 @@ from orchestrator.contact import (
     scene_obstacles,
     time_to_contact,
 )
-from orchestrator.plan import plan_case
-from orchestrator.scene import body_rotation, boxes_overlap, load_scene
+from orchestrator.plan.planner import plan_case
+from orchestrator.scene.schema import body_rotation, boxes_overlap, load_scene
 
 ROOT = Path(__file__).resolve().parent.parent
 I3 = np.eye(3)
@@ -425,7 +425,7 @@ def test_resolve_uses_each_bodys_contact_law_from_the_scene():
     rigid law gives a pulse about five times stronger and shorter; body pairs put the two
     bodies' springs in series."""
     from analytical.contact_law import ASCE7_KD, CONTAINER
-    from orchestrator.contact import pair_contact_law
+    from orchestrator.run.contact import pair_contact_law
 
     base = load_scene(ROOT / "cases" / "1debris.yaml")
     rigid = load_scene(ROOT / "cases" / "1debris.yaml", ["debris.0.contact.law=asce7_kd"])

@@ -3,8 +3,8 @@
 The scene (tests/data/scenes/float-carry.yaml) stands the seed's container (0.236 kg, 0.15 x 0.06
 x 0.06 m: draft 26.3 mm) on the 7.5 mm gap (plan.BedGap) over a 25 mm wet bed, 0.3 m downstream
 of the tiny flume's 0.16 m reservoir. The runner holds it on the bed until the depth it measures
-all round it (orchestrator.waterdepth, body_depth.csv) exceeds its underside plus its draft plus
-the 5 mm margin and the water pushes it up by its weight (orchestrator.bedwatch), then frees it.
+all round it (orchestrator.run.waterdepth, body_depth.csv) exceeds its underside plus its draft plus
+the 5 mm margin and the water pushes it up by its weight (orchestrator.run.bedwatch), then frees it.
 The outcome the issue names: while the depth at it exceeds its draft by 10 mm, its bottom stays at
 least 5 mm above the bed; and it rises off the gap it stood on. Released at the planner's time
 instead (Ritter's depth reaching draft plus gap), containers sank through the gap onto the bed and

@@ -4,11 +4,11 @@ The scene (tests/data/scenes/float-off.yaml) stands the seed's container (0.236 
 0.06 m footprint: draft 26.3 mm) on the bed under 50 mm of still water. It must rise to the
 height where it displaces its own weight, overshoot it and come back (a lightly damped heave
 oscillation about that height). Before the planner left a gap under resting bodies
-(orchestrator/plan.py, BedGap), the underside carried a stale overset pressure: the container
+(orchestrator/plan/planner.py, BedGap), the underside carried a stale overset pressure: the container
 was pulled into the bed and the run diverged at 0.2 s. The second test lays the container on the
 bed itself, kept there by the runner's rest-on-bed constraint: the runner must raise it onto its
 gap and free it once it measures the water deep enough all round and lifting it
-(orchestrator/bedwatch.py).
+(orchestrator/run/bedwatch.py).
 """
 
 from __future__ import annotations
@@ -53,7 +53,7 @@ def test_a_container_kept_on_the_bed_is_raised_onto_its_gap_and_freed_once_the_w
     runner's rest-on-bed constraint, under 50 mm of still water. The runner must raise it onto the
     gap's top and hold it there once it measures the depth all round (50 mm > 5 + 26.3 + 5 mm), free
     it once the water lifts it by its weight, and the container must then float up."""
-    from orchestrator import bodystate
+    from orchestrator.case import bodystate
 
     case = tmp_path / "rest-off"
     proc = run_cli("render", str(SCENE), "-o", str(case))

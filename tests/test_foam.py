@@ -15,9 +15,9 @@ from pathlib import Path
 import pytest
 
 from analytical.errors import DebrisfoamError
-from orchestrator import foam
-from orchestrator.foam import StepError, check_mesh_summary, failure_reason, run_step
-from orchestrator.render import render_case
+from orchestrator.case import foam
+from orchestrator.case.foam import StepError, check_mesh_summary, failure_reason, run_step
+from orchestrator.case.render import render_case
 
 from regenerate_golden import GOLDEN_DIR, flume_plan
 

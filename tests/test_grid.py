@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from orchestrator.grid import BoxGrid, Segment, graded_segment
+from orchestrator.plan.grid import BoxGrid, Segment, graded_segment
 
 
 def _column_grid(rotation=None, origin=(0.0, 0.0, 0.0)):

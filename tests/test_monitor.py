@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from orchestrator.monitor import (
+from orchestrator.run.monitor import (
     STALL_S,
     DivergenceLimits,
     HealthWatch,

@@ -49,7 +49,7 @@ def test_an_installed_wheel_renders_a_scene_from_another_folder(wheel, tmp_path)
     assert run.returncode == 0, run.stderr
     assert (work / "case" / "system" / "blockMeshDict").is_file()
     assert (work / "case" / "constant" / "dynamicMeshDict").is_file()
-    where = subprocess.run([sys.executable, "-c", "import orchestrator.render as r; print(r.TEMPLATE_DIR)"],
+    where = subprocess.run([sys.executable, "-c", "import orchestrator.case.render as r; print(r.TEMPLATE_DIR)"],
                            cwd=work, env=env, capture_output=True, text=True)
     assert where.stdout.strip().startswith(str(target))  # the wheel's templates, not the repository's
 

@@ -21,7 +21,7 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from analytical.errors import InputError
-from orchestrator.plan import (
+from orchestrator.plan.planner import (
     REASON_KEYS,
     _hold_until_s,
     SAFETY,
@@ -32,7 +32,7 @@ from orchestrator.plan import (
     estimated_steps,
     plan_case,
 )
-from orchestrator.scene import apply_overrides, body_rotation, load_scene, scene_from_dict
+from orchestrator.scene.schema import apply_overrides, body_rotation, load_scene, scene_from_dict
 
 ROOT = Path(__file__).resolve().parent.parent
 CASES = ROOT / "cases"
@@ -637,7 +637,7 @@ def test_every_decision_has_a_reason_for_any_scene(d):
 
 def test_bodies_on_the_bed_are_held_until_the_bore_can_lift_them():
     from analytical.dambreak import dam_break
-    from orchestrator.scene import load_scene
+    from orchestrator.scene.schema import load_scene
 
     scene = load_scene(ROOT / "cases" / "1debris.yaml")
     plan = plan_case(scene)

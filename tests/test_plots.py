@@ -18,8 +18,9 @@ import pandas as pd
 import pytest
 from PIL import Image
 
-from orchestrator import plots, post
-from orchestrator.compare import compare
+from orchestrator.report import plots
+from orchestrator.results import post
+from orchestrator.results.compare import compare
 
 DATA = Path(__file__).parent / "data" / "post"
 MAX_WIDTH_PX, MAX_HEIGHT_PX = 1600, 2000
@@ -318,7 +319,7 @@ def test_gauge_names_are_not_under_the_column(real):
 @pytest.fixture(scope="module")
 def study():
     from analytical.synthetic import analyse_record, make_records
-    from orchestrator.study import variant_columns
+    from orchestrator.studies.synthetic import variant_columns
 
     column, fit_column = variant_columns("rigid")
     records = make_records(3, seed=2019, column=column)
@@ -327,7 +328,7 @@ def study():
 
 def test_study_figure4_draws_every_pulse_whole(study):
     """Record 0 of seed 2019: its SDOF pulses start 2-3 ms before the true impact."""
-    from orchestrator import study as st
+    from orchestrator.studies import synthetic as st
 
     column, analyses = study
     a = analyses[0]
@@ -345,7 +346,7 @@ def test_study_figure4_draws_every_pulse_whole(study):
 
 
 def test_study_figure7_fits_a_report(study):
-    from orchestrator import study as st
+    from orchestrator.studies import synthetic as st
 
     _, analyses = study
     fig = st.figure7({"rigid": analyses, "calibrated": analyses, "calibrated-fit-rigid": analyses})

@@ -17,8 +17,8 @@ import pandas as pd
 import pytest
 
 from analytical.errors import InputError
-from orchestrator import post
-from orchestrator.plots import PLOTS
+from orchestrator.results import post
+from orchestrator.report.plots import PLOTS
 from tests.conftest import run_cli
 
 DATA = Path(__file__).parent / "data" / "post"
@@ -395,8 +395,8 @@ def test_cli_prints_where_the_results_are_and_the_headline(tmp_path):
 
 @pytest.mark.openfoam
 def test_a_real_tiny_run_post_processes_with_every_plot(tmp_path, openfoam):
-    from orchestrator.render import render_from_file
-    from orchestrator.run import run_case
+    from orchestrator.pipeline import render_from_file
+    from orchestrator.run.runner import run_case
 
     case = tmp_path / "tiny"
     render_from_file(DATA / "tiny-nodebris.yaml", case)

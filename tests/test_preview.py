@@ -9,9 +9,9 @@ import pytest
 from PIL import Image
 
 from analytical.errors import InputError
-from orchestrator.plan import plan_case
-from orchestrator.preview import WINDOW_SIZE_PX, preview_scene, preview_scene_file
-from orchestrator.scene import load_scene
+from orchestrator.plan.planner import plan_case
+from orchestrator.report.preview import WINDOW_SIZE_PX, preview_scene, preview_scene_file
+from orchestrator.scene.schema import load_scene
 from tests.conftest import ROOT, run_cli
 
 CASES = ("1debris", "6debris-2x3", "nodebris")

@@ -16,9 +16,9 @@ import pytest
 from jinja2 import UndefinedError
 
 from analytical.errors import InputError
-from orchestrator import foam
-from orchestrator.grid import Segment
-from orchestrator.render import (
+from orchestrator.case import foam
+from orchestrator.plan.grid import Segment
+from orchestrator.case.render import (
     Numerics,
     _number,
     _tensor,
@@ -151,7 +151,7 @@ def _z_segments(*edges_and_cells):
 
 
 def test_friction_zone_is_the_first_layer_the_moving_water_runs_in():
-    from orchestrator.render import friction_layer_top_m
+    from orchestrator.case.render import friction_layer_top_m
 
     z = _z_segments((0.0, 0.015, 1), (0.015, 0.415, 10))  # a plane at a 15 mm wet bed, then 4 cm cells
     assert friction_layer_top_m(z, 0.0) == pytest.approx(0.015)  # dry bed: the first layer
@@ -184,8 +184,8 @@ def test_bed_friction_drag_is_f_over_4_dz_times_the_calibration(calibration):
 
 
 def test_scene_friction_calibration_reaches_the_case():
-    from orchestrator.plan import plan_case
-    from orchestrator.scene import Bed, load_scene
+    from orchestrator.plan.planner import plan_case
+    from orchestrator.scene.schema import Bed, load_scene
 
     root = Path(__file__).resolve().parent.parent
     default = load_scene(root / "cases" / "nodebris.yaml")
@@ -393,8 +393,8 @@ def test_there_are_scene_files():
 
 @pytest.mark.parametrize("scene_file", SCENES, ids=lambda p: p.stem)
 def test_every_scene_file_renders(tmp_path, scene_file):
-    from orchestrator.plan import plan_case
-    from orchestrator.scene import load_scene
+    from orchestrator.plan.planner import plan_case
+    from orchestrator.scene.schema import load_scene
 
     scene = load_scene(scene_file, [])
     plan = plan_case(scene)
@@ -416,9 +416,9 @@ def test_every_scene_file_renders(tmp_path, scene_file):
 @pytest.mark.parametrize("name", ["nodebris", "1debris"])
 def test_scene_files_mesh_at_a_coarse_cell_size(tmp_path, openfoam, name):
     """`render --mesh` on the real scenes (0.04 m: the coarsest the debris allows)."""
-    from orchestrator.plan import plan_case
-    from orchestrator.render import render_from_file
-    from orchestrator.scene import load_scene
+    from orchestrator.plan.planner import plan_case
+    from orchestrator.pipeline import render_from_file
+    from orchestrator.scene.schema import load_scene
 
     sets = ["mesh.cell_size_m=0.04", "run.end_time_s=1.0"]
     summary = render_from_file(CASES / f"{name}.yaml", tmp_path / name, sets, mesh=True)
@@ -430,7 +430,7 @@ def test_scene_files_mesh_at_a_coarse_cell_size(tmp_path, openfoam, name):
     # the bed layer holds background cells only, even where a body mesh dips below the bed
     # the drag zone: the layers up to the first above the still water (docs/bed-friction.md): the wet
     # bed's and that one, and under a resting container the gap's four (plan.BedGap)
-    from orchestrator.render import friction_layer_top_m
+    from orchestrator.case.render import friction_layer_top_m
 
     top = friction_layer_top_m(plan.background.z, 0.015)
     layers = int(np.sum(np.cumsum([s.length_m / s.cells for s in plan.background.z for _ in range(s.cells)]) <= top + 1e-9))
@@ -439,7 +439,7 @@ def test_scene_files_mesh_at_a_coarse_cell_size(tmp_path, openfoam, name):
 
 
 def test_max_delta_t_follows_the_scene(tmp_path):
-    from orchestrator.render import render_from_file
+    from orchestrator.pipeline import render_from_file
 
     default, lifted = tmp_path / "a", tmp_path / "b"
     render_from_file(ROOT / "cases" / "nodebris.yaml", default, ["mesh.cell_size_m=0.08"])
@@ -457,9 +457,9 @@ def test_decomposition_keeps_every_body_mesh_on_one_rank(tmp_path, openfoam, cor
     most two body meshes (one lump at each of its cuts). On the seed's 6-debris flume at
     4 cm on 4 ranks that was 0.7 % of a rank's cells; on this 5,564-cell mesh one body is
     4 % of a rank."""
-    from orchestrator.plan import plan_case
-    from orchestrator.render import render_from_file
-    from orchestrator.scene import load_scene
+    from orchestrator.plan.planner import plan_case
+    from orchestrator.pipeline import render_from_file
+    from orchestrator.scene.schema import load_scene
 
     scene = CASES / "hard" / "small" / "six-debris.yaml"
     sets = [f"run.cores={cores}"]

@@ -26,13 +26,13 @@ import pandas as pd
 import pytest
 import yaml
 
-from orchestrator import bodystate
-from orchestrator import run as run_module
-from orchestrator.bodystate import BodyState
-from orchestrator.contact_book import Geometry, resting_contact
-from orchestrator.monitor import DivergenceLimits, parse_log
-from orchestrator.render import render_from_file
-from orchestrator.run import (
+from orchestrator.case import bodystate
+from orchestrator.run import runner as run_module
+from orchestrator.case.bodystate import BodyState
+from orchestrator.run.contact_book import Geometry, resting_contact
+from orchestrator.run.monitor import DivergenceLimits, parse_log
+from orchestrator.pipeline import render_from_file
+from orchestrator.run.runner import (
     ContactSettings,
     DivergenceError,
     RunError,
@@ -149,7 +149,7 @@ def _state(name, centre, velocity=(0.0, 0.0, 0.0), yaw_deg=0.0, omega=(0.0, 0.0,
 
 
 def test_contacts_carry_closing_speeds(body_case):
-    """The runner's view of orchestrator.contact: distances, normals and closing speeds."""
+    """The runner's view of orchestrator.run.contact: distances, normals and closing speeds."""
     geometry = Geometry(load_case_info(body_case))
     # nose 4 mm from the column's upstream face (x = 1.15), closing at 0.5 m/s
     body = _state("debris1", (1.15 - 0.075 - 0.004, 0.0, 0.1), (0.5, 0.0, 0.0))
@@ -175,7 +175,7 @@ def test_contacts_carry_closing_speeds(body_case):
 
 
 def test_classification_of_contacts(body_case):
-    from orchestrator.contact_book import Contact, ContactBook
+    from orchestrator.run.contact_book import Contact, ContactBook
 
     book = ContactBook(load_case_info(body_case), ContactSettings(gap_m=0.005, min_impact_speed_m_s=0.05), {},
                        print)
@@ -213,8 +213,8 @@ def test_contact_book_pins_a_body_pressed_against_the_column_again_and_again(bod
     `max_events` times, then pinned; two bodies pressed together are a ContactError."""
     import shutil
 
-    from orchestrator.contact_book import ContactBook
-    from orchestrator.run import ContactError
+    from orchestrator.run.contact_book import ContactBook
+    from orchestrator.run.runner import ContactError
 
     case = tmp_path / "case"
     shutil.copytree(body_case, case)
@@ -254,7 +254,7 @@ def test_contact_book_keeps_a_body_the_flow_pulls_into_the_bed_on_it(body_case, 
 
     from PyFoam.RunDictionary.ParsedParameterFile import ParsedParameterFile
 
-    from orchestrator.contact_book import ContactBook
+    from orchestrator.run.contact_book import ContactBook
 
     case = tmp_path / "case"
     shutil.copytree(body_case, case)
@@ -295,7 +295,7 @@ def test_a_run_resumed_after_a_body_ran_away_into_the_bed_keeps_it_on_the_bed(bo
     body and its velocity) says it instead. Fast sideways, or slow, is not a runaway."""
     import shutil
 
-    from orchestrator.contact_book import ContactBook
+    from orchestrator.run.contact_book import ContactBook
 
     case = tmp_path / "case"
     shutil.copytree(body_case, case)
@@ -378,7 +378,7 @@ def test_latest_time_repairs_an_incomplete_write(tmp_path):
 def test_stop_request_dates_control_dict_past_the_skew(body_case, tmp_path):
     import shutil
 
-    from orchestrator.run import FILE_MODIFICATION_SKEW_S, _request_write_now, _set_control
+    from orchestrator.run.runner import FILE_MODIFICATION_SKEW_S, _request_write_now, _set_control
 
     case = tmp_path / "case"
     shutil.copytree(body_case, case)
@@ -759,7 +759,7 @@ def test_a_body_on_the_bed_is_held_until_the_measured_water_can_lift_it(tmp_path
     # 0.3 m downstream of the gate, Ritter's depth reaches the container's 26 mm draft plus the
     # 15 mm gap it stands on (plan.BedGap: half a 3 cm body cell) at 0.50 s: the planner's estimate.
     # The runner holds it until the depth it measures all round it exceeds its underside plus its
-    # draft plus the 5 mm margin and the water pushes it up by its weight (orchestrator.bedwatch)
+    # draft plus the 5 mm margin and the water pushes it up by its weight (orchestrator.run.bedwatch)
     data = scene([{"name": "debris1", "centre_m": [0.3, 0.0], "placement": "on_bed"}], end_time_s=0.53,
                  wet_depth_m=0.02)
     # this coarse case (2-cell body standing in a 2 cm wet bed) loses 3.1 % of its water by 0.53 s,
@@ -882,6 +882,6 @@ def _pimple(case: Path) -> dict:
 @pytest.mark.parametrize("name, digits", [("1.46272017", 9), ("0.1", 1), ("0", 1), ("1.2e-05", 2), ("3.5", 2)])
 def test_significant_digits_of_a_time_name(name, digits):
     """The restart's timePrecision must reproduce the latest time directory's name."""
-    from orchestrator.run import _significant_digits
+    from orchestrator.run.runner import _significant_digits
 
     assert _significant_digits(name) == digits

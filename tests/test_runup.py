@@ -17,8 +17,8 @@ import pandas as pd
 import pytest
 import yaml
 
-from orchestrator.render import render_from_file
-from orchestrator.run import run_case
+from orchestrator.pipeline import render_from_file
+from orchestrator.run.runner import run_case
 from tests.conftest import run_cli
 
 

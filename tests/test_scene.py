@@ -17,7 +17,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from analytical.errors import InputError
-from orchestrator.scene import (
+from orchestrator.scene.schema import (
     MIN_CELLS_ACROSS_DEBRIS,
     Scene,
     apply_overrides,

@@ -6,8 +6,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from orchestrator.schema_doc import markdown, schema_rows, shipped_scenes
-from orchestrator.scene import load_scene
+from orchestrator.scene.reference import markdown, schema_rows, shipped_scenes
+from orchestrator.scene.schema import load_scene
 from tests.conftest import run_cli
 
 ROOT = Path(__file__).resolve().parent.parent

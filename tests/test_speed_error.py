@@ -1,4 +1,4 @@
-"""Speed against error (orchestrator.speed_error): the Pareto front, RMSE on a common time
+"""Speed against error (orchestrator.studies.speed_error): the Pareto front, RMSE on a common time
 base, the solver's CPU time from its logs, and the report on real sweep output: the tiny
 mesh study (shared with test_sweep) plus a one-member hand-made baseline of the same flume."""
 
@@ -12,10 +12,10 @@ import numpy as np
 import pytest
 
 from analytical.errors import InputError
-from orchestrator.plan import plan_case
-from orchestrator.scene import load_scene
-from orchestrator.speed_error import gauge_rmse, pareto_front, solver_cpu_s, speed_error
-from orchestrator.sweep import load_store, load_sweep
+from orchestrator.plan.planner import plan_case
+from orchestrator.scene.schema import load_scene
+from orchestrator.studies.speed_error import gauge_rmse, pareto_front, solver_cpu_s, speed_error
+from orchestrator.studies.sweep import load_store, load_sweep
 from tests.conftest import ROOT, run_cli
 
 TINY = ROOT / "tests" / "data" / "post" / "tiny-nodebris.yaml"

@@ -17,9 +17,9 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from orchestrator.post import read_water_balance, water_balance_summary
-from orchestrator.run import load_case_info
-from orchestrator.stability import INSIDE_TOLERANCE_M, MASS_TOLERANCE, assess, markdown, stability_table
+from orchestrator.results.post import read_water_balance, water_balance_summary
+from orchestrator.run.runner import load_case_info
+from orchestrator.studies.stability import INSIDE_TOLERANCE_M, MASS_TOLERANCE, assess, markdown, stability_table
 
 from conftest import ROOT, run_cli
 
@@ -216,7 +216,7 @@ def test_the_fringe_flux_closes_the_background_continuity(small_hard, openfoam):
     calculated cells are divergence-free (to the pressure solver's tolerance), so the
     fringe is the only place the flow can go. A check that the faces are classified and signed
     right; the water flux into the fringe is what the balance loses (docs/openfoam-notes.md)."""
-    from orchestrator.fringe import fringe_flux
+    from orchestrator.results.fringe import fringe_flux
 
     _, _, table = small_hard
     case = Path(_row(table, "tiny-flume").case)

@@ -19,11 +19,11 @@ import pandas as pd
 import pytest
 import yaml
 
-from orchestrator import post
-from orchestrator.plan import plan_case
-from orchestrator.render import render_from_file
-from orchestrator.run import run_case
-from orchestrator.scene import load_scene
+from orchestrator.results import post
+from orchestrator.plan.planner import plan_case
+from orchestrator.pipeline import render_from_file
+from orchestrator.run.runner import run_case
+from orchestrator.scene.schema import load_scene
 
 WET = 0.015
 DEPTH = 0.16

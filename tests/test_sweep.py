@@ -18,8 +18,8 @@ import pandas as pd
 import pytest
 
 from analytical.errors import InputError
-from orchestrator.scene import load_scene
-from orchestrator.sweep import (
+from orchestrator.scene.schema import load_scene
+from orchestrator.studies.sweep import (
     MEMBER_JSON,
     SweepMemberError,
     _write_store,
@@ -250,7 +250,7 @@ def test_dask_local_cluster_runs_the_same_sweep(local_sweep, tmp_path, openfoam)
 # stderr is exactly what a user's terminal would show.
 _TRIVIAL_DASK_SWEEP = """
 import time
-from orchestrator.sweep import _dask_executor, _stop_flag
+from orchestrator.studies.sweep import _dask_executor, _stop_flag
 
 def member(i, stop):
     flag, release = _stop_flag(stop)

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from analytical.synthetic import analyse_record, make_records, pulse_statistics, ratio_statistics
-from orchestrator.study import variant_columns
+from orchestrator.studies.synthetic import variant_columns
 
 
 @pytest.fixture(scope="module")

@@ -1,7 +1,7 @@
 """Scene preview: one PNG that shows what a scene and its plan will model, before any run.
 
-:func:`preview_scene` draws a :class:`~orchestrator.scene.Scene` and its
-:class:`~orchestrator.plan.ModelPlan` off-screen with pyvista into a 1600 x 900 px PNG with
+:func:`preview_scene` draws a :class:`~orchestrator.scene.schema.Scene` and its
+:class:`~orchestrator.plan.planner.ModelPlan` off-screen with pyvista into a 1600 x 900 px PNG with
 three views, from the whole to the detail:
 
 * top: an isometric view of the simulated domain (``plan.domain_m``) inside the flume;
@@ -35,8 +35,8 @@ from typing import Any
 import numpy as np
 
 from analytical.errors import DebrisfoamError
-from orchestrator.plan import ModelPlan, estimated_steps, plan_case
-from orchestrator.scene import Scene, flume_extent, load_scene
+from orchestrator.plan.planner import ModelPlan, estimated_steps, plan_case
+from orchestrator.scene.schema import Scene, flume_extent, load_scene
 
 __all__ = ["COLOURS", "WINDOW_SIZE_PX", "preview_scene", "preview_scene_file"]
 

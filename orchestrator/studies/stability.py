@@ -6,7 +6,7 @@ and answers the questions of issue 6's hard cases:
 * outcome: finished, or how it stopped (the runner's diagnosis: divergence, contact the
   runner could not resolve, a failed OpenFOAM step) and at what simulated time;
 * water conserved: the largest relative error of the water balance over the run
-  (:func:`orchestrator.post.read_water_balance`: the volume of water in the fluid mesh plus
+  (:func:`orchestrator.results.post.read_water_balance`: the volume of water in the fluid mesh plus
   what left through the open boundaries, against the volume at the start), within
   :data:`MASS_TOLERANCE`;
 * no body inside the column, a wall or another body: the smallest signed distance of every
@@ -29,8 +29,8 @@ import numpy as np
 import pandas as pd
 
 from analytical.errors import InputError
-from orchestrator.post import WATER_BALANCE_TOLERANCE, _finite, read_contact_events
-from orchestrator.sweep import _read_json
+from orchestrator.results.post import WATER_BALANCE_TOLERANCE, _finite, read_contact_events
+from orchestrator.studies.sweep import _read_json
 
 __all__ = ["INSIDE_TOLERANCE_M", "MASS_TOLERANCE", "Assessment", "assess", "markdown", "stability_table"]
 
@@ -72,7 +72,7 @@ class Assessment:
 def _clearances(case: Path, plan: dict | None, scene) -> tuple[float | None, str | None, float | None, float | None]:
     """(deepest penetration into column/walls/bodies, into what, deepest bed sink, min clearance)
     over every step of the run's bodies.csv, from the bodies' boxes."""
-    from orchestrator.contact import BodyState, find_contacts, scene_obstacles
+    from orchestrator.run.contact import BodyState, find_contacts, scene_obstacles
 
     tracks_path = case / "bodies.csv"
     if not plan or not plan.get("bodies") or not tracks_path.is_file() or scene is None:
@@ -105,7 +105,7 @@ def _clearances(case: Path, plan: dict | None, scene) -> tuple[float | None, str
 
 @dataclass(frozen=True)
 class _PlanExtent:
-    """What :func:`orchestrator.contact.scene_obstacles` needs of a plan, from plan.json."""
+    """What :func:`orchestrator.run.contact.scene_obstacles` needs of a plan, from plan.json."""
 
     plan: dict
 
@@ -119,7 +119,7 @@ class _PlanExtent:
 
 
 def _forces_finite(case: Path) -> bool | None:
-    from orchestrator.post import read_force_series
+    from orchestrator.results.post import read_force_series
 
     frame, _ = read_force_series(case)
     checks = []
@@ -156,7 +156,7 @@ def assess(case_dir: str | Path, member: dict | None = None) -> Assessment:
     ``member``: the sweep's record of the run (its member.json), for errors raised outside
     run.json (a contact the runner could not resolve, a failed render).
     """
-    from orchestrator.post import read_water_balance, water_balance_summary
+    from orchestrator.results.post import read_water_balance, water_balance_summary
 
     case = Path(case_dir)
     if not case.is_dir():
@@ -165,7 +165,7 @@ def assess(case_dir: str | Path, member: dict | None = None) -> Assessment:
     plan = _read_json(case / "plan.json")
     scene = None
     if (case / "scene.yaml").is_file():
-        from orchestrator.scene import load_scene
+        from orchestrator.scene.schema import load_scene
 
         scene = load_scene(case / "scene.yaml")
     outcome, diagnosis = _outcome(run, member)
@@ -214,7 +214,7 @@ def assess(case_dir: str | Path, member: dict | None = None) -> Assessment:
 
 def stability_table(sweep_dir: str | Path) -> pd.DataFrame:
     """:func:`assess` for every member of the sweep in ``sweep_dir``, in member order."""
-    from orchestrator.sweep import MEMBER_JSON, load_store
+    from orchestrator.studies.sweep import MEMBER_JSON, load_store
 
     store = load_store(sweep_dir)
     rows = []

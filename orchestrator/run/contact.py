@@ -55,7 +55,7 @@ from analytical.impact import (
     inverse_inertia_tensor,
     pair_impact,
 )
-from orchestrator.scene import Scene, column_for_analysis, flume_extent
+from orchestrator.scene.schema import Scene, column_for_analysis, flume_extent
 
 __all__ = [
     "BodyState",
@@ -149,7 +149,7 @@ class BodyState:
 
     @classmethod
     def from_plan(cls, body, velocity_m_s=(0.0, 0.0, 0.0), angular_velocity_rad_s=(0.0, 0.0, 0.0)) -> "BodyState":
-        """The state of a planned body (:class:`orchestrator.plan.BodyPlan`) with the given motion."""
+        """The state of a planned body (:class:`orchestrator.plan.planner.BodyPlan`) with the given motion."""
         return cls(
             name=body.name,
             centre_of_mass_m=body.centre_of_mass_m,
@@ -224,7 +224,7 @@ def scene_obstacles(scene: Scene, plan=None) -> Obstacles:
 
     Without ``plan`` the walls are the flume's: side walls at ``y = +-width/2``, the upstream
     wall at ``x = -reservoir.length_m``, and the downstream end wall when
-    ``flume.downstream_end == "closed"``. With a :class:`~orchestrator.plan.ModelPlan`, the
+    ``flume.downstream_end == "closed"``. With a :class:`~orchestrator.plan.planner.ModelPlan`, the
     modelled domain's boundaries are used instead (``plan.domain_m``; its upstream end is a
     wall also when the reservoir is cut short, and the downstream end is a wall only if
     ``plan.downstream_type == "wall"``): those are where the CFD has walls.
@@ -450,7 +450,7 @@ def resolve(
 
     The impact inputs come from the states: the inverse inertia tensor in the global frame
     from the principal moments and the orientation; for a column contact, the column of
-    ``scene`` (:func:`~orchestrator.scene.column_for_analysis`) struck at the contact
+    ``scene`` (:func:`~orchestrator.scene.schema.column_for_analysis`) struck at the contact
     point's height; a rigid wall for walls; for two bodies, their two-body effective mass on
     one contact spring (no column). The contact law and the friction coefficient are the
     body's (its scene ``contact`` section, :func:`body_contact_law`; a body pair: the two
@@ -519,7 +519,7 @@ def resolve(
 
 
 def body_contact_law(contact) -> ContactLaw:
-    """The contact law of a scene body's ``contact`` section (:class:`orchestrator.scene.DebrisContact`)."""
+    """The contact law of a scene body's ``contact`` section (:class:`orchestrator.scene.schema.DebrisContact`)."""
     return contact_law(contact.law, contact.stiffness_N_m, contact.damping_ratio, contact.restitution)
 
 

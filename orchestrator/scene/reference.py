@@ -1,4 +1,4 @@
-"""The scene reference, generated from the scene schema itself (orchestrator.scene's models).
+"""The scene reference, generated from the scene schema itself (orchestrator.scene.schema's models).
 
 `debrisfoam schema [KEY]` prints it; `make scene-doc` writes docs/scene.md from it, and a test
 checks that the committed page is what this module writes, so the reference cannot drift
@@ -17,8 +17,8 @@ from pydantic import BaseModel
 from pydantic_core import PydanticUndefined
 
 from analytical.errors import InputError
-from orchestrator.render import bundled_dir
-from orchestrator.scene import DebrisBody, DebrisLayout, Scene
+from orchestrator.core.files import bundled_dir
+from orchestrator.scene.schema import DebrisBody, DebrisLayout, Scene
 
 __all__ = ["SchemaRow", "markdown", "schema_rows", "scenes_dir", "shipped_scenes"]
 

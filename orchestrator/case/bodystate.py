@@ -465,7 +465,7 @@ def rest_to_hold(case_dir: str | Path, names: Sequence[str]) -> list[str]:
     """Turn the `rest_on_bed` constraint of the named bodies into the planner's hold (the same
     plane, named `holdOnBedPlane`): the runner raises such a body onto the gap's top, where its
     underside has overset donors, and holds it there until the water lifts it
-    (`orchestrator.bedwatch`). Returns the bodies changed."""
+    (`orchestrator.run.bedwatch`). Returns the bodies changed."""
     def to_hold(constraints: dict) -> dict | None:
         if REST_ON_BED not in constraints:
             return None
@@ -493,7 +493,7 @@ BED_FRICTION = "bedFriction"
 def set_bed_friction(case_dir: str | Path, coefficients: dict[str, float | None]) -> list[str]:
     """Set (a number, N s/m) or remove (None) the `linearDamper` restraint `bedFriction` of the
     named bodies: a force -coeff * velocity on the centre of mass (v1912's sixDoF restraint). The
-    runner sizes it to the Coulomb friction of a body resting on the bed (`orchestrator.bedwatch`).
+    runner sizes it to the Coulomb friction of a body resting on the bed (`orchestrator.run.bedwatch`).
     Returns the bodies changed."""
     def edit(name: str, restraints: dict) -> dict | None:
         value = coefficients[name]

@@ -55,7 +55,7 @@ import numpy as np
 import pandas as pd
 
 from analytical.errors import InputError
-from orchestrator.jsonio import json_default
+from orchestrator.core.jsonio import json_default
 
 __all__ = [
     "COLUMN_CLEARANCE",
@@ -190,8 +190,8 @@ def _label(setup: str, cell_m: float | None, taken: set[str]) -> str:
 
 
 def _load_members(sweep_dir: Path, role: str) -> list[dict[str, Any]]:
-    from orchestrator.scene import load_scene
-    from orchestrator.sweep import load_store
+    from orchestrator.scene.schema import load_scene
+    from orchestrator.studies.sweep import load_store
 
     store = load_store(sweep_dir)
     sweep_name = _read_json(sweep_dir / "sweep.json").get("name") or sweep_dir.name
@@ -222,7 +222,7 @@ def _gauge_positions(scene) -> dict[str, float]:
     if scene is None:
         return {}
     try:
-        from orchestrator.plan import plan_case
+        from orchestrator.plan.planner import plan_case
 
         return {g.name: float(g.x) for g in plan_case(scene).gauges}
     except Exception:
@@ -345,7 +345,7 @@ def _member_row(m: dict, ref: dict | None, ref_gauges: pd.DataFrame | None) -> d
     if scene is not None:
         out["domain_x_m"] = None
         try:
-            from orchestrator.plan import plan_case
+            from orchestrator.plan.planner import plan_case
 
             (x0, x1), _, (_, z1) = plan_case(scene).domain_m
             out["domain_x_m"] = f"{x0:.2f}..{x1:.2f}"
@@ -479,8 +479,8 @@ def _extrapolate(members: list[dict], table: pd.DataFrame, tcol: str, cell_m: fl
     size: a lower bound where the step was capped by maxDeltaT on the measured member); the cost
     per cell-step of the finest member. The local exponent of the steps between the set-up's two
     finest members is reported beside it. An extrapolation, labelled as such."""
-    from orchestrator.plan import plan_case
-    from orchestrator.scene import load_scene
+    from orchestrator.plan.planner import plan_case
+    from orchestrator.scene.schema import load_scene
 
     out = []
     by_id = {m["row"].get("member_id"): m for m in members}

@@ -28,7 +28,7 @@ from analytical.contact_law import (
     held_out,
 )
 from analytical.pulses import HalfSine
-from orchestrator.jsonio import json_default
+from orchestrator.core.jsonio import json_default
 
 __all__ = ["write_contact_law_report"]
 

@@ -1,8 +1,8 @@
 """report.md: a run's results and comparisons in words, tables and figures (generated, never edited).
 
 :func:`write_report` writes ``DIR/results/report.md`` from the tables of
-:mod:`orchestrator.post`, the comparisons of :mod:`orchestrator.compare` and the PNGs of
-:mod:`orchestrator.plots` (linked by relative path, so the folder can be moved whole).
+:mod:`orchestrator.results.post`, the comparisons of :mod:`orchestrator.results.compare` and the PNGs of
+:mod:`orchestrator.report.plots` (linked by relative path, so the folder can be moved whole).
 """
 
 from __future__ import annotations
@@ -78,8 +78,8 @@ def _run_section(figures: dict, missing: Sequence[str]) -> list[str]:
 def write_report(results, comp, figures: dict, tables: dict[str, Path], plots: dict[str, Path],
                  path: str | Path) -> Path:
     """Write report.md; returns its path."""
-    from orchestrator.compare import CONTAINER_MATERIAL, SPREADING_ANGLES_DEG
-    from orchestrator.post import ARRIVAL_FRACTION, MIN_GAUGE_COVERAGE
+    from orchestrator.results.compare import CONTAINER_MATERIAL, SPREADING_ANGLES_DEG
+    from orchestrator.results.post import ARRIVAL_FRACTION, MIN_GAUGE_COVERAGE
 
     path = Path(path)
     data = results.data

@@ -118,7 +118,7 @@ def _scene(case: Path) -> dict[str, Any]:
 
 def z_axis(plan: dict[str, Any], scene: dict[str, Any]) -> ZAxis:
     """The background's layers up to the highest still water (the reservoir) plus a cell."""
-    from orchestrator.grid import Segment
+    from orchestrator.plan.grid import Segment
 
     h = float(scene["mesh"]["cell_size_m"])
     (z0, z1) = (float(v) for v in plan["domain_m"][2])
@@ -177,7 +177,7 @@ def _lift_object(body: str) -> str:
 
 def _function_object(grid: Grid, bodies: Sequence[str] = ()) -> str:
     lifts = "".join(_lift_object(b) for b in bodies)
-    text = ("// written by the runner (orchestrator/waterdepth.py) at every restart: alpha.water on vertical\n"
+    text = ("// written by the runner (orchestrator/run/waterdepth.py) at every restart: alpha.water on vertical\n"
             "// columns around the bodies it keeps on the bed, and the fluid force on every body\n")
     if len(grid.xy):
         pts = "\n".join(f"                ({x:.6g} {y:.6g} {z:.6g})" for x, y, z in grid.points())

@@ -5,7 +5,7 @@ values interpolated from the other mesh, and its pressure equation has no contin
 there. Faces between a calculated cell (0) and a fringe cell keep their flux (the solver's
 ``faceMask`` zeroes only the faces of holes, 2), so the alpha flux that enters a fringe cell
 is lost to the mesh and what leaves one is created. The water balance of the background
-(:func:`orchestrator.post.read_water_balance`) changes at exactly the background's net
+(:func:`orchestrator.results.post.read_water_balance`) changes at exactly the background's net
 inflow into its fringe, apart from the water held in its fringe and hole cells changing
 (small once the bodies stop). docs/openfoam-notes.md ("Water balance: where the overset loses
 water") has the measurement that
@@ -117,7 +117,7 @@ def fringe_flux(case_dir: str | Path, time_name: str,
 def fringe_table(case_dir: str | Path) -> pd.DataFrame | None:
     """:func:`fringe_flux` at every reconstructed time of a case that has the overset fields
     (None when there is none: not overset, or nothing reconstructed)."""
-    from orchestrator.run import _time_names
+    from orchestrator.run.runner import _time_names
 
     case = Path(case_dir)
     names = [name for _, name in _time_names(case) if has_fringe_fields(case / name)]

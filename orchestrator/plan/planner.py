@@ -41,8 +41,8 @@ from typing import Any, Literal
 import numpy as np
 
 from analytical.contact_law import box_inertia
-from orchestrator.grid import BoxGrid, Segment, graded_segment
-from orchestrator.scene import DebrisBody, Scene, body_rotation, draft_m, flume_extent, half_extent_z
+from orchestrator.plan.grid import BoxGrid, Segment, graded_segment
+from orchestrator.scene.schema import DebrisBody, Scene, body_rotation, draft_m, flume_extent, half_extent_z
 
 __all__ = [
     "BodyPlan",
@@ -861,7 +861,7 @@ def plan_case(scene: Scene) -> ModelPlan:
             "dam-break depth at the body's centre (Chanson with the scene's f; Ritter if f = 0) reaches its "
             "draft" + (f" plus the {lift:.3g} m gap it stands on" if lift else "")
             + " (the estimate here: the runner frees each body once the water it measures all round the body "
-            "floats it and lifts it by its weight, orchestrator/bedwatch.py): " + ", ".join(holds)
+            "floats it and lifts it by its weight, orchestrator/run/bedwatch.py): " + ", ".join(holds)
             if holds else "no body rests on the bed: none is held"
         )
         if gap is not None:
@@ -1088,7 +1088,7 @@ def _hold_until_s(scene, body, gap_m: float = 0.0) -> float:
     """When a body resting on the bed should float off (s; 0 = it floats from the start): an estimate.
 
     The runner frees a held body on what it measures (the depth all round the body and the
-    fluid's lift on it, orchestrator/bedwatch.py); this estimate says when the bore should let it,
+    fluid's lift on it, orchestrator/run/bedwatch.py); this estimate says when the bore should let it,
     and whether the body is held at all. The estimate is the time the dam-break depth at its
     centre reaches its draft (its
     mass over the water displaced per metre of immersion by its footprint) plus ``gap_m``,

@@ -31,16 +31,10 @@ import numpy as np
 from jinja2 import ChoiceLoader, Environment, FileSystemLoader, StrictUndefined
 
 from analytical.errors import InputError
-from orchestrator.grid import BoxGrid
-from orchestrator.plan import max_delta_t_s
-
-def bundled_dir(installed: str, in_repository: str) -> Path:
-    """A folder shipped with the package: in an installed wheel the package data
-    orchestrator/<installed>/, in the source tree the repository's <in_repository>/
-    (pyproject.toml maps one to the other)."""
-    here = Path(__file__).resolve().parent
-    return here / installed if (here / installed).is_dir() else here.parent / in_repository
-
+from orchestrator.case.folder import BED_LAYER_ZONE, BODIES_DIR
+from orchestrator.core.files import bundled_dir
+from orchestrator.plan.grid import BoxGrid
+from orchestrator.plan.planner import max_delta_t_s
 
 TEMPLATE_DIR = bundled_dir("templates", "templates")
 
@@ -62,10 +56,6 @@ BLOCKMESH_TYPES = {"wall": "wall", "body": "wall", "atmosphere": "patch", "outle
 #: other boundary condition is evaluated.
 OVERSET_DUMMY_PATCH = "oversetPatch"
 COLUMN_PATCH = "column"
-#: Cell zone of the background's first cell layer above the bed (bed friction).
-BED_LAYER_ZONE = "bedLayer"
-#: Sub-directory of a case holding one blockMesh sub-case per body.
-BODIES_DIR = "bodies"
 
 # --------------------------------------------------------------------------- numerics
 
@@ -327,7 +317,7 @@ def build_context(scene, plan, numerics: Numerics | None = None) -> dict[str, An
     if overset != bool(plan.bodies):
         raise InputError("plan.solver", f"{solver} with {len(plan.bodies)} debris bodies")
 
-    from orchestrator.scene import Fluids, Outputs
+    from orchestrator.scene.schema import Fluids, Outputs
 
     # scene None: the scene defaults (golden files and tests render plans directly)
     fluids = getattr(scene, "fluids", None) or Fluids()
@@ -529,7 +519,7 @@ def render_case(scene, plan, out_dir: str | Path, force: bool = False, overrides
     that no stale mesh or results survive; other files are overwritten in place.
     `overrides` (the `--set` items that produced `scene`) head scene.yaml.
     """
-    from orchestrator import foam
+    from orchestrator.case import foam
 
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
@@ -559,46 +549,15 @@ def _scene_yaml(scene, overrides: Sequence[str] = ()) -> str:
     """The resolved scene as YAML (a plain dict, e.g. in tests, is dumped as it is)."""
     import yaml
 
-    from orchestrator.scene import Scene, dump_scene_yaml
+    from orchestrator.scene.schema import Scene, dump_scene_yaml
 
     if isinstance(scene, Scene):
         return dump_scene_yaml(scene, list(overrides))
     if isinstance(scene, dict):
         return yaml.safe_dump(dict(scene), sort_keys=False)
-    raise TypeError(f"render_case needs an orchestrator.scene.Scene, got {type(scene).__name__}")
+    raise TypeError(f"render_case needs an orchestrator.scene.schema.Scene, got {type(scene).__name__}")
 
 
 def _plan_json(plan) -> str:
     text = plan.to_json()
     return text if text.endswith("\n") else text + "\n"
-
-
-def render_from_file(scene_path: str | Path, out_dir: Path, sets: Sequence[str] = (), force: bool = False,
-                     mesh: bool = False) -> dict[str, Any]:
-    """The `debrisfoam render` verb: load and plan the scene, render, optionally mesh.
-
-    Returns a summary for the CLI: case path, solver, planned cell count and, with
-    `mesh`, checkMesh's verdict, cell count and quality figures.
-    """
-    from orchestrator import foam
-    from orchestrator.plan import plan_case
-    from orchestrator.scene import load_scene
-
-    scene = load_scene(scene_path, list(sets))
-    plan = plan_case(scene)
-    case = render_case(scene, plan, out_dir, force=force, overrides=sets)
-    summary: dict[str, Any] = {"case": str(case), "solver": plan.solver, "planned_cells": int(plan.cell_count),
-                               "warnings": list(plan.warnings)}
-    if scene.outputs.preview:
-        from orchestrator.preview import preview_scene
-
-        try:
-            summary["preview"] = str(preview_scene(scene, plan, case / "preview.png"))
-        except Exception as exc:  # a picture must never cost the user the case: say so and go on
-            summary["preview"] = f"not drawn ({type(exc).__name__}: {exc}); the case is complete"
-    if mesh:
-        for step in foam.mesh_steps(case, plan):
-            foam.run_step(step.name, step.argv, case, np=step.np, done=step.done)
-        check = foam.check_mesh_summary(case / "log.checkMesh")
-        summary.update({f"mesh_{k}": v for k, v in asdict(check).items()})
-    return summary

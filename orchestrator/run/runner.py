@@ -43,13 +43,13 @@ the first symptom on are deleted, and `DivergenceError` names the cause, the
 simulated time, the last good time and the log.
 
 Contact (v1912 has none; bodies pass through walls silently): the bookkeeping is
-`orchestrator.contact_book`'s (`ContactBook`, which the runner owns). After every
+`orchestrator.run.contact_book`'s (`ContactBook`, which the runner owns). After every
 batch of log lines the runner asks the book which bodies will be within
 `ContactSettings.gap_m` of the column, a flume wall, another body, or sink into the
 bed, before the solver can stop (their closing speeds times the stop latency, a few
 time steps, which the runner measures; it polls faster near an obstacle), and
 schedules the stop or requests `writeNow`. From the written state the book resolves
-the contacts and records them: impacts (`orchestrator.contact.resolve`: the MDOF
+the contacts and records them: impacts (`orchestrator.run.contact.resolve`: the MDOF
 column, rigid walls, two-body impacts), slow "resting" contacts (a plastic impulse),
 bodies the flow keeps pressing against an obstacle (pinned there), bodies sunk into
 the bed (lifted back), overlaps (removed along the contact normal). The runner then
@@ -72,7 +72,7 @@ PyFoam: `ParsedParameterFile` reads and edits controlDict and dynamicMeshDict
 used: its runners (`BasicRunner` runs in the current directory, splits a command
 string, names logs `PyFoam.<app>.logfile`, blocks until the end and cannot be asked
 to stop the solver cleanly; `foam.run_step` and the segment loop here do what is
-needed) and its log analysers (see `orchestrator.monitor`).
+needed) and its log analysers (see `orchestrator.run.monitor`).
 
 Units: seconds, metres, kg, N.
 """
@@ -98,13 +98,14 @@ from types import SimpleNamespace
 from typing import Any, Callable, Sequence
 
 from analytical.errors import DebrisfoamError
-from orchestrator import bodystate, foam
-from orchestrator.bedwatch import BedWatch
-from orchestrator.contact_book import Contact, ContactBook, ContactSettings
-from orchestrator.jsonio import json_default
-from orchestrator.post import WATER_BALANCE_TOLERANCE, read_water_balance
-from orchestrator.bodystate import BodyProperties, BodyState
-from orchestrator.monitor import (
+from orchestrator.case import bodystate
+from orchestrator.case import foam
+from orchestrator.run.bedwatch import BedWatch
+from orchestrator.run.contact_book import Contact, ContactBook, ContactSettings
+from orchestrator.core.jsonio import json_default
+from orchestrator.results.post import WATER_BALANCE_TOLERANCE, read_water_balance
+from orchestrator.case.bodystate import BodyProperties, BodyState
+from orchestrator.run.monitor import (
     Diagnosis,
     DivergenceLimits,
     HealthWatch,

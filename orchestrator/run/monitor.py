@@ -50,7 +50,7 @@ from typing import Iterable, Sequence
 
 import numpy as np
 
-from orchestrator.bodystate import BodyState
+from orchestrator.case.bodystate import BodyState
 
 __all__ = [
     "Diagnosis",

@@ -1,6 +1,6 @@
 """Comparisons of a run with the analytical models and with the seed study (issue 5).
 
-:func:`compare` takes the tables of :func:`orchestrator.post.tables` and returns a
+:func:`compare` takes the tables of :func:`orchestrator.results.post.tables` and returns a
 :class:`Comparison`; :func:`write_tables` writes its tables to ``DIR/results/``:
 
 ``arrivals.csv``
@@ -10,7 +10,7 @@
     positions (x = 2.40 m and 3.20 m), the seed's measured arrival (0.91 s, 1.39 s) and its
     LS-DYNA model's (0.88 s, 1.20 s); error = simulated - reference (s and %). The
     analytical arrival is the front's tip; the simulated one is the threshold crossing of
-    :mod:`orchestrator.post` (2 % of h0 above the initial level), so a resolved front
+    :mod:`orchestrator.results.post` (2 % of h0 above the initial level), so a resolved front
     arrives a little after the tip by construction.
 ``impact_formulas.csv``
     Every impact against ASCE 7-22 6.11 with the debris stiffness k_d and with the column's
@@ -450,7 +450,7 @@ def _spreading(results) -> tuple[pd.DataFrame, dict[str, np.ndarray]]:
 
 
 def compare(results) -> Comparison:
-    """Every comparison of :mod:`orchestrator.post`'s tables (see the module docstring)."""
+    """Every comparison of :mod:`orchestrator.results.post`'s tables (see the module docstring)."""
     data = results.data
     notes: list[str] = []
     scene = data.scene

@@ -40,13 +40,13 @@ without contacts is post-processed up to where it got; what is missing is listed
 ``fringe_flux.csv``
     Overset runs: per reconstructed time and overset zone (0: the background), the cell
     counts and the net water and volume flux into the fringe cells
-    (:mod:`orchestrator.fringe`): where the overset loses or makes water.
+    (:mod:`orchestrator.results.fringe`): where the overset loses or makes water.
 ``summary.json``
     The headline figures, the run's status, wall time and cell count, what is missing.
 
 With ``comparisons=True`` (the default) :func:`post_case` then writes the comparisons with
-the analytical models and the seed (:mod:`orchestrator.compare`), the plots
-(:mod:`orchestrator.plots`) and ``report.md`` (:mod:`orchestrator.report`) beside them.
+the analytical models and the seed (:mod:`orchestrator.results.compare`), the plots
+(:mod:`orchestrator.report.plots`) and ``report.md`` (:mod:`orchestrator.report.markdown`) beside them.
 
 Definitions (units: s, m, N, N m, m/s, rad/s, degrees):
 
@@ -92,7 +92,7 @@ import numpy as np
 import pandas as pd
 
 from analytical.errors import DebrisfoamError, InputError
-from orchestrator.jsonio import json_default
+from orchestrator.core.jsonio import json_default
 
 __all__ = [
     "ARRIVAL_FRACTION",
@@ -216,7 +216,7 @@ class CaseData:
 
     @property
     def body_names(self) -> list[str]:
-        from orchestrator.bodystate import read_body_properties
+        from orchestrator.case.bodystate import read_body_properties
 
         try:
             names = [b.name for b in read_body_properties(self.case)]
@@ -270,7 +270,7 @@ class Results:
     reached_time_s: float | None = None
     #: per step: water volume, outflow and the balance error (:func:`read_water_balance`)
     water_balance: pd.DataFrame | None = None
-    #: overset: per reconstructed time and zone, the flux into the fringe (:mod:`orchestrator.fringe`)
+    #: overset: per reconstructed time and zone, the flux into the fringe (:mod:`orchestrator.results.fringe`)
     fringe_flux: pd.DataFrame | None = None
 
 
@@ -305,7 +305,7 @@ def load_case(case_dir: str | Path) -> CaseData:
     run = _read_json(case / "run.json", notes)
     scene = None
     if (case / "scene.yaml").is_file():
-        from orchestrator.scene import load_scene
+        from orchestrator.scene.schema import load_scene
 
         try:
             scene = load_scene(case / "scene.yaml")
@@ -316,7 +316,7 @@ def load_case(case_dir: str | Path) -> CaseData:
     solver = (run or {}).get("solver") or (plan or {}).get("solver")
     column = None
     if scene is not None and scene.column is not None:
-        from orchestrator.scene import column_for_analysis
+        from orchestrator.scene.schema import column_for_analysis
 
         column = column_for_analysis(scene)
     return CaseData(case, plan if isinstance(plan, dict) else None, scene,
@@ -714,7 +714,7 @@ def read_body_tracks(case_dir: str | Path, solver: str, names: Sequence[str]) ->
 
     Falls back on the runner's own ``bodies.csv`` in the case when no log reports a body.
     """
-    from orchestrator.monitor import parse_log
+    from orchestrator.run.monitor import parse_log
 
     case = Path(case_dir)
     pieces: list[tuple[float, pd.DataFrame]] = []
@@ -1204,7 +1204,7 @@ def _fringe_flux(data: CaseData, missing: list[str]) -> pd.DataFrame | None:
     """The overset fringe flux of the reconstructed times (None when not overset or none has the fields)."""
     if data.solver != "overInterDyMFoam":
         return None
-    from orchestrator.fringe import fringe_table
+    from orchestrator.results.fringe import fringe_table
 
     try:
         return fringe_table(data.case)
@@ -1384,7 +1384,9 @@ def post_case(case_dir: str | Path, *, comparisons: bool = True, snapshot: bool 
     plots: dict[str, Path] = {}
     report_path = None
     if comparisons:
-        from orchestrator import compare, plots as plotting, report
+        from orchestrator.results import compare
+        from orchestrator.report import plots as plotting
+        from orchestrator.report import markdown as report
 
         comp = compare.compare(results)
         written.update(compare.write_tables(comp, out_dir))

@@ -12,8 +12,8 @@ A sweep file (YAML; the format is documented in docs/sweeps.md)::
     cores_per_member: 2              # optional: MPI ranks of every member (default: its run.cores)
 
 :func:`load_sweep` expands and validates every member before anything runs (each scene
-is loaded with the overrides of :mod:`orchestrator.scene` and planned with
-:func:`orchestrator.plan.plan_case`): a bad member is an :class:`InputError` naming the
+is loaded with the overrides of :mod:`orchestrator.scene.schema` and planned with
+:func:`orchestrator.plan.planner.plan_case`): a bad member is an :class:`InputError` naming the
 sweep file, the member and the field. A member's id is a short hash of its resolved
 scene, so the same scene always lands in the same folder, whatever axes produced it.
 
@@ -24,7 +24,7 @@ folder (default ``runs/sweeps/<name>``)::
 
     sweep.json                   the expanded sweep: every member's id, parameters, overrides
     scenes/<id>.yaml             every member's resolved scene (what its case is rendered from)
-    <id>/                        the member's case (orchestrator.case.run_full_case):
+    <id>/                        the member's case (orchestrator.pipeline.run_full_case):
                                  scene.yaml, plan.json, run.json, logs, results/ ...
     <id>/member.json             the member's status, error, wall time, parameters
     results.sqlite               the results store: table `members`, one row per member
@@ -60,7 +60,7 @@ from typing import Any, Callable, Iterable, Iterator, Sequence
 
 
 from analytical.errors import DebrisfoamError, InputError
-from orchestrator.jsonio import json_default
+from orchestrator.core.jsonio import json_default
 
 __all__ = [
     "MEMBER_JSON",
@@ -128,8 +128,8 @@ class Member:
     overrides: tuple[str, ...]  # every override applied to the base: `set` first, then the axes
     axis_overrides: tuple[str, ...]  # the overrides that differ between members
     params: dict[str, Any]  # axis key -> value (plus "scene" -> file stem with `scenes:`)
-    scene: Any  # orchestrator.scene.Scene
-    plan: Any  # orchestrator.plan.ModelPlan
+    scene: Any  # orchestrator.scene.schema.Scene
+    plan: Any  # orchestrator.plan.planner.ModelPlan
 
     @property
     def label(self) -> str:
@@ -138,7 +138,7 @@ class Member:
 
     @property
     def estimated_wall_time_s(self) -> float:
-        from orchestrator.plan import estimate_wall_time_s
+        from orchestrator.plan.planner import estimate_wall_time_s
 
         return float(self.plan.estimated_wall_time_s or estimate_wall_time_s(self.plan))
 
@@ -182,7 +182,7 @@ LATE_KEYS = (("run", "max_delta_t_s"), ("run", "stall_limit_s"), ("run", "water_
 
 def member_id(scene) -> str:
     """A short hash of the resolved scene (canonical JSON): the same scene, the same id."""
-    from orchestrator.scene import scene_to_dict
+    from orchestrator.scene.schema import scene_to_dict
 
     data = scene_to_dict(scene)
     for section, key in LATE_KEYS:
@@ -198,7 +198,7 @@ def _override(key: str, value: Any) -> str:
 
 
 def _read_mapping(path: Path) -> dict:
-    from orchestrator.scene import read_yaml
+    from orchestrator.scene.schema import read_yaml
 
     source = str(path)
     data = read_yaml(path, "sweep")
@@ -296,8 +296,8 @@ def load_sweep(path: str | Path) -> Sweep:
     SweepMemberError (an InputError) naming the member and the field for a bad member.
     Nothing is written.
     """
-    from orchestrator.plan import plan_case
-    from orchestrator.scene import load_scene, scene_to_dict
+    from orchestrator.plan.planner import plan_case
+    from orchestrator.scene.schema import load_scene, scene_to_dict
 
     path = Path(path)
     source = str(path)
@@ -522,8 +522,8 @@ def run_member(task: dict[str, Any], stop: Any = None) -> dict[str, Any]:
     stop: a threading.Event or a distributed.Event; when set the run stops cleanly
     (status "interrupted", resumable), and a member that has not started does not start.
     """
-    from orchestrator.case import prepare_case, run_full_case
-    from orchestrator.run import RunInterrupted
+    from orchestrator.pipeline import prepare_case, run_full_case
+    from orchestrator.run.runner import RunInterrupted
 
     case = Path(task["case_dir"])
     flag, release = _stop_flag(stop)
@@ -854,7 +854,7 @@ class SweepResult:
 
 def _manifest(sweep: Sweep, out: Path) -> None:
     """sweep.json and scenes/<id>.yaml: the expanded sweep, written before anything runs."""
-    from orchestrator.scene import dump_scene_yaml
+    from orchestrator.scene.schema import dump_scene_yaml
 
     scenes = out / SCENES_DIR
     scenes.mkdir(parents=True, exist_ok=True)

@@ -3,7 +3,7 @@
 v1912 has no contact, so the runner keeps a body on the bed with a sixDoF `plane` constraint:
 the planner's initial hold (`holdOnBedPlane`, until the bore arrives) or the contact book's
 `rest_on_bed` (a body the flow keeps pulling into the bed). This module decides, from the water
-depth measured around each body while the solver runs (`orchestrator.waterdepth`), when such a
+depth measured around each body while the solver runs (`orchestrator.run.waterdepth`), when such a
 constraint comes off, and gives a resting body Coulomb friction.
 
 **Free floating.** The water can carry a body once the depth all round it
@@ -60,8 +60,9 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from orchestrator import bodystate, waterdepth
-from orchestrator.bodystate import BodyState
+from orchestrator.case import bodystate
+from orchestrator.run import waterdepth
+from orchestrator.case.bodystate import BodyState
 
 #: below this horizontal speed the friction damper is sized for it (m/s)
 FRICTION_FLOOR_M_S = 0.05

@@ -1,7 +1,7 @@
 """The comparison plots of a run, as PNG files in DIR/results/ (matplotlib, Agg; pyvista off-screen).
 
-:func:`make_plots` draws, from :mod:`orchestrator.post`'s tables and
-:mod:`orchestrator.compare`'s comparisons:
+:func:`make_plots` draws, from :mod:`orchestrator.results.post`'s tables and
+:mod:`orchestrator.results.compare`'s comparisons:
 
 ``gauges.png``          elevation at every gauge against Ritter, Stoker and Chanson, with the
                         simulated, analytical and seed arrival times marked (seed Fig. 10);
@@ -496,7 +496,7 @@ def figure_tracks(results, comp):
     plt = _pyplot()
     from matplotlib.patches import PathPatch, Rectangle
 
-    from orchestrator.compare import SPREADING_ANGLES_DEG
+    from orchestrator.results.compare import SPREADING_ANGLES_DEG
 
     data = results.data
     scene = data.scene
@@ -505,7 +505,7 @@ def figure_tracks(results, comp):
     if data.plan and data.plan.get("domain_m"):
         (x_lo, x_hi), (y_lo, y_hi) = data.plan["domain_m"][0], data.plan["domain_m"][1]
     elif scene is not None:
-        from orchestrator.scene import flume_extent
+        from orchestrator.scene.schema import flume_extent
 
         (x_lo, x_hi), (y_lo, y_hi), _ = flume_extent(scene)
     # frame: the debris path, the column, the gauges and the start of the spreading areas
@@ -635,7 +635,7 @@ def snapshot(results, path: Path) -> tuple[Path, str | None]:
         note = "snapshot: the case has no system/controlDict, so its fields cannot be read"
         return _placeholder(path, note), note
     decomposed = any(p.is_dir() for p in case.glob("processor*"))
-    from orchestrator.preview import _quiet_vtk
+    from orchestrator.report.preview import _quiet_vtk
 
     with _quiet_vtk():
         try:

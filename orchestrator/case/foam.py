@@ -31,6 +31,7 @@ from pathlib import Path
 from typing import Callable, Sequence
 
 from analytical.errors import DebrisfoamError
+from orchestrator.case.folder import BED_LAYER_ZONE, BODIES_DIR
 
 #: OpenFOAM v1912 from Debian: binaries in /usr/bin, project files here.
 WM_PROJECT_DIR = "/usr/share/openfoam"
@@ -246,7 +247,6 @@ def mesh_steps(case_dir: str | Path, plan) -> list[Step]:
     keeps on one rank, and the bed layer's cell zone when the bed has friction);
     then setFields (alpha.water, zoneID) and checkMesh.
     """
-    from orchestrator.render import BED_LAYER_ZONE, BODIES_DIR
 
     steps = [Step("blockMesh", ("blockMesh",), "background mesh (the column is a hole)", done=_has_mesh())]
     bodies = [b.name for b in plan.bodies]

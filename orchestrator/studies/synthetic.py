@@ -154,7 +154,7 @@ def table2_markdown(stats: dict) -> str:
 _DPI = 150
 _WIDTH_IN = 10.5
 _SMALL = 9
-#: One colour per method in every panel and figure (as in orchestrator.plots).
+#: One colour per method in every panel and figure (as in orchestrator.report.plots).
 _COLOURS = {"asce_kd": "#2c7bb6", "asce_ks": "#74add1", "sdof": "#e66101", "sdof_column_mass": "#7b3294",
             "mdof": "#1a9641", "true": "0.55"}
 

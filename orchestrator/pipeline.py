@@ -13,10 +13,16 @@ import math
 import sys
 import threading
 import time
+from dataclasses import asdict
 from pathlib import Path
 from typing import Any, Sequence
 
 from analytical.errors import InputError
+from orchestrator.case import foam
+from orchestrator.case.render import render_case
+from orchestrator.plan.planner import plan_case
+from orchestrator.report.preview import preview_scene
+from orchestrator.scene.schema import load_scene
 
 #: Post-processing draws with matplotlib's pyplot (and pyvista), which are not thread-safe:
 #: cases run in threads of one process (a sweep's local executor) post-process one at a time.
@@ -31,8 +37,6 @@ def default_case_dir(scene_path: str | Path) -> Path:
 def _same_case(case: Path, scene) -> bool:
     """Does `case` hold this scene? Compared as resolved scenes, so a case rendered before a
     new scene key (with its default) was added is still the same case."""
-    from orchestrator.scene import load_scene
-
     existing = case / "scene.yaml"
     if not existing.is_file():
         return False
@@ -56,9 +60,6 @@ def prepare_case(scene_path: str | Path, out_dir: str | Path, sets: Sequence[str
     Returns (case folder, rendered now?). Raises InputError when out_dir holds
     something else.
     """
-    from orchestrator.render import render_from_file
-    from orchestrator.scene import load_scene
-
     out = Path(out_dir)
     scene = load_scene(scene_path, list(sets))
     if out.is_dir() and any(out.iterdir()):
@@ -81,8 +82,8 @@ def run_full_case(scene_path: str | Path, out_dir: str | Path | None = None, set
     stop_event: set it (from another thread) to stop the run as Ctrl-C would; the run
     raises RunInterrupted and resumes when called again.
     """
-    from orchestrator.post import post_case
-    from orchestrator.run import run_case
+    from orchestrator.results.post import post_case
+    from orchestrator.run.runner import run_case
 
     t0 = time.perf_counter()
     case, rendered = prepare_case(scene_path, out_dir or default_case_dir(scene_path), sets)
@@ -141,3 +142,28 @@ def final_summary(headline: dict[str, Any]) -> dict[str, Any]:
     for gauge, errors in ((headline.get("comparisons") or {}).get("arrival_errors_s") or {}).items():
         out[f"{gauge}_arrival_error_s"] = ", ".join(f"{k} {v:+.3f}" for k, v in errors.items())
     return out
+
+
+def render_from_file(scene_path: str | Path, out_dir: Path, sets: Sequence[str] = (), force: bool = False,
+                     mesh: bool = False) -> dict[str, Any]:
+    """The `debrisfoam render` verb: load and plan the scene, render, optionally mesh.
+
+    Returns a summary for the CLI: case path, solver, planned cell count and, with
+    `mesh`, checkMesh's verdict, cell count and quality figures.
+    """
+    scene = load_scene(scene_path, list(sets))
+    plan = plan_case(scene)
+    case = render_case(scene, plan, out_dir, force=force, overrides=sets)
+    summary: dict[str, Any] = {"case": str(case), "solver": plan.solver, "planned_cells": int(plan.cell_count),
+                               "warnings": list(plan.warnings)}
+    if scene.outputs.preview:
+        try:
+            summary["preview"] = str(preview_scene(scene, plan, case / "preview.png"))
+        except Exception as exc:  # a picture must never cost the user the case: say so and go on
+            summary["preview"] = f"not drawn ({type(exc).__name__}: {exc}); the case is complete"
+    if mesh:
+        for step in foam.mesh_steps(case, plan):
+            foam.run_step(step.name, step.argv, case, np=step.np, done=step.done)
+        check = foam.check_mesh_summary(case / "log.checkMesh")
+        summary.update({f"mesh_{k}": v for k, v in asdict(check).items()})
+    return summary

@@ -1,8 +1,8 @@
 """Contact bookkeeping of a run: which contacts stop the solver, how each is resolved, and the event record.
 
-The runner (`orchestrator.run`) drives the solver; after every batch of log lines and
+The runner (`orchestrator.run.runner`) drives the solver; after every batch of log lines and
 at every restart it asks a `ContactBook` about the bodies' states. Geometry and impacts
-are `orchestrator.contact`'s (the scene's column, walls and bed, exact box-box
+are `orchestrator.run.contact`'s (the scene's column, walls and bed, exact box-box
 distances, `resolve`: the MDOF column, rigid walls, two-body impacts, from
 `analytical.impact`; `clamp_to_bed`). This module adds what the runner needs on top:
 
@@ -14,7 +14,7 @@ distances, `resolve`: the MDOF column, rigid walls, two-body impacts, from
   slow (resting) contact at a quarter of the gap, the bed once a body has sunk the bed
   tolerance into it;
 - at a restart (`ContactBook.resolve_contacts`): every contact that would stop the
-  solver at once is resolved: impacts by `orchestrator.contact.resolve`, slow contacts
+  solver at once is resolved: impacts by `orchestrator.run.contact.resolve`, slow contacts
   (closing slower than `min_impact_speed_m_s`) by a plastic impulse (`resting_contact`),
   a body the flow keeps pressing against an obstacle (more than `max_events` contacts
   within `window_s`) is pinned there (`bodystate.pin_bodies`); bodies are lifted out
@@ -29,7 +29,7 @@ distances, `resolve`: the MDOF column, rigid walls, two-body impacts, from
 The book knows nothing of the solver: the runner gives it the case (`CaseInfo`), the
 settings, run.json's data, a `say` callable for messages and, with each question, how
 far the solver may run on after a stop request (the stop horizon, simulated seconds).
-`orchestrator.run` imports this module; the two names this one needs from it
+`orchestrator.run.runner` imports this module; the two names this one needs from it
 (`ContactError`, its time tolerance) are imported where they are used.
 
 Units: seconds, metres, kg, N.
@@ -49,12 +49,12 @@ from typing import TYPE_CHECKING, Any, Callable, Sequence
 
 import numpy as np
 
-from orchestrator import bodystate
-from orchestrator.bodystate import BodyState
-from orchestrator.monitor import StepRecord
+from orchestrator.case import bodystate
+from orchestrator.case.bodystate import BodyState
+from orchestrator.run.monitor import StepRecord
 
 if TYPE_CHECKING:
-    from orchestrator.run import CaseInfo
+    from orchestrator.run.runner import CaseInfo
 
 __all__ = [
     "CONTACTS_DIR",
@@ -82,7 +82,7 @@ class ContactSettings:
     gap_m: a body closer than this to the column, a wall or another body is in contact.
     min_impact_speed_m_s: slower closing speeds are resting contacts: the closing motion
         is stopped (a plastic impulse, no force history), not resolved as an impact.
-    bed: watch the bed too. Touching the bed is not an impact (orchestrator.contact), but
+    bed: watch the bed too. Touching the bed is not an impact (orchestrator.run.contact), but
         v1912 lets a body sink through it: a body that sinks more than `bed_tolerance_m`
         (default half the gap) into it is stopped, lifted back onto it and its velocity
         into it removed (`contact.clamp_to_bed`).
@@ -92,7 +92,7 @@ class ContactSettings:
         held against the column or a wall by the flow); two bodies: ContactError. A body
         lifted out of the bed more than `max_events` times within `window_s` is kept on
         the bed's plane (`bodystate.rest_on_bed`) until the water measured around it can carry
-        it (`orchestrator.bedwatch`).
+        it (`orchestrator.run.bedwatch`).
     bed_runaway_m_s: so is a body found sinking into the bed faster than this. Settling
         bodies closed on the bed at 0.2-0.6 m/s in the hard cases; where each lift pulled
         the body down harder, the speeds went 0.5, 0.8, 2.0, 6.9 m/s to a blow-up.
@@ -101,11 +101,11 @@ class ContactSettings:
     added_mass_coefficient: C_a of the debris for the impact model.
     float_margin_m: a body the runner keeps on the bed (the planner's hold, `rest_on_bed`) is
         freed once the water depth measured around it exceeds the height of its underside plus
-        its draft plus this margin (`orchestrator.bedwatch`). 5 mm: the depth reading's own spread
+        its draft plus this margin (`orchestrator.run.bedwatch`). 5 mm: the depth reading's own spread
         on a still 15 mm wet bed at 4 cm cells is under 1 mm, the bore's surface near a body
         moves by a few mm from one sample to the next.
     bed_friction: Coulomb friction (the scene's `debris[].contact.bed_friction_coefficient`)
-        on a body while it is kept on the bed (`orchestrator.bedwatch`).
+        on a body while it is kept on the bed (`orchestrator.run.bedwatch`).
     adjust_phi_when_pinned: once every body is pinned, switch the overset flux adjustment
         on (PIMPLE `oversetAdjustPhi yes` in system/fvSolution) for the rest of the run. A
         pinned body loses water into the background's fringe at about 1 % a second; the
@@ -144,7 +144,7 @@ class Contact:
     """A body near an obstacle, another body or the bed: signed `distance_m` (< 0:
     overlapping), the contact point, the unit `normal` from the other thing into the body,
     and the closing speed of the contact point along it (> 0: approaching). `source` is
-    orchestrator.contact's Contact (None for the bed)."""
+    orchestrator.run.contact's Contact (None for the bed)."""
 
     body: str
     other: str
@@ -157,11 +157,11 @@ class Contact:
 
 
 class Geometry:
-    """The case's obstacles (from scene.yaml and plan.json) and its bodies, for orchestrator.contact."""
+    """The case's obstacles (from scene.yaml and plan.json) and its bodies, for orchestrator.run.contact."""
 
     def __init__(self, info: CaseInfo):
-        from orchestrator import contact as geo
-        from orchestrator.scene import load_scene
+        from orchestrator.run import contact as geo
+        from orchestrator.scene.schema import load_scene
 
         self.geo = geo
         self.scene = load_scene(info.case / "scene.yaml")
@@ -182,7 +182,7 @@ class Geometry:
 
     @staticmethod
     def back(new, old: BodyState) -> BodyState:
-        """orchestrator.contact's state as the runner's (velocities changed: acceleration unknown)."""
+        """orchestrator.run.contact's state as the runner's (velocities changed: acceleration unknown)."""
         moved = not np.allclose(new.velocity_m_s, old.velocity_m_s, rtol=0, atol=1e-15) or not np.allclose(
             new.angular_velocity_rad_s, old.angular_velocity_rad_s, rtol=0, atol=1e-15)
         return old.with_changes(
@@ -218,7 +218,7 @@ class Geometry:
         return out
 
     def resolve(self, contact: Contact, states: dict[str, BodyState], settings: ContactSettings):
-        """The impact of `contact` (orchestrator.contact.resolve): (result or None, new states by body)."""
+        """The impact of `contact` (orchestrator.run.contact.resolve): (result or None, new states by body)."""
         cs = [self.state(s) for s in states.values()]
         result, new = self.geo.resolve(contact.source, cs, self.scene,
                                        added_mass_coefficient=settings.added_mass_coefficient, **settings.impact)
@@ -355,7 +355,7 @@ class ContactBook:
     def resolve_contacts(self, time_name: str, states: list[BodyState],
                          horizon_s: float) -> tuple[int, list[BodyState]]:
         """At a restart: resolve every contact that would stop the solver at once (impacts
-        with orchestrator.contact.resolve, slow ones as resting contacts, pins), lift bodies
+        with orchestrator.run.contact.resolve, slow ones as resting contacts, pins), lift bodies
         out of the bed, and move any body still overlapping an obstacle out of it. Records
         the events; returns (impacts, the states to restart with). `horizon_s`: how far the
         solver ran on after a stop request (the last deltaT times the stop latency)."""
@@ -431,7 +431,7 @@ class ContactBook:
         if n <= self.settings.max_events:
             return False
         if c.kind == "body":
-            from orchestrator.run import ContactError
+            from orchestrator.run.runner import ContactError
 
             raise ContactError(
                 f"{c.body} hit {c.other} {n} times within {self.settings.window_s:g} s of simulated time "
@@ -452,7 +452,7 @@ class ContactBook:
         jump pulls the body down harder: on the short flume the closing speed doubled from
         lift to lift (0.7, 1.4, 3.4, 7.5 m/s) until the body-speed check stopped the run.
         Constrained to the bed's plane the body still slides and yaws (with bed friction), but
-        cannot sink; `orchestrator.bedwatch` raises it onto the gap's top and frees it once the water
+        cannot sink; `orchestrator.run.bedwatch` raises it onto the gap's top and frees it once the water
         measured around it can carry it (recorded, and said)."""
         if not bodystate.rest_on_bed(self.case, [state.name]):
             return
@@ -510,7 +510,7 @@ class ContactBook:
 
     def forget_events_after(self, time_s: float) -> None:
         """Contact events later than `time_s` belong to a stretch being computed again."""
-        from orchestrator.run import _EPS_T
+        from orchestrator.run.runner import _EPS_T
 
         events = self._read_events()
         keep = [e for e in events if e["time_s"] <= time_s + _EPS_T]

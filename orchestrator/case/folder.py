@@ -1,0 +1,141 @@
+"""The case folder: one owner of its file names, time folders and JSON records.
+
+A debrisfoam case is an OpenFOAM case (foamlib's :class:`~foamlib.FoamCase` reads its
+dictionaries) plus the records the tool keeps beside it::
+
+    scene.yaml      the resolved scene it was rendered from (overrides applied)
+    plan.json       the planner's decisions (mesh, bodies, time-step caps, warnings)
+    run.json        the runner's record: status, segments, wall times, diagnosis
+    bodies/<name>/  each body's own mesh before it is merged (overset cases)
+    results/        what post-processing writes: tables, plots, summary.json, report.md
+
+Every module that reads or writes one of these goes through :class:`CaseFolder`, so a
+name is spelled once and every write is atomic (a temporary file and a rename).
+"""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from foamlib import FoamCase
+
+from orchestrator.core.files import read_json, read_json_object, write_json_atomic, write_text_atomic
+
+SCENE_YAML = "scene.yaml"
+PLAN_JSON = "plan.json"
+RUN_JSON = "run.json"
+RESULTS_DIR = "results"
+SUMMARY_JSON = "summary.json"
+BODIES_DIR = "bodies"
+#: The cell zone of the bed's friction layer (topoSet writes it, fvOptions uses it).
+BED_LAYER_ZONE = "bedLayer"
+#: Two times closer than this (s) are the same written time.
+EPS_T = 1e-9
+
+
+def time_names(base: str | Path) -> list[tuple[float, str]]:
+    """The time folders directly under ``base`` as (time, folder name), earliest first."""
+    base = Path(base)
+    out = []
+    if not base.is_dir():
+        return out
+    for p in base.iterdir():
+        if p.is_dir():
+            try:
+                out.append((float(p.name), p.name))
+            except ValueError:
+                continue
+    return sorted(out)
+
+
+def processor_dirs(case: str | Path) -> list[Path]:
+    """The case's processorN folders, by rank."""
+    procs = [p for p in Path(case).glob("processor*") if p.is_dir() and p.name[9:].isdigit()]
+    return sorted(procs, key=lambda p: int(p.name[9:]))
+
+
+class CaseFolder:
+    """A case folder on disk: where each record lives, and reading and writing them.
+
+    >>> folder = CaseFolder("runs/1debris")          # doctest: +SKIP
+    >>> folder.plan()["cell_count"]                  # doctest: +SKIP
+    """
+
+    def __init__(self, path: str | Path):
+        self.path = Path(path)
+
+    def __repr__(self) -> str:
+        return f"CaseFolder({str(self.path)!r})"
+
+    # ------------------------------------------------------------------ where things are
+    @property
+    def scene_path(self) -> Path:
+        return self.path / SCENE_YAML
+
+    @property
+    def plan_path(self) -> Path:
+        return self.path / PLAN_JSON
+
+    @property
+    def run_path(self) -> Path:
+        return self.path / RUN_JSON
+
+    @property
+    def results_dir(self) -> Path:
+        return self.path / RESULTS_DIR
+
+    @property
+    def summary_path(self) -> Path:
+        return self.results_dir / SUMMARY_JSON
+
+    def body_dir(self, name: str) -> Path:
+        return self.path / BODIES_DIR / name
+
+    @property
+    def foam(self) -> FoamCase:
+        """The OpenFOAM case, read with foamlib (controlDict, fvSolution, ...)."""
+        return FoamCase(self.path)
+
+    def is_case(self) -> bool:
+        """A folder the tool rendered, or at least an OpenFOAM case."""
+        return self.plan_path.is_file() or (self.path / "system" / "controlDict").is_file()
+
+    # ------------------------------------------------------------------ time folders
+    def times(self) -> list[tuple[float, str]]:
+        """The case's own (reconstructed) time folders, earliest first."""
+        return time_names(self.path)
+
+    def processor_dirs(self) -> list[Path]:
+        return processor_dirs(self.path)
+
+    # ------------------------------------------------------------------ records
+    def plan(self, notes: list[str] | None = None) -> dict | None:
+        """plan.json, or None when missing or unreadable (a line added to ``notes``)."""
+        data = read_json(self.plan_path, notes)
+        return data if isinstance(data, dict) else None
+
+    def run_record(self, notes: list[str] | None = None) -> dict | None:
+        """run.json, or None when missing or unreadable."""
+        data = read_json(self.run_path, notes)
+        return data if isinstance(data, dict) else None
+
+    def summary(self) -> dict | None:
+        """results/summary.json, or None."""
+        return read_json_object(self.summary_path)
+
+    def scene_text(self) -> str | None:
+        """scene.yaml's text, or None."""
+        return self.scene_path.read_text() if self.scene_path.is_file() else None
+
+    def write_plan_json(self, text: str) -> Path:
+        return write_text_atomic(self.plan_path, text)
+
+    def write_scene_yaml(self, text: str) -> Path:
+        return write_text_atomic(self.scene_path, text)
+
+    def write_run_record(self, data: dict[str, Any]) -> Path:
+        return write_json_atomic(self.run_path, data)
+
+    def write_summary(self, data: dict[str, Any]) -> Path:
+        self.results_dir.mkdir(parents=True, exist_ok=True)
+        return write_json_atomic(self.summary_path, data)
