@@ -55,7 +55,7 @@ sys.path.insert(0, str(ROOT))
 
 from orchestrator.case import bodystate  # noqa: E402
 from orchestrator.case import foam  # noqa: E402
-from orchestrator.results.post import read_force_series, read_water_balance, water_balance_summary  # noqa: E402
+from orchestrator.case.outputs import read_force_series, read_water_balance, water_balance_summary  # noqa: E402
 from orchestrator.pipeline import render_from_file  # noqa: E402
 from orchestrator.run.runner import RunInterrupted, load_case_info, run_case  # noqa: E402
 

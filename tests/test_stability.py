@@ -17,7 +17,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from orchestrator.results.post import read_water_balance, water_balance_summary
+from orchestrator.case.outputs import read_water_balance, water_balance_summary
 from orchestrator.run.runner import load_case_info
 from orchestrator.studies.stability import INSIDE_TOLERANCE_M, MASS_TOLERANCE, assess, markdown, stability_table
 

@@ -26,6 +26,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from orchestrator.case.folder import time_names
+
 __all__ = ["FringeFlux", "fringe_flux", "fringe_table", "FIELDS"]
 
 #: the written fields the fringe flux needs (besides the mesh)
@@ -117,10 +119,9 @@ def fringe_flux(case_dir: str | Path, time_name: str,
 def fringe_table(case_dir: str | Path) -> pd.DataFrame | None:
     """:func:`fringe_flux` at every reconstructed time of a case that has the overset fields
     (None when there is none: not overset, or nothing reconstructed)."""
-    from orchestrator.run.runner import _time_names
 
     case = Path(case_dir)
-    names = [name for _, name in _time_names(case) if has_fringe_fields(case / name)]
+    names = [name for _, name in time_names(case) if has_fringe_fields(case / name)]
     if not names:
         return None
     faces = _mesh_faces(case)

@@ -51,6 +51,7 @@ import numpy as np
 
 from orchestrator.case import bodystate
 from orchestrator.case.bodystate import BodyState
+from orchestrator.case.folder import EPS_T
 from orchestrator.run.monitor import StepRecord
 
 if TYPE_CHECKING:
@@ -510,10 +511,9 @@ class ContactBook:
 
     def forget_events_after(self, time_s: float) -> None:
         """Contact events later than `time_s` belong to a stretch being computed again."""
-        from orchestrator.run.runner import _EPS_T
 
         events = self._read_events()
-        keep = [e for e in events if e["time_s"] <= time_s + _EPS_T]
+        keep = [e for e in events if e["time_s"] <= time_s + EPS_T]
         if len(keep) == len(events):
             return
         self._write_events(keep)
@@ -521,7 +521,7 @@ class ContactBook:
         if impacts.is_file():
             with open(impacts, newline="") as fh:
                 rows = [r for r in csv.reader(fh)]
-            kept = [rows[0]] + [r for r in rows[1:] if float(r[1]) <= time_s + _EPS_T]
+            kept = [rows[0]] + [r for r in rows[1:] if float(r[1]) <= time_s + EPS_T]
             with open(impacts, "w", newline="") as fh:
                 csv.writer(fh).writerows(kept)
 

@@ -103,7 +103,8 @@ from orchestrator.case import foam
 from orchestrator.run.bedwatch import BedWatch
 from orchestrator.run.contact_book import Contact, ContactBook, ContactSettings
 from orchestrator.core.jsonio import json_default
-from orchestrator.results.post import WATER_BALANCE_TOLERANCE, read_water_balance
+from orchestrator.case.folder import EPS_T, processor_dirs, time_names
+from orchestrator.case.outputs import WATER_BALANCE_TOLERANCE, read_water_balance
 from orchestrator.case.bodystate import BodyProperties, BodyState
 from orchestrator.run.monitor import (
     Diagnosis,
@@ -149,7 +150,6 @@ WATER_CHECK_S = 5.0
 #: _SegmentResult.reason of a segment the user stopped: written on request, killed (a second
 #: Ctrl-C or no answer), or stopped before its first time step
 STOPPED_REASONS = ("interrupt", "killed", "unstarted")
-_EPS_T = 1e-9
 
 
 # --------------------------------------------------------------------------- errors
@@ -334,24 +334,6 @@ def load_case_info(case_dir: str | Path, np_override: int | None = None) -> Case
 # --------------------------------------------------------------------------- time directories
 
 
-def _time_names(base: Path) -> list[tuple[float, str]]:
-    out = []
-    if not base.is_dir():
-        return out
-    for p in base.iterdir():
-        if p.is_dir():
-            try:
-                out.append((float(p.name), p.name))
-            except ValueError:
-                continue
-    return sorted(out)
-
-
-def _processor_dirs(case: Path) -> list[Path]:
-    procs = [p for p in case.glob("processor*") if p.is_dir() and p.name[9:].isdigit()]
-    return sorted(procs, key=lambda p: int(p.name[9:]))
-
-
 def _complete(dirs: Sequence[Path]) -> bool:
     """A written time is complete when every rank wrote it with the same files and uniform/time."""
     names = None
@@ -372,10 +354,10 @@ def latest_time(case_dir: str | Path, ranks: int, repair: bool = True) -> tuple[
     With `repair`, an incomplete latest time (a write cut short by a kill) is deleted.
     """
     case = Path(case_dir)
-    bases = _processor_dirs(case) if ranks > 1 else [case]
+    bases = processor_dirs(case) if ranks > 1 else [case]
     if not bases:
         return 0.0, "0"
-    times = _time_names(bases[0])
+    times = time_names(bases[0])
     while times:
         value, name = times[-1]
         dirs = [b / name for b in bases]
@@ -399,10 +381,10 @@ def _rmtree(path: Path) -> None:
 
 def _remove_times_from(case: Path, ranks: int, t_from: float, keep: float) -> None:
     """Delete written times >= t_from (never `keep`, the segment's start)."""
-    bases = _processor_dirs(case) if ranks > 1 else [case]
+    bases = processor_dirs(case) if ranks > 1 else [case]
     for base in bases:
-        for value, name in _time_names(base):
-            if value >= t_from - _EPS_T and value > keep + _EPS_T:
+        for value, name in time_names(base):
+            if value >= t_from - EPS_T and value > keep + EPS_T:
                 _rmtree(base / name)
 
 
@@ -528,7 +510,7 @@ def _append_track(case: Path, steps: Sequence[StepRecord], start_s: float) -> No
     rows = []
     if path.is_file():
         with open(path, newline="") as fh:
-            rows = [r for r in csv.DictReader(fh) if float(r["time_s"]) <= start_s + _EPS_T]
+            rows = [r for r in csv.DictReader(fh) if float(r["time_s"]) <= start_s + EPS_T]
     for step in steps:
         for b in step.bodies:
             rows.append(dict(zip(_TRACK_FIELDS, [repr(step.time_s), b.name, *map(repr, b.centre_of_mass_m),
@@ -784,7 +766,7 @@ class _Runner:
         # planner's release time: a temporary end (closer releases are due now, see run_case)
         soon = _MIN_SEGMENT_FRACTION * self.write_interval_s
         holds = [] if self.bedwatch is not None else self.info.holds
-        end = min([t for _, t in holds if start_value + soon < t < self.end_time_s - _EPS_T]
+        end = min([t for _, t in holds if start_value + soon < t < self.end_time_s - EPS_T]
                   + [self.end_time_s])
         if self.info.adjustable_time_step:
             seg_end, seg_interval = segment_span(start_value, end, self.write_interval_s)
@@ -902,8 +884,8 @@ class _Runner:
                             rereads_at_request = parser.rereads
                             pending = [c for c, _ in ahead]
                             _request_write_now(self.case)
-                        elif (soonest > margin and info.adjustable_time_step and t_stop < seg_end - _EPS_T
-                              and (scheduled is None or t_stop < scheduled - _EPS_T)):
+                        elif (soonest > margin and info.adjustable_time_step and t_stop < seg_end - EPS_T
+                              and (scheduled is None or t_stop < scheduled - EPS_T)):
                             # stop where the body reaches the gap: the solver lands on that time and
                             # writes it, whatever the runner's latency
                             scheduled, requested_at = t_stop, time.perf_counter()
@@ -1112,7 +1094,7 @@ def _run_locked(case_dir, np, quiet, reconstruct, contact, limits, stop_event, p
     _check_decomposition(case, info.ranks)
 
     reached, name = latest_time(case, info.ranks)
-    if data.get("status") == "finished" and reached >= info.end_time_s - _EPS_T:
+    if data.get("status") == "finished" and reached >= info.end_time_s - EPS_T:
         return _summary(info, data, True, reached, time.perf_counter() - wall0)
 
     data["status"] = "running"
@@ -1162,7 +1144,7 @@ def _run_steps(info: CaseInfo, runner: _Runner, stop: _StopFlag, quiet: bool, re
         reached, name = latest_time(case, info.ranks)
         progress = Progress(info.end_time_s, reached, quiet, label=f"{info.solver} {case.name}", stream=stream)
         runner.progress = progress
-        while reached < info.end_time_s - _EPS_T:
+        while reached < info.end_time_s - EPS_T:
             # a release closer than a tenth of a write interval is due now: a stop lands on a
             # written time name (rounded), and v1912 may not take a step over what remains
             due = [] if runner.bedwatch is not None else [
@@ -1200,13 +1182,13 @@ def _run_steps(info: CaseInfo, runner: _Runner, stop: _StopFlag, quiet: bool, re
                 rec.save()
                 raise err
             new_reached, new_name = latest_time(case, info.ranks)
-            if seg.reason in STOPPED_REASONS and new_reached < info.end_time_s - _EPS_T:
+            if seg.reason in STOPPED_REASONS and new_reached < info.end_time_s - EPS_T:
                 data["status"] = "interrupted"
                 rec.save()
                 raise RunInterrupted(case, stop.signum, new_name if new_reached > 0 else None,
                                      clean=seg.reason == "interrupt" and seg.returncode == 0,
                                      before_first_step=seg.reason == "unstarted")
-            if new_reached <= reached + _EPS_T:
+            if new_reached <= reached + EPS_T:
                 if not seg.steps and info.end_time_s - reached < _MIN_SEGMENT_FRACTION * runner.write_interval_s:
                     # v1912's half-step rule: what remains of the end time is less than a step
                     break
@@ -1266,7 +1248,7 @@ def _summary(info: CaseInfo, data: dict, already: bool, reached: float, wall: fl
 
 
 def _check_decomposition(case: Path, ranks: int) -> None:
-    procs = _processor_dirs(case)
+    procs = processor_dirs(case)
     if ranks > 1 and procs and len(procs) != ranks:
         raise RunError(f"{case} is decomposed for {len(procs)} ranks, not {ranks}: run with --np {len(procs)} "
                        f"(or delete the processor* directories to start again)")

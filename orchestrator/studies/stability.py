@@ -29,7 +29,8 @@ import numpy as np
 import pandas as pd
 
 from analytical.errors import InputError
-from orchestrator.results.post import WATER_BALANCE_TOLERANCE, _finite, read_contact_events
+from orchestrator.case.outputs import WATER_BALANCE_TOLERANCE
+from orchestrator.results.post import _finite, read_contact_events
 from orchestrator.studies.sweep import _read_json
 
 __all__ = ["INSIDE_TOLERANCE_M", "MASS_TOLERANCE", "Assessment", "assess", "markdown", "stability_table"]
@@ -156,7 +157,7 @@ def assess(case_dir: str | Path, member: dict | None = None) -> Assessment:
     ``member``: the sweep's record of the run (its member.json), for errors raised outside
     run.json (a contact the runner could not resolve, a failed render).
     """
-    from orchestrator.results.post import read_water_balance, water_balance_summary
+    from orchestrator.case.outputs import read_water_balance, water_balance_summary
 
     case = Path(case_dir)
     if not case.is_dir():
