@@ -115,14 +115,15 @@ def _emit(result: dict[str, Any], as_json: bool, out=sys.stdout) -> None:
 def column_from_args(args: argparse.Namespace):
     """The column for analytical verbs: the scene's (with --set) or the study's."""
     if getattr(args, "scene", None):
-        from orchestrator.scene.schema import column_for_analysis, load_scene
+        from orchestrator.scene.scenefile import load_scene
+        from orchestrator.scene.schema import column_for_analysis
 
         return column_for_analysis(load_scene(args.scene, list(args.set or [])))
     from dataclasses import fields, replace
 
     from analytical.column import Column
 
-    from orchestrator.scene.schema import parse_override
+    from orchestrator.scene.overrides import parse_override
 
     column = Column()
     names = {f.name for f in fields(Column)}
@@ -184,7 +185,9 @@ def impact_inputs(args: argparse.Namespace):
     from analytical.column import Column
 
     from orchestrator.run.contact import body_contact_law
-    from orchestrator.scene.schema import DebrisContact, column_for_analysis, load_scene, parse_override
+    from orchestrator.scene.overrides import parse_override
+    from orchestrator.scene.scenefile import load_scene
+    from orchestrator.scene.schema import DebrisContact, column_for_analysis
 
     if getattr(args, "scene", None):
         scene = load_scene(args.scene, list(args.set or []))
@@ -409,7 +412,7 @@ def cmd_scenes(args: argparse.Namespace) -> int:
 
 def cmd_validate(args: argparse.Namespace) -> int:
     from orchestrator.plan.planner import plan_case
-    from orchestrator.scene.schema import load_scene
+    from orchestrator.scene.scenefile import load_scene
 
     scene = load_scene(args.scene, list(args.set or []))
     plan = plan_case(scene)

@@ -22,7 +22,7 @@ from orchestrator.case import foam
 from orchestrator.case.render import render_case
 from orchestrator.plan.planner import plan_case
 from orchestrator.report.preview import preview_scene
-from orchestrator.scene.schema import load_scene
+from orchestrator.scene.scenefile import load_scene
 
 #: Post-processing draws with matplotlib's pyplot (and pyvista), which are not thread-safe:
 #: cases run in threads of one process (a sweep's local executor) post-process one at a time.

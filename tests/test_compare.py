@@ -14,7 +14,7 @@ from analytical.asce7 import SEED_DEBRIS_STIFFNESS_N_M, asce7_impact
 from orchestrator.results import compare
 from orchestrator.results import post
 from orchestrator.report.plots import PLOTS
-from orchestrator.scene.schema import load_scene
+from orchestrator.scene.scenefile import load_scene
 
 DATA = Path(__file__).parent / "data" / "post"
 ROOT = Path(__file__).resolve().parent.parent

@@ -31,7 +31,8 @@ from orchestrator.run.contact import (
     time_to_contact,
 )
 from orchestrator.plan.planner import plan_case
-from orchestrator.scene.schema import body_rotation, boxes_overlap, load_scene
+from orchestrator.scene.geometry import body_rotation, boxes_overlap
+from orchestrator.scene.scenefile import load_scene
 
 ROOT = Path(__file__).resolve().parent.parent
 I3 = np.eye(3)

@@ -32,7 +32,10 @@ from orchestrator.plan.planner import (
     estimated_steps,
     plan_case,
 )
-from orchestrator.scene.schema import apply_overrides, body_rotation, load_scene, scene_from_dict
+from orchestrator.scene.geometry import body_rotation
+from orchestrator.scene.overrides import apply_overrides
+from orchestrator.scene.resolve import scene_from_dict
+from orchestrator.scene.scenefile import load_scene
 
 ROOT = Path(__file__).resolve().parent.parent
 CASES = ROOT / "cases"
@@ -637,7 +640,7 @@ def test_every_decision_has_a_reason_for_any_scene(d):
 
 def test_bodies_on_the_bed_are_held_until_the_bore_can_lift_them():
     from analytical.dambreak import dam_break
-    from orchestrator.scene.schema import load_scene
+    from orchestrator.scene.scenefile import load_scene
 
     scene = load_scene(ROOT / "cases" / "1debris.yaml")
     plan = plan_case(scene)

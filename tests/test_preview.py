@@ -11,7 +11,7 @@ from PIL import Image
 from analytical.errors import InputError
 from orchestrator.plan.planner import plan_case
 from orchestrator.report.preview import WINDOW_SIZE_PX, preview_scene, preview_scene_file
-from orchestrator.scene.schema import load_scene
+from orchestrator.scene.scenefile import load_scene
 from tests.conftest import ROOT, run_cli
 
 CASES = ("1debris", "6debris-2x3", "nodebris")

@@ -185,7 +185,8 @@ def test_bed_friction_drag_is_f_over_4_dz_times_the_calibration(calibration):
 
 def test_scene_friction_calibration_reaches_the_case():
     from orchestrator.plan.planner import plan_case
-    from orchestrator.scene.schema import Bed, load_scene
+    from orchestrator.scene.scenefile import load_scene
+    from orchestrator.scene.schema import Bed
 
     root = Path(__file__).resolve().parent.parent
     default = load_scene(root / "cases" / "nodebris.yaml")
@@ -394,7 +395,7 @@ def test_there_are_scene_files():
 @pytest.mark.parametrize("scene_file", SCENES, ids=lambda p: p.stem)
 def test_every_scene_file_renders(tmp_path, scene_file):
     from orchestrator.plan.planner import plan_case
-    from orchestrator.scene.schema import load_scene
+    from orchestrator.scene.scenefile import load_scene
 
     scene = load_scene(scene_file, [])
     plan = plan_case(scene)
@@ -418,7 +419,7 @@ def test_scene_files_mesh_at_a_coarse_cell_size(tmp_path, openfoam, name):
     """`render --mesh` on the real scenes (0.04 m: the coarsest the debris allows)."""
     from orchestrator.plan.planner import plan_case
     from orchestrator.pipeline import render_from_file
-    from orchestrator.scene.schema import load_scene
+    from orchestrator.scene.scenefile import load_scene
 
     sets = ["mesh.cell_size_m=0.04", "run.end_time_s=1.0"]
     summary = render_from_file(CASES / f"{name}.yaml", tmp_path / name, sets, mesh=True)
@@ -459,7 +460,7 @@ def test_decomposition_keeps_every_body_mesh_on_one_rank(tmp_path, openfoam, cor
     4 % of a rank."""
     from orchestrator.plan.planner import plan_case
     from orchestrator.pipeline import render_from_file
-    from orchestrator.scene.schema import load_scene
+    from orchestrator.scene.scenefile import load_scene
 
     scene = CASES / "hard" / "small" / "six-debris.yaml"
     sets = [f"run.cores={cores}"]

@@ -17,21 +17,12 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from analytical.errors import InputError
-from orchestrator.scene.schema import (
-    MIN_CELLS_ACROSS_DEBRIS,
-    Scene,
-    apply_overrides,
-    body_rotation,
-    boxes_overlap,
-    column_for_analysis,
-    default_column,
-    dump_scene_yaml,
-    flume_extent,
-    load_scene,
-    parse_override,
-    scene_from_dict,
-    scene_to_dict,
-)
+from orchestrator.scene.geometry import body_rotation, boxes_overlap, flume_extent
+from orchestrator.scene.overrides import apply_overrides, parse_override
+from orchestrator.scene.resolve import scene_from_dict
+from orchestrator.scene.scenefile import dump_scene_yaml, load_scene, scene_to_dict
+from orchestrator.scene.schema import Scene, column_for_analysis, default_column
+from orchestrator.scene.validation import MIN_CELLS_ACROSS_DEBRIS
 
 ROOT = Path(__file__).resolve().parent.parent
 CASES = ROOT / "cases"

@@ -7,7 +7,7 @@ import json
 from pathlib import Path
 
 from orchestrator.scene.reference import markdown, schema_rows, shipped_scenes
-from orchestrator.scene.schema import load_scene
+from orchestrator.scene.scenefile import load_scene
 from tests.conftest import run_cli
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -13,7 +13,7 @@ import pytest
 
 from analytical.errors import InputError
 from orchestrator.plan.planner import plan_case
-from orchestrator.scene.schema import load_scene
+from orchestrator.scene.scenefile import load_scene
 from orchestrator.studies.speed_error import gauge_rmse, pareto_front, solver_cpu_s, speed_error
 from orchestrator.studies.sweep import load_store, load_sweep
 from tests.conftest import ROOT, run_cli

@@ -23,7 +23,7 @@ from orchestrator.results import post
 from orchestrator.plan.planner import plan_case
 from orchestrator.pipeline import render_from_file
 from orchestrator.run.runner import run_case
-from orchestrator.scene.schema import load_scene
+from orchestrator.scene.scenefile import load_scene
 
 WET = 0.015
 DEPTH = 0.16

@@ -18,7 +18,7 @@ import pandas as pd
 import pytest
 
 from analytical.errors import InputError
-from orchestrator.scene.schema import load_scene
+from orchestrator.scene.scenefile import load_scene
 from orchestrator.studies.sweep import (
     MEMBER_JSON,
     SweepMemberError,

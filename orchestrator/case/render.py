@@ -549,7 +549,8 @@ def _scene_yaml(scene, overrides: Sequence[str] = ()) -> str:
     """The resolved scene as YAML (a plain dict, e.g. in tests, is dumped as it is)."""
     import yaml
 
-    from orchestrator.scene.schema import Scene, dump_scene_yaml
+    from orchestrator.scene.scenefile import dump_scene_yaml
+    from orchestrator.scene.schema import Scene
 
     if isinstance(scene, Scene):
         return dump_scene_yaml(scene, list(overrides))

@@ -42,7 +42,8 @@ import numpy as np
 
 from analytical.contact_law import box_inertia
 from orchestrator.plan.grid import BoxGrid, Segment, graded_segment
-from orchestrator.scene.schema import DebrisBody, Scene, body_rotation, draft_m, flume_extent, half_extent_z
+from orchestrator.scene.geometry import body_rotation, draft_m, flume_extent, half_extent_z
+from orchestrator.scene.schema import DebrisBody, Scene
 
 __all__ = [
     "BodyPlan",

@@ -505,7 +505,7 @@ def figure_tracks(results, comp):
     if data.plan and data.plan.get("domain_m"):
         (x_lo, x_hi), (y_lo, y_hi) = data.plan["domain_m"][0], data.plan["domain_m"][1]
     elif scene is not None:
-        from orchestrator.scene.schema import flume_extent
+        from orchestrator.scene.geometry import flume_extent
 
         (x_lo, x_hi), (y_lo, y_hi), _ = flume_extent(scene)
     # frame: the debris path, the column, the gauges and the start of the spreading areas

@@ -36,7 +36,9 @@ import numpy as np
 
 from analytical.errors import DebrisfoamError
 from orchestrator.plan.planner import ModelPlan, estimated_steps, plan_case
-from orchestrator.scene.schema import Scene, flume_extent, load_scene
+from orchestrator.scene.geometry import flume_extent
+from orchestrator.scene.scenefile import load_scene
+from orchestrator.scene.schema import Scene
 
 __all__ = ["COLOURS", "WINDOW_SIZE_PX", "preview_scene", "preview_scene_file"]
 

@@ -308,7 +308,7 @@ def load_case(case_dir: str | Path) -> CaseData:
     run = _read_json(case / "run.json", notes)
     scene = None
     if (case / "scene.yaml").is_file():
-        from orchestrator.scene.schema import load_scene
+        from orchestrator.scene.scenefile import load_scene
 
         try:
             scene = load_scene(case / "scene.yaml")

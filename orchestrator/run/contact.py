@@ -55,7 +55,8 @@ from analytical.impact import (
     inverse_inertia_tensor,
     pair_impact,
 )
-from orchestrator.scene.schema import Scene, column_for_analysis, flume_extent
+from orchestrator.scene.geometry import flume_extent
+from orchestrator.scene.schema import Scene, column_for_analysis
 
 __all__ = [
     "BodyState",

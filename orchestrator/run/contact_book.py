@@ -162,7 +162,7 @@ class Geometry:
 
     def __init__(self, info: CaseInfo):
         from orchestrator.run import contact as geo
-        from orchestrator.scene.schema import load_scene
+        from orchestrator.scene.scenefile import load_scene
 
         self.geo = geo
         self.scene = load_scene(info.case / "scene.yaml")

@@ -190,7 +190,7 @@ def _label(setup: str, cell_m: float | None, taken: set[str]) -> str:
 
 
 def _load_members(sweep_dir: Path, role: str) -> list[dict[str, Any]]:
-    from orchestrator.scene.schema import load_scene
+    from orchestrator.scene.scenefile import load_scene
     from orchestrator.studies.sweep import load_store
 
     store = load_store(sweep_dir)
@@ -480,7 +480,7 @@ def _extrapolate(members: list[dict], table: pd.DataFrame, tcol: str, cell_m: fl
     per cell-step of the finest member. The local exponent of the steps between the set-up's two
     finest members is reported beside it. An extrapolation, labelled as such."""
     from orchestrator.plan.planner import plan_case
-    from orchestrator.scene.schema import load_scene
+    from orchestrator.scene.scenefile import load_scene
 
     out = []
     by_id = {m["row"].get("member_id"): m for m in members}

@@ -166,7 +166,7 @@ def assess(case_dir: str | Path, member: dict | None = None) -> Assessment:
     plan = _read_json(case / "plan.json")
     scene = None
     if (case / "scene.yaml").is_file():
-        from orchestrator.scene.schema import load_scene
+        from orchestrator.scene.scenefile import load_scene
 
         scene = load_scene(case / "scene.yaml")
     outcome, diagnosis = _outcome(run, member)

@@ -1,0 +1,263 @@
+"""The scene's cross-field rules: what a resolved scene must satisfy beyond each field's range.
+
+Each field's own range is checked by the models (:mod:`orchestrator.scene.schema`); the
+rules here relate fields to one another (a body inside the flume and clear of the column,
+the mesh fine enough for the smallest thing it must resolve). The first broken rule raises
+an :class:`~analytical.errors.InputError` naming the dotted field the user has to change.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Sequence
+
+import numpy as np
+
+from analytical.errors import InputError
+from orchestrator.scene.geometry import TOLERANCE_M as TOL
+from orchestrator.scene.geometry import body_rotation, box_corners, boxes_overlap, flume_extent
+from orchestrator.scene.schema import DebrisBody, Scene
+
+__all__ = [
+    "MIN_CELLS_ACROSS_COLUMN",
+    "MIN_CELLS_ACROSS_DEBRIS",
+    "MIN_CELLS_OVER_DEPTH",
+    "validate_scene",
+]
+
+#: The finest cell may be at most 1/1.5 of the smallest debris dimension: every body
+#: then covers at least one background cell centre across each of its dimensions
+#: wherever it sits, so it always cuts a hole in the background mesh (overset).
+MIN_CELLS_ACROSS_DEBRIS = 1.5
+#: At least this many finest cells across each horizontal side of the column.
+MIN_CELLS_ACROSS_COLUMN = 2.0
+#: At least this many finest cells over the impoundment depth.
+MIN_CELLS_OVER_DEPTH = 4.0
+
+_NAME_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
+
+
+def validate_scene(scene: Scene, source: str | None = None, origins: Sequence[dict] | None = None) -> None:
+    """The cross-field rules; raises the first broken one as an InputError.
+
+    Rules: reservoir shorter than the flume; impoundment not above the flume walls; wet
+    bed shallower than the impoundment; column inside the flume; every body inside the
+    flume, clear of the column and of every other body; unique OpenFOAM-safe body names;
+    body wall thinner than half its smallest dimension; gauges inside the flume and not
+    inside the column; ``mesh.cell_size_m`` fine enough for the impoundment, the column
+    and the debris; ``mesh.top_m`` between the impoundment and the flume height.
+
+    ``origins`` says where each body came from in the YAML (``path``, and ``layout``: made
+    by a layout), so an error names the key the user wrote; default: one item per body.
+    """
+    _check_water(scene, source)
+    _check_column(scene, source)
+    origins = list(origins) if origins is not None else [
+        {"path": f"debris.{i}", "layout": False} for i in range(len(scene.debris))
+    ]
+    _check_bodies(scene, origins, source)
+    _check_gauges(scene, source)
+    _check_mesh(scene, source)
+
+
+def _check_water(scene: Scene, source: str | None) -> None:
+    """Reservoir shorter than the flume, impoundment below the walls, wet bed below the impoundment."""
+    fl, res, bed = scene.flume, scene.reservoir, scene.bed
+    if res.length_m >= fl.length_m - TOL:
+        raise InputError(
+            "reservoir.length_m",
+            f"must be shorter than the flume ({fl.length_m:g} m) so water has somewhere to go, got {res.length_m:g}",
+            source,
+        )
+    if res.depth_m > fl.height_m + TOL:
+        raise InputError(
+            "reservoir.depth_m",
+            f"impoundment {res.depth_m:g} m is above the flume walls ({fl.height_m:g} m)",
+            source,
+        )
+    if bed.wet_depth_m >= res.depth_m:
+        raise InputError(
+            "bed.wet_depth_m",
+            f"must be shallower than the impoundment ({res.depth_m:g} m) for a dam break, got {bed.wet_depth_m:g}",
+            source,
+        )
+
+
+def _check_column(scene: Scene, source: str | None) -> None:
+    """The column inside the flume, its wall at most half its smaller side."""
+    col = scene.column
+    if col is None:
+        return
+    (x0, x1), (y0, y1), _ = flume_extent(scene)
+    if col.x_m - col.size_x_m / 2 < x0 - TOL or col.x_m + col.size_x_m / 2 > x1 + TOL:
+        raise InputError(
+            "column.x_m",
+            f"column spans x = {col.x_m - col.size_x_m / 2:g}..{col.x_m + col.size_x_m / 2:g} m, outside the "
+            f"flume ({x0:g}..{x1:g} m)",
+            source,
+        )
+    if col.y_m - col.size_y_m / 2 < y0 - TOL or col.y_m + col.size_y_m / 2 > y1 + TOL:
+        raise InputError(
+            "column.y_m",
+            f"column spans y = {col.y_m - col.size_y_m / 2:g}..{col.y_m + col.size_y_m / 2:g} m, outside the "
+            f"flume ({y0:g}..{y1:g} m)",
+            source,
+        )
+    if 2 * col.wall_thickness_m > min(col.size_x_m, col.size_y_m) + TOL:
+        raise InputError(
+            "column.wall_thickness_m",
+            f"must be at most half the smaller side ({min(col.size_x_m, col.size_y_m) / 2:g} m), "
+            f"got {col.wall_thickness_m:g}",
+            source,
+        )
+
+
+def _check_bodies(scene: Scene, origins: Sequence[dict], source: str | None) -> None:
+    """Each body well formed, inside the flume, clear of the column and of the bodies before it."""
+    col = scene.column
+    names: dict[str, int] = {}
+    placed: list[tuple[DebrisBody, np.ndarray]] = []
+    for i, body in enumerate(scene.debris):
+        path = origins[i]["path"]
+        if not _NAME_RE.match(body.name):
+            raise InputError(f"{path}.name", f"{body.name!r} is not an identifier (letters, digits, _)", source)
+        if body.name in names or (col is not None and body.name == "column"):
+            raise InputError(
+                f"{path}.name" if not origins[i]["layout"] else f"{path}.name_prefix",
+                f"body name {body.name!r} is used twice",
+                source,
+            )
+        names[body.name] = i
+        _check_body_shape(body, path, origins[i]["layout"], source)
+        rot = body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg)
+        _check_body_inside(scene, body, rot, f"{path}.centre_m", source)
+        for j, (other, orot) in enumerate(placed):
+            if boxes_overlap(body.centre_m, rot, body.size_m, other.centre_m, orot, other.size_m):
+                same_layout = origins[i]["layout"] and origins[j]["path"] == path
+                raise InputError(
+                    f"{path}.spacing_m" if same_layout else f"{path}.centre_m",
+                    f"body {body.name!r} overlaps body {other.name!r}",
+                    source,
+                )
+        placed.append((body, rot))
+
+
+def _check_body_shape(body: DebrisBody, path: str, from_layout: bool, source: str | None) -> None:
+    """Sizes and principal moments positive; a wall thinner than half the smallest size, or inertia, not both."""
+    if body.wall_thickness_m is not None and body.moment_of_inertia_kg_m2 is not None:
+        raise InputError(
+            f"{path}.moment_of_inertia_kg_m2",
+            "give wall_thickness_m or moment_of_inertia_kg_m2, not both",
+            source,
+        )
+    t_field = f"{path}.body.wall_thickness_m" if from_layout else f"{path}.wall_thickness_m"
+    if body.wall_thickness_m is not None and 2 * body.wall_thickness_m >= min(body.size_m):
+        raise InputError(
+            t_field,
+            f"must be less than half the smallest dimension ({min(body.size_m) / 2:g} m), got "
+            f"{body.wall_thickness_m:g}",
+            source,
+        )
+    if min(body.size_m) <= 0:
+        k = int(np.argmin(body.size_m))
+        size_field = f"{path}.body.size_m" if from_layout else f"{path}.size_m"
+        raise InputError(f"{size_field}.{k}", f"must be > 0, got {body.size_m[k]:g}", source)
+    if body.moment_of_inertia_kg_m2 is not None and min(body.moment_of_inertia_kg_m2) <= 0:
+        raise InputError(
+            f"{path}.moment_of_inertia_kg_m2",
+            f"principal moments must be > 0, got {list(body.moment_of_inertia_kg_m2)}",
+            source,
+        )
+
+
+def _check_body_inside(scene: Scene, body: DebrisBody, rot: np.ndarray, pos_field: str, source: str | None) -> None:
+    """Every corner of the body inside the flume; the body clear of the column."""
+    (x0, x1), (y0, y1), (_, z1) = flume_extent(scene)
+    corners = box_corners(body.centre_m, rot, body.size_m)
+    lo, hi = corners.min(axis=0), corners.max(axis=0)
+    if lo[0] < x0 - TOL or hi[0] > x1 + TOL or lo[1] < y0 - TOL or hi[1] > y1 + TOL or lo[2] < -1e-7 or hi[2] > z1 + TOL:
+        raise InputError(
+            pos_field,
+            f"body {body.name!r} spans x {lo[0]:.4g}..{hi[0]:.4g}, y {lo[1]:.4g}..{hi[1]:.4g}, "
+            f"z {lo[2]:.4g}..{hi[2]:.4g} m: outside the flume (x {x0:g}..{x1:g}, y {y0:g}..{y1:g}, "
+            f"z 0..{z1:g} m)",
+            source,
+        )
+    col = scene.column
+    if col is not None and boxes_overlap(
+        body.centre_m, rot, body.size_m, (col.x_m, col.y_m, col.height_m / 2), np.eye(3),
+        (col.size_x_m, col.size_y_m, col.height_m),
+    ):
+        raise InputError(pos_field, f"body {body.name!r} overlaps the column", source)
+
+
+def _check_gauges(scene: Scene, source: str | None) -> None:
+    """Gauge names unique identifiers; every gauge inside the flume and outside the column."""
+    (x0, x1), (y0, y1), _ = flume_extent(scene)
+    col = scene.column
+    for i, g in enumerate(scene.gauges):
+        if not _NAME_RE.match(g.name):
+            raise InputError(f"gauges.{i}.name", f"{g.name!r} is not an identifier (letters, digits, _)", source)
+        if any(other.name == g.name for other in scene.gauges[:i]):
+            raise InputError(f"gauges.{i}.name", f"gauge name {g.name!r} is used twice", source)
+        if not x0 - TOL <= g.x_m <= x1 + TOL:
+            raise InputError(f"gauges.{i}.x_m", f"gauge {g.name!r} at x = {g.x_m:g} m is outside the flume ({x0:g}..{x1:g} m)", source)
+        if not y0 - TOL <= g.y_m <= y1 + TOL:
+            raise InputError(f"gauges.{i}.y_m", f"gauge {g.name!r} at y = {g.y_m:g} m is outside the flume ({y0:g}..{y1:g} m)", source)
+        if col is not None and abs(g.x_m - col.x_m) < col.size_x_m / 2 - TOL and abs(g.y_m - col.y_m) < col.size_y_m / 2 - TOL:
+            raise InputError(f"gauges.{i}.x_m", f"gauge {g.name!r} is inside the column", source)
+
+
+def _check_mesh(scene: Scene, source: str | None) -> None:
+    """The finest cell fine enough for the impoundment, the column and every body; mesh.top_m in range."""
+    res, col, h = scene.reservoir, scene.column, scene.mesh.cell_size_m
+    if h > res.depth_m / MIN_CELLS_OVER_DEPTH + TOL:
+        raise InputError(
+            "mesh.cell_size_m",
+            f"{h:g} m cannot resolve the impoundment: at least {MIN_CELLS_OVER_DEPTH:g} cells over "
+            f"reservoir.depth_m ({res.depth_m:g} m) needs <= {res.depth_m / MIN_CELLS_OVER_DEPTH:g} m",
+            source,
+        )
+    if col is not None:
+        side = min(col.size_x_m, col.size_y_m)
+        if h > side / MIN_CELLS_ACROSS_COLUMN + TOL:
+            raise InputError(
+                "mesh.cell_size_m",
+                f"{h:g} m cannot resolve the column: at least {MIN_CELLS_ACROSS_COLUMN:g} cells across its "
+                f"{side:g} m side needs <= {side / MIN_CELLS_ACROSS_COLUMN:g} m",
+                source,
+            )
+    for body in scene.debris:
+        small = min(body.size_m)
+        if h > small / MIN_CELLS_ACROSS_DEBRIS + TOL:
+            raise InputError(
+                "mesh.cell_size_m",
+                f"{h:g} m cannot resolve debris {body.name!r}: at least {MIN_CELLS_ACROSS_DEBRIS:g} cells across "
+                f"its smallest dimension ({small:g} m) needs <= {small / MIN_CELLS_ACROSS_DEBRIS:.4g} m "
+                "(else a body may cut no hole in the background mesh)",
+                source,
+            )
+    _check_mesh_top(scene, source)
+
+
+def _check_mesh_top(scene: Scene, source: str | None) -> None:
+    """mesh.top_m (when given) above every body, above the impoundment and at most the flume height."""
+    top_m, res, fl = scene.mesh.top_m, scene.reservoir, scene.flume
+    if top_m is None:
+        return
+    for body in scene.debris:
+        rot = body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg)
+        top = float(box_corners(body.centre_m, rot, body.size_m)[:, 2].max())
+        if top > top_m + TOL:
+            raise InputError(
+                "mesh.top_m",
+                f"{top_m:g} m is below the top of body {body.name!r} ({top:.4g} m)",
+                source,
+            )
+    if not res.depth_m < top_m <= fl.height_m + TOL:
+        raise InputError(
+            "mesh.top_m",
+            f"must be above the impoundment ({res.depth_m:g} m) and at most the flume height ({fl.height_m:g} m), "
+            f"got {top_m:g}",
+            source,
+        )
