@@ -19,8 +19,8 @@ from importlib import import_module
 _EXPORTS = {
     "HalfSine": "pulses", "Rectangular": "pulses", "Triangular": "pulses", "Tabulated": "pulses",
     "make_pulse": "pulses",
-    "SDOF": "sdof", "sdof_response": "sdof", "oscillator_response": "sdof", "ForceResponse": "sdof",
-    "Column": "column", "column_model": "mdof", "mdof_response": "mdof", "modes": "mdof",
+    "SDOF": "sdof", "sdof_response": "sdof", "oscillator_response": "oscillator", "ForceResponse": "sdof",
+    "Column": "column", "column_model": "column_fem", "mdof_response": "mdof", "modes": "column_fem",
     "asce7_impact": "asce7", "dynamic_response_ratio": "asce7", "effective_stiffness": "asce7",
     "ContactLaw": "contact_law", "contact_law": "contact_law", "column_impact": "contact_law",
     "calibrate": "contact_law", "held_out": "contact_law",

@@ -33,8 +33,11 @@ from typing import Callable
 import numpy as np
 from scipy.optimize import least_squares
 
-from .errors import InputError
-from .pulses import make_pulse
+from analytical.column import Column
+from analytical.errors import InputError, require_positive
+from analytical.mdof import mdof_response
+from analytical.oscillator import oscillator_response
+from analytical.pulses import make_pulse
 
 #: Half-widths of the seed's SDOF fit bounds (Stolle et al. 2019 via the seed, section
 #: 3.2.1: f1 = 70 +- 2.2 Hz, damping 0.045 +- 0.005, k = 4.653e5 .. 4.701e5 N/m).
@@ -211,9 +214,6 @@ def fit_sdof(time_s, force_N, column=None, shape: str = "half-sine", window_s: f
     fixed while the frequency is fitted, as a literal reading of the seed's eq. [6]
     with k, m_s and omega as separate inputs does: then R = (k / m_s) q.
     """
-    from .errors import require_positive
-    from .sdof import oscillator_response
-
     prep = prepare_record(time_s, force_N, window_s=window_s)
     stiffness = float(getattr(column, "stiffness_N_m", 4.685e5))
     freq0 = float(getattr(column, "natural_frequency_Hz", 70.0))
@@ -242,9 +242,6 @@ def fit_mdof(time_s, force_N, column=None, height_m: float = 0.40, shape: str = 
     Varies magnitude (N), duration (s) and start (s); the column's matrices are fixed
     (the seed's section 3.2.2).
     """
-    from .column import Column
-    from .mdof import mdof_response
-
     column = column if column is not None else Column()
     if not (0.0 < float(height_m) <= column.height_m):
         raise InputError("height_m", f"must be in (0, {column.height_m}] m, got {height_m}")

@@ -127,7 +127,9 @@ from scipy.optimize import brentq
 from analytical.asce7 import SEED_DEBRIS_STIFFNESS_N_M
 from analytical.column import Column
 from analytical.errors import InputError, require_finite, require_positive
-from analytical.mdof import _upper_band, column_model, mdof_response  # noqa: PLC2701 - shared band storage
+from analytical.banded import upper_band
+from analytical.column_fem import column_model
+from analytical.mdof import mdof_response
 from analytical.pulses import Tabulated
 from analytical.sdof import ForceResponse
 
@@ -736,9 +738,9 @@ class _Block:
         self.a0 = model.rayleigh_a0_1_s
         self.inertia = np.asarray(model.inertia_vector)
         self.b = gain * model.load_vector(height_m)[model.free_dofs]
-        self.k_band = _upper_band(self.k)
-        self.m_band = _upper_band(self.m)
-        self.c_band = _upper_band(self.c)
+        self.k_band = upper_band(self.k)
+        self.m_band = upper_band(self.m)
+        self.c_band = upper_band(self.c)
         self.m_chol = linalg.cholesky_banded(self.m_band)
         k_chol = linalg.cholesky_banded(self.k_band)
         self.compliance = float(self.b @ linalg.cho_solve_banded((k_chol, False), self.b))

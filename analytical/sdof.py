@@ -1,35 +1,11 @@
-"""Single-degree-of-freedom response to impact pulses: Duhamel's integral evaluated exactly.
+"""The single-degree-of-freedom structure of the seed study and its force response to impact pulses.
 
-The core is :func:`oscillator_response`, the response of the unit-mass oscillator
-
-    q'' + 2 zeta omega q' + omega^2 q = p(t),   q = q' = 0 before the load starts,
-
-to a load given as switched-on atoms (steps, ramps, sinusoids; see :mod:`analytical.pulses`).
-Each atom's response is known in closed form (a particular solution plus the free vibration
-that cancels its initial value and velocity), so the result is Duhamel's integral
-
-    q(t) = int_0^t h(t - s) p(s) ds,   h(t) = exp(-zeta omega t) sin(omega_d t) / omega_d,
-
-evaluated exactly for piecewise-linear loads and for sine pulses, not by quadrature.
-
-How it is evaluated (and why it is fast and cannot overflow): the atoms are sorted by switch-on
-time. Between consecutive switch-on times ``t_j <= t < t_{j+1}`` the total response is
-
-    q = [L_j + B_j tau] / omega^2 - 2 zeta B_j / omega^3            (steps and ramps)
-      + sum_Omega Re(H(Omega) W_j e^{i Omega tau})                    (sinusoids)
-      + Re(G_j e^{lambda tau}),            tau = t - t_j,  lambda = -zeta omega + i omega_d,
-
-where ``L_j, B_j`` are the level and slope of the polynomial part of the load at ``t_j``,
-``W_j`` the complex amplitude of each sinusoid group and ``G_j`` the free-vibration amplitude,
-all carried from one switch-on time to the next by exact recurrences. Every exponential has a
-non-positive real part (``tau >= 0``), so modes up to ~1e5 rad/s and long records are safe.
-The cost is about one complex multiplication per (mode, time) on uniform time grids (one
-complex exponential on irregular ones), whatever the number of atoms: 40 modes x 5000 times
-take about 2 ms.
-
-The single-degree-of-freedom model of the seed study (its eq. [6]) is :class:`SDOF` with
-:func:`sdof_response`, ``R(t) = k u(t)``. Independent closed forms (Chopra 2017, ch. 3-4) for the
-half-sine and rectangular pulses are given as references for testing.
+The seed's SDOF model (its eq. [6]) is :class:`SDOF` with :func:`sdof_response`,
+``R(t) = k u(t)``: the spring force of a damped oscillator, evaluated exactly by
+:func:`analytical.oscillator.oscillator_response`. :func:`max_force_response` finds the largest
+response over all time (response spectra, dynamic load factors), undamped and resonant cases
+included. Independent closed forms (Chopra 2017, ch. 3-4) for the half-sine and rectangular
+pulses are given as references for testing.
 
 References
 ----------
@@ -44,14 +20,16 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.optimize import brentq
 
 from analytical.errors import InputError, require_finite, require_positive
-from analytical.pulses import Atom
+from analytical.oscillator import as_times, atoms_response, oscillator_modes, oscillator_response, pulse_atoms
+from analytical.pulses import atoms_force
 
 __all__ = [
-    "oscillator_response",
     "SDOF",
     "ForceResponse",
+    "load_direction",
     "sdof_response",
     "PeakResponse",
     "max_force_response",
@@ -59,398 +37,7 @@ __all__ = [
     "rectangular_closed_form",
 ]
 
-# Relative closeness of a sinusoid's frequency to an undamped mode's below which the exact
-# resonant (secular) solution is used instead of 1/(omega^2 - Omega^2). Only reachable with
-# zeta = 0, which oscillator_response refuses but max_force_response accepts.
-_RESONANCE_RTOL = 1e-9
 _EPS = float(np.finfo(float).eps)
-# Intervals between switch-on times with at least this many evaluation times get a block of their own.
-_MIN_RUN = 64
-
-
-# --------------------------------------------------------------------------------------------
-# Input handling
-# --------------------------------------------------------------------------------------------
-
-
-def _atoms_of(pulse) -> tuple[Atom, ...]:
-    if hasattr(pulse, "atoms") and callable(pulse.atoms):
-        atoms = tuple(pulse.atoms())
-    else:
-        try:
-            atoms = tuple(pulse)
-        except TypeError:
-            raise InputError(
-                "pulse", f"must be a pulse (with .atoms()) or a sequence of Atom, got {type(pulse).__name__}"
-            ) from None
-    for a in atoms:
-        if not isinstance(a, Atom):
-            raise InputError("pulse", f"atoms must be analytical.pulses.Atom, got {type(a).__name__}")
-    return atoms
-
-
-def _times(t) -> np.ndarray:
-    try:
-        arr = np.asarray(t, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError("t", "must be a 1-D array of times in s") from None
-    if arr.ndim != 1:
-        raise InputError("t", f"must be a 1-D array of times in s, got shape {arr.shape}")
-    if not np.all(np.isfinite(arr)):
-        raise InputError("t", "must be finite")
-    return arr
-
-
-def _modes(omega_rad_s, zeta, allow_undamped: bool) -> tuple[np.ndarray, np.ndarray, bool]:
-    """Frequencies and damping ratios as equal-length 1-D arrays, and whether both were scalars."""
-    try:
-        w = np.asarray(omega_rad_s, dtype=float)
-        z = np.asarray(zeta, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError("omega_rad_s/zeta", "must be numbers or 1-D arrays of numbers") from None
-    if w.ndim > 1:
-        raise InputError("omega_rad_s", f"must be a scalar or a 1-D array, got shape {w.shape}")
-    if z.ndim > 1:
-        raise InputError("zeta", f"must be a scalar or a 1-D array, got shape {z.shape}")
-    scalar = w.ndim == 0 and z.ndim == 0
-    w1, z1 = np.atleast_1d(w), np.atleast_1d(z)
-    if w.ndim == 1 and z.ndim == 1 and w1.size != z1.size:
-        raise InputError("zeta", f"must have the same length as omega_rad_s ({w1.size}), got {z1.size}")
-    w1, z1 = np.broadcast_arrays(w1, z1)
-    if not np.all(np.isfinite(w1)) or np.any(w1 <= 0.0):
-        raise InputError("omega_rad_s", "must be finite and > 0")
-    low_ok = (z1 >= 0.0) if allow_undamped else (z1 > 0.0)
-    if not np.all(np.isfinite(z1)) or not np.all(low_ok & (z1 < 1.0)):
-        rule = "0 <= zeta < 1" if allow_undamped else "0 < zeta < 1 (underdamped)"
-        raise InputError("zeta", f"must satisfy {rule}, got {zeta!r}")
-    return w1.astype(float), z1.astype(float), scalar
-
-
-# --------------------------------------------------------------------------------------------
-# Exact superposition
-# --------------------------------------------------------------------------------------------
-
-
-def _response(atoms, t, w, z, derivatives: bool):
-    """Exact response of unit-mass oscillators (rows) to switched-on atoms, at times ``t``.
-
-    ``w``, ``z``: 1-D arrays of the same length (n modes). Returns arrays of shape (n, len(t)).
-    ``z`` may contain 0 (undamped), including exact resonance with a sinusoid.
-    """
-    n, nt = w.size, t.size
-    q = np.zeros((n, nt))
-    qd = np.zeros((n, nt)) if derivatives else None
-    qdd = np.zeros((n, nt)) if derivatives else None
-    if not atoms or nt == 0:
-        return q, qd, qdd
-
-    wd = w * np.sqrt(1.0 - z * z)
-    lam = -z * w + 1j * wd  # (n,)
-    w2 = w * w
-
-    # --- atoms grouped by switch-on time ("breaks") and sinusoids by frequency ("groups") -----
-    t0s = np.array([a.t0 for a in atoms], dtype=float)
-    breaks, jof = np.unique(t0s, return_inverse=True)
-    nb = breaks.size
-    step = np.bincount(jof, weights=[a.a for a in atoms], minlength=nb)
-    ramp = np.bincount(jof, weights=[a.b for a in atoms], minlength=nb)
-    om = np.array([a.omega for a in atoms], dtype=float)
-    cs = np.array([a.c for a in atoms], dtype=float)
-    ds = np.array([a.d for a in atoms], dtype=float)
-    sinus = (om > 0.0) & ((cs != 0.0) | (ds != 0.0))
-    omegas, gof = np.unique(om[sinus], return_inverse=True)
-    ng = omegas.size
-    wnew = np.zeros((ng, nb), dtype=complex)  # new sinusoid amplitude (d - i c) at each break
-    np.add.at(wnew, (gof, jof[sinus]), ds[sinus] - 1j * cs[sinus])
-
-    # Particular-solution transfer H = 1/(w^2 - W^2 + 2 i z w W), per (group, mode); undamped
-    # modes in exact resonance get the secular solution Re(W tau e^{i W tau} / (2 i w)) instead.
-    wg = omegas[:, None]
-    resonant = (z[None, :] == 0.0) & (np.abs(wg - w[None, :]) <= _RESONANCE_RTOL * w[None, :])
-    denom = w2[None, :] - wg * wg + 2j * z[None, :] * w[None, :] * wg
-    H = np.where(resonant, 0.0, 1.0 / np.where(resonant, 1.0, denom))  # (ng, n)
-    Hres = np.where(resonant, 1.0 / (2j * w[None, :]), 0.0)
-    has_res = resonant.any(axis=1)
-
-    # --- the load's state just after each break ------------------------------------------------
-    # Polynomial part: level and slope. Values that are only rounding residue of terms that have
-    # cancelled (the end of a pulse) are set to exactly zero, so they cost nothing afterwards.
-    dts = np.diff(breaks)
-    slope = np.cumsum(ramp)
-    level = np.cumsum(step)
-    level[1:] += np.cumsum(slope[:-1] * dts)
-    slope[np.abs(slope) <= 64.0 * _EPS * np.cumsum(np.abs(ramp))] = 0.0
-    level_scale = np.cumsum(np.abs(step))
-    level_scale[1:] += np.cumsum(np.abs(slope[:-1]) * dts)
-    level[np.abs(level) <= 64.0 * _EPS * level_scale] = 0.0
-    # Sinusoids: W_j = sum_a w_a e^{i W (t_j - t_a)}, and for resonant groups
-    # U_j = sum_a w_a (t_j - t_a) e^{i W (t_j - t_a)}. Carried from one of the group's own
-    # switch-on times to the next (few), then to every break with relative phases only, so a
-    # switched-off sinusoid cancels to rounding, which is then set to exactly zero.
-    Wg = np.zeros((ng, nb), dtype=complex)
-    Ug = np.zeros((ng, nb), dtype=complex)
-    for g in range(ng):
-        own = np.flatnonzero(wnew[g])
-        Wo = np.empty(own.size, dtype=complex)
-        Uo = np.zeros(own.size, dtype=complex)
-        scale = 0.0
-        for k, j in enumerate(own):
-            scale += abs(wnew[g, j])
-            if k == 0:
-                Wo[k] = wnew[g, j]
-            else:
-                dt = breaks[j] - breaks[own[k - 1]]
-                rot = np.exp(1j * omegas[g] * dt)
-                Wo[k] = Wo[k - 1] * rot + wnew[g, j]
-                Uo[k] = (Uo[k - 1] + dt * Wo[k - 1]) * rot
-            if abs(Wo[k]) <= 16.0 * _EPS * scale:
-                Wo[k] = 0.0
-        k_of = np.searchsorted(own, np.arange(nb), side="right") - 1
-        on = k_of >= 0
-        kk = k_of[on]
-        dt = breaks[on] - breaks[own[kk]]
-        rot = np.exp(1j * omegas[g] * dt)
-        Wg[g, on] = Wo[kk] * rot
-        if has_res[g]:
-            Ug[g, on] = (Uo[kk] + dt * Wo[kk]) * rot
-
-    # --- free-vibration amplitudes G_j (Re(G_j e^{lam tau}) after break j) ---------------------
-    # Each break's new atoms start from rest: their particular solutions' initial value p0 and
-    # velocity p1 are cancelled by free vibration A cos + B sin, i.e. C = A - i B. Then
-    # G_j = sum_{a <= j} C_a e^{lam (t_j - t_a)}, computed in blocks short enough that
-    # |e^{-lam (t_a - t_s)}| <= e^500 inside a block (no overflow; error ~ eps max|C|).
-    G = np.empty((n, nb), dtype=complex)
-    decay_max = float(np.max(z * w))
-    span = min(500.0 / decay_max if decay_max > 0.0 else np.inf, 400.0 / float(np.max(wd)))  # phase <= 400 rad
-    s = 0
-    carry = np.zeros(n, dtype=complex)
-    ones = np.ones(n, dtype=complex)
-    while s < nb:
-        e = int(min(s + 1024, np.searchsorted(breaks, breaks[s] + span, side="right")))
-        e = max(e, s + 1)
-        p0 = np.multiply.outer(1.0 / w2, step[s:e]) - np.multiply.outer(2.0 * z / (w2 * w), ramp[s:e])
-        p1 = np.multiply.outer(1.0 / w2, ramp[s:e])
-        for g in range(ng):
-            hw = np.multiply.outer(H[g], wnew[g, s:e])  # (n, e-s)
-            p0 += hw.real
-            p1 -= omegas[g] * hw.imag  # Re(i W H w)
-            if has_res[g]:
-                p1 += np.multiply.outer(Hres[g], wnew[g, s:e]).real
-        C = -p0 + 1j * ((p1 + (z * w)[:, None] * p0) / wd[:, None])  # A - i B
-        rel = breaks[s:e] - breaks[s]
-        decay = np.empty((n, e - s), dtype=complex)
-        _exp_outer(lam, rel, decay, ones)  # e^{lam rel}, |.| >= e^-500
-        G[:, s:e] = decay * (carry[:, None] + np.cumsum(C / decay, axis=1))
-        if e < nb:
-            carry = G[:, e - 1] * np.exp(lam * (breaks[e] - breaks[e - 1]))
-        s = e
-
-    # --- evaluation at the requested times ---------------------------------------------------
-    # Times are processed in column blocks of ~0.5 MB so that the (modes x times) work stays in
-    # cache and in two small scratch buffers instead of multi-megabyte temporaries. A long
-    # interval between switch-on times (>= _MIN_RUN times) is a block of its own, where the
-    # level, slope and amplitudes are constants and the exponential is built from small tables;
-    # runs of short intervals (densely sampled tabulated loads) are gathered into shared blocks.
-    order = None
-    if nt > 1 and np.any(t[1:] < t[:-1]):
-        order = np.argsort(t, kind="stable")
-        t = t[order]
-    bounds = np.searchsorted(t, np.append(breaks, np.inf), side="left")  # interval j: [b_j, b_j+1)
-    chunk = max(256, 32768 // n)
-    width = min(chunk, nt)
-    tmp_all = np.empty((n, width))
-    E_all = np.empty((n, width), dtype=complex)
-    inv_w2 = 1.0 / w2
-    ramp_offset = 2.0 * z / (w2 * w)  # particular solution of a unit ramp: tau/w^2 - 2 z/w^3
-    lamc = lam[:, None]
-
-    def add_re(target, h, x, tmp):
-        """target += Re(outer(h, x)) without complex temporaries."""
-        target += np.multiply.outer(h.real, x.real, out=tmp)
-        target -= np.multiply.outer(h.imag, x.imag, out=tmp)
-
-    def block(c0, c1, j):
-        """Fill columns [c0, c1); ``j`` is their interval, or None for several (gathered)."""
-        m = c1 - c0
-        tmp, E = tmp_all[:, :m], E_all[:, :m]
-        qc = q[:, c0:c1]
-        if derivatives:
-            qdc, qddc = qd[:, c0:c1], qdd[:, c0:c1]
-        jj = j if j is not None else np.searchsorted(breaks, t[c0:c1], side="right") - 1
-        tau = t[c0:c1] - breaks[jj]  # >= 0
-        lev, slp = level[jj], slope[jj]
-        if np.any(lev != 0.0) or np.any(slp != 0.0):  # q is zero-initialised
-            np.multiply.outer(inv_w2, lev + slp * tau, out=qc)
-            if j is None:
-                qc -= np.multiply.outer(ramp_offset, slp, out=tmp)
-            else:
-                qc -= (ramp_offset * slp)[:, None]
-            if derivatives:
-                qdc += np.multiply.outer(inv_w2, slp * np.ones(m), out=tmp)
-        for g in range(ng):
-            Wt, Ut = Wg[g, jj], Ug[g, jj]
-            if not (np.any(Wt != 0.0) or np.any(Ut != 0.0)):
-                continue
-            Om = omegas[g]
-            rot = np.exp(1j * Om * tau)
-            X = Wt * rot  # sum of W_a e^{i Om tau_a}
-            add_re(qc, H[g], X, tmp)
-            if derivatives:
-                add_re(qdc, H[g], (1j * Om) * X, tmp)
-                add_re(qddc, H[g], (-Om * Om) * X, tmp)
-            if has_res[g]:
-                Y = rot * (tau * Wt + Ut)  # sum of W_a tau_a e^{i Om tau_a}
-                add_re(qc, Hres[g], Y, tmp)
-                if derivatives:
-                    add_re(qdc, Hres[g], X + 1j * Om * Y, tmp)
-                    add_re(qddc, Hres[g], 2j * Om * X - Om * Om * Y, tmp)
-        # free vibration Re(G_j e^{lam tau}); |e^{lam tau}| <= 1
-        if j is not None:
-            _exp_outer(lam, tau, E, G[:, j])
-        else:
-            np.exp(np.multiply.outer(lam, tau), out=E)
-            E *= G[:, jj]
-        qc += E.real
-        if derivatives:
-            E *= lamc
-            qdc += E.real
-            E *= lamc
-            qddc += E.real
-
-    pending = None  # start of a run of short intervals not yet evaluated
-    for j in range(nb):
-        lo, hi = int(bounds[j]), int(bounds[j + 1])
-        if hi - lo >= _MIN_RUN:
-            if pending is not None:
-                for c0 in range(pending, lo, chunk):
-                    block(c0, min(c0 + chunk, lo), None)
-                pending = None
-            for c0 in range(lo, hi, chunk):
-                block(c0, min(c0 + chunk, hi), j)
-        elif hi > lo and pending is None:
-            pending = lo
-    if pending is not None:
-        for c0 in range(pending, nt, chunk):
-            block(c0, min(c0 + chunk, nt), None)
-
-    if order is not None:
-        inverse = np.empty_like(order)
-        inverse[order] = np.arange(nt)
-        q = q[:, inverse]
-        if derivatives:
-            qd, qdd = qd[:, inverse], qdd[:, inverse]
-    return q, qd, qdd
-
-
-def _exp_outer(lam: np.ndarray, tau: np.ndarray, out: np.ndarray, scale: np.ndarray) -> None:
-    """Write ``scale[:, None] * exp(outer(lam, tau))`` into ``out`` (n, K).
-
-    For ascending ``tau >= 0`` and ``Re(lam) <= 0``. On a (near-)uniform grid
-    ``tau_k = tau_0 + k dtau + delta_k`` the exponential is assembled from two small tables,
-    ``exp(lam (tau_0 + b B dtau)) * exp(lam r dtau)`` with ``k = b B + r`` and ``B ~ sqrt(K)``
-    (``scale`` folded into the first): one complex multiplication per entry instead of one complex
-    exponential, about ten times cheaper. The grid's deviations ``delta_k`` are corrected to first
-    order, ``* (1 + lam delta_k)``, when they exceed the phase rounding that a direct exponential
-    has anyway (a few ulps of ``lam tau``); grids with ``|lam delta| > 1e-8`` (where the neglected
-    ``(lam delta)^2/2`` could reach 1e-16) use the direct exponential. Every exponential has
-    modulus <= 1, so nothing overflows.
-    """
-    K = tau.size
-    n = lam.size
-    direct = K < 64
-    if not direct:
-        k = np.arange(K)
-        dtau = (tau[-1] - tau[0]) / (K - 1)
-        delta = tau - (tau[0] + k * dtau)
-        dev = float(np.max(np.abs(delta)))
-        direct = not dtau > 0.0 or dev * float(np.max(np.abs(lam))) > 1e-8
-    if direct:
-        np.exp(np.multiply.outer(lam, tau), out=out)
-        out *= scale[:, None]
-        return
-    B = int(math.ceil(math.sqrt(K)))
-    nfull, rest = divmod(K, B)
-    fine = np.exp(np.multiply.outer(lam, np.arange(B) * dtau))  # (n, B)
-    coarse = np.exp(np.multiply.outer(lam, tau[0] + np.arange(nfull + 1) * (B * dtau)))  # (n, nfull+1)
-    coarse *= scale[:, None]
-    blocks = out[:, : nfull * B].reshape(n, nfull, B)  # a view: splits the contiguous last axis
-    np.multiply(coarse[:, :nfull, None], fine[:, None, :], out=blocks)
-    if rest:
-        np.multiply(coarse[:, nfull, None], fine[:, :rest], out=out[:, nfull * B :])
-    if dev > 4.0 * _EPS * float(tau[-1]):
-        out *= 1.0 + np.multiply.outer(lam, delta)
-
-
-#: The damping ratio an undamped oscillator is evaluated with (see oscillator_response).
-_UNDAMPED_ZETA = 1.0e-9
-
-
-def oscillator_response(pulse, t, omega_rad_s, zeta, derivatives: bool = False):
-    """Exact response of the unit-mass oscillator ``q'' + 2 zeta omega q' + omega^2 q = p(t)``.
-
-    The oscillator is at rest before the load starts. The load ``p`` is the sum of the pulse's
-    atoms, so the result is Duhamel's integral evaluated in closed form: exact (to rounding) for
-    piecewise-linear loads and for sine pulses, not a quadrature.
-
-    Parameters
-    ----------
-    pulse:
-        A pulse from :mod:`analytical.pulses` (anything with ``.atoms()``), or a sequence of
-        :class:`~analytical.pulses.Atom` (superpose several pulses by concatenating their atoms).
-        Load in N (per kg of modal mass).
-    t:
-        1-D array of times, s (any order, need not be uniform). Times before the first atom give 0.
-    omega_rad_s:
-        Undamped circular frequency, rad/s (> 0): a scalar, or a 1-D array of n modes.
-    zeta:
-        Damping ratio, ``0 <= zeta < 1``: a scalar, or a 1-D array of the same length n (a scalar
-        with an array, or an array with a scalar, is broadcast).
-    derivatives:
-        Also return the velocity and the acceleration.
-
-    Returns
-    -------
-    q, or (q, q_dot, q_ddot):
-        Shape ``(len(t),)`` when ``omega_rad_s`` and ``zeta`` are both scalars, otherwise
-        ``(n, len(t))``. Units: m, m/s, m/s^2 for a load in N on a 1 kg oscillator.
-
-    Raises
-    ------
-    InputError
-        Naming ``pulse``, ``t``, ``omega_rad_s`` or ``zeta``.
-
-    Notes
-    -----
-    For a physical oscillator of mass ``m`` and stiffness ``k`` loaded by ``F(t)`` the
-    displacement is ``oscillator_response(F, t, sqrt(k/m), zeta) / m`` and the spring force is
-    ``k u = omega^2 * oscillator_response(F, t, omega, zeta)``. For a mode with modal mass
-    ``M_r`` and modal load ``phi_r^T f F(t)``, scale the pulse (or divide ``q``) accordingly.
-    The cost is about one complex multiplication per (mode, time) on uniform grids (one complex
-    exponential on irregular ones) plus a few passes per interval between switch-on times.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from analytical.pulses import Rectangular
-    >>> w = 2 * np.pi * 70.0
-    >>> q = oscillator_response(Rectangular(1.0, 5.0), np.array([3.0]), w, 0.045)
-    >>> round(float(w**2 * q[0]), 6)  # a long step: static response F/k, times k
-    1.0
-    """
-    atoms = _atoms_of(pulse)
-    tt = _times(t)
-    w, z, scalar = _modes(omega_rad_s, zeta, allow_undamped=True)
-    # The recurrences divide by the damping at resonance; an undamped oscillator is evaluated
-    # as zeta = 1e-9, which changes its response by about zeta omega t (below 1e-6 of the peak
-    # for 1 s at 100 Hz; tests/test_sdof.py checks it against the undamped closed form).
-    z = np.maximum(z, _UNDAMPED_ZETA)
-    q, qd, qdd = _response(atoms, tt, w, z, derivatives)
-    if scalar:
-        q = q[0]
-        if derivatives:
-            qd, qdd = qd[0], qdd[0]
-    return (q, qd, qdd) if derivatives else q
-
 
 # --------------------------------------------------------------------------------------------
 # The SDOF model and its force response
@@ -567,7 +154,8 @@ class ForceResponse:
         return float(self.response_N[int(np.argmin(self.direction * self.response_N))])
 
 
-def _direction(pulse) -> int:
+def load_direction(pulse) -> int:
+    """+1, or -1 for a pulse whose peak is negative (a load against the axis)."""
     peak = getattr(pulse, "peak_N", None)
     return -1 if (peak is not None and peak < 0.0) else 1
 
@@ -593,7 +181,7 @@ def sdof_response(pulse, sdof: SDOF, t) -> ForceResponse:
         raise InputError("sdof", f"must be an SDOF, got {type(sdof).__name__}")
     w = sdof.omega_rad_s
     q = oscillator_response(pulse, t, w, sdof.damping_ratio)
-    return ForceResponse(np.asarray(t, dtype=float), w * w * q, _direction(pulse))
+    return ForceResponse(np.asarray(t, dtype=float), w * w * q, load_direction(pulse))
 
 
 @dataclass(frozen=True)
@@ -635,23 +223,19 @@ def max_force_response(pulse, natural_frequency_Hz: float, damping_ratio: float 
     PeakResponse
         In the load's direction (the sign of ``pulse.peak_N``; positive for atom sequences).
     """
-    from scipy.optimize import brentq
-
-    atoms = _atoms_of(pulse)
+    atoms = pulse_atoms(pulse)
     if not atoms:
         raise InputError("pulse", "has no load")
     fn = require_positive("natural_frequency_Hz", natural_frequency_Hz)
-    w_arr, z_arr, _ = _modes(2.0 * math.pi * fn, damping_ratio, allow_undamped=True)
+    w_arr, z_arr, _ = oscillator_modes(2.0 * math.pi * fn, damping_ratio, allow_undamped=True)
     w, z = float(w_arr[0]), float(z_arr[0])
-    sign = _direction(pulse)
+    sign = load_direction(pulse)
     t_first = min(a.t0 for a in atoms)
     t_last = max(a.t0 for a in atoms)
     Td = 2.0 * math.pi / (w * math.sqrt(1.0 - z * z))
 
     scale = sum(abs(a.a) + abs(a.c) + abs(a.d) for a in atoms) + sum(abs(a.b) for a in atoms) * (t_last - t_first)
     probe = np.array([t_last, t_last + 0.37 * Td, t_last + 1.7 * Td])
-    from analytical.pulses import atoms_force
-
     if np.any(np.abs(atoms_force(atoms, probe)) > 1e-9 * scale):
         raise InputError("pulse", "must vanish after its last switch-on time (a pulse, not a sustained load)")
 
@@ -660,10 +244,10 @@ def max_force_response(pulse, natural_frequency_Hz: float, damping_ratio: float 
     grid = np.union1d(np.linspace(t_first, t_end, n_grid), [a.t0 for a in atoms])
 
     def R(tt):
-        return sign * w * w * _response(atoms, np.atleast_1d(tt), w_arr, z_arr, False)[0][0]
+        return sign * w * w * atoms_response(atoms, np.atleast_1d(tt), w_arr, z_arr, False)[0][0]
 
     def V(tt):
-        return sign * _response(atoms, np.atleast_1d(np.asarray(tt, dtype=float)), w_arr, z_arr, True)[1][0]
+        return sign * atoms_response(atoms, np.atleast_1d(np.asarray(tt, dtype=float)), w_arr, z_arr, True)[1][0]
 
     values = R(grid)
     i = int(np.argmax(values))
@@ -684,7 +268,7 @@ def max_force_response(pulse, natural_frequency_Hz: float, damping_ratio: float 
 
 
 def _check_closed_form_args(t, magnitude_N, duration_s, natural_frequency_Hz, damping_ratio, start_s):
-    tt = _times(t)
+    tt = as_times(t)
     f = float(magnitude_N)
     if not math.isfinite(f):
         raise InputError("magnitude_N", f"must be finite, got {magnitude_N!r}")

@@ -19,11 +19,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .asce7 import SEED_DEBRIS_STIFFNESS_N_M, asce7_impact
-from .column import Column
-from .fitting import PulseFit, fit_mdof, fit_sdof
-from .mdof import mdof_response
-from .pulses import HalfSine
+from analytical.asce7 import SEED_DEBRIS_STIFFNESS_N_M, asce7_impact
+from analytical.column import Column
+from analytical.fitting import PulseFit, fit_mdof, fit_sdof
+from analytical.mdof import mdof_response
+from analytical.pulses import HalfSine
 
 #: The seed's Table 2 (mean, std) for each method: magnitude N, duration s, impulse N s.
 SEED_TABLE2 = {

@@ -16,6 +16,7 @@ from scipy.integrate import solve_ivp
 from scipy.signal import lsim
 
 from analytical.errors import InputError
+from analytical.oscillator import oscillator_response
 from analytical.pulses import Atom, HalfSine, Rectangular, Tabulated, Triangular, make_pulse
 from analytical.sdof import (
     SDOF,
@@ -23,7 +24,6 @@ from analytical.sdof import (
     PeakResponse,
     half_sine_closed_form,
     max_force_response,
-    oscillator_response,
     rectangular_closed_form,
     sdof_response,
 )
