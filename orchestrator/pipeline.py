@@ -82,7 +82,7 @@ def run_full_case(scene_path: str | Path, out_dir: str | Path | None = None, set
     stop_event: set it (from another thread) to stop the run as Ctrl-C would; the run
     raises RunInterrupted and resumes when called again.
     """
-    from orchestrator.results.post import post_case
+    from orchestrator.report.postprocess import post_case
     from orchestrator.run.runner import run_case
 
     t0 = time.perf_counter()

@@ -12,7 +12,8 @@ import pytest
 
 from analytical.asce7 import SEED_DEBRIS_STIFFNESS_N_M, asce7_impact
 from orchestrator.results import compare
-from orchestrator.results import post
+from orchestrator.report.postprocess import post_case
+from orchestrator.results.tables import tables
 from orchestrator.report.plots import PLOTS
 from orchestrator.scene.scenefile import load_scene
 
@@ -22,7 +23,7 @@ ROOT = Path(__file__).resolve().parent.parent
 
 @pytest.fixture(scope="module")
 def debris():
-    results = post.tables(DATA / "tiny-1debris")
+    results = tables(DATA / "tiny-1debris")
     return results, compare.compare(results)
 
 
@@ -147,7 +148,7 @@ def test_headline(debris):
 def test_no_debris_run_gets_every_plot_and_the_report(tmp_path):
     case = tmp_path / "case"
     shutil.copytree(DATA / "tiny-nodebris", case)
-    summary = post.post_case(case)
+    summary = post_case(case)
     for name, file in PLOTS.items():
         assert (case / "results" / file).stat().st_size > 5_000, name
     report = (case / "results/report.md").read_text()

@@ -19,7 +19,7 @@ import pytest
 from PIL import Image
 
 from orchestrator.report import plots
-from orchestrator.results import post
+from orchestrator.results.tables import tables
 from orchestrator.results.compare import compare
 
 DATA = Path(__file__).parent / "data" / "post"
@@ -116,7 +116,7 @@ def check_pulses_whole(fig) -> None:
 @pytest.fixture(scope="module")
 def real() -> dict[str, tuple]:
     """(results, comparison) of each committed case, and of a bare case with no outputs."""
-    out = {name: post.tables(DATA / name) for name in ("tiny-1debris", "tiny-nodebris", "tiny-nodebris-stopped")}
+    out = {name: tables(DATA / name) for name in ("tiny-1debris", "tiny-nodebris", "tiny-nodebris-stopped")}
     return {name: (res, compare(res)) for name, res in out.items()}
 
 
@@ -124,7 +124,7 @@ def real() -> dict[str, tuple]:
 def bare(tmp_path_factory):
     case = tmp_path_factory.mktemp("bare")
     shutil.copy(DATA / "tiny-1debris/plan.json", case)
-    res = post.tables(case)
+    res = tables(case)
     return res, compare(res)
 
 

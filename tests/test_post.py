@@ -17,7 +17,18 @@ import pandas as pd
 import pytest
 
 from analytical.errors import InputError
-from orchestrator.results import post
+from orchestrator.case.outputs import (
+    atmosphere_loss,
+    read_force_series,
+    read_vector_table,
+    read_water_balance,
+    water_balance_summary,
+)
+from orchestrator.report.postprocess import PostSummary, post_case
+from orchestrator.results.impact_table import AFLOAT_CLEARANCE_M
+from orchestrator.results.metrics import arrival_time, column_response, gauge_elevation, impact_metrics
+from orchestrator.results.readers import read_body_tracks, read_gauge_samples
+from orchestrator.results.tables import tables
 from orchestrator.report.plots import PLOTS
 from tests.conftest import run_cli
 
@@ -32,15 +43,15 @@ def _copy(name: str, tmp_path: Path) -> Path:
 
 
 @pytest.fixture(scope="module")
-def debris_case(tmp_path_factory) -> tuple[Path, post.PostSummary]:
+def debris_case(tmp_path_factory) -> tuple[Path, PostSummary]:
     case = _copy("tiny-1debris", tmp_path_factory.mktemp("post"))
-    return case, post.post_case(case)
+    return case, post_case(case)
 
 
 @pytest.fixture(scope="module")
-def nodebris_case(tmp_path_factory) -> tuple[Path, post.PostSummary]:
+def nodebris_case(tmp_path_factory) -> tuple[Path, PostSummary]:
     case = _copy("tiny-nodebris", tmp_path_factory.mktemp("post"))
-    return case, post.post_case(case)
+    return case, post_case(case)
 
 
 # --------------------------------------------------------------------------- parsers
@@ -52,7 +63,7 @@ def _data_lines(path: Path) -> list[str]:
 
 def test_force_dat_is_parsed_with_its_header_names():
     path = DATA / "tiny-nodebris/postProcessing/columnForces/0/force.dat"
-    frame, meta = post.read_vector_table(path)
+    frame, meta = read_vector_table(path)
     assert list(frame.columns) == ["time", "total_x", "total_y", "total_z", "pressure_x", "pressure_y", "pressure_z",
                                    "viscous_x", "viscous_y", "viscous_z"]
     lines = _data_lines(path)
@@ -69,12 +80,12 @@ def test_a_line_cut_short_is_skipped(tmp_path):
     text = src.read_text()
     cut = tmp_path / "force.dat"
     cut.write_text(text + "0.51 \t(1.0 2.0")  # a write interrupted by a kill
-    frame, _ = post.read_vector_table(cut)
+    frame, _ = read_vector_table(cut)
     assert len(frame) == len(_data_lines(src))
 
 
 def test_force_pieces_of_restarts_are_joined_in_time_order():
-    frame, _ = post.read_force_series(DATA / "tiny-1debris", "columnForces", "force")
+    frame, _ = read_force_series(DATA / "tiny-1debris", "columnForces", "force")
     pieces = sorted(p.name for p in (DATA / "tiny-1debris/postProcessing/columnForces").iterdir())
     assert pieces == ["0", "0.03", "0.05"]
     total = sum(len(_data_lines(DATA / f"tiny-1debris/postProcessing/columnForces/{p}/force.dat")) for p in pieces)
@@ -91,13 +102,13 @@ def test_a_later_piece_replaces_what_an_abandoned_attempt_wrote(tmp_path):
     (base / "0/force.dat").write_text(header + rows([0.1, 0.2, 0.3, 0.4], 1.0))  # diverged after 0.2
     (base / "0.2").mkdir()
     (base / "0.2/force.dat").write_text(header + rows([0.25, 0.35], 2.0))  # the rerun from 0.2
-    frame, _ = post.read_force_series(tmp_path, "columnForces", "force")
+    frame, _ = read_force_series(tmp_path, "columnForces", "force")
     assert frame["time"].tolist() == [0.1, 0.2, 0.25, 0.35]
     assert frame["total_x"].tolist() == [1.0, 1.0, 2.0, 2.0]
 
 
 def test_gauge_samples_are_read_per_gauge_and_time():
-    samples = post.read_gauge_samples(DATA / "tiny-nodebris")
+    samples = read_gauge_samples(DATA / "tiny-nodebris")
     assert sorted(samples) == ["WG1", "WG2", "WG4"]
     times = [t for t, _, _ in samples["WG2"]]
     assert times == sorted(times) and len(times) == 20 and times[0] == pytest.approx(0.025)
@@ -108,7 +119,7 @@ def test_gauge_samples_are_read_per_gauge_and_time():
 
 
 def test_body_tracks_from_three_solver_segments():
-    tracks = post.read_body_tracks(DATA / "tiny-1debris", "overInterDyMFoam", ["debris1"])
+    tracks = read_body_tracks(DATA / "tiny-1debris", "overInterDyMFoam", ["debris1"])
     logs = [DATA / "tiny-1debris" / f for f in ("log.overInterDyMFoam.1", "log.overInterDyMFoam.2",
                                                  "log.overInterDyMFoam")]
     steps = sum(len(re.findall(r"^Time = ", p.read_text(), re.M)) for p in logs)
@@ -135,7 +146,7 @@ def test_body_tracks_fall_back_on_the_runners_table(tmp_path):
     case = _copy("tiny-1debris", tmp_path)
     for log in case.glob("log.*"):
         log.unlink()
-    tracks = post.read_body_tracks(case, "overInterDyMFoam", ["debris1"])
+    tracks = read_body_tracks(case, "overInterDyMFoam", ["debris1"])
     assert len(tracks) == 23 and tracks["speed_m_s"].iloc[0] == pytest.approx(
         math.hypot(tracks["u_m_s"].iloc[0], tracks["w_m_s"].iloc[0]), rel=1e-6)
 
@@ -148,10 +159,10 @@ def test_gauge_elevation_of_a_step_is_exact():
     for wet in (3, 10, 24):
         alpha = (np.arange(31) <= wet).astype(float)  # water up to sample `wet`, air above
         # the trapezoids put the step midway between the last wet and the first dry sample
-        h, coverage = post.gauge_elevation(z, alpha, 0.0, 0.30)
+        h, coverage = gauge_elevation(z, alpha, 0.0, 0.30)
         assert h == pytest.approx(0.01 * wet + 0.005, abs=1e-15) and coverage == 1.0
-    assert post.gauge_elevation(z, np.ones(31), 0.0, 0.30) == (pytest.approx(0.30, abs=1e-15), 1.0)
-    assert post.gauge_elevation(z, np.zeros(31), 0.0, 0.30) == (0.0, 1.0)
+    assert gauge_elevation(z, np.ones(31), 0.0, 0.30) == (pytest.approx(0.30, abs=1e-15), 1.0)
+    assert gauge_elevation(z, np.zeros(31), 0.0, 0.30) == (0.0, 1.0)
 
 
 def test_gauge_elevation_of_cell_values_integrates_cell_by_cell():
@@ -161,14 +172,14 @@ def test_gauge_elevation_of_cell_values_integrates_cell_by_cell():
     faces = np.array([0.0, 0.015, 0.0535, 0.092, 0.3])
     z = np.linspace(0.0003, 0.2997, 51)  # 6 mm apart: no face falls on a sample
     alpha = np.select([z < 0.015, z < 0.0535], [1.0, 0.3], 0.0)
-    h, coverage = post.gauge_elevation(z, alpha, 0.0, 0.30, faces_m=faces)
+    h, coverage = gauge_elevation(z, alpha, 0.0, 0.30, faces_m=faces)
     assert h == pytest.approx(0.015 + 0.3 * 0.0385, abs=1e-12) and coverage == pytest.approx(1.0)
-    trapezoid, _ = post.gauge_elevation(z, alpha, 0.0, 0.30)
+    trapezoid, _ = gauge_elevation(z, alpha, 0.0, 0.30)
     assert abs(trapezoid - h) > 1e-4  # the same samples without the faces
     # two faces between two samples: no single step to place, trapezoid as before
     sparse = z[::10]
-    coarse = post.gauge_elevation(sparse, alpha[::10], 0.0, 0.30, faces_m=faces)[0]
-    assert coarse == pytest.approx(post.gauge_elevation(sparse, alpha[::10], 0.0, 0.30)[0])
+    coarse = gauge_elevation(sparse, alpha[::10], 0.0, 0.30, faces_m=faces)[0]
+    assert coarse == pytest.approx(gauge_elevation(sparse, alpha[::10], 0.0, 0.30)[0])
 
 
 def _write_fo(case: Path, name: str, stem: str, column: str, rows) -> None:
@@ -189,26 +200,26 @@ def test_water_balance_books_each_open_patch_apart(tmp_path):
     _write_fo(tmp_path, "waterVolume", "volFieldValue", "volIntegrate(alpha.water)", zip(t, volume))
     _write_fo(tmp_path, "waterOut_downstream", "surfaceFieldValue", "sum(alphaPhi0.water)", ((x, 1e-4) for x in t))
     _write_fo(tmp_path, "waterOut_atmosphere", "surfaceFieldValue", "sum(alphaPhi0.water)", ((x, 2e-5) for x in t))
-    b = post.read_water_balance(tmp_path)
+    b = read_water_balance(tmp_path)
     assert b["outflow_downstream_m3"].iloc[-1] == pytest.approx(1e-4)
     assert b["outflow_atmosphere_m3"].iloc[-1] == pytest.approx(2e-5)
     np.testing.assert_allclose(b["outflow_downstream_m3"] + b["outflow_atmosphere_m3"], b["outflow_m3"], rtol=1e-12)
     assert b["error"].abs().max() < 1e-12
-    summary = post.water_balance_summary(b)
+    summary = water_balance_summary(b)
     assert summary["outflow_by_patch_m3"] == {"atmosphere": pytest.approx(2e-5), "downstream": pytest.approx(1e-4)}
     assert summary["atmosphere_outflow_fraction"] == pytest.approx(2e-5, rel=1e-3)
     assert summary["atmosphere_warning_time_s"] is None  # 0.002 % of the water: no warning
     # 100 times as much over the top: 0.2 % by the end, past 0.1 % at t = 0.51 s
     shutil.rmtree(tmp_path / "postProcessing" / "waterOut_atmosphere")
     _write_fo(tmp_path, "waterOut_atmosphere", "surfaceFieldValue", "sum(alphaPhi0.water)", ((x, 2e-3) for x in t))
-    fraction, when = post.atmosphere_loss(post.read_water_balance(tmp_path))
+    fraction, when = atmosphere_loss(read_water_balance(tmp_path))
     assert fraction == pytest.approx(2e-3, rel=1e-2) and when == pytest.approx(0.51)
 
 
 def test_gauge_elevation_holds_the_end_samples_to_the_bed_and_top():
     z = np.linspace(0.0005, 0.2995, 300)  # line starting just above the bed, as rendered
     alpha = (z < 0.1).astype(float)
-    h, coverage = post.gauge_elevation(z, alpha, 0.0, 0.30)
+    h, coverage = gauge_elevation(z, alpha, 0.0, 0.30)
     assert h == pytest.approx(0.1, abs=1e-12) and coverage == pytest.approx(1.0)
 
 
@@ -217,32 +228,32 @@ def test_gauge_gaps_are_bridged_only_when_clear():
     alpha = (z <= 0.10 + 1e-12).astype(float)
     # a body in the water: samples 0.03..0.06 missing, water on both sides -> still 0.105
     keep = (z < 0.025) | (z > 0.065)
-    assert post.gauge_elevation(z[keep], alpha[keep], 0.0, 0.30) == (pytest.approx(0.105), 1.0)
+    assert gauge_elevation(z[keep], alpha[keep], 0.0, 0.30) == (pytest.approx(0.105), 1.0)
     # samples missing across the free surface: that stretch is left out
     keep = (z < 0.065) | (z > 0.145)
-    h, coverage = post.gauge_elevation(z[keep], alpha[keep], 0.0, 0.30)
+    h, coverage = gauge_elevation(z[keep], alpha[keep], 0.0, 0.30)
     assert coverage == pytest.approx(1 - 0.09 / 0.30) and h == pytest.approx(0.06)
     # nothing above the last (dry) sample, nothing below the first (wet) one: air and water
     keep = (z > 0.035) & (z < 0.205)
-    assert post.gauge_elevation(z[keep], alpha[keep], 0.0, 0.30) == (pytest.approx(0.105), 1.0)
-    assert post.gauge_elevation([], [], 0.0, 0.3)[1] == 0.0
+    assert gauge_elevation(z[keep], alpha[keep], 0.0, 0.30) == (pytest.approx(0.105), 1.0)
+    assert gauge_elevation([], [], 0.0, 0.3)[1] == 0.0
 
 
 def test_arrival_time_interpolates_the_threshold_crossing():
     t = np.array([0.1, 0.2, 0.3, 0.4])
     e = np.array([0.015, 0.015, 0.035, 0.055])
     # threshold 0.01 above 0.015: crossing 0.025 between 0.2 (0.015) and 0.3 (0.035) -> 0.25
-    assert post.arrival_time(t, e, 0.015, 0.01) == pytest.approx(0.25)
-    assert math.isnan(post.arrival_time(t, e, 0.015, 0.05))
+    assert arrival_time(t, e, 0.015, 0.01) == pytest.approx(0.25)
+    assert math.isnan(arrival_time(t, e, 0.015, 0.05))
     # before the first sample the level is the initial one at t = 0
-    assert post.arrival_time([0.1, 0.2], [0.05, 0.05], 0.0, 0.01) == pytest.approx(0.02)
+    assert arrival_time([0.1, 0.2], [0.05, 0.05], 0.0, 0.01) == pytest.approx(0.02)
     # a falling level (upstream of the gate) never arrives; NaN samples are skipped
-    assert math.isnan(post.arrival_time(t, [0.4, 0.3, 0.2, 0.1], 0.4, 0.008))
-    assert post.arrival_time(t, [0.0, np.nan, 0.02, 0.02], 0.0, 0.01) == pytest.approx(0.2)
+    assert math.isnan(arrival_time(t, [0.4, 0.3, 0.2, 0.1], 0.4, 0.008))
+    assert arrival_time(t, [0.0, np.nan, 0.02, 0.02], 0.0, 0.01) == pytest.approx(0.2)
 
 
 def test_arrival_at_the_committed_gauges():
-    results = post.tables(DATA / "tiny-nodebris")
+    results = tables(DATA / "tiny-nodebris")
     g = results.gauge_summary.set_index("gauge")
     assert math.isnan(g.loc["WG1", "arrival_s"])  # upstream of the gate: the level only falls
     assert g.loc["WG2", "initial_level_from"] == "first sample"
@@ -264,7 +275,7 @@ def test_impact_metrics_of_an_analytic_half_sine(dt):
     t = np.arange(0.0, 3e-3, dt)
     f = np.where((t >= t0) & (t <= t0 + duration), peak * np.sin(np.pi * (t - t0) / duration), 0.0)
     f = np.clip(f, 0.0, None)
-    m = post.impact_metrics(t, f)
+    m = impact_metrics(t, f)
     assert m.peak_N == pytest.approx(peak, rel=0.01)
     assert m.duration_s == pytest.approx(duration, rel=0.01)
     assert m.impulse_Ns == pytest.approx(2 * peak * duration / np.pi, rel=0.01)
@@ -274,20 +285,20 @@ def test_impact_metrics_of_an_analytic_half_sine(dt):
 def test_impact_metrics_of_two_contact_phases_span_both():
     t = np.linspace(0.0, 4e-3, 4001)
     f = np.clip(np.sin(2 * np.pi * t / 2e-3), 0.0, None) * 100.0  # two half-sines, 1 ms each, 1 ms apart
-    m = post.impact_metrics(t, f)
+    m = impact_metrics(t, f)
     assert m.duration_s == pytest.approx(3e-3, rel=1e-3)  # first rise to the final separation
     assert m.impulse_Ns == pytest.approx(2 * (2 * 100 * 1e-3 / np.pi), rel=1e-4)
 
 
 def test_impact_metrics_refuse_bad_records():
     with pytest.raises(InputError, match="time_s"):
-        post.impact_metrics([0.0, 0.0, 1.0], [0.0, 1.0, 0.0])
+        impact_metrics([0.0, 0.0, 1.0], [0.0, 1.0, 0.0])
     with pytest.raises(InputError, match="force_N"):
-        post.impact_metrics([0.0, 1.0], [0.0, np.nan])
+        impact_metrics([0.0, 1.0], [0.0, np.nan])
 
 
 def test_impact_rows_agree_with_the_runners_event():
-    results = post.tables(DATA / "tiny-1debris")
+    results = tables(DATA / "tiny-1debris")
     event = json.loads((DATA / "tiny-1debris/contacts.json").read_text())[0]
     row = results.impacts.iloc[0]
     assert row["peak_force_N"] == pytest.approx(event["peak_force_N"], rel=1e-12)
@@ -338,7 +349,7 @@ def test_column_response_of_a_pulse_matches_the_mdof_model():
     t = np.linspace(0.0, 1e-3, 101)
     force = 200.0 * np.sin(np.pi * t / 1e-3)
     pulses = {1: (0.5 + t, np.column_stack([force, np.zeros_like(t), np.zeros_like(t)]))}
-    table, heights = post.column_response(column, None, pulses, {1: 0.4})
+    table, heights = column_response(column, None, pulses, {1: 0.4})
     expected = mdof_response(HalfSine(200.0, 1e-3, 0.5), column, 0.4, table["time_s"].to_numpy())
     np.testing.assert_allclose(table["impact_base_shear_x_N"], expected.response_N, rtol=0, atol=2e-3 * 200)
     assert not heights and np.all(table["base_shear_y_N"] == 0)
@@ -346,7 +357,7 @@ def test_column_response_of_a_pulse_matches_the_mdof_model():
 
 def test_partly_finished_run_is_post_processed_up_to_where_it_got(tmp_path):
     case = _copy("tiny-nodebris-stopped", tmp_path)
-    summary = post.post_case(case)
+    summary = post_case(case)
     assert summary.status == "interrupted"
     assert summary.reached_time_s == pytest.approx(0.24166667)
     assert summary.end_time_s == pytest.approx(0.5)
@@ -364,7 +375,7 @@ def test_a_case_without_outputs_is_reported_not_crashed_on(tmp_path):
     case = tmp_path / "bare"
     case.mkdir()
     shutil.copy(DATA / "tiny-1debris/plan.json", case)
-    summary = post.post_case(case)
+    summary = post_case(case)
     missing = " ".join(summary.missing)
     assert "no gauge output" in missing and "no column force output" in missing
     assert "no scene.yaml" in missing and "no contact events" in missing
@@ -373,7 +384,7 @@ def test_a_case_without_outputs_is_reported_not_crashed_on(tmp_path):
 
 def test_not_a_case_is_bad_input(tmp_path):
     with pytest.raises(InputError, match="not a debrisfoam case") as err:
-        post.post_case(tmp_path)
+        post_case(tmp_path)
     assert str(tmp_path) in str(err.value)
     proc = run_cli("post", str(tmp_path))
     assert proc.returncode == 2 and str(tmp_path) in proc.stderr and "Traceback" not in proc.stderr
@@ -401,7 +412,7 @@ def test_a_real_tiny_run_post_processes_with_every_plot(tmp_path, openfoam):
     case = tmp_path / "tiny"
     render_from_file(DATA / "tiny-nodebris.yaml", case)
     run_case(case, np=1, quiet=True)
-    summary = post.post_case(case)
+    summary = post_case(case)
     assert summary.status == "finished"
     for name, file in PLOTS.items():
         assert summary.plots[name] == case / "results" / file and summary.plots[name].stat().st_size > 10_000
@@ -418,7 +429,7 @@ def test_impacts_carry_the_water_level_at_the_column_face_and_whether_the_body_f
     """The study's impact height is the water level at the column's face: the face gauge (WG4,
     10 mm upstream of it) interpolated at the impact; the body's lowest point comes from its
     track and orientation, and a body that far above the bed is afloat."""
-    results = post.tables(DATA / "tiny-1debris")
+    results = tables(DATA / "tiny-1debris")
     row = results.impacts.iloc[0]
     g = results.gauges[["time_s", "WG4_elevation_m"]].dropna()
     assert row["face_water_level_m"] == pytest.approx(np.interp(row["time_s"], g["time_s"], g["WG4_elevation_m"]))
@@ -427,7 +438,7 @@ def test_impacts_carry_the_water_level_at_the_column_face_and_whether_the_body_f
     half = np.array(results.data.plan["bodies"][0]["size_m"]) / 2
     q_z = np.abs([at["q_zx"], at["q_zy"], at["q_zz"]])
     assert row["body_clearance_m"] == pytest.approx(at["z_m"] - q_z @ half - results.data.bed_z_m)
-    assert row["body_clearance_m"] > post.AFLOAT_CLEARANCE_M and row["afloat"]
+    assert row["body_clearance_m"] > AFLOAT_CLEARANCE_M and row["afloat"]
 
 
 def test_case_report_puts_the_first_impact_beside_the_study(debris_case, tmp_path):

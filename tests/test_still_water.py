@@ -19,7 +19,8 @@ import pandas as pd
 import pytest
 import yaml
 
-from orchestrator.results import post
+from orchestrator.case.outputs import read_water_balance
+from orchestrator.report.postprocess import post_case
 from orchestrator.plan.planner import plan_case
 from orchestrator.pipeline import render_from_file
 from orchestrator.run.runner import run_case
@@ -60,7 +61,7 @@ def still_case(tmp_path_factory) -> Path:
     render_from_file(path, case)
     summary = run_case(case, np=1, quiet=True)
     assert summary.status == "finished"
-    post.post_case(case, comparisons=False, snapshot=False)
+    post_case(case, comparisons=False, snapshot=False)
     return case
 
 
@@ -86,6 +87,6 @@ def test_the_water_put_in_is_the_scenes(still_case, openfoam):
     plus the wet bed over the modelled domain (setFields fills whole cells by their centres:
     exact only where every box face is a cell face)."""
     plan = plan_case(load_scene(still_case / "scene.yaml"))
-    balance = post.read_water_balance(still_case)
+    balance = read_water_balance(still_case)
     initial = float(balance["initial_m3"].iloc[0])
     assert initial == pytest.approx(scene_volume_m3(plan), rel=5e-3)

@@ -1,7 +1,7 @@
 """report.md: a run's results and comparisons in words, tables and figures (generated, never edited).
 
 :func:`write_report` writes ``DIR/results/report.md`` from the tables of
-:mod:`orchestrator.results.post`, the comparisons of :mod:`orchestrator.results.compare` and the PNGs of
+:mod:`orchestrator.results.tables`, the comparisons of :mod:`orchestrator.results.compare` and the PNGs of
 :mod:`orchestrator.report.plots` (linked by relative path, so the folder can be moved whole).
 """
 
@@ -13,6 +13,9 @@ from typing import Any, Sequence
 
 import numpy as np
 import pandas as pd
+
+from orchestrator.results.compare import CONTAINER_MATERIAL, SPREADING_ANGLES_DEG
+from orchestrator.results.metrics import ARRIVAL_FRACTION, MIN_GAUGE_COVERAGE
 
 __all__ = ["markdown_table", "write_report"]
 
@@ -78,9 +81,6 @@ def _run_section(figures: dict, missing: Sequence[str]) -> list[str]:
 def write_report(results, comp, figures: dict, tables: dict[str, Path], plots: dict[str, Path],
                  path: str | Path) -> Path:
     """Write report.md; returns its path."""
-    from orchestrator.results.compare import CONTAINER_MATERIAL, SPREADING_ANGLES_DEG
-    from orchestrator.results.post import ARRIVAL_FRACTION, MIN_GAUGE_COVERAGE
-
     path = Path(path)
     data = results.data
     name = figures.get("scene") or data.case.name

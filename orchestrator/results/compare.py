@@ -1,6 +1,6 @@
 """Comparisons of a run with the analytical models and with the seed study (issue 5).
 
-:func:`compare` takes the tables of :func:`orchestrator.results.post.tables` and returns a
+:func:`compare` takes the tables of :func:`orchestrator.results.tables.tables` and returns a
 :class:`Comparison`; :func:`write_tables` writes its tables to ``DIR/results/``:
 
 ``arrivals.csv``
@@ -10,7 +10,7 @@
     positions (x = 2.40 m and 3.20 m), the seed's measured arrival (0.91 s, 1.39 s) and its
     LS-DYNA model's (0.88 s, 1.20 s); error = simulated - reference (s and %). The
     analytical arrival is the front's tip; the simulated one is the threshold crossing of
-    :mod:`orchestrator.results.post` (2 % of h0 above the initial level), so a resolved front
+    :mod:`orchestrator.results.metrics` (2 % of h0 above the initial level), so a resolved front
     arrives a little after the tip by construction.
 ``impact_formulas.csv``
     Every impact against ASCE 7-22 6.11 with the debris stiffness k_d and with the column's
@@ -70,6 +70,7 @@ import numpy as np
 import pandas as pd
 
 from analytical.errors import DebrisfoamError
+from orchestrator.results.tables import write_table
 
 __all__ = [
     "CONTAINER_MATERIAL",
@@ -450,7 +451,7 @@ def _spreading(results) -> tuple[pd.DataFrame, dict[str, np.ndarray]]:
 
 
 def compare(results) -> Comparison:
-    """Every comparison of :mod:`orchestrator.results.post`'s tables (see the module docstring)."""
+    """Every comparison of :mod:`orchestrator.results.tables`' tables (see the module docstring)."""
     data = results.data
     notes: list[str] = []
     scene = data.scene
@@ -476,8 +477,5 @@ def write_tables(comp: Comparison, out_dir: str | Path) -> dict[str, Path]:
     out = Path(out_dir)
     written = {}
     for name in ("arrivals", "impact_formulas", "seed_fits", "table1", "spreading"):
-        frame = getattr(comp, name)
-        path = out / f"{name}.csv"
-        frame.to_csv(path, index=False, float_format="%.10g")
-        written[name] = path
+        written[name] = write_table(getattr(comp, name), out / f"{name}.csv")
     return written

@@ -5,7 +5,7 @@ values interpolated from the other mesh, and its pressure equation has no contin
 there. Faces between a calculated cell (0) and a fringe cell keep their flux (the solver's
 ``faceMask`` zeroes only the faces of holes, 2), so the alpha flux that enters a fringe cell
 is lost to the mesh and what leaves one is created. The water balance of the background
-(:func:`orchestrator.results.post.read_water_balance`) changes at exactly the background's net
+(:func:`orchestrator.case.outputs.read_water_balance`) changes at exactly the background's net
 inflow into its fringe, apart from the water held in its fringe and hole cells changing
 (small once the bodies stop). docs/openfoam-notes.md ("Water balance: where the overset loses
 water") has the measurement that
