@@ -22,12 +22,12 @@ from orchestrator.scene.scenefile import load_scene
 from orchestrator.studies.sweep import (
     MEMBER_JSON,
     SweepMemberError,
-    _write_store,
     load_store,
     load_sweep,
     member_id,
     run_sweep,
 )
+from orchestrator.studies.sweep.store import write_store as _write_store
 from tests.conftest import ROOT, run_cli
 
 TINY = ROOT / "tests" / "data" / "post" / "tiny-nodebris.yaml"
@@ -250,7 +250,8 @@ def test_dask_local_cluster_runs_the_same_sweep(local_sweep, tmp_path, openfoam)
 # stderr is exactly what a user's terminal would show.
 _TRIVIAL_DASK_SWEEP = """
 import time
-from orchestrator.studies.sweep import _dask_executor, _stop_flag
+from orchestrator.studies.sweep.executors import dask_executor as _dask_executor
+from orchestrator.studies.sweep.member import stop_flag as _stop_flag
 
 def member(i, stop):
     flag, release = _stop_flag(stop)

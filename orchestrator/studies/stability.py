@@ -6,7 +6,7 @@ and answers the questions of issue 6's hard cases:
 * outcome: finished, or how it stopped (the runner's diagnosis: divergence, contact the
   runner could not resolve, a failed OpenFOAM step) and at what simulated time;
 * water conserved: the largest relative error of the water balance over the run
-  (:func:`orchestrator.results.post.read_water_balance`: the volume of water in the fluid mesh plus
+  (:func:`orchestrator.case.outputs.read_water_balance`: the volume of water in the fluid mesh plus
   what left through the open boundaries, against the volume at the start), within
   :data:`MASS_TOLERANCE`;
 * no body inside the column, a wall or another body: the smallest signed distance of every
@@ -29,9 +29,18 @@ import numpy as np
 import pandas as pd
 
 from analytical.errors import InputError
-from orchestrator.case.outputs import WATER_BALANCE_TOLERANCE
-from orchestrator.results.post import _finite, read_contact_events
-from orchestrator.studies.sweep import _read_json
+from orchestrator.case.folder import CaseFolder
+from orchestrator.case.outputs import (
+    WATER_BALANCE_TOLERANCE,
+    read_force_series,
+    read_water_balance,
+    water_balance_summary,
+)
+from orchestrator.core.numbers import finite_or_none
+from orchestrator.results.readers import read_contact_events
+from orchestrator.run.contact import BodyState, find_contacts, scene_obstacles
+from orchestrator.scene.scenefile import load_scene
+from orchestrator.studies.sweep.store import load_store, read_member_record
 
 __all__ = ["INSIDE_TOLERANCE_M", "MASS_TOLERANCE", "Assessment", "assess", "markdown", "stability_table"]
 
@@ -73,8 +82,6 @@ class Assessment:
 def _clearances(case: Path, plan: dict | None, scene) -> tuple[float | None, str | None, float | None, float | None]:
     """(deepest penetration into column/walls/bodies, into what, deepest bed sink, min clearance)
     over every step of the run's bodies.csv, from the bodies' boxes."""
-    from orchestrator.run.contact import BodyState, find_contacts, scene_obstacles
-
     tracks_path = case / "bodies.csv"
     if not plan or not plan.get("bodies") or not tracks_path.is_file() or scene is None:
         return None, None, None, None
@@ -120,15 +127,13 @@ class _PlanExtent:
 
 
 def _forces_finite(case: Path) -> bool | None:
-    from orchestrator.results.post import read_force_series
-
     frame, _ = read_force_series(case)
     checks = []
     if frame is not None and not frame.empty:
         checks.append(bool(np.isfinite(frame.drop(columns="time").to_numpy(float)).all()))
     for e in read_contact_events(case):
         if e.get("type") == "impact":
-            checks.append(_finite(e.get("peak_force_N")) is not None)
+            checks.append(finite_or_none(e.get("peak_force_N")) is not None)
     return bool(all(checks)) if checks else None
 
 
@@ -157,26 +162,21 @@ def assess(case_dir: str | Path, member: dict | None = None) -> Assessment:
     ``member``: the sweep's record of the run (its member.json), for errors raised outside
     run.json (a contact the runner could not resolve, a failed render).
     """
-    from orchestrator.case.outputs import read_water_balance, water_balance_summary
-
     case = Path(case_dir)
     if not case.is_dir():
         raise InputError("case_dir", "not a directory", str(case))
-    run = _read_json(case / "run.json")
-    plan = _read_json(case / "plan.json")
-    scene = None
-    if (case / "scene.yaml").is_file():
-        from orchestrator.scene.scenefile import load_scene
-
-        scene = load_scene(case / "scene.yaml")
+    folder = CaseFolder(case)
+    run = folder.run_record()
+    plan = folder.plan()
+    scene = load_scene(folder.scene_path) if folder.scene_path.is_file() else None
     outcome, diagnosis = _outcome(run, member)
     run = run or {}
     segments = run.get("segments") or []
-    reached = _finite(segments[-1].get("end_time")) if segments else None
+    reached = finite_or_none(segments[-1].get("end_time")) if segments else None
     balance = water_balance_summary(read_water_balance(case))
     deepest, what, sink, clearance = _clearances(case, plan, scene)
     events = read_contact_events(case)
-    summary = _read_json(case / "results" / "summary.json") or {}
+    summary = folder.summary() or {}
     wall = (member or {}).get("wall_time_s") or (summary.get("wall_time_s") or {}).get("total_s")
     a = Assessment(
         case=str(case),
@@ -184,9 +184,9 @@ def assess(case_dir: str | Path, member: dict | None = None) -> Assessment:
         outcome=outcome,
         sane=None,
         reached_time_s=reached,
-        end_time_s=_finite(run.get("end_time_s")),
-        wall_time_s=_finite(wall),
-        solver_wall_s=_finite(sum(float(s.get("wall_s", 0.0)) for s in segments)) if segments else None,
+        end_time_s=finite_or_none(run.get("end_time_s")),
+        wall_time_s=finite_or_none(wall),
+        solver_wall_s=finite_or_none(sum(float(s.get("wall_s", 0.0)) for s in segments)) if segments else None,
         cells=(run.get("cells") or {}).get("total"),
         time_steps=run.get("time_steps"),
         water_error=balance["max_error"] if balance else None,
@@ -215,16 +215,14 @@ def assess(case_dir: str | Path, member: dict | None = None) -> Assessment:
 
 def stability_table(sweep_dir: str | Path) -> pd.DataFrame:
     """:func:`assess` for every member of the sweep in ``sweep_dir``, in member order."""
-    from orchestrator.studies.sweep import MEMBER_JSON, load_store
-
     store = load_store(sweep_dir)
     rows = []
     for m in store.sort_values("member").itertuples(index=False):
         case = Path(m.case_dir)
         if not case.is_absolute() or not case.is_dir():
             case = Path(sweep_dir) / m.member_id
-        member = _read_json(case / MEMBER_JSON) or {}
-        member.setdefault("wall_time_s", _finite(getattr(m, "wall_time_s", None)))
+        member = read_member_record(case) or {}
+        member.setdefault("wall_time_s", finite_or_none(getattr(m, "wall_time_s", None)))
         member.setdefault("error", getattr(m, "error", None))
         if case.is_dir():
             row = asdict(assess(case, member))
