@@ -1,0 +1,393 @@
+"""The `debrisfoam analytical` verbs: the study's analytical models from the command line.
+
+ASCE 7-22 debris impact (``asce7``), one strike by the contact law (``impact``), the contact
+law's calibration (``contact-law``), the column's modes (``modes``), SDOF/MDOF response to a
+pulse (``response``), pulse fitting to a force record (``fit``), the dam-break solutions
+(``dambreak``) and the study's analysis on synthetic records (``study``). The column is the
+study's, or a scene's (``--scene``), changed by ``--set``. Each verb imports its models when
+it runs, so the command line starts without loading every stage.
+"""
+
+from __future__ import annotations
+
+import argparse
+from typing import Any
+
+from analytical.errors import InputError
+from orchestrator.cli.common import EXIT_OK, ArgParser, Flags, emit, output_path, warn
+
+__all__ = ["POOR_FIT_RMSE_FRACTION", "add_analytical_parser", "column_from_args", "impact_inputs"]
+
+#: A fit whose RMSE exceeds this fraction of the measured peak is reported as poor.
+POOR_FIT_RMSE_FRACTION = 0.20
+
+
+def column_from_args(args: argparse.Namespace):
+    """The column for analytical verbs: the scene's (with --set) or the study's."""
+    if getattr(args, "scene", None):
+        from orchestrator.scene.scenefile import load_scene
+        from orchestrator.scene.schema import column_for_analysis
+
+        return column_for_analysis(load_scene(args.scene, list(args.set or [])))
+    from dataclasses import fields, replace
+
+    from analytical.column import Column
+
+    from orchestrator.scene.overrides import parse_override
+
+    column = Column()
+    names = {f.name for f in fields(Column)}
+    changes = {}
+    for item in args.set or []:
+        path, value = parse_override(item)
+        key = ".".join(path)
+        if len(path) != 2 or path[0] != "column" or path[1] not in names:
+            raise InputError(
+                key,
+                "unknown key for the analytical column (without --scene only column.<field> "
+                f"may be set; fields: {', '.join(sorted(names))})",
+            )
+        changes[path[1]] = value
+    return replace(column, **changes) if changes else column
+
+
+def _time_axis(t_end: float, dt: float):
+    import numpy as np
+
+    n = int(round(t_end / dt))
+    return np.linspace(0.0, n * dt, n + 1)
+
+def cmd_asce7(args: argparse.Namespace) -> int:
+    from analytical.asce7 import asce7_impact
+
+    with Flags(velocity_m_s="--velocity", mass_kg="--mass", stiffness_N_m="--stiffness", importance="--importance",
+                orientation="--orientation"):
+        r = asce7_impact(
+            velocity_m_s=args.velocity,
+            mass_kg=args.mass,
+            stiffness_N_m=args.stiffness,
+            importance=args.importance,
+            orientation=args.orientation,
+        )
+    emit(
+        {
+            "force_N": r.force_N,
+            "nominal_force_N": r.nominal_force_N,
+            "duration_s": r.duration_s,
+            "impulse_Ns": r.impulse_Ns,
+            "orientation_C_o": args.orientation,
+            "importance_I_tsu": args.importance,
+            "note": "force_N is the design force I_tsu C_o F_ni; nominal_force_N is F_ni = u sqrt(k m)",
+        },
+        args.json,
+    )
+    return EXIT_OK
+
+
+def impact_inputs(args: argparse.Namespace):
+    """(contact law, column, body keywords) for `analytical impact`: the scene's first (or
+    --body) debris body and column, or the study's container and column; --set changes
+    scene keys, or without --scene column.<field> and contact.<field>."""
+    from analytical.column import Column
+
+    from orchestrator.run.impact_resolution import body_contact_law
+    from orchestrator.scene.overrides import parse_override
+    from orchestrator.scene.scenefile import load_scene
+    from orchestrator.scene.schema import DebrisContact, column_for_analysis
+
+    if getattr(args, "scene", None):
+        scene = load_scene(args.scene, list(args.set or []))
+        if scene.column is None:
+            raise InputError("column", "the scene has no column to strike", args.scene)
+        if not scene.debris:
+            raise InputError("debris", "the scene has no debris body", args.scene)
+        bodies = {b.name: b for b in scene.debris}
+        body = bodies.get(args.body) if args.body else scene.debris[0]
+        if body is None:
+            raise InputError("--body", f"no debris body {args.body!r} in the scene (bodies: {', '.join(bodies)})")
+        keywords = {"mass_kg": body.mass_kg, "size_m": body.size_m, "wall_thickness_m": body.wall_thickness_m,
+                    "friction_coefficient": body.contact.friction_coefficient}
+        return body_contact_law(body.contact), column_for_analysis(scene), keywords
+    if args.body:
+        raise InputError("--body", "needs --scene")
+    from dataclasses import fields, replace
+
+    column_fields = {f.name for f in fields(Column)}
+    contact_fields = set(DebrisContact.model_fields)
+    column_changes, contact_changes = {}, {}
+    for item in args.set or []:
+        path, value = parse_override(item)
+        key = ".".join(path)
+        if len(path) == 2 and path[0] == "column" and path[1] in column_fields:
+            column_changes[path[1]] = value
+        elif len(path) == 2 and path[0] == "contact" and path[1] in contact_fields:
+            contact_changes[path[1]] = value
+        else:
+            raise InputError(key, "unknown key for `analytical impact` without --scene: column.<field> ("
+                             f"{', '.join(sorted(column_fields))}) or contact.<field> ({', '.join(sorted(contact_fields))})")
+    try:
+        contact = DebrisContact(**contact_changes)
+    except Exception as exc:  # pydantic's ValidationError: name the first field it found wrong
+        errors = getattr(exc, "errors", lambda: [])()
+        field = "contact." + ".".join(str(x) for x in errors[0]["loc"]) if errors else "contact"
+        raise InputError(field, errors[0]["msg"] if errors else str(exc)) from None
+    column = replace(Column(), **column_changes) if column_changes else Column()
+    return body_contact_law(contact), column, {"friction_coefficient": contact.friction_coefficient}
+
+
+def cmd_impact(args: argparse.Namespace) -> int:
+    from analytical.asce7 import SEED_DEBRIS_STIFFNESS_N_M, asce7_impact
+    from analytical.contact_law import column_impact
+
+    law, column, body = impact_inputs(args)
+    r = column_impact(law, args.velocity, args.height, column=column, obliquity_deg=args.obliquity, **body)
+    asce = asce7_impact(args.velocity, body.get("mass_kg", 0.236), SEED_DEBRIS_STIFFNESS_N_M)
+    emit(
+        {
+            "peak_force_N": r.peak_force_N,
+            "duration_s": r.duration_s,
+            "impulse_Ns": r.impulse_Ns,
+            "restitution": r.restitution,
+            "peak_base_shear_N": abs(r.base_shear.peak_N),
+            "contact_law": law.name,
+            "stiffness_N_m": law.stiffness_N_m,
+            "damping_ratio": law.damping_ratio,
+            "height_m": args.height,
+            "obliquity_deg": args.obliquity,
+            "asce7_kd_design_force_N": asce.force_N,
+        },
+        args.json,
+    )
+    return EXIT_OK
+
+
+def cmd_contact_law(args: argparse.Namespace) -> int:
+    from orchestrator.report.contact_report import write_contact_law_report
+
+    if args.strikes < 2:
+        raise InputError("--strikes", f"must be >= 2, got {args.strikes}")
+    summary = write_contact_law_report(output_path(args.out, "-o/--out", args.force, folder=True), count=args.strikes)
+    cal = summary["calibration"]
+    emit({"stiffness_N_m": cal["fitted_law"]["stiffness_N_m"], "damping_ratio": cal["fitted_law"]["damping_ratio"],
+           "table1_peak_force_N": cal["fitted_pulse"]["peak_force_N"],
+           "table1_duration_s": cal["fitted_pulse"]["duration_s"], "out": str(args.out)}, args.json)
+    return EXIT_OK
+
+
+def cmd_modes(args: argparse.Namespace) -> int:
+    from analytical.mdof import column_model
+
+    column = column_from_args(args)
+    model = column_model(column)
+    result: dict[str, Any] = {"frequencies_Hz": [float(f) for f in model.frequencies_Hz[: args.count]]}
+    result["base"] = column.base
+    if model.base_spring_Nm_rad is not None:
+        result["base_spring_Nm_per_rad"] = float(model.base_spring_Nm_rad)
+    emit(result, args.json)
+    return EXIT_OK
+
+
+def cmd_response(args: argparse.Namespace) -> int:
+    from analytical.errors import require_positive
+    from analytical.pulses import make_pulse
+
+    magnitude = require_positive("--magnitude", args.magnitude)
+    duration = require_positive("--duration", args.duration)
+    t_end = require_positive("--t-end", args.t_end)
+    column = column_from_args(args)
+    pulse = make_pulse(args.pulse, magnitude, duration)
+    t = _time_axis(t_end, min(1e-5, duration / 50))
+    if args.model == "sdof":
+        from analytical.sdof import SDOF, sdof_response
+
+        sdof = SDOF(column.stiffness_N_m, column.natural_frequency_Hz, column.damping_ratio)
+        response = sdof_response(pulse, sdof, t)
+    else:
+        from analytical.mdof import mdof_response
+
+        height = require_positive("--height", args.height)
+        if height > column.height_m:
+            raise InputError("--height", f"must be <= the column height {column.height_m} m, got {height}")
+        response = mdof_response(pulse, column, height, t)
+    if args.out:
+        import pandas as pd
+
+        out = output_path(args.out, "--out", args.force, folder=False)
+        pd.DataFrame({"time_s": response.time_s, "response_N": response.response_N}).to_csv(out, index=False)
+    emit({"peak_N": float(response.peak_N), "time_of_peak_s": float(response.time_of_peak_s)}, args.json)
+    return EXIT_OK
+
+
+def cmd_fit(args: argparse.Namespace) -> int:
+    from analytical.fitting import fit_mdof, fit_sdof
+
+    from orchestrator.results.records import read_force_record
+
+    time_s, force_N = read_force_record(args.record)
+    column = column_from_args(args)
+    try:
+        if args.model == "sdof":
+            fit = fit_sdof(time_s, force_N, column=column, shape=args.pulse)
+        else:
+            fit = fit_mdof(time_s, force_N, column=column, height_m=args.height, shape=args.pulse)
+    except InputError as exc:
+        raise exc.with_source(str(args.record)) from None
+    result = {
+        "magnitude_N": fit.magnitude_N,
+        "duration_s": fit.duration_s,
+        "impulse_Ns": fit.impulse_Ns,
+        "rmse_N": fit.rmse_N,
+        "peak_measured_N": fit.peak_measured_N,
+        "peak_model_N": fit.peak_model_N,
+        "offset_removed_N": fit.offset_N,
+        "start_s": fit.start_s,
+        "natural_frequency_Hz": fit.natural_frequency_Hz,
+        "damping_ratio": fit.damping_ratio,
+        "stiffness_N_m": fit.stiffness_N_m,
+        "height_m": fit.height_m,
+    }
+    emit({k: v for k, v in result.items() if v is not None}, args.json)
+    if fit.rmse_N > POOR_FIT_RMSE_FRACTION * fit.peak_measured_N:
+        warn([f"poor fit: RMSE {fit.rmse_N:.3g} N is {100 * fit.rmse_N / fit.peak_measured_N:.0f} % of the measured "
+              f"peak {fit.peak_measured_N:.4g} N (over {100 * POOR_FIT_RMSE_FRACTION:.0f} %): the {args.model} model "
+              "does not describe this record well"])
+    return EXIT_OK
+
+
+def cmd_dambreak(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from analytical.dambreak import dam_break
+
+    solution = dam_break(args.model, args.h0, hr_m=args.hr, friction=args.friction)
+    if args.arrival is not None:
+        if not args.arrival > 0:
+            raise InputError("--arrival", f"must be downstream of the gate (x > 0 m, where the front arrives), got "
+                                          f"{args.arrival}")
+        emit({"arrival_s": float(solution.arrival_time_s(args.arrival))}, args.json)
+        return EXIT_OK
+    if args.profile is None or not args.out:
+        raise InputError("--arrival/--profile", "give --arrival X, or --profile T with --out CSV")
+    t = args.profile
+    x_front = float(solution.front_position_m(t))
+    x_back = -np.sqrt(9.81 * args.h0) * t
+    x = np.linspace(min(x_back * 1.2, -0.1), max(x_front * 1.2, 0.1), args.points)
+    depth, velocity = solution.profile(x, t)
+    import pandas as pd
+
+    out = output_path(args.out, "--out", args.force, folder=False)
+    pd.DataFrame({"x_m": x, "depth_m": depth, "velocity_m_s": velocity}).to_csv(out, index=False)
+    emit({"front_position_m": x_front, "csv": str(out)}, args.json)
+    return EXIT_OK
+
+
+def cmd_study(args: argparse.Namespace) -> int:
+    from orchestrator.studies.synthetic import run_synthetic_study
+
+    if args.records < 2:
+        raise InputError("--records", f"must be >= 2 (a mean and a spread need two records), got {args.records}")
+    out = output_path(args.out, "-o/--out", args.force, folder=True)
+    summary = run_synthetic_study(out, seed=args.seed, n_records=args.records, column_base=args.base)
+    emit(summary, args.json)
+    return EXIT_OK
+
+
+def _add_column_args(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--scene", help="scene YAML whose column to use (default: the study's column)")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a dotted scene key (repeatable)")
+
+
+def add_analytical_parser(verbs) -> None:
+    """The ``analytical`` verb and its sub-verbs, on the top parser's ``verbs``."""
+    an = verbs.add_parser("analytical", help="analytical models (ASCE 7-22, SDOF, MDOF, fitting, dam break)")
+    an_verbs = an.add_subparsers(dest="analytical_verb", required=True, parser_class=ArgParser)
+
+    p = an_verbs.add_parser("asce7", help="ASCE 7-22 6.11 debris impact force, duration and impulse")
+    p.add_argument("--velocity", type=float, required=True, help="impact (max flow) velocity, m/s")
+    p.add_argument("--mass", type=float, required=True, help="debris mass, kg")
+    p.add_argument("--stiffness", type=float, required=True, help="stiffness k (lesser of debris and structure), N/m")
+    p.add_argument("--importance", type=float, default=1.0, help="I_tsu (1.0 for tsunami risk category II)")
+    p.add_argument("--orientation", type=float, default=0.65, help="C_o (0.65 for logs, poles, containers)")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_asce7)
+
+    p = an_verbs.add_parser("impact", help="one debris strike on the column by the contact law: pulse, rebound, "
+                                           "base shear (docs/contact-law.md)")
+    p.add_argument("--velocity", type=float, required=True, help="the body's speed at the strike, m/s")
+    p.add_argument("--height", type=float, default=0.40,
+                   help="contact height above the column's base, m (default 0.40, the study's mean)")
+    p.add_argument("--obliquity", type=float, default=0.0,
+                   help="angle of the body's velocity from the face's normal, degrees (default 0, head on)")
+    p.add_argument("--scene", help="scene YAML whose debris body and column to use (default: the study's "
+                                   "0.236 kg container and acrylic column)")
+    p.add_argument("--body", help="which debris body of --scene (default: its first)")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE",
+                   help="override a dotted scene key (repeatable); without --scene: column.<field> or "
+                        "contact.<field>, e.g. contact.law=asce7_kd, contact.restitution=0.5")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_impact)
+
+    p = an_verbs.add_parser("contact-law", help="calibrate the container's contact law on the study's Table 1 "
+                                                "event and check it on Table 2's held-out statistics, to files")
+    p.add_argument("-o", "--out", default="docs/results/contact-law",
+                   help="output folder (default docs/results/contact-law)")
+    p.add_argument("--strikes", type=int, default=22, help="held-out strikes (default 22, as the study's impacts)")
+    p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_contact_law)
+
+    p = an_verbs.add_parser("modes", help="natural frequencies of the MDOF column")
+    _add_column_args(p)
+    p.add_argument("--count", type=int, default=6, help="how many frequencies to print (default 6)")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_modes)
+
+    p = an_verbs.add_parser("response", help="force response (SDOF R = k u, or MDOF base shear) to a pulse")
+    p.add_argument("--model", choices=["sdof", "mdof"], required=True,
+                   help="sdof: R = k u of the study's oscillator; mdof: base shear of the Timoshenko column")
+    p.add_argument("--pulse", choices=["half-sine", "rectangular", "triangular"], default="half-sine",
+                   help="pulse shape")
+    p.add_argument("--magnitude", type=float, required=True, help="pulse peak force, N")
+    p.add_argument("--duration", type=float, required=True, help="pulse duration, s")
+    p.add_argument("--height", type=float, default=0.40, help="impact height above the column base, m (mdof)")
+    p.add_argument("--t-end", type=float, default=0.05, help="length of the response record, s (default 0.05)")
+    p.add_argument("--out", help="write the response to this CSV (time_s,response_N)")
+    p.add_argument("--force", action="store_true", help="overwrite an existing --out file")
+    _add_column_args(p)
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_response)
+
+    p = an_verbs.add_parser("fit", help="fit an impact pulse to a measured force-response record (CSV time_s,force_N)")
+    p.add_argument("--model", choices=["sdof", "mdof"], required=True,
+                   help="sdof: fit magnitude, duration, damping, stiffness, frequency within the study's bounds; "
+                        "mdof: magnitude and duration on the column model")
+    p.add_argument("record", help="CSV with columns time_s,force_N")
+    p.add_argument("--pulse", choices=["half-sine", "rectangular", "triangular"], default="half-sine",
+                   help="pulse shape fitted")
+    p.add_argument("--height", type=float, default=0.40, help="impact height above the column base, m (mdof)")
+    _add_column_args(p)
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_fit)
+
+    p = an_verbs.add_parser("dambreak", help="dam-break solutions: Ritter, Stoker, Chanson")
+    p.add_argument("--model", choices=["ritter", "stoker", "chanson"], required=True,
+                   help="ritter: dry bed; stoker: wet bed (--hr); chanson: dry bed with friction (--friction)")
+    p.add_argument("--h0", type=float, required=True, help="impoundment depth, m")
+    p.add_argument("--hr", type=float, default=0.0, help="downstream depth (stoker), m")
+    p.add_argument("--friction", type=float, default=None, help="Darcy friction factor f (chanson)")
+    p.add_argument("--arrival", type=float, default=None, help="x of a gauge, m: print the arrival time")
+    p.add_argument("--profile", type=float, default=None, help="time, s: write the profile to --out")
+    p.add_argument("--points", type=int, default=401, help="profile points (default 401)")
+    p.add_argument("--out", help="CSV for --profile (x_m,depth_m,velocity_m_s)")
+    p.add_argument("--force", action="store_true", help="overwrite an existing --out file")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_dambreak)
+
+    p = an_verbs.add_parser("study", help="the study's SDOF/MDOF/ASCE analysis on synthetic records (Table 2, Fig. 7)")
+    p.add_argument("-o", "--out", default="docs/results/synthetic-study", help="output folder (tables and plots)")
+    p.add_argument("--records", type=int, default=22, help="number of synthetic records (default 22, as the study)")
+    p.add_argument("--seed", type=int, default=2019, help="random seed")
+    p.add_argument("--base", choices=["rigid", "calibrated"], default="rigid", help="column base model of the records")
+    p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_study)

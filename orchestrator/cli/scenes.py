@@ -1,0 +1,76 @@
+"""The scene verbs: ``scenes`` (the shipped examples), ``validate`` (a scene checked, nothing
+written) and ``schema`` (the scene reference, docs/scene.md)."""
+
+from __future__ import annotations
+
+import argparse
+
+from orchestrator.cli.common import EXIT_OK, emit, warn
+
+__all__ = ["add_scene_parsers", "cmd_scenes", "cmd_schema", "cmd_validate"]
+
+
+def cmd_scenes(args: argparse.Namespace) -> int:
+    from orchestrator.scene.reference import scenes_dir, shipped_scenes
+
+    scenes = shipped_scenes()
+    if args.json:
+        emit({"folder": str(scenes_dir()), "scenes": [{"path": str(p), "description": d} for p, d in scenes]}, True)
+        return EXIT_OK
+    root = scenes_dir()
+    width = max(len(str(p.relative_to(root))) for p, _ in scenes)
+    print(f"shipped scenes in {root}:")
+    for path, text in scenes:
+        print(f"  {str(path.relative_to(root)):<{width}}  {text}")
+    return EXIT_OK
+
+
+def cmd_validate(args: argparse.Namespace) -> int:
+    from orchestrator.plan.planner import plan_case
+    from orchestrator.scene.scenefile import load_scene
+
+    scene = load_scene(args.scene, list(args.set or []))
+    plan = plan_case(scene)
+    result = {"scene": args.scene, "valid": True, "name": scene.name, "bodies": len(scene.debris),
+              "solver": plan.solver, "planned_cells": int(plan.cell_count), "warnings": list(plan.warnings)}
+    emit({k: v for k, v in result.items() if args.json or k != "warnings"}, args.json)
+    warn(plan.warnings)
+    return EXIT_OK
+
+
+def cmd_schema(args: argparse.Namespace) -> int:
+    from orchestrator.scene.reference import markdown, schema_rows, select
+
+    rows = select(schema_rows(), args.key)
+    if args.markdown:
+        print(markdown(rows), end="")
+    elif args.json:
+        from dataclasses import asdict
+
+        emit({"keys": [asdict(r) for r in rows]}, True)
+    else:
+        for r in rows:
+            extra = ", ".join(x for x in (r.type, f"default {r.default}", r.range) if x)
+            print(f"{r.key}  ({extra})" + (f"\n    {r.description}" if r.description else ""))
+    return EXIT_OK
+
+
+def add_scene_parsers(verbs) -> None:
+    """The ``scenes``, ``validate`` and ``schema`` verbs, on the top parser's ``verbs``."""
+    p = verbs.add_parser("scenes", help="list the shipped example scenes, one line each")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_scenes)
+
+    p = verbs.add_parser("validate", help="check a scene (schema and planner) without writing anything: exit 0 "
+                                          "or 2")
+    p.add_argument("scene", help="scene YAML")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a dotted scene key (repeatable)")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_validate)
+
+    p = verbs.add_parser("schema", help="the scene's keys: types, defaults, allowed ranges, meanings "
+                                        "(docs/scene.md is generated from it)")
+    p.add_argument("key", nargs="?", default=None, help="a section or key, e.g. debris or run.max_courant")
+    p.add_argument("--markdown", action="store_true", help="print the reference page (docs/scene.md)")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_schema)

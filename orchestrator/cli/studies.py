@@ -1,0 +1,212 @@
+"""The study verbs: ``sweep`` (a parameter sweep, resumable) and ``report`` (across runs:
+``speed-error``, ``case``, ``stability``).
+
+``sweep --dry-run`` prints the members, their cell counts and estimated wall times and runs
+nothing. A sweep with failed members exits 1 and lists them; an interrupted one exits
+128 + the signal, as ``run`` does. Each verb imports its stage when it runs.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+from typing import Any
+
+from analytical.errors import InputError
+from orchestrator.cli.common import EXIT_FAILURE, EXIT_OK, ArgParser, emit, output_path, warn
+
+__all__ = [
+    "add_study_parsers",
+    "cmd_report_case",
+    "cmd_report_speed_error",
+    "cmd_report_stability",
+    "cmd_sweep",
+]
+
+
+def _duration(seconds: float | None) -> str:
+    if seconds is None:
+        return "-"
+    if seconds < 10:
+        return f"{seconds:.1f} s"
+    if seconds < 90:
+        return f"{seconds:.0f} s"
+    if seconds < 5400:
+        return f"{seconds / 60:.1f} min"
+    return f"{seconds / 3600:.1f} h"
+
+
+def _print_dry_run(plan: dict[str, Any], out=sys.stdout) -> None:
+    params = plan["parameters"]
+    out.write(f"sweep {plan['sweep']} ({plan['sweep_file']}): {len(plan['members'])} member(s), mode {plan['mode']}; "
+              f"output {plan['out_dir']}\n")
+    head = ["#", "id", *params, "solver", "cores", "cells", "est. wall", "state"]
+    rows = []
+    for m in plan["members"]:
+        values = [json.dumps(m["params"].get(p)) if isinstance(m["params"].get(p), (list, dict))
+                  else str(m["params"].get(p)) for p in params]
+        rows.append([str(m["member"]), m["id"], *values, m["solver"] + (" 2D" if m["two_d"] else ""),
+                     str(m["cores"]), f"{m['cells']:,}", _duration(m["estimated_wall_time_s"]), m["state"]])
+    widths = [max(len(r[i]) for r in [head, *rows]) for i in range(len(head))]
+    for r in [head, *rows]:
+        out.write("  ".join(c.ljust(w) for c, w in zip(r, widths)).rstrip() + "\n")
+    sweep_wall = plan["estimated_sweep_wall_time_s"]
+    on = f"{plan['executor']}, {plan['workers']} member(s) at a time" if sweep_wall is not None else plan["executor"]
+    out.write(f"total: {plan['total_cells']:,} cells; estimated solver time of the members still to run "
+              f"{_duration(plan['estimated_wall_time_s'])}"
+              + (f", about {_duration(sweep_wall)} on {on}" if sweep_wall is not None else "") + "\n")
+    out.write(f"({plan['note']})\n")
+
+
+def cmd_sweep(args: argparse.Namespace) -> int:
+    from orchestrator.studies.sweep import dry_run, run_sweep
+
+    if args.dry_run:
+        plan = dry_run(args.sweep, args.out, executor=args.executor, scheduler=args.scheduler, workers=args.workers)
+        if args.json:
+            emit(plan, True)
+        else:
+            _print_dry_run(plan)
+        for m in plan["members"]:
+            warn(m["warnings"], f"member {m['member']} ({m['id']}): ")
+        return EXIT_OK
+    progress_stream = sys.stderr if args.json else sys.stdout
+
+    def progress(line: str) -> None:
+        print(f"debrisfoam: {line}", file=progress_stream, flush=True)
+
+    result = run_sweep(args.sweep, args.out, executor=args.executor, scheduler=args.scheduler, workers=args.workers,
+                       retry_failed=args.retry_failed, progress=progress)
+    if args.json:
+        emit(result.to_dict(), True)
+    if result.interrupted and result.unfinished:
+        print(f"debrisfoam: sweep interrupted; {len(result.unfinished)} member(s) not finished: run the same command "
+              "again to resume", file=sys.stderr)
+        return 128 + (result.signum or 2)  # 130 for Ctrl-C, 143 for SIGTERM, as `debrisfoam run`
+    if result.failed:
+        lines = [f"debrisfoam: error: {len(result.failed)} of {len(result.rows)} sweep member(s) failed "
+                 f"(store {result.store}):"]
+        for row in result.failures():
+            error = (row.get("error") or "no error recorded").replace("\n", "\n      ")
+            lines.append(f"  member {row['member']} {row['member_id']} ({row['overrides'] or 'base scene'}): {error}")
+            lines.append(f"    case: {row['case_dir']}")
+        lines.append("  (fix the cause, then run again with --retry-failed; finished members are skipped)")
+        print("\n".join(lines), file=sys.stderr)
+        return EXIT_FAILURE
+    if result.unfinished:  # e.g. a member not started because the sweep was stopped
+        print(f"debrisfoam: error: {len(result.unfinished)} member(s) did not finish: run the same command again",
+              file=sys.stderr)
+        return EXIT_FAILURE
+    return EXIT_OK
+
+
+def cmd_report_speed_error(args: argparse.Namespace) -> int:
+    from orchestrator.studies.speed_error import speed_error
+    from orchestrator.studies.speed_error_report import markdown, write_report
+
+    extrapolate = args.extrapolate_to if args.extrapolate_to and args.extrapolate_to > 0 else None
+    study = speed_error(args.sweep_dir, list(args.baseline or []), reference=args.reference, time=args.time,
+                        extrapolate_to_m=extrapolate)
+    if args.out:
+        output_path(args.out, "-o/--out", args.force, folder=True)
+    files = write_report(study, args.out)
+    if args.json:
+        emit(study.headline(), True)
+        return EXIT_OK
+    print(markdown(study))
+    for kind, path in files.items():
+        print(f"debrisfoam: {kind}: {path}")
+    return EXIT_OK
+
+
+def cmd_report_case(args: argparse.Namespace) -> int:
+    from orchestrator.report.case_report import write_case_report
+
+    if not (Path(args.case_dir) / "results" / "summary.json").is_file():
+        raise InputError("case_dir", f"no results/summary.json: run `debrisfoam post {args.case_dir}` first",
+                         str(args.case_dir))
+    path = write_case_report(args.case_dir, output_path(args.out, "-o/--out", args.force, folder=True))
+    emit({"report": str(path)}, args.json)
+    return EXIT_OK
+
+
+def cmd_report_stability(args: argparse.Namespace) -> int:
+    from orchestrator.studies.stability import markdown, stability_table
+
+    table = stability_table(args.sweep_dir)
+    text = markdown(table)
+    if args.out:
+        output_path(args.out, "-o/--out", args.force, folder=False).write_text(text)
+    if args.json:
+        emit({"members": table.to_dict(orient="records")}, True)
+        return EXIT_OK
+    print(text, end="")
+    if args.out:
+        print(f"debrisfoam: stability table: {args.out}")
+    insane = table[(table["outcome"] == "finished") & (table["sane"] == False)]  # noqa: E712 (pandas)
+    unexplained = table[~table["outcome"].isin(["finished", "diverged", "stalled", "contact"])]
+    for r in insane.itertuples():
+        print(f"debrisfoam: {r.scene}: finished but failed: {'; '.join(r.failed_checks)}", file=sys.stderr)
+    for r in unexplained.itertuples():
+        print(f"debrisfoam: {r.scene}: {r.outcome}: {r.diagnosis or 'no diagnosis'}", file=sys.stderr)
+    return EXIT_OK
+
+
+def add_study_parsers(verbs) -> None:
+    """The ``sweep`` and ``report`` verbs, on the top parser's ``verbs``."""
+    p = verbs.add_parser("sweep", help="run a parameter sweep (a base scene and axes; see docs/sweeps.md); "
+                                       "run it again to resume")
+    p.add_argument("sweep", help="sweep YAML")
+    p.add_argument("-o", "--out", default=None, help="sweep folder (default: runs/sweeps/<sweep name>)")
+    p.add_argument("--executor", choices=["local", "dask"], default=None,
+                   help="local: a thread pool here; dask: a Dask LocalCluster, or --scheduler's cluster "
+                        "(default: the sweep file's, else local)")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="address of a running Dask scheduler (tcp://host:8786); implies --executor dask")
+    p.add_argument("--workers", type=int, default=None, metavar="N",
+                   help="members at once (local, LocalCluster); default: cores // cores per member")
+    p.add_argument("--dry-run", action="store_true", help="list the members, cell counts and estimated wall times; "
+                                                          "run nothing")
+    p.add_argument("--retry-failed", action="store_true", help="run failed members again (they resume)")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_sweep)
+
+    rp = verbs.add_parser("report", help="reports across runs: speed-error (a sweep's cost against its errors), "
+                                                 "stability (a sweep's runs checked)")
+    rp_verbs = rp.add_subparsers(dest="report_verb", required=True, parser_class=ArgParser)
+    p = rp_verbs.add_parser("speed-error", help="wall time against error for every member of a sweep (and of "
+                                                "baseline sweeps): table and Pareto plot in SWEEP_DIR/report/")
+    p.add_argument("sweep_dir", help="a sweep folder (runs/sweeps/<name>); its finest member is the reference")
+    p.add_argument("--baseline", action="append", metavar="SWEEP_DIR",
+                   help="another sweep folder whose members join the table, e.g. the hand-made set-up "
+                        "(repeatable)")
+    p.add_argument("-o", "--out", default=None, help="output folder (default: SWEEP_DIR/report)")
+    p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
+    p.add_argument("--reference", default=None, metavar="MEMBER_ID",
+                   help="member to measure the others against (default: the finest finished member)")
+    p.add_argument("--time", choices=["cpu", "solver", "wall"], default="cpu",
+                   help="time of the plot and the speed-ups: the solver's CPU time (default; its wall time on an "
+                        "idle machine, without other jobs' turns on a shared one), the solver's wall time, or "
+                        "the member's whole wall time")
+    p.add_argument("--extrapolate-to", type=float, default=0.015, metavar="M",
+                   help="extrapolate both set-ups to this cell size (default 0.015, the study's; 0: none)")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_report_speed_error)
+    p = rp_verbs.add_parser("case", help="one post-processed run beside the study's figures: a results page "
+                                         "with its plots (make results-1debris)")
+    p.add_argument("case_dir", help="a run folder with results/ (debrisfoam post has run)")
+    p.add_argument("-o", "--out", required=True, help="output folder (report.md, plots, summary.json)")
+    p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_report_case)
+
+    p = rp_verbs.add_parser("stability", help="for every member of a sweep: finished with sane physics (water "
+                                              "conserved, no body inside a wall, finite forces) or stopped with "
+                                              "a diagnosis (the table of docs/stability.md)")
+    p.add_argument("sweep_dir", help="a sweep folder, e.g. runs/sweeps/hard-cases")
+    p.add_argument("-o", "--out", default=None, help="also write the Markdown table to this file")
+    p.add_argument("--force", action="store_true", help="overwrite an existing -o file")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_report_stability)
