@@ -19,6 +19,7 @@ import pytest
 from PIL import Image
 
 from orchestrator.report import plots
+from orchestrator.report.figures import DPI, pyplot
 from orchestrator.results.tables import tables
 from orchestrator.results.compare import compare
 
@@ -87,7 +88,7 @@ def unlisted(fig) -> list[str]:
     return missing
 
 
-def check_figure(fig, dpi: float = plots._DPI) -> None:
+def check_figure(fig, dpi: float = DPI) -> None:
     width, height = fig.get_size_inches() * dpi
     assert width <= MAX_WIDTH_PX and height <= MAX_HEIGHT_PX, f"{width:.0f} x {height:.0f} px"
     assert not texts_outside(fig), texts_outside(fig)
@@ -156,7 +157,7 @@ def test_every_figure_fits_a_report(real, case, name):
     try:
         check_figure(fig)
     finally:
-        plots._pyplot().close(fig)
+        pyplot().close(fig)
 
 
 @pytest.mark.parametrize("name", FIGURES)
@@ -167,7 +168,7 @@ def test_a_case_without_outputs_still_gets_readable_figures(bare, name):
     try:
         check_figure(fig)
     finally:
-        plots._pyplot().close(fig)
+        pyplot().close(fig)
 
 
 def test_the_written_pngs_are_report_sized(real, tmp_path):
@@ -216,7 +217,7 @@ def test_the_hydrodynamic_force_has_an_axis_of_its_own_scale(real, load):
         assert pulses and pulses[0] is not ax and pulses[0].get_ylim()[1] >= results.column_forces[
             "impact_force_x_N"].max()
     finally:
-        plots._pyplot().close(fig)
+        pyplot().close(fig)
 
 
 # --------------------------------------------------------------------------- impacts
@@ -241,7 +242,7 @@ def test_impact_pulses_are_whole_and_the_fits_stand_apart(real):
         # the study's band of MDOF pulses stays under the predicted pulses
         assert any("Table 2" in c.get_label() for c in predicted.collections)
     finally:
-        plots._pyplot().close(fig)
+        pyplot().close(fig)
 
 
 def test_four_impacts_fit_the_width_and_a_failed_fit_says_why(real):
@@ -255,13 +256,13 @@ def test_four_impacts_fit_the_width_and_a_failed_fit_says_why(real):
             assert any("no MDOF fit: the fit failed (no convergence in 200 iterations)" in " ".join(t.split())
                        for t in texts), texts
         finally:
-            plots._pyplot().close(fig)
+            pyplot().close(fig)
     fig = plots.figure_impacts(results, comp)
     try:
         check_pulses_whole(fig)
         assert len(pulse_axes(fig)) == 8
     finally:
-        plots._pyplot().close(fig)
+        pyplot().close(fig)
 
 
 # --------------------------------------------------------------------------- tracks
@@ -289,7 +290,7 @@ def test_tracks_have_no_empty_band_and_the_areas_stay_inside(real):
             y = p.get_path().vertices[:, 1]
             assert walls[0] - 1e-9 <= y.min() and y.max() <= walls[1] + 1e-9
     finally:
-        plots._pyplot().close(fig)
+        pyplot().close(fig)
 
 
 def test_gauge_names_are_not_under_the_column(real):
@@ -310,7 +311,7 @@ def test_gauge_names_are_not_under_the_column(real):
             overlap = max(0.0, min(e.x1, x1) - max(e.x0, x0)) * max(0.0, min(e.y1, y1) - max(e.y0, y0))
             assert overlap == 0.0, f"{t.get_text()} drawn over the column"
     finally:
-        plots._pyplot().close(fig)
+        pyplot().close(fig)
 
 
 # --------------------------------------------------------------------------- the synthetic study
@@ -342,7 +343,7 @@ def test_study_figure4_draws_every_pulse_whole(study):
                                                                     "MDOF fit")]
         assert len(fitted) == 3 and all(line.get_linestyle() == "--" for line in fitted)
     finally:
-        plots._pyplot().close(fig)
+        pyplot().close(fig)
 
 
 def test_study_figure7_fits_a_report(study):
@@ -354,4 +355,4 @@ def test_study_figure7_fits_a_report(study):
         check_figure(fig, st._DPI)
         assert len({ax.get_xlim() for ax in fig.axes}) == 1  # one scale for the three variants
     finally:
-        plots._pyplot().close(fig)
+        pyplot().close(fig)

@@ -25,6 +25,7 @@ Coordinates as everywhere (docs/scene.md): x along the flume, 0 at the gate; y a
 from __future__ import annotations
 
 import contextlib
+import io
 import math
 import os
 from collections.abc import Iterator, Sequence
@@ -35,6 +36,7 @@ from typing import Any
 import numpy as np
 
 from analytical.errors import DebrisfoamError
+from orchestrator.core.files import write_bytes_atomic
 from orchestrator.plan.planner import ModelPlan, estimated_steps, plan_case
 from orchestrator.scene.geometry import flume_extent
 from orchestrator.scene.scenefile import load_scene
@@ -107,7 +109,7 @@ def preview_scene(scene: Scene, plan: ModelPlan, out_png: str | Path) -> Path:
     pv = _pyvista()
     out = Path(out_png)
     geo = _geometry(pv, scene, plan)
-    with _quiet_vtk():
+    with quiet_vtk():
         plotter = pv.Plotter(
             off_screen=True,
             shape=(3, 1),
@@ -126,7 +128,7 @@ def preview_scene(scene: Scene, plan: ModelPlan, out_png: str | Path) -> Path:
             image = plotter.screenshot(return_img=True)
         finally:
             plotter.close()
-    _write_png(np.asarray(image), out)
+    write_png(np.asarray(image), out)
     return out
 
 
@@ -543,7 +545,7 @@ def _pyvista():
 
 
 @contextlib.contextmanager
-def _quiet_vtk() -> Iterator[None]:
+def quiet_vtk() -> Iterator[None]:
     """Silence VTK's warnings while drawing (off-screen, VTK first tries X and says so)."""
     from vtkmodules.vtkCommonCore import vtkLogger, vtkObject
 
@@ -558,13 +560,11 @@ def _quiet_vtk() -> Iterator[None]:
         vtkObject.SetGlobalWarningDisplay(shown)
 
 
-def _write_png(image: np.ndarray, out: Path) -> None:
+def write_png(image: np.ndarray, out: Path) -> Path:
+    """An RGB(A) image array as a PNG, written atomically (the folder made if needed)."""
     from PIL import Image
 
     out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = out.with_name(f".{out.name}.{os.getpid()}.tmp")
-    try:
-        Image.fromarray(image).save(tmp, format="PNG")
-        os.replace(tmp, out)
-    finally:
-        tmp.unlink(missing_ok=True)
+    buffer = io.BytesIO()
+    Image.fromarray(image).save(buffer, format="PNG")
+    return write_bytes_atomic(out, buffer.getvalue())
