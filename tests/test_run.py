@@ -27,9 +27,9 @@ import pytest
 import yaml
 
 from orchestrator.case import bodystate
-from orchestrator.run import runner as run_module
+from orchestrator.run import segments as run_module
 from orchestrator.case.bodystate import BodyState
-from orchestrator.run.contact_book import Geometry, resting_contact
+from orchestrator.run.contact_geometry import Geometry, resting_contact
 from orchestrator.run.monitor import DivergenceLimits, parse_log
 from orchestrator.pipeline import render_from_file
 from orchestrator.run.runner import (
@@ -175,7 +175,8 @@ def test_contacts_carry_closing_speeds(body_case):
 
 
 def test_classification_of_contacts(body_case):
-    from orchestrator.run.contact_book import Contact, ContactBook
+    from orchestrator.run.contact_book import ContactBook
+    from orchestrator.run.contact_geometry import Contact
 
     book = ContactBook(load_case_info(body_case), ContactSettings(gap_m=0.005, min_impact_speed_m_s=0.05), {},
                        print)
@@ -378,15 +379,15 @@ def test_latest_time_repairs_an_incomplete_write(tmp_path):
 def test_stop_request_dates_control_dict_past_the_skew(body_case, tmp_path):
     import shutil
 
-    from orchestrator.run.runner import FILE_MODIFICATION_SKEW_S, _request_write_now, _set_control
+    from orchestrator.run.control import FILE_MODIFICATION_SKEW_S, request_write_now, set_control
 
     case = tmp_path / "case"
     shutil.copytree(body_case, case)
-    _set_control(case, backdate=True, stopAt="endTime")
+    set_control(case, backdate=True, stopAt="endTime")
     control = case / "system" / "controlDict"
     before = control.stat().st_mtime
     assert before < time.time() - 3000
-    _request_write_now(case)
+    request_write_now(case)
     assert control.stat().st_mtime >= before + FILE_MODIFICATION_SKEW_S + 1
     text = control.read_text()
     assert "stopAt writeNow;" in text
@@ -882,6 +883,6 @@ def _pimple(case: Path) -> dict:
 @pytest.mark.parametrize("name, digits", [("1.46272017", 9), ("0.1", 1), ("0", 1), ("1.2e-05", 2), ("3.5", 2)])
 def test_significant_digits_of_a_time_name(name, digits):
     """The restart's timePrecision must reproduce the latest time directory's name."""
-    from orchestrator.run.runner import _significant_digits
+    from orchestrator.run.control import significant_digits
 
-    assert _significant_digits(name) == digits
+    assert significant_digits(name) == digits

@@ -52,17 +52,18 @@ each refresh is a solver restart.
 from __future__ import annotations
 
 import csv
-import json
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable, Sequence
 
 import numpy as np
+import yaml
 
 from orchestrator.case import bodystate
-from orchestrator.run import waterdepth
 from orchestrator.case.bodystate import BodyState
+from orchestrator.case.folder import CaseFolder
+from orchestrator.run import waterdepth
 
 #: below this horizontal speed the friction damper is sized for it (m/s)
 FRICTION_FLOOR_M_S = 0.05
@@ -120,10 +121,9 @@ class BedWatch:
 
     @classmethod
     def for_case(cls, case: Path, margin_m: float, say: Callable[[str], None], friction: bool = True) -> "BedWatch":
-        import yaml
-
-        plan = json.loads((case / "plan.json").read_text())
-        scene = yaml.safe_load((case / "scene.yaml").read_text())
+        folder = CaseFolder(case)
+        plan = folder.plan() or {}
+        scene = yaml.safe_load(folder.scene_path.read_text())
         rho = float(scene.get("fluids", {}).get("water_density_kg_m3", 998.2))
         g = float(scene.get("fluids", {}).get("gravity_m_s2", 9.81))
         mu = {d["name"]: float((d.get("contact") or {}).get("bed_friction_coefficient", 0.3))

@@ -3,18 +3,18 @@
 The runner (`orchestrator.run.runner`) drives the solver; after every batch of log lines and
 at every restart it asks a `ContactBook` about the bodies' states. Geometry and impacts
 are `orchestrator.run.contact`'s (the scene's column, walls and bed, exact box-box
-distances, `resolve`: the MDOF column, rigid walls, two-body impacts, from
-`analytical.impact`; `clamp_to_bed`). This module adds what the runner needs on top:
+distances, `clamp_to_bed`) and `orchestrator.run.impact_resolution`'s (`resolve`: the MDOF
+column, rigid walls, two-body impacts, from `analytical.impact`), seen through
+`orchestrator.run.contact_geometry` (`Geometry`: the case's obstacles and bodies, and each
+contact's closing speed, `Contact`). This module adds what the runner needs on top:
 
-- `Geometry`: the case's obstacles and bodies, and each contact's closing speed
-  (`Contact`);
 - while the solver runs (`ContactBook.contacts_ahead`, `time_to_act`): the contacts
   the bodies will reach within a few stop latencies, and the simulated time until each
   needs the solver stopped: an impact when the body reaches `ContactSettings.gap_m`, a
   slow (resting) contact at a quarter of the gap, the bed once a body has sunk the bed
   tolerance into it;
 - at a restart (`ContactBook.resolve_contacts`): every contact that would stop the
-  solver at once is resolved: impacts by `orchestrator.run.contact.resolve`, slow contacts
+  solver at once is resolved: impacts by `orchestrator.run.impact_resolution.resolve`, slow contacts
   (closing slower than `min_impact_speed_m_s`) by a plastic impulse (`resting_contact`),
   a body the flow keeps pressing against an obstacle (more than `max_events` contacts
   within `window_s`) is pinned there (`bodystate.pin_bodies`); bodies are lifted out
@@ -27,10 +27,9 @@ distances, `resolve`: the MDOF column, rigid walls, two-body impacts, from
   computed again.
 
 The book knows nothing of the solver: the runner gives it the case (`CaseInfo`), the
-settings, run.json's data, a `say` callable for messages and, with each question, how
-far the solver may run on after a stop request (the stop horizon, simulated seconds).
-`orchestrator.run.runner` imports this module; the two names this one needs from it
-(`ContactError`, its time tolerance) are imported where they are used.
+settings (`ContactSettings`), run.json's data, a `say` callable for messages and, with
+each question, how far the solver may run on after a stop request (the stop horizon,
+simulated seconds).
 
 Units: seconds, metres, kg, N.
 """
@@ -41,227 +40,29 @@ import csv
 import dataclasses
 import json
 import math
-import os
-from dataclasses import dataclass, field
 from pathlib import Path
-from types import SimpleNamespace
-from typing import TYPE_CHECKING, Any, Callable, Sequence
-
-import numpy as np
+from typing import Any, Callable, Sequence
 
 from orchestrator.case import bodystate
 from orchestrator.case.bodystate import BodyState
 from orchestrator.case.folder import EPS_T
+from orchestrator.core.files import write_text_atomic
+from orchestrator.run.case_info import CaseInfo
+from orchestrator.run.contact_geometry import Contact, Geometry, resting_contact
+from orchestrator.run.contact_settings import ContactSettings
+from orchestrator.run.errors import ContactError
 from orchestrator.run.monitor import StepRecord
-
-if TYPE_CHECKING:
-    from orchestrator.run.runner import CaseInfo
 
 __all__ = [
     "CONTACTS_DIR",
     "CONTACTS_JSON",
     "IMPACTS_CSV",
-    "Contact",
     "ContactBook",
-    "ContactSettings",
-    "Geometry",
-    "resting_contact",
 ]
 
 CONTACTS_JSON = "contacts.json"
 IMPACTS_CSV = "impacts.csv"
 CONTACTS_DIR = "contacts"
-
-
-# --------------------------------------------------------------------------- settings
-
-
-@dataclass(frozen=True)
-class ContactSettings:
-    """When and how the runner handles contact between bodies and obstacles.
-
-    gap_m: a body closer than this to the column, a wall or another body is in contact.
-    min_impact_speed_m_s: slower closing speeds are resting contacts: the closing motion
-        is stopped (a plastic impulse, no force history), not resolved as an impact.
-    bed: watch the bed too. Touching the bed is not an impact (orchestrator.run.contact), but
-        v1912 lets a body sink through it: a body that sinks more than `bed_tolerance_m`
-        (default half the gap) into it is stopped, lifted back onto it and its velocity
-        into it removed (`contact.clamp_to_bed`).
-    max_events / window_s: more than `max_events` contacts of the same pair within
-        `window_s` of simulated time is a resting contact, which this event-driven model
-        cannot represent: the body is pinned where it is for the rest of the run (debris
-        held against the column or a wall by the flow); two bodies: ContactError. A body
-        lifted out of the bed more than `max_events` times within `window_s` is kept on
-        the bed's plane (`bodystate.rest_on_bed`) until the water measured around it can carry
-        it (`orchestrator.run.bedwatch`).
-    bed_runaway_m_s: so is a body found sinking into the bed faster than this. Settling
-        bodies closed on the bed at 0.2-0.6 m/s in the hard cases; where each lift pulled
-        the body down harder, the speeds went 0.5, 0.8, 2.0, 6.9 m/s to a blow-up.
-    impact: keyword arguments for `analytical.impact.impact` / `pair_impact`
-        (stiffness_N_m, friction_coefficient, damping_ratio, ...).
-    added_mass_coefficient: C_a of the debris for the impact model.
-    float_margin_m: a body the runner keeps on the bed (the planner's hold, `rest_on_bed`) is
-        freed once the water depth measured around it exceeds the height of its underside plus
-        its draft plus this margin (`orchestrator.run.bedwatch`). 5 mm: the depth reading's own spread
-        on a still 15 mm wet bed at 4 cm cells is under 1 mm, the bore's surface near a body
-        moves by a few mm from one sample to the next.
-    bed_friction: Coulomb friction (the scene's `debris[].contact.bed_friction_coefficient`)
-        on a body while it is kept on the bed (`orchestrator.run.bedwatch`).
-    adjust_phi_when_pinned: once every body is pinned, switch the overset flux adjustment
-        on (PIMPLE `oversetAdjustPhi yes` in system/fvSolution) for the rest of the run. A
-        pinned body loses water into the background's fringe at about 1 % a second; the
-        adjustment cut that to 0.4-0.5 % (docs/openfoam-notes.md, "Water balance"). It stays off while
-        any body moves: around a body sliding fast along the bed it created water.
-    """
-
-    enabled: bool = True
-    gap_m: float = 0.005
-    min_impact_speed_m_s: float = 0.05
-    bed: bool = True
-    bed_tolerance_m: float | None = None
-    max_events: int = 6
-    window_s: float = 0.05
-    bed_runaway_m_s: float = 1.0
-    added_mass_coefficient: float = 0.0
-    adjust_phi_when_pinned: bool = True
-    float_margin_m: float = 0.005
-    bed_friction: bool = True
-    impact: dict = field(default_factory=dict)
-
-    @property
-    def bed_sink_m(self) -> float:
-        return self.gap_m / 2 if self.bed_tolerance_m is None else self.bed_tolerance_m
-
-    def __post_init__(self) -> None:
-        if not self.gap_m > 0:
-            raise ValueError(f"gap_m must be > 0, got {self.gap_m}")
-
-
-# --------------------------------------------------------------------------- contacts
-
-
-@dataclass(frozen=True)
-class Contact:
-    """A body near an obstacle, another body or the bed: signed `distance_m` (< 0:
-    overlapping), the contact point, the unit `normal` from the other thing into the body,
-    and the closing speed of the contact point along it (> 0: approaching). `source` is
-    orchestrator.run.contact's Contact (None for the bed)."""
-
-    body: str
-    other: str
-    kind: str  # "column", "wall", "body" or "bed"
-    distance_m: float
-    point_m: tuple[float, float, float]
-    normal: tuple[float, float, float]
-    approach_m_s: float
-    source: Any = field(default=None, compare=False, repr=False)
-
-
-class Geometry:
-    """The case's obstacles (from scene.yaml and plan.json) and its bodies, for orchestrator.run.contact."""
-
-    def __init__(self, info: CaseInfo):
-        from orchestrator.run import contact as geo
-        from orchestrator.scene.scenefile import load_scene
-
-        self.geo = geo
-        self.scene = load_scene(info.case / "scene.yaml")
-        # the modelled domain's walls: where the CFD has them (its upstream end is a wall
-        # also when the reservoir is cut short; the downstream end only if it is a wall)
-        self.obstacles = geo.scene_obstacles(
-            self.scene, SimpleNamespace(domain_m=info.domain_m, downstream_type=info.downstream_type))
-        self.props = {p.name: p for p in info.bodies}
-        self.sizes = info.body_sizes_m
-
-    def state(self, s: BodyState):
-        p = self.props[s.name]
-        return self.geo.BodyState(
-            name=s.name, centre_of_mass_m=s.centre_of_mass_m,
-            orientation=np.asarray(bodystate.orthonormal(s.orientation)).reshape(3, 3),
-            velocity_m_s=s.velocity_m_s, angular_velocity_rad_s=s.angular_velocity_rad_s,
-            size_m=self.sizes[s.name], mass_kg=p.mass_kg, inertia_kg_m2=p.moment_of_inertia_kg_m2)
-
-    @staticmethod
-    def back(new, old: BodyState) -> BodyState:
-        """orchestrator.run.contact's state as the runner's (velocities changed: acceleration unknown)."""
-        moved = not np.allclose(new.velocity_m_s, old.velocity_m_s, rtol=0, atol=1e-15) or not np.allclose(
-            new.angular_velocity_rad_s, old.angular_velocity_rad_s, rtol=0, atol=1e-15)
-        return old.with_changes(
-            centre_of_mass_m=tuple(float(v) for v in new.centre_of_mass_m),
-            orientation=tuple(float(v) for v in np.asarray(new.orientation).ravel()),
-            velocity_m_s=tuple(float(v) for v in new.velocity_m_s),
-            angular_velocity_rad_s=tuple(float(v) for v in new.angular_velocity_rad_s),
-            acceleration_m_s2=(0.0, 0.0, 0.0) if moved else old.acceleration_m_s2)
-
-    def contacts(self, states: Sequence[BodyState], reach_m: float, bed: bool = True) -> list[Contact]:
-        """Every pair closer than `reach_m` (the bed too, if `bed`), with closing speeds."""
-        geo = self.geo
-        cs = {s.name: self.state(s) for s in states}
-        out = []
-        for c in geo.find_contacts(list(cs.values()), self.obstacles, reach_m):
-            u = cs[c.body].point_velocity(c.point)
-            if c.kind == "body":
-                u = u - cs[c.other].point_velocity(c.point)
-            n = np.asarray(c.normal, dtype=float)
-            out.append(Contact(c.body, c.other, c.kind, float(c.distance_m), tuple(float(v) for v in c.point),
-                               tuple(float(v) for v in n), float(-(u @ n)), c))
-        if bed:
-            plane = self.obstacles.bed
-            n = np.asarray(plane.normal, dtype=float)
-            for name, c in cs.items():
-                corners = c.corners()
-                heights = (corners - np.asarray(plane.point_m, dtype=float)) @ n
-                d = float(heights.min())
-                if d < reach_m:
-                    low = corners[heights <= d + 1e-9].mean(axis=0)
-                    out.append(Contact(name, "bed", "bed", d, tuple(float(v) for v in low), tuple(float(v) for v in n),
-                                       float(-(c.point_velocity(low) @ n))))
-        return out
-
-    def resolve(self, contact: Contact, states: dict[str, BodyState], settings: ContactSettings):
-        """The impact of `contact` (orchestrator.run.contact.resolve): (result or None, new states by body)."""
-        cs = [self.state(s) for s in states.values()]
-        result, new = self.geo.resolve(contact.source, cs, self.scene,
-                                       added_mass_coefficient=settings.added_mass_coefficient, **settings.impact)
-        return result, {n.name: self.back(n, states[n.name]) for n in new}
-
-    def clamp_to_bed(self, state: BodyState) -> BodyState:
-        """The body lifted out of the bed, its velocity into the bed removed (unchanged if above it)."""
-        c = self.state(state)
-        clamped = self.geo.clamp_to_bed(c, self.obstacles)
-        return state if clamped is c else self.back(clamped, state)
-
-
-def resting_contact(geometry: Geometry, contact: Contact, states: dict[str, BodyState]) -> tuple[dict, float]:
-    """A slow contact: the impulse through the contact point that stops the closing motion
-    (perfectly plastic, no force history), and any overlap removed along the normal.
-    Returns (new states by body, impulse in N s)."""
-    n, point = np.asarray(contact.normal), np.asarray(contact.point_m)
-    sides = [(contact.body, 1.0)] + ([(contact.other, -1.0)] if contact.kind == "body" else [])
-    bodies = {name: geometry.state(states[name]) for name, _ in sides}
-
-    def compliance(b) -> np.ndarray:  # velocity change of the contact point per unit impulse there
-        r = point - b.centre_of_mass_m
-        rx = np.array([[0.0, -r[2], r[1]], [r[2], 0.0, -r[0]], [-r[1], r[0], 0.0]])
-        return np.eye(3) / b.mass_kg + rx.T @ b.inverse_inertia() @ rx
-
-    k = sum(compliance(b) for b in bodies.values())
-    j = max(contact.approach_m_s, 0.0) / float(n @ k @ n)  # N s along n, on the body
-    depth = max(-contact.distance_m, 0.0)
-    total_mass = sum(b.mass_kg for b in bodies.values())
-    new = {}
-    for name, sign in sides:
-        b = bodies[name]
-        impulse = sign * j * n
-        v = b.velocity_m_s + impulse / b.mass_kg
-        w = b.angular_velocity_rad_s + b.inverse_inertia() @ np.cross(point - b.centre_of_mass_m, impulse)
-        share = 1.0 if len(sides) == 1 else 1.0 - b.mass_kg / total_mass  # the lighter body moves more
-        centre = b.centre_of_mass_m + sign * share * depth * n
-        new[name] = states[name].with_changes(centre_of_mass_m=tuple(float(x) for x in centre),
-                                              velocity_m_s=tuple(float(x) for x in v),
-                                              angular_velocity_rad_s=tuple(float(x) for x in w),
-                                              acceleration_m_s2=(0.0, 0.0, 0.0))
-    return new, float(j)
 
 
 # --------------------------------------------------------------------------- the book
@@ -432,8 +233,6 @@ class ContactBook:
         if n <= self.settings.max_events:
             return False
         if c.kind == "body":
-            from orchestrator.run.runner import ContactError
-
             raise ContactError(
                 f"{c.body} hit {c.other} {n} times within {self.settings.window_s:g} s of simulated time "
                 f"(t = {t:.6g} s): two bodies pressed together, which event-driven contact cannot model")
@@ -530,10 +329,7 @@ class ContactBook:
         return json.loads(path.read_text()) if path.is_file() else []
 
     def _write_events(self, events: list[dict]) -> None:
-        path = self.case / CONTACTS_JSON
-        tmp = path.with_suffix(".json.tmp")
-        tmp.write_text(json.dumps(events, indent=2))
-        os.replace(tmp, path)
+        write_text_atomic(self.case / CONTACTS_JSON, json.dumps(events, indent=2))
 
     def _record_event(self, time_name: str, c: Contact, before: dict[str, BodyState], after: dict[str, BodyState],
                       result) -> None:

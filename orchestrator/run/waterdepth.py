@@ -44,6 +44,10 @@ from pathlib import Path
 from typing import Any, Sequence
 
 import numpy as np
+import yaml
+
+from orchestrator.case.folder import CaseFolder
+from orchestrator.plan.grid import Segment
 
 #: the function object's name, its file in system/ and its folder in postProcessing/
 NAME = "bodyDepth"
@@ -111,15 +115,11 @@ class Sample:
 
 
 def _scene(case: Path) -> dict[str, Any]:
-    import yaml
-
-    return yaml.safe_load((case / "scene.yaml").read_text())
+    return yaml.safe_load(CaseFolder(case).scene_path.read_text())
 
 
 def z_axis(plan: dict[str, Any], scene: dict[str, Any]) -> ZAxis:
     """The background's layers up to the highest still water (the reservoir) plus a cell."""
-    from orchestrator.plan.grid import Segment
-
     h = float(scene["mesh"]["cell_size_m"])
     (z0, z1) = (float(v) for v in plan["domain_m"][2])
     water_top = max((float(w["max_m"][2]) for w in plan.get("water") or []), default=z1)
@@ -208,10 +208,8 @@ def install(case_dir: str | Path, axis: ZAxis,
             around: Sequence[tuple[Sequence[float], Sequence[float], Sequence[float]]] = ()) -> Grid:
     """Write system/bodyDepth (the columns around the bodies `around`, the lift of every body) and
     include it in controlDict's functions (once). The solver reads it when it (re)starts."""
-    import json
-
     case = Path(case_dir)
-    plan = json.loads((case / "plan.json").read_text())
+    plan = CaseFolder(case).plan() or {}
     grid = grid_for(plan, axis, around)
     path = case / "system" / NAME
     text = _function_object(grid, [b["name"] for b in plan.get("bodies") or []])

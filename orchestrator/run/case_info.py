@@ -1,0 +1,118 @@
+"""What the run stage knows of a rendered case: `CaseInfo`, read by `load_case_info`.
+
+The runner, the segment watch and the contact book all work from one `CaseInfo`: the
+solver, the ranks, the end time and write interval, the time-step controls, the modelled
+domain and its walls, and the bodies (their properties, sizes and holds on the bed). It is
+read once, from plan.json, system/controlDict and constant/dynamicMeshDict.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from types import SimpleNamespace
+from typing import Any
+
+from orchestrator.case import bodystate
+from orchestrator.case.bodystate import BodyProperties
+from orchestrator.case.folder import CaseFolder
+from orchestrator.run.control import read_control
+from orchestrator.run.errors import RunError
+
+__all__ = ["CaseInfo", "load_case_info"]
+
+
+@dataclass(frozen=True)
+class CaseInfo:
+    """What the runner needs to know of a rendered case (plan.json, controlDict, dynamicMeshDict);
+    `domain_m` and `downstream_type` say where the modelled flume has walls.
+    """
+
+    case: Path
+    solver: str
+    plan: Any  # what foam.mesh_steps / solve_steps read: bodies, bed_friction_factor, decomposition, solver
+    ranks: int
+    planned_cells: int
+    end_time_s: float
+    write_interval_s: float
+    velocity_scale_m_s: float
+    adjustable_time_step: bool
+    max_courant: float
+    delta_t_s: float
+    domain_m: tuple[tuple[float, float], ...]
+    two_d: bool
+    downstream_type: str
+    bodies: tuple[BodyProperties, ...]
+    body_sizes_m: dict[str, tuple[float, float, float]]
+    #: (body, time) of bodies held on the bed until that time (plan.json hold_until_s)
+    holds: tuple[tuple[str, float], ...] = ()
+    #: plan.json stall_limit_s (scene run.stall_limit_s): None = the runner's default
+    stall_limit_s: float | None = None
+    #: plan.json water_balance_limit (scene run.water_balance_limit): None = the runner's default
+    water_balance_limit: float | None = None
+
+    @property
+    def body_names(self) -> tuple[str, ...]:
+        return tuple(b.name for b in self.bodies)
+
+
+def _read_plan(folder: CaseFolder) -> dict:
+    plan_path = folder.plan_path
+    if not plan_path.is_file():
+        raise RunError(f"{plan_path} is missing: render the case first (debrisfoam render SCENE -o {folder.path})")
+    notes: list[str] = []
+    plan = folder.plan(notes)
+    if plan is None:
+        raise RunError(f"{plan_path}: {notes[0] if notes else 'not a JSON object'}")
+    return plan
+
+
+def load_case_info(case_dir: str | Path, np_override: int | None = None) -> CaseInfo:
+    """Read plan.json, system/controlDict and constant/dynamicMeshDict of a rendered case."""
+    case = Path(case_dir).resolve()
+    folder = CaseFolder(case)
+    plan = _read_plan(folder)
+    try:
+        solver = plan["solver"]
+        n = tuple(int(v) for v in plan["decomposition"]["n"])
+        domain = tuple(tuple(float(v) for v in a) for a in plan["domain_m"])
+    except (KeyError, TypeError) as exc:
+        raise RunError(f"{folder.plan_path}: not a debrisfoam plan (missing {exc})") from None
+    control = read_control(case)
+    ranks = int(np_override) if np_override else n[0] * n[1] * n[2]
+    if ranks < 1:
+        raise RunError(f"--np must be >= 1, got {ranks}")
+    bodies = tuple(bodystate.read_body_properties(case))
+    sizes = {b["name"]: tuple(float(v) for v in b["size_m"]) for b in plan.get("bodies", [])}
+    missing = [b.name for b in bodies if b.name not in sizes]
+    if missing:
+        raise RunError(f"{folder.plan_path}: no size for bodies {missing} of constant/dynamicMeshDict")
+    steps_plan = SimpleNamespace(
+        solver=solver,
+        decomposition=n,
+        bed_friction_factor=float(plan.get("bed_friction_factor", 0.0)),
+        bodies=[SimpleNamespace(name=b.name) for b in bodies],
+    )
+    return CaseInfo(
+        case=case,
+        solver=solver,
+        plan=steps_plan,
+        ranks=ranks,
+        planned_cells=int(plan.get("cell_count", 0)),
+        end_time_s=float(control["endTime"]),
+        write_interval_s=float(control["writeInterval"]),
+        velocity_scale_m_s=float(plan.get("velocity_scale_m_s") or 5.0),
+        adjustable_time_step=str(control["adjustTimeStep"]).lower() in ("yes", "on", "true", "1")
+        if "adjustTimeStep" in control else False,
+        max_courant=float(control["maxCo"]) if "maxCo" in control else 1.0,
+        delta_t_s=float(control["deltaT"]),
+        domain_m=domain,
+        two_d=bool(plan.get("two_d", False)),
+        downstream_type=str(plan.get("downstream_type", "wall")),
+        bodies=bodies,
+        body_sizes_m=sizes,
+        holds=tuple((str(b["name"]), float(b["hold_until_s"])) for b in plan.get("bodies", [])
+                    if float(b.get("hold_until_s") or 0.0) > 0.0),
+        stall_limit_s=float(plan["stall_limit_s"]) if plan.get("stall_limit_s") else None,
+        water_balance_limit=float(plan["water_balance_limit"]) if plan.get("water_balance_limit") else None,
+    )

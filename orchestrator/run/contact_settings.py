@@ -1,0 +1,76 @@
+"""How the runner handles contact: `ContactSettings`, the knobs of the contact book.
+
+The settings say when a body is in contact (the gap), which contacts are impacts and which
+resting contacts, how the bed is watched, when a body the flow keeps pressing against an
+obstacle is pinned, and the impact model's parameters. `run_case` takes them; the contact
+book (`orchestrator.run.contact_book`), the bed watch and the segment watch read them.
+
+Units: seconds, metres, kg, N.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+__all__ = ["ContactSettings"]
+
+
+@dataclass(frozen=True)
+class ContactSettings:
+    """When and how the runner handles contact between bodies and obstacles.
+
+    gap_m: a body closer than this to the column, a wall or another body is in contact.
+    min_impact_speed_m_s: slower closing speeds are resting contacts: the closing motion
+        is stopped (a plastic impulse, no force history), not resolved as an impact.
+    bed: watch the bed too. Touching the bed is not an impact (orchestrator.run.contact), but
+        v1912 lets a body sink through it: a body that sinks more than `bed_tolerance_m`
+        (default half the gap) into it is stopped, lifted back onto it and its velocity
+        into it removed (`contact.clamp_to_bed`).
+    max_events / window_s: more than `max_events` contacts of the same pair within
+        `window_s` of simulated time is a resting contact, which this event-driven model
+        cannot represent: the body is pinned where it is for the rest of the run (debris
+        held against the column or a wall by the flow); two bodies: ContactError. A body
+        lifted out of the bed more than `max_events` times within `window_s` is kept on
+        the bed's plane (`bodystate.rest_on_bed`) until the water measured around it can carry
+        it (`orchestrator.run.bedwatch`).
+    bed_runaway_m_s: so is a body found sinking into the bed faster than this. Settling
+        bodies closed on the bed at 0.2-0.6 m/s in the hard cases; where each lift pulled
+        the body down harder, the speeds went 0.5, 0.8, 2.0, 6.9 m/s to a blow-up.
+    impact: keyword arguments for `analytical.impact.impact` / `pair_impact`
+        (stiffness_N_m, friction_coefficient, damping_ratio, ...).
+    added_mass_coefficient: C_a of the debris for the impact model.
+    float_margin_m: a body the runner keeps on the bed (the planner's hold, `rest_on_bed`) is
+        freed once the water depth measured around it exceeds the height of its underside plus
+        its draft plus this margin (`orchestrator.run.bedwatch`). 5 mm: the depth reading's own spread
+        on a still 15 mm wet bed at 4 cm cells is under 1 mm, the bore's surface near a body
+        moves by a few mm from one sample to the next.
+    bed_friction: Coulomb friction (the scene's `debris[].contact.bed_friction_coefficient`)
+        on a body while it is kept on the bed (`orchestrator.run.bedwatch`).
+    adjust_phi_when_pinned: once every body is pinned, switch the overset flux adjustment
+        on (PIMPLE `oversetAdjustPhi yes` in system/fvSolution) for the rest of the run. A
+        pinned body loses water into the background's fringe at about 1 % a second; the
+        adjustment cut that to 0.4-0.5 % (docs/openfoam-notes.md, "Water balance"). It stays off while
+        any body moves: around a body sliding fast along the bed it created water.
+    """
+
+    enabled: bool = True
+    gap_m: float = 0.005
+    min_impact_speed_m_s: float = 0.05
+    bed: bool = True
+    bed_tolerance_m: float | None = None
+    max_events: int = 6
+    window_s: float = 0.05
+    bed_runaway_m_s: float = 1.0
+    added_mass_coefficient: float = 0.0
+    adjust_phi_when_pinned: bool = True
+    float_margin_m: float = 0.005
+    bed_friction: bool = True
+    impact: dict = field(default_factory=dict)
+
+    @property
+    def bed_sink_m(self) -> float:
+        return self.gap_m / 2 if self.bed_tolerance_m is None else self.bed_tolerance_m
+
+    def __post_init__(self) -> None:
+        if not self.gap_m > 0:
+            raise ValueError(f"gap_m must be > 0, got {self.gap_m}")
