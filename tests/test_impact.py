@@ -24,11 +24,11 @@ from analytical.impact import (
     Body,
     ColumnTarget,
     RigidWall,
-    effective_mass,
     impact,
     inverse_inertia_tensor,
     pair_impact,
 )
+from analytical.impact_bodies import effective_mass
 from analytical.mdof import mdof_response
 
 M = 0.236  # the seed's container, kg
