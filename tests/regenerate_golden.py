@@ -21,7 +21,8 @@ if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
 from orchestrator.plan.grid import BoxGrid, Segment  # noqa: E402
-from orchestrator.plan.planner import BodyPlan, GaugePlan, ModelPlan, WaterBox  # noqa: E402
+from orchestrator.plan.case_numbers import case_numbers  # noqa: E402
+from orchestrator.plan.model import BodyPlan, GaugePlan, ModelPlan, WaterBox  # noqa: E402
 
 GOLDEN_DIR = Path(__file__).resolve().parent / "golden"
 
@@ -78,6 +79,9 @@ def flume_plan(n_bodies: int = 0, h: float = 0.04, two_d: bool = False, end_time
              WaterBox("wetBed", (0.0, -0.3, 0.0), (1.8, 0.3, 0.06)))
     gauges = (GaugePlan("WG1", -0.1, 0.0, 0.45), GaugePlan("WG2", 0.6, 0.2, 0.45), GaugePlan("WG4", 1.17, 0.0, 0.45))
     cells = bg.cell_count() + sum(b.grid.cell_count() for b in bodies)
+    # the numbers the dictionaries need, as the planner decides them (scene defaults: g = 9.81, no maxDeltaT)
+    numbers = case_numbers(bg, water, two_d=two_d, max_courant=0.8, write_interval_s=0.01, max_delta_t=None,
+                           gravity_m_s2=9.81)
     return ModelPlan(
         scene_name="fixture",
         solver="overInterDyMFoam" if n_bodies else "interFoam",
@@ -85,7 +89,7 @@ def flume_plan(n_bodies: int = 0, h: float = 0.04, two_d: bool = False, end_time
         decomposition=tuple(decomposition), end_time_s=end_time_s, write_interval_s=0.01, max_courant=0.8,
         domain_m=((-0.6, 1.8), (-0.3, 0.3), (0.0, 0.45)), fine_region_m=((-0.6, 1.8), (-0.3, 0.3), (0.0, 0.45)),
         downstream_type="wall", bed_friction_factor=friction, velocity_scale_m_s=3.4,
-        time_step_estimate_s=0.8 * h / 3.4, reasons={"fixture": "a short flume segment for tests"},
+        time_step_estimate_s=0.8 * h / 3.4, reasons={"fixture": "a short flume segment for tests"}, **numbers,
     )
 
 

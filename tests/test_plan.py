@@ -21,9 +21,9 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from analytical.errors import InputError
+from orchestrator.plan.bodies import hold_until_s as _hold_until_s
 from orchestrator.plan.planner import (
     REASON_KEYS,
-    _hold_until_s,
     SAFETY,
     STEP_FACTOR,
     US_PER_CELL_STEP,
@@ -663,3 +663,65 @@ def test_overlapping_body_meshes_are_named_in_the_warnings():
     assert any("debris1 and debris2 overlap at the start" in w and "never finish the overset addressing" in w
                for w in six.warnings)
     assert not any("overlap" in w for w in plan_case(load_scene(CASES / "1debris.yaml")).warnings)
+
+
+# ------------------------------------------------------------- plan.json round trip
+
+#: The numbers the case's dictionaries need, decided by the planner and written to plan.json.
+CASE_NUMBER_KEYS = ("bed_cell_m", "min_cell_m", "still_water_m", "friction_layer_m", "water_depth_m",
+                    "column_box_m", "first_delta_t_s", "max_delta_t_s")
+
+
+@pytest.mark.parametrize("name", CASE_NAMES)
+def test_plan_json_carries_the_numbers_the_case_needs(name):
+    from orchestrator.plan.case_numbers import friction_layer_top_m
+
+    s = case(name)
+    p = plan_case(s)
+    data = json.loads(p.to_json())
+    for key in CASE_NUMBER_KEYS:
+        assert key in data, key
+    assert data["bed_cell_m"] == p.background.z[0].cell_sizes_m()[0]
+    assert 0 < data["min_cell_m"] <= min(data["bed_cell_m"], s.mesh.cell_size_m)
+    assert data["still_water_m"] == s.bed.wet_depth_m
+    assert data["friction_layer_m"] == friction_layer_top_m(p.background.z, s.bed.wet_depth_m)
+    assert data["friction_layer_m"] > data["still_water_m"]
+    assert data["water_depth_m"] == pytest.approx(s.reservoir.depth_m)
+    lo, hi = data["column_box_m"]
+    assert lo == pytest.approx([s.column.x_m - s.column.size_x_m / 2, s.column.y_m - s.column.size_y_m / 2, 0.0])
+    assert hi[0] == pytest.approx(s.column.x_m + s.column.size_x_m / 2)
+    assert 0 < data["first_delta_t_s"] <= 1e-3
+    assert data["max_delta_t_s"] == min(0.01, s.run.write_interval_s)
+
+
+def test_plan_json_has_no_column_box_without_a_column():
+    p = plan_case(valid("column=null", "debris=[]"))
+    assert p.column_box_m is None and json.loads(p.to_json())["column_box_m"] is None
+
+
+def test_max_delta_t_follows_the_scene_into_the_plan():
+    assert plan_case(valid("run.max_delta_t_s=0.05")).max_delta_t_s == 0.05
+
+
+@pytest.mark.parametrize("name, overrides", [(n, ()) for n in CASE_NAMES] + [
+    ("1debris", ("run.cores=4",)), ("2d", ())])
+def test_plan_json_reads_back_into_an_equal_plan(name, overrides):
+    from dataclasses import replace
+
+    from orchestrator.plan.model import ModelPlan
+
+    p = plan_case(valid("column=null", "debris=[]") if name == "2d" else case(name, *overrides))
+    back = ModelPlan.from_json(p.to_json())
+    # plan.json holds the wall-time estimate to 0.1 s
+    assert back == replace(p, estimated_wall_time_s=round(p.estimated_wall_time_s, 1))
+    assert ModelPlan.from_json(back.to_json()) == back
+    assert back.to_json() == p.to_json()
+
+
+def test_a_plan_json_without_a_field_is_refused_by_name():
+    from orchestrator.plan.model import ModelPlan
+
+    data = json.loads(plan_case(case("nodebris")).to_json())
+    del data["first_delta_t_s"]
+    with pytest.raises(InputError, match="first_delta_t_s"):
+        ModelPlan.from_dict(data)

@@ -151,7 +151,7 @@ def _z_segments(*edges_and_cells):
 
 
 def test_friction_zone_is_the_first_layer_the_moving_water_runs_in():
-    from orchestrator.case.render import friction_layer_top_m
+    from orchestrator.plan.case_numbers import friction_layer_top_m
 
     z = _z_segments((0.0, 0.015, 1), (0.015, 0.415, 10))  # a plane at a 15 mm wet bed, then 4 cm cells
     assert friction_layer_top_m(z, 0.0) == pytest.approx(0.015)  # dry bed: the first layer
@@ -431,7 +431,7 @@ def test_scene_files_mesh_at_a_coarse_cell_size(tmp_path, openfoam, name):
     # the bed layer holds background cells only, even where a body mesh dips below the bed
     # the drag zone: the layers up to the first above the still water (docs/bed-friction.md): the wet
     # bed's and that one, and under a resting container the gap's four (plan.BedGap)
-    from orchestrator.case.render import friction_layer_top_m
+    from orchestrator.plan.case_numbers import friction_layer_top_m
 
     top = friction_layer_top_m(plan.background.z, 0.015)
     layers = int(np.sum(np.cumsum([s.length_m / s.cells for s in plan.background.z for _ in range(s.cells)]) <= top + 1e-9))

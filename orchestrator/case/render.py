@@ -3,8 +3,8 @@
 One template per OpenFOAM file under `templates/` (mirroring the case layout:
 `templates/system/controlDict.j2` -> `<case>/system/controlDict`). Templates see
 one *render context* (`build_context`), a plain dict of numbers, words and
-`BoxGrid`s, so they hold layout only; every number is decided here or in the
-planner.
+`BoxGrid`s, so they hold layout only. Every number is decided by the planner and read
+here from the plan (`ModelPlan`): the renderer formats, it does not choose.
 
 The environment uses delimiters that cannot clash with OpenFOAM's braces and `#`
 directives: blocks `<% %>`, variables `<< >>`, comments `<# #>`; undefined names
@@ -24,17 +24,23 @@ from __future__ import annotations
 import math
 import shutil
 from dataclasses import asdict, dataclass
+from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 from typing import Any, Iterable, Sequence
 
 import numpy as np
+import yaml
 from jinja2 import ChoiceLoader, Environment, FileSystemLoader, StrictUndefined
 
 from analytical.errors import InputError
-from orchestrator.case.folder import BED_LAYER_ZONE, BODIES_DIR
-from orchestrator.core.files import bundled_dir
+from orchestrator.case import foam
+from orchestrator.case.folder import BED_LAYER_ZONE, BODIES_DIR, PLAN_JSON, SCENE_YAML
+from orchestrator.core.files import bundled_dir, write_text_atomic
+from orchestrator.plan.grading import COLUMN_PATCH
 from orchestrator.plan.grid import BoxGrid
-from orchestrator.plan.planner import max_delta_t_s
+from orchestrator.plan.model import ModelPlan
+from orchestrator.scene.scenefile import dump_scene_yaml
+from orchestrator.scene.schema import Fluids, Outputs, Scene
 
 TEMPLATE_DIR = bundled_dir("templates", "templates")
 
@@ -55,7 +61,6 @@ BLOCKMESH_TYPES = {"wall": "wall", "body": "wall", "atmosphere": "patch", "outle
 #: floatingBody tutorial does) so that overset interpolation is set up before any
 #: other boundary condition is evaluated.
 OVERSET_DUMMY_PATCH = "oversetPatch"
-COLUMN_PATCH = "column"
 
 # --------------------------------------------------------------------------- numerics
 
@@ -204,35 +209,6 @@ def template_environment(extra_dirs: Sequence[str | Path] = ()) -> Environment:
 # --------------------------------------------------------------------------- context
 
 
-def _first_cell_m(segments) -> float:
-    return min(min(s.cell_sizes_m()) for s in segments)
-
-
-def _cell_edges(segments) -> np.ndarray:
-    """Cell faces along one axis of a BoxGrid (the segments' geometric progressions)."""
-    edges = [segments[0].start_m]
-    for seg in segments:
-        n, r = seg.cells, seg.grading
-        q = 1.0 if n == 1 or abs(r - 1.0) < 1e-12 else r ** (1.0 / (n - 1))
-        sizes = q ** np.arange(n)
-        edges += list(seg.start_m + np.cumsum(sizes)[:-1] / sizes.sum() * seg.length_m) + [seg.end_m]
-    return np.asarray(edges, dtype=float)
-
-
-def friction_layer_top_m(z_segments, still_water_m: float) -> float:
-    """Height above the bed of the bed-friction zone's top: the cell layers from the bed up to
-    the first layer whose top lies above the still water downstream (still_water_m, m above the
-    bed; 0 on a dry bed).
-
-    On a dry bed that is the first cell layer. A wet bed filling its own layers stays almost
-    still under a laminar bore, which runs over it in the layer above (no turbulence couples
-    them); drag on the still layers alone would never reach the bore (docs/bed-friction.md).
-    """
-    edges = _cell_edges(z_segments) - z_segments[0].start_m
-    above = edges[edges > still_water_m + 1e-9]
-    return float(above[0]) if above.size else float(edges[-1])
-
-
 def _mesh_context(grid: BoxGrid, patch_kinds: dict[str, str], zone: str | None,
                   leading: Sequence[tuple[str, str]] = ()) -> dict[str, Any]:
     """What blockMeshDict.j2 needs for one BoxGrid."""
@@ -249,36 +225,7 @@ def _mesh_context(grid: BoxGrid, patch_kinds: dict[str, str], zone: str | None,
     }
 
 
-def _hole_box(grid: BoxGrid) -> tuple[np.ndarray, np.ndarray] | None:
-    """Bounds (min, max) of the union of a grid's holes, in grid coordinates."""
-    if not grid.holes:
-        return None
-    xs, ys, zs = grid.planes("x"), grid.planes("y"), grid.planes("z")
-    lo = np.array([[xs[i], ys[j], zs[k]] for i, j, k in grid.holes]).min(axis=0)
-    hi = np.array([[xs[i + 1], ys[j + 1], zs[k + 1]] for i, j, k in grid.holes]).max(axis=0)
-    return lo, hi
-
-
-def _water_boxes(plan) -> list[dict[str, tuple[float, float, float]]]:
-    boxes = []
-    for i, box in enumerate(plan.water):
-        lo, hi = np.asarray(box.min_m, dtype=float), np.asarray(box.max_m, dtype=float)
-        if not np.all(hi > lo):
-            raise InputError(f"plan.water.{i}", f"box max {tuple(hi)} must exceed min {tuple(lo)}")
-        boxes.append({"name": box.name, "min": tuple(lo), "max": tuple(hi)})
-    return boxes
-
-
-def _decomposition(plan) -> tuple[int, int, int]:
-    n = tuple(int(v) for v in plan.decomposition)
-    if len(n) != 3 or min(n) < 1:
-        raise InputError("plan.decomposition", f"hierarchical n must be 3 counts >= 1, got {n}")
-    return n
-
-
 def _version() -> str:
-    from importlib.metadata import PackageNotFoundError, version
-
     try:
         return version("debrisfoam")
     except PackageNotFoundError:  # running from a source tree that is not installed
@@ -317,8 +264,6 @@ def build_context(scene, plan, numerics: Numerics | None = None) -> dict[str, An
     if overset != bool(plan.bodies):
         raise InputError("plan.solver", f"{solver} with {len(plan.bodies)} debris bodies")
 
-    from orchestrator.scene.schema import Fluids, Outputs
-
     # scene None: the scene defaults (golden files and tests render plans directly)
     fluids = getattr(scene, "fluids", None) or Fluids()
     outputs = getattr(scene, "outputs", None) or Outputs()
@@ -331,6 +276,47 @@ def build_context(scene, plan, numerics: Numerics | None = None) -> dict[str, An
     patches = [{"name": n, "kind": k} for n, k in leading]
     patches += [{"name": n, "kind": kinds[n]} for n in background["patch_names"]]
 
+    bodies = _bodies_context(plan, patches)
+    lo = np.array([bg.planes(a)[0] for a in "xyz"])
+    hi = np.array([bg.planes(a)[-1] for a in "xyz"])
+    column = _column_context(plan)
+    gauges, probes = _sampling_context(plan, lo, hi, column)
+    n = tuple(int(v) for v in plan.decomposition)
+    diag = float(np.linalg.norm(hi - lo))
+    return {
+        "generator_version": _version(),
+        "case": {"solver": solver, "overset": overset, "two_d": bool(plan.two_d),
+                 "cell_count": int(plan.cell_count), "bodies_dir": BODIES_DIR},
+        "background": background,
+        "bodies": bodies,
+        "patches": patches,
+        "water_boxes": [{"name": box.name, "min": tuple(float(v) for v in box.min_m),
+                         "max": tuple(float(v) for v in box.max_m)} for box in plan.water],
+        "bed_friction": _friction_context(plan, lo, hi),
+        "domain": {"min": tuple(lo), "max": tuple(hi)},
+        "gauges": gauges,
+        "probes": probes,
+        "column": column,
+        "time": _time_context(plan, outputs),
+        "decomposition": {"n": n, "n_subdomains": int(np.prod(n))},
+        "fluid": {"water_rho": fluids.water_density_kg_m3, "water_nu": fluids.water_viscosity_m2_s,
+                  "air_rho": fluids.air_density_kg_m3, "air_nu": fluids.air_viscosity_m2_s,
+                  "sigma": fluids.surface_tension_N_m, "g": (0.0, 0.0, -fluids.gravity_m_s2),
+                  # p_rgh = p - rho g (z - hRef): with hRef at the still-water level downstream
+                  # (the wet bed's surface), water and air at rest there both have p_rgh = 0, so
+                  # one p_rgh = 0 condition on the open boundaries is hydrostatic for both phases.
+                  "h_ref_m": float(plan.still_water_m)},
+        "numerics": asdict(numerics),
+        # Points are moved by a body only if connected to its wall patch; the body
+        # meshes are disconnected from the background and from each other, so a
+        # distance beyond the domain moves each body mesh rigidly and nothing else.
+        "motion": {"inner_distance_m": max(100.0, 10 * diag), "outer_distance_m": max(101.0, 10 * diag + 1)},
+        "reasons": [f"{k}: {v}" for k, v in plan.reasons.items()],
+    }
+
+
+def _bodies_context(plan: ModelPlan, patches: list[dict[str, str]]) -> list[dict[str, Any]]:
+    """Each body's entry of the context; its two patches are appended to ``patches``."""
     bodies = []
     for zone_id, body in enumerate(plan.bodies, start=1):
         wall, outer = body.name, f"{body.name}Overset"
@@ -352,25 +338,26 @@ def build_context(scene, plan, numerics: Numerics | None = None) -> dict[str, An
             "moment_of_inertia_kg_m2": tuple(float(v) for v in body.moment_of_inertia_kg_m2),
             "orientation": tuple(tuple(float(v) for v in row) for row in np.asarray(body.orientation, dtype=float)),
             "size_m": tuple(float(v) for v in body.size_m),
-            "velocity_m_s": tuple(float(v) for v in getattr(body, "velocity_m_s", (0.0, 0.0, 0.0))),
-            "hold_until_s": float(getattr(body, "hold_until_s", 0.0)),
-            "upright": bool(getattr(body, "upright", False)),
+            "velocity_m_s": tuple(float(v) for v in body.velocity_m_s),
+            "hold_until_s": float(body.hold_until_s),
+            "upright": bool(body.upright),
         })
+    return bodies
 
-    lo = np.array([bg.planes(a)[0] for a in "xyz"])
-    hi = np.array([bg.planes(a)[-1] for a in "xyz"])
-    dz_bed = bg.z[0].cell_sizes_m()[0]  # height of the first cell layer above the bed
-    h_min = min(_first_cell_m(bg.x), _first_cell_m(bg.y) if not plan.two_d else np.inf, dz_bed)
-    water_boxes = _water_boxes(plan)
-    depth = max((b["max"][2] - lo[2] for b in water_boxes), default=hi[2] - lo[2])
 
-    column = None
-    hole = _hole_box(bg)
-    if hole is not None and COLUMN_PATCH in background["patch_names"]:
-        c_lo, c_hi = (np.asarray(v) @ np.asarray(bg.rotation).T + np.asarray(bg.origin) for v in hole)
-        base = ((c_lo[0] + c_hi[0]) / 2, (c_lo[1] + c_hi[1]) / 2, c_lo[2])
-        column = {"patch": COLUMN_PATCH, "min": tuple(c_lo), "max": tuple(c_hi), "centre_of_rotation": base}
+def _column_context(plan: ModelPlan) -> dict[str, Any] | None:
+    """The column's patch and box, and the centre of its base (the forces' centre of rotation)."""
+    if plan.column_box_m is None:
+        return None
+    c_lo, c_hi = plan.column_box_m
+    base = ((c_lo[0] + c_hi[0]) / 2, (c_lo[1] + c_hi[1]) / 2, c_lo[2])
+    return {"patch": COLUMN_PATCH, "min": tuple(c_lo), "max": tuple(c_hi), "centre_of_rotation": base}
 
+
+def _sampling_context(plan: ModelPlan, lo: np.ndarray, hi: np.ndarray, column: dict[str, Any] | None):
+    """The gauge lines (bed to top, two points per bed cell) and the probes: one at the bed under
+    each gauge, four up the column's upstream face."""
+    dz_bed = plan.bed_cell_m
     y_mid = (lo[1] + hi[1]) / 2
     gauges, probes = [], []
     for g in plan.gauges:
@@ -384,79 +371,44 @@ def build_context(scene, plan, numerics: Numerics | None = None) -> dict[str, An
                        "n_points": n_points})
         probes.append({"name": f"{g.name}_bed", "point": (float(g.x), y, lo[2] + dz_bed / 2)})
     if column is not None:
-        x_face = column["min"][0] - h_min / 4
+        x_face = column["min"][0] - plan.min_cell_m / 4
         yc = column["centre_of_rotation"][1]
         for n in range(1, 5):
-            z = lo[2] + depth * n / 5
+            z = lo[2] + plan.water_depth_m * n / 5
             probes.append({"name": f"column_face_{n}", "point": (x_face, yc, z)})
+    return gauges, probes
 
-    end_s = float(plan.end_time_s)
-    write_s = float(plan.write_interval_s)
+
+def _time_context(plan: ModelPlan, outputs) -> dict[str, Any]:
     max_co = float(plan.max_courant)
-    wave_speed = 2 * math.sqrt(fluids.gravity_m_s2 * max(depth, 1e-3))
-    time = {
-        "end_s": end_s,
-        "write_interval_s": write_s,
-        "delta_t_s": float(f"{min(1e-3, 0.1 * max_co * h_min / wave_speed):.2g}"),
-        "max_delta_t_s": max_delta_t_s(getattr(getattr(scene, "run", None), "max_delta_t_s", None), write_s),
+    return {
+        "end_s": float(plan.end_time_s),
+        "write_interval_s": float(plan.write_interval_s),
+        "delta_t_s": float(plan.first_delta_t_s),
+        "max_delta_t_s": float(plan.max_delta_t_s),
         "max_courant": max_co,
         "max_alpha_courant": max_co,
         # gauges, forces and probes: every time step when the scene says null
         "sample_interval_s": None if outputs.probe_interval_s is None else float(outputs.probe_interval_s),
     }
 
-    # Bed friction (Darcy f): a quadratic drag on the cell layers next to the bed (the first
-    # one, or up to the first above a wet bed's still water: friction_layer_top_m), as a
-    # Darcy-Forchheimer porosity with only the Forchheimer term, horizontal only.
-    # Per unit volume the model's drag is rho |U| F / 2 U; the bed shear
-    # rho (f / 8) |U| U spread over the zone's height dz gives F = f / (4 dz), times the
-    # plan's calibration (bed.friction_calibration: the zone under-brakes the thin bore tip).
-    friction = None
+
+def _friction_context(plan: ModelPlan, lo: np.ndarray, hi: np.ndarray) -> dict[str, Any] | None:
+    """Bed friction (Darcy f): a quadratic drag on the plan's friction layer next to the bed, as a
+    Darcy-Forchheimer porosity with only the Forchheimer term, horizontal only.
+
+    Per unit volume the model's drag is rho |U| F / 2 U; the bed shear rho (f / 8) |U| U spread
+    over the zone's height dz gives F = f / (4 dz), times the plan's calibration
+    (bed.friction_calibration: the zone under-brakes the thin bore tip).
+    """
     f_darcy = float(plan.bed_friction_factor)
-    if f_darcy > 0:
-        calibration = float(getattr(plan, "bed_friction_calibration", 1.0))
-        still = max([b["max"][2] - lo[2] for b in water_boxes if b["min"][0] >= 0.0], default=0.0)
-        layer = friction_layer_top_m(bg.z, still)
-        friction = {"darcy_f": f_darcy, "layer_m": layer, "zone": BED_LAYER_ZONE, "calibration": calibration,
-                    "forchheimer_per_m": calibration * f_darcy / (4 * layer),
-                    "box_min": (lo[0] - 1, lo[1] - 1, lo[2] - 1), "box_max": (hi[0] + 1, hi[1] + 1, lo[2] + layer)}
-
-    n = _decomposition(plan)
-    diag = float(np.linalg.norm(hi - lo))
-    return {
-        "generator_version": _version(),
-        "case": {"solver": solver, "overset": overset, "two_d": bool(plan.two_d),
-                 "cell_count": int(plan.cell_count), "bodies_dir": BODIES_DIR},
-        "background": background,
-        "bodies": bodies,
-        "patches": patches,
-        "water_boxes": water_boxes,
-        "bed_friction": friction,
-        "domain": {"min": tuple(lo), "max": tuple(hi)},
-        "gauges": gauges,
-        "probes": probes,
-        "column": column,
-        "time": time,
-        "decomposition": {"n": n, "n_subdomains": int(np.prod(n))},
-        "fluid": {"water_rho": fluids.water_density_kg_m3, "water_nu": fluids.water_viscosity_m2_s,
-                  "air_rho": fluids.air_density_kg_m3, "air_nu": fluids.air_viscosity_m2_s,
-                  "sigma": fluids.surface_tension_N_m, "g": (0.0, 0.0, -fluids.gravity_m_s2),
-                  # p_rgh = p - rho g (z - hRef): with hRef at the still-water level downstream
-                  # (the wet bed's surface), water and air at rest there both have p_rgh = 0, so
-                  # one p_rgh = 0 condition on the open boundaries is hydrostatic for both phases.
-                  "h_ref_m": _still_level_downstream(plan)},
-        "numerics": asdict(numerics),
-        # Points are moved by a body only if connected to its wall patch; the body
-        # meshes are disconnected from the background and from each other, so a
-        # distance beyond the domain moves each body mesh rigidly and nothing else.
-        "motion": {"inner_distance_m": max(100.0, 10 * diag), "outer_distance_m": max(101.0, 10 * diag + 1)},
-        "reasons": [f"{k}: {v}" for k, v in plan.reasons.items()],
-    }
-
-
-def _still_level_downstream(plan) -> float:
-    """The wet bed's surface (m above the bed; 0 when the bed is dry): the case's hRef."""
-    return max((box.max_m[2] for box in plan.water if box.name == "wetBed"), default=0.0)
+    if f_darcy <= 0:
+        return None
+    calibration = float(plan.bed_friction_calibration)
+    layer = float(plan.friction_layer_m)
+    return {"darcy_f": f_darcy, "layer_m": layer, "zone": BED_LAYER_ZONE, "calibration": calibration,
+            "forchheimer_per_m": calibration * f_darcy / (4 * layer),
+            "box_min": (lo[0] - 1, lo[1] - 1, lo[2] - 1), "box_max": (hi[0] + 1, hi[1] + 1, lo[2] + layer)}
 
 
 # --------------------------------------------------------------------------- files
@@ -519,21 +471,19 @@ def render_case(scene, plan, out_dir: str | Path, force: bool = False, overrides
     that no stale mesh or results survive; other files are overwritten in place.
     `overrides` (the `--set` items that produced `scene`) head scene.yaml.
     """
-    from orchestrator.case import foam
-
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
         raise InputError("out_dir", f"{out} exists and is not a directory")
     if not _is_empty_dir(out):
         if not force:
             raise InputError("out_dir", f"{out} is not empty (use --force to overwrite it)")
-        if (out / "plan.json").is_file():
+        if (out / PLAN_JSON).is_file():
             shutil.rmtree(out)
     context = build_context(scene, plan)
     env = template_environment()
     files = render_files(context, env)
-    files["scene.yaml"] = _scene_yaml(scene, overrides)
-    files["plan.json"] = _plan_json(plan)
+    files[SCENE_YAML] = _scene_yaml(scene, overrides)
+    files[PLAN_JSON] = _plan_json(plan)
     steps = foam.mesh_steps(out, plan) + foam.solve_steps(out, plan)
     files["README.md"] = env.get_template("README.md.j2").render(
         **context, commands=[{"name": s.name, "shell": s.shell(), "what": s.what} for s in steps],
@@ -541,17 +491,12 @@ def render_case(scene, plan, out_dir: str | Path, force: bool = False, overrides
     for rel, text in files.items():
         path = out / rel
         path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(text)
+        write_text_atomic(path, text)
     return out
 
 
 def _scene_yaml(scene, overrides: Sequence[str] = ()) -> str:
     """The resolved scene as YAML (a plain dict, e.g. in tests, is dumped as it is)."""
-    import yaml
-
-    from orchestrator.scene.scenefile import dump_scene_yaml
-    from orchestrator.scene.schema import Scene
-
     if isinstance(scene, Scene):
         return dump_scene_yaml(scene, list(overrides))
     if isinstance(scene, dict):
@@ -559,6 +504,6 @@ def _scene_yaml(scene, overrides: Sequence[str] = ()) -> str:
     raise TypeError(f"render_case needs an orchestrator.scene.schema.Scene, got {type(scene).__name__}")
 
 
-def _plan_json(plan) -> str:
+def _plan_json(plan: ModelPlan) -> str:
     text = plan.to_json()
     return text if text.endswith("\n") else text + "\n"

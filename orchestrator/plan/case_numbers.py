@@ -1,0 +1,72 @@
+"""The numbers a case's dictionaries need beyond the grids, decided once for the plan.
+
+From the background grid and the water: the bed's first cell layer, the smallest first
+cell, the still water downstream (the case's hRef) and the top of the bed-friction zone
+above it, the deepest water, the column's box, the first time step and its cap. The
+renderer writes them as they are (:class:`orchestrator.plan.model.ModelPlan` fields).
+"""
+
+from __future__ import annotations
+
+from typing import Any, Sequence
+
+import numpy as np
+
+from orchestrator.plan.grading import COLUMN_PATCH, cell_edges, min_cell_m
+from orchestrator.plan.grid import BoxGrid, Segment
+from orchestrator.plan.model import WaterBox
+from orchestrator.plan.timestep import first_delta_t_s, max_delta_t_s
+
+__all__ = ["WET_BED", "case_numbers", "column_box_m", "friction_layer_top_m"]
+
+#: The water box of the still water downstream of the gate.
+WET_BED = "wetBed"
+
+
+def friction_layer_top_m(z_segments: tuple[Segment, ...], still_water_m: float) -> float:
+    """Height above the bed of the bed-friction zone's top: the cell layers from the bed up to
+    the first layer whose top lies above the still water downstream (still_water_m, m above the
+    bed; 0 on a dry bed).
+
+    On a dry bed that is the first cell layer. A wet bed filling its own layers stays almost
+    still under a laminar bore, which runs over it in the layer above (no turbulence couples
+    them); drag on the still layers alone would never reach the bore (docs/bed-friction.md).
+    """
+    edges = cell_edges(z_segments) - z_segments[0].start_m
+    above = edges[edges > still_water_m + 1e-9]
+    return float(above[0]) if above.size else float(edges[-1])
+
+
+def column_box_m(grid: BoxGrid) -> tuple[tuple[float, ...], tuple[float, ...]] | None:
+    """(min, max) corners of the union of the grid's holes in scene coordinates, when the holes
+    are the column; None otherwise."""
+    if not grid.holes or grid.patch_names.get("hole", "hole") != COLUMN_PATCH:
+        return None
+    xs, ys, zs = grid.planes("x"), grid.planes("y"), grid.planes("z")
+    lo = np.array([[xs[i], ys[j], zs[k]] for i, j, k in grid.holes]).min(axis=0)
+    hi = np.array([[xs[i + 1], ys[j + 1], zs[k + 1]] for i, j, k in grid.holes]).max(axis=0)
+    c_lo, c_hi = (v @ np.asarray(grid.rotation).T + np.asarray(grid.origin) for v in (lo, hi))
+    return tuple(float(v) for v in c_lo), tuple(float(v) for v in c_hi)
+
+
+def case_numbers(background: BoxGrid, water: Sequence[WaterBox], *, two_d: bool, max_courant: float,
+                 write_interval_s: float, max_delta_t: float | None, gravity_m_s2: float) -> dict[str, Any]:
+    """The ModelPlan fields of this module's docstring (keyword arguments of ModelPlan).
+
+    ``max_delta_t``: the scene's run.max_delta_t_s (None: the default cap).
+    """
+    z0, z1 = background.planes("z")[0], background.planes("z")[-1]
+    bed_cell = background.z[0].cell_sizes_m()[0]
+    min_cell = min(min_cell_m(background.x), min_cell_m(background.y) if not two_d else np.inf, bed_cell)
+    depth = max((box.max_m[2] - z0 for box in water), default=z1 - z0)
+    still = max((box.max_m[2] for box in water if box.name == WET_BED), default=0.0)
+    return {
+        "bed_cell_m": float(bed_cell),
+        "min_cell_m": float(min_cell),
+        "still_water_m": float(still),
+        "friction_layer_m": friction_layer_top_m(background.z, still),
+        "water_depth_m": float(depth),
+        "column_box_m": column_box_m(background),
+        "first_delta_t_s": first_delta_t_s(max_courant, min_cell, depth, gravity_m_s2),
+        "max_delta_t_s": max_delta_t_s(max_delta_t, write_interval_s),
+    }
