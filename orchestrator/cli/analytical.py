@@ -88,29 +88,43 @@ def impact_inputs(args: argparse.Namespace):
     """(contact law, column, body keywords) for `analytical impact`: the scene's first (or
     --body) debris body and column, or the study's container and column; --set changes
     scene keys, or without --scene column.<field> and contact.<field>."""
+    if getattr(args, "scene", None):
+        return _scene_impact_inputs(args)
+    if args.body:
+        raise InputError("--body", "needs --scene")
+    return _study_impact_inputs(args)
+
+
+def _scene_impact_inputs(args: argparse.Namespace):
+    """impact_inputs from --scene: its column and its first (or --body) debris body."""
+    from orchestrator.run.impact_resolution import body_contact_law
+    from orchestrator.scene.scenefile import load_scene
+    from orchestrator.scene.schema import column_for_analysis
+
+    scene = load_scene(args.scene, list(args.set or []))
+    if scene.column is None:
+        raise InputError("column", "the scene has no column to strike", args.scene)
+    if not scene.debris:
+        raise InputError("debris", "the scene has no debris body", args.scene)
+    bodies = {b.name: b for b in scene.debris}
+    body = bodies.get(args.body) if args.body else scene.debris[0]
+    if body is None:
+        raise InputError("--body", f"no debris body {args.body!r} in the scene (bodies: {', '.join(bodies)})")
+    keywords = {"mass_kg": body.mass_kg, "size_m": body.size_m, "wall_thickness_m": body.wall_thickness_m,
+                "friction_coefficient": body.contact.friction_coefficient}
+    return body_contact_law(body.contact), column_for_analysis(scene), keywords
+
+
+def _study_impact_inputs(args: argparse.Namespace):
+    """impact_inputs without a scene: the study's column and container, changed by column.<field> and
+    contact.<field> overrides."""
+    from dataclasses import fields, replace
+
     from analytical.column import Column
 
     from orchestrator.run.impact_resolution import body_contact_law
     from orchestrator.scene.overrides import parse_override
-    from orchestrator.scene.scenefile import load_scene
-    from orchestrator.scene.schema import DebrisContact, column_for_analysis
-
-    if getattr(args, "scene", None):
-        scene = load_scene(args.scene, list(args.set or []))
-        if scene.column is None:
-            raise InputError("column", "the scene has no column to strike", args.scene)
-        if not scene.debris:
-            raise InputError("debris", "the scene has no debris body", args.scene)
-        bodies = {b.name: b for b in scene.debris}
-        body = bodies.get(args.body) if args.body else scene.debris[0]
-        if body is None:
-            raise InputError("--body", f"no debris body {args.body!r} in the scene (bodies: {', '.join(bodies)})")
-        keywords = {"mass_kg": body.mass_kg, "size_m": body.size_m, "wall_thickness_m": body.wall_thickness_m,
-                    "friction_coefficient": body.contact.friction_coefficient}
-        return body_contact_law(body.contact), column_for_analysis(scene), keywords
-    if args.body:
-        raise InputError("--body", "needs --scene")
-    from dataclasses import fields, replace
+    from orchestrator.scene.schema import DebrisContact
 
     column_fields = {f.name for f in fields(Column)}
     contact_fields = set(DebrisContact.model_fields)

@@ -86,6 +86,12 @@ def cmd_post(args: argparse.Namespace) -> int:
     if args.json:
         emit(summary.to_dict(), True)
         return EXIT_OK
+    emit(_post_lines(summary), False)
+    return EXIT_OK
+
+
+def _post_lines(summary) -> dict[str, Any]:
+    """The headline of a post-processed run (a PostSummary) as the lines `post` prints without --json."""
     h = summary.headline
     result: dict[str, Any] = {"results": str(summary.results_dir)}
     if summary.report:
@@ -114,8 +120,7 @@ def cmd_post(args: argparse.Namespace) -> int:
         result["peak base shear"] = f"{h['column_response']['peak_base_shear_N']:.4g} N"
     if summary.missing:
         result["missing"] = f"{len(summary.missing)} item(s), listed in summary.json and the report"
-    emit(result, False)
-    return EXIT_OK
+    return result
 
 
 def cmd_case(args: argparse.Namespace) -> int:

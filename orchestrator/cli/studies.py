@@ -86,20 +86,25 @@ def cmd_sweep(args: argparse.Namespace) -> int:
               "again to resume", file=sys.stderr)
         return 128 + (result.signum or 2)  # 130 for Ctrl-C, 143 for SIGTERM, as `debrisfoam run`
     if result.failed:
-        lines = [f"debrisfoam: error: {len(result.failed)} of {len(result.rows)} sweep member(s) failed "
-                 f"(store {result.store}):"]
-        for row in result.failures():
-            error = (row.get("error") or "no error recorded").replace("\n", "\n      ")
-            lines.append(f"  member {row['member']} {row['member_id']} ({row['overrides'] or 'base scene'}): {error}")
-            lines.append(f"    case: {row['case_dir']}")
-        lines.append("  (fix the cause, then run again with --retry-failed; finished members are skipped)")
-        print("\n".join(lines), file=sys.stderr)
+        _print_failures(result)
         return EXIT_FAILURE
     if result.unfinished:  # e.g. a member not started because the sweep was stopped
         print(f"debrisfoam: error: {len(result.unfinished)} member(s) did not finish: run the same command again",
               file=sys.stderr)
         return EXIT_FAILURE
     return EXIT_OK
+
+
+def _print_failures(result) -> None:
+    """The failed members of a sweep (a SweepResult) on stderr: each one's error and case folder."""
+    lines = [f"debrisfoam: error: {len(result.failed)} of {len(result.rows)} sweep member(s) failed "
+             f"(store {result.store}):"]
+    for row in result.failures():
+        error = (row.get("error") or "no error recorded").replace("\n", "\n      ")
+        lines.append(f"  member {row['member']} {row['member_id']} ({row['overrides'] or 'base scene'}): {error}")
+        lines.append(f"    case: {row['case_dir']}")
+    lines.append("  (fix the cause, then run again with --retry-failed; finished members are skipped)")
+    print("\n".join(lines), file=sys.stderr)
 
 
 def cmd_report_speed_error(args: argparse.Namespace) -> int:
