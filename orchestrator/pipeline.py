@@ -8,7 +8,6 @@ that holds a *different* case is never overwritten: that is bad input (exit 2).
 
 from __future__ import annotations
 
-import json
 import math
 import sys
 import threading
@@ -19,9 +18,12 @@ from typing import Any, Sequence
 
 from analytical.errors import InputError
 from orchestrator.case import foam
+from orchestrator.case.folder import CaseFolder
 from orchestrator.case.render import render_case
 from orchestrator.plan.planner import plan_case
+from orchestrator.report.postprocess import post_case
 from orchestrator.report.preview import preview_scene
+from orchestrator.run.runner import run_case
 from orchestrator.scene.scenefile import load_scene
 
 #: Post-processing draws with matplotlib's pyplot (and pyvista), which are not thread-safe:
@@ -37,7 +39,7 @@ def default_case_dir(scene_path: str | Path) -> Path:
 def _same_case(case: Path, scene) -> bool:
     """Does `case` hold this scene? Compared as resolved scenes, so a case rendered before a
     new scene key (with its default) was added is still the same case."""
-    existing = case / "scene.yaml"
+    existing = CaseFolder(case).scene_path
     if not existing.is_file():
         return False
     try:
@@ -48,10 +50,7 @@ def _same_case(case: Path, scene) -> bool:
 
 def _plan_warnings(case: Path) -> list[str]:
     """The planner's warnings recorded in the case's plan.json."""
-    try:
-        return list(json.loads((case / "plan.json").read_text()).get("warnings", []))
-    except (OSError, ValueError):
-        return []
+    return list((CaseFolder(case).plan() or {}).get("warnings", []))
 
 
 def prepare_case(scene_path: str | Path, out_dir: str | Path, sets: Sequence[str] = ()) -> tuple[Path, bool]:
@@ -82,9 +81,6 @@ def run_full_case(scene_path: str | Path, out_dir: str | Path | None = None, set
     stop_event: set it (from another thread) to stop the run as Ctrl-C would; the run
     raises RunInterrupted and resumes when called again.
     """
-    from orchestrator.report.postprocess import post_case
-    from orchestrator.run.runner import run_case
-
     t0 = time.perf_counter()
     case, rendered = prepare_case(scene_path, out_dir or default_case_dir(scene_path), sets)
     if not quiet:
