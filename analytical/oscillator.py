@@ -174,67 +174,8 @@ def atoms_response(atoms, t, w, z, derivatives: bool):
     level_scale = np.cumsum(np.abs(step))
     level_scale[1:] += np.cumsum(np.abs(slope[:-1]) * dts)
     level[np.abs(level) <= 64.0 * _EPS * level_scale] = 0.0
-    # Sinusoids: W_j = sum_a w_a e^{i W (t_j - t_a)}, and for resonant groups
-    # U_j = sum_a w_a (t_j - t_a) e^{i W (t_j - t_a)}. Carried from one of the group's own
-    # switch-on times to the next (few), then to every break with relative phases only, so a
-    # switched-off sinusoid cancels to rounding, which is then set to exactly zero.
-    Wg = np.zeros((ng, nb), dtype=complex)
-    Ug = np.zeros((ng, nb), dtype=complex)
-    for g in range(ng):
-        own = np.flatnonzero(wnew[g])
-        Wo = np.empty(own.size, dtype=complex)
-        Uo = np.zeros(own.size, dtype=complex)
-        scale = 0.0
-        for k, j in enumerate(own):
-            scale += abs(wnew[g, j])
-            if k == 0:
-                Wo[k] = wnew[g, j]
-            else:
-                dt = breaks[j] - breaks[own[k - 1]]
-                rot = np.exp(1j * omegas[g] * dt)
-                Wo[k] = Wo[k - 1] * rot + wnew[g, j]
-                Uo[k] = (Uo[k - 1] + dt * Wo[k - 1]) * rot
-            if abs(Wo[k]) <= 16.0 * _EPS * scale:
-                Wo[k] = 0.0
-        k_of = np.searchsorted(own, np.arange(nb), side="right") - 1
-        on = k_of >= 0
-        kk = k_of[on]
-        dt = breaks[on] - breaks[own[kk]]
-        rot = np.exp(1j * omegas[g] * dt)
-        Wg[g, on] = Wo[kk] * rot
-        if has_res[g]:
-            Ug[g, on] = (Uo[kk] + dt * Wo[kk]) * rot
-
-    # --- free-vibration amplitudes G_j (Re(G_j e^{lam tau}) after break j) ---------------------
-    # Each break's new atoms start from rest: their particular solutions' initial value p0 and
-    # velocity p1 are cancelled by free vibration A cos + B sin, i.e. C = A - i B. Then
-    # G_j = sum_{a <= j} C_a e^{lam (t_j - t_a)}, computed in blocks short enough that
-    # |e^{-lam (t_a - t_s)}| <= e^500 inside a block (no overflow; error ~ eps max|C|).
-    G = np.empty((n, nb), dtype=complex)
-    decay_max = float(np.max(z * w))
-    span = min(500.0 / decay_max if decay_max > 0.0 else np.inf, 400.0 / float(np.max(wd)))  # phase <= 400 rad
-    s = 0
-    carry = np.zeros(n, dtype=complex)
-    ones = np.ones(n, dtype=complex)
-    while s < nb:
-        e = int(min(s + 1024, np.searchsorted(breaks, breaks[s] + span, side="right")))
-        e = max(e, s + 1)
-        p0 = np.multiply.outer(1.0 / w2, step[s:e]) - np.multiply.outer(2.0 * z / (w2 * w), ramp[s:e])
-        p1 = np.multiply.outer(1.0 / w2, ramp[s:e])
-        for g in range(ng):
-            hw = np.multiply.outer(H[g], wnew[g, s:e])  # (n, e-s)
-            p0 += hw.real
-            p1 -= omegas[g] * hw.imag  # Re(i W H w)
-            if has_res[g]:
-                p1 += np.multiply.outer(Hres[g], wnew[g, s:e]).real
-        C = -p0 + 1j * ((p1 + (z * w)[:, None] * p0) / wd[:, None])  # A - i B
-        rel = breaks[s:e] - breaks[s]
-        decay = np.empty((n, e - s), dtype=complex)
-        _exp_outer(lam, rel, decay, ones)  # e^{lam rel}, |.| >= e^-500
-        G[:, s:e] = decay * (carry[:, None] + np.cumsum(C / decay, axis=1))
-        if e < nb:
-            carry = G[:, e - 1] * np.exp(lam * (breaks[e] - breaks[e - 1]))
-        s = e
+    Wg, Ug = _carried_sinusoids(breaks, omegas, wnew, has_res)
+    G = _free_vibration_amplitudes(breaks, step, ramp, omegas, wnew, H, Hres, has_res, w, z, lam)
 
     # --- evaluation at the requested times ---------------------------------------------------
     # Times are processed in column blocks of ~0.5 MB so that the (modes x times) work stays in
@@ -331,6 +272,84 @@ def atoms_response(atoms, t, w, z, derivatives: bool):
         if derivatives:
             qd, qdd = qd[:, inverse], qdd[:, inverse]
     return q, qd, qdd
+
+
+def _carried_sinusoids(breaks, omegas, wnew, has_res):
+    """Each sinusoid group's complex amplitude after every break (and, resonant, its secular part).
+
+    Sinusoids: W_j = sum_a w_a e^{i W (t_j - t_a)}, and for resonant groups
+    U_j = sum_a w_a (t_j - t_a) e^{i W (t_j - t_a)}. Carried from one of the group's own
+    switch-on times to the next (few), then to every break with relative phases only, so a
+    switched-off sinusoid cancels to rounding, which is then set to exactly zero.
+    """
+    nb = breaks.size
+    ng = omegas.size
+    Wg = np.zeros((ng, nb), dtype=complex)
+    Ug = np.zeros((ng, nb), dtype=complex)
+    for g in range(ng):
+        own = np.flatnonzero(wnew[g])
+        Wo = np.empty(own.size, dtype=complex)
+        Uo = np.zeros(own.size, dtype=complex)
+        scale = 0.0
+        for k, j in enumerate(own):
+            scale += abs(wnew[g, j])
+            if k == 0:
+                Wo[k] = wnew[g, j]
+            else:
+                dt = breaks[j] - breaks[own[k - 1]]
+                rot = np.exp(1j * omegas[g] * dt)
+                Wo[k] = Wo[k - 1] * rot + wnew[g, j]
+                Uo[k] = (Uo[k - 1] + dt * Wo[k - 1]) * rot
+            if abs(Wo[k]) <= 16.0 * _EPS * scale:
+                Wo[k] = 0.0
+        k_of = np.searchsorted(own, np.arange(nb), side="right") - 1
+        on = k_of >= 0
+        kk = k_of[on]
+        dt = breaks[on] - breaks[own[kk]]
+        rot = np.exp(1j * omegas[g] * dt)
+        Wg[g, on] = Wo[kk] * rot
+        if has_res[g]:
+            Ug[g, on] = (Uo[kk] + dt * Wo[kk]) * rot
+    return Wg, Ug
+
+
+def _free_vibration_amplitudes(breaks, step, ramp, omegas, wnew, H, Hres, has_res, w, z, lam):
+    """Free-vibration amplitudes ``G_j`` per mode: ``Re(G_j e^{lam tau})`` after break ``j``.
+
+    Each break's new atoms start from rest: their particular solutions' initial value p0 and
+    velocity p1 are cancelled by free vibration A cos + B sin, i.e. C = A - i B. Then
+    G_j = sum_{a <= j} C_a e^{lam (t_j - t_a)}, computed in blocks short enough that
+    |e^{-lam (t_a - t_s)}| <= e^500 inside a block (no overflow; error ~ eps max|C|).
+    """
+    n, nb, ng = w.size, breaks.size, omegas.size
+    wd = w * np.sqrt(1.0 - z * z)
+    w2 = w * w
+    G = np.empty((n, nb), dtype=complex)
+    decay_max = float(np.max(z * w))
+    span = min(500.0 / decay_max if decay_max > 0.0 else np.inf, 400.0 / float(np.max(wd)))  # phase <= 400 rad
+    s = 0
+    carry = np.zeros(n, dtype=complex)
+    ones = np.ones(n, dtype=complex)
+    while s < nb:
+        e = int(min(s + 1024, np.searchsorted(breaks, breaks[s] + span, side="right")))
+        e = max(e, s + 1)
+        p0 = np.multiply.outer(1.0 / w2, step[s:e]) - np.multiply.outer(2.0 * z / (w2 * w), ramp[s:e])
+        p1 = np.multiply.outer(1.0 / w2, ramp[s:e])
+        for g in range(ng):
+            hw = np.multiply.outer(H[g], wnew[g, s:e])  # (n, e-s)
+            p0 += hw.real
+            p1 -= omegas[g] * hw.imag  # Re(i W H w)
+            if has_res[g]:
+                p1 += np.multiply.outer(Hres[g], wnew[g, s:e]).real
+        C = -p0 + 1j * ((p1 + (z * w)[:, None] * p0) / wd[:, None])  # A - i B
+        rel = breaks[s:e] - breaks[s]
+        decay = np.empty((n, e - s), dtype=complex)
+        _exp_outer(lam, rel, decay, ones)  # e^{lam rel}, |.| >= e^-500
+        G[:, s:e] = decay * (carry[:, None] + np.cumsum(C / decay, axis=1))
+        if e < nb:
+            carry = G[:, e - 1] * np.exp(lam * (breaks[e] - breaks[e - 1]))
+        s = e
+    return G
 
 
 def _exp_outer(lam: np.ndarray, tau: np.ndarray, out: np.ndarray, scale: np.ndarray) -> None:
