@@ -20,6 +20,8 @@ import pandas as pd
 
 from analytical.contact_law import SEED_IMPACT_HEIGHTS_M, SEED_IMPACT_VELOCITY_M_S, SEED_TABLE2_MDOF
 from analytical.errors import InputError
+from orchestrator.case.folder import SUMMARY_JSON, CaseFolder
+from orchestrator.core.files import write_text_atomic
 
 __all__ = ["write_case_report"]
 
@@ -97,11 +99,12 @@ def _rows(head: dict, first_impact: dict | None) -> list[tuple[str, str, str, st
 def write_case_report(case_dir: str | Path, out_dir: str | Path) -> Path:
     """Write the results page of a post-processed run (see the module notes); returns report.md."""
     case, out = Path(case_dir), Path(out_dir)
-    summary_path = case / "results" / "summary.json"
+    folder = CaseFolder(case)
+    summary_path = folder.summary_path
     if not summary_path.is_file():
         raise InputError("case_dir", f"no results/summary.json: run `debrisfoam post {case}` first", str(case))
     head = json.loads(summary_path.read_text())
-    impacts_path = case / "results" / "impacts.csv"
+    impacts_path = folder.results_dir / "impacts.csv"
     first = None
     if impacts_path.is_file():
         impacts = pd.read_csv(impacts_path)
@@ -113,11 +116,11 @@ def write_case_report(case_dir: str | Path, out_dir: str | Path) -> Path:
                 first["afloat"] = first["afloat"] == "True"
     out.mkdir(parents=True, exist_ok=True)
     for name in PLOTS:  # the scene's preview lies in the case, the rest in its results
-        for where in (case / "results" / name, case / name):
+        for where in (folder.results_dir / name, case / name):
             if where.is_file():
                 shutil.copy2(where, out / name)
                 break
-    shutil.copy2(summary_path, out / "summary.json")
+    shutil.copy2(summary_path, out / SUMMARY_JSON)
     rows = _rows(head, first)
     balance = head.get("water_balance") or {}
     wall = (head.get("wall_time_s") or {}).get("total_s")
@@ -142,6 +145,4 @@ def write_case_report(case_dir: str | Path, out_dir: str | Path) -> Path:
     lines += ["", *(f"![{p[:-4]}]({p})" for p in PLOTS if (out / p).is_file()), ""]
     if head.get("missing"):
         lines += ["What the post-processing could not give:", "", *(f"- {m}" for m in head["missing"]), ""]
-    path = out / "report.md"
-    path.write_text("\n".join(lines))
-    return path
+    return write_text_atomic(out / "report.md", "\n".join(lines))

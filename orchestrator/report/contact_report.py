@@ -12,7 +12,6 @@ Writes into the output folder (``make contact-law`` -> docs/results/contact-law/
 
 from __future__ import annotations
 
-import json
 import time
 from pathlib import Path
 
@@ -28,7 +27,7 @@ from analytical.contact_law import (
     held_out,
 )
 from analytical.pulses import HalfSine
-from orchestrator.core.jsonio import json_default
+from orchestrator.core.files import write_json_atomic, write_text_atomic
 
 __all__ = ["write_contact_law_report"]
 
@@ -124,20 +123,20 @@ def write_contact_law_report(out_dir: Path, count: int = 22) -> dict:
         "relative_errors": cal.errors,
         "rigid_kd_pulse": {"peak_force_N": kd.peak_force_N, "duration_s": kd.duration_s, "impulse_Ns": kd.impulse_Ns},
     }
-    (out_dir / "calibration.json").write_text(json.dumps(calibration, indent=2, default=json_default) + "\n")
+    write_json_atomic(out_dir / "calibration.json", calibration)
     import pandas as pd
 
     table = pd.DataFrame({"velocity_m_s": held.velocity_m_s, "height_m": held.height_m,
                           **{name: getattr(held, name) for name, _, _ in _FIGURES},
                           **{f"kd_{name}": getattr(kd_held, name) for name, _, _ in _FIGURES}})
-    table.to_csv(out_dir / "held_out.csv", index=False, float_format="%.6g")
+    write_text_atomic(out_dir / "held_out.csv", table.to_csv(index=False, float_format="%.6g"))
     rows = held.rows()
-    (out_dir / "held_out.md").write_text(_held_out_markdown(rows, kd_held.rows()))
+    write_text_atomic(out_dir / "held_out.md", _held_out_markdown(rows, kd_held.rows()))
     _plot(out_dir / "contact_law.png", container.history, kd.history, held, kd_held)
     summary = {"calibration": calibration, "held_out": rows, "held_out_kd": kd_held.rows(),
                "strikes": count, "wall_time_s": time.perf_counter() - start}
-    (out_dir / "report.md").write_text(_report(calibration, rows, kd_held.rows(), count))
-    (out_dir / "summary.json").write_text(json.dumps(summary, indent=2, default=json_default) + "\n")
+    write_text_atomic(out_dir / "report.md", _report(calibration, rows, kd_held.rows(), count))
+    write_json_atomic(out_dir / "summary.json", summary)
     return summary
 
 

@@ -14,6 +14,7 @@ from typing import Any, Sequence
 import numpy as np
 import pandas as pd
 
+from orchestrator.core.files import write_text_atomic
 from orchestrator.results.compare import CONTAINER_MATERIAL, SPREADING_ANGLES_DEG
 from orchestrator.results.metrics import ARRIVAL_FRACTION, MIN_GAUGE_COVERAGE
 
@@ -202,5 +203,4 @@ def write_report(results, comp, figures: dict, tables: dict[str, Path], plots: d
             "return to zero; impulse = integral of the force.",
             "- Column response: linear superposition on the MDOF Timoshenko column (`analytical.mdof`): base shear "
             "= hydrodynamic part + impact part; y loads bend the column with its section turned.", ""]
-    path.write_text("\n".join(out))
-    return path
+    return write_text_atomic(path, "\n".join(out))
