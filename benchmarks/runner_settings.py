@@ -19,7 +19,7 @@ Errors against the most careful setting ("reference"): the debris track (the lar
 distance between the two centres of mass at the same time, over the reference's largest
 displacement), the column force (x, pressure + viscous: peak, and RMS of the difference over
 the reference's peak, at the reference's samples); and, on its own, the water balance of each
-run (`orchestrator.results.post.read_water_balance`: the largest relative water created (+) or lost (-)).
+run (`orchestrator.case.outputs.read_water_balance`: the largest relative water created (+) or lost (-)).
 
 Also measured: the runner's own cost (its CPU time over the solver's wall time, and the
 solver wall time of a bare `mpirun` against `run_case` with the progress bar drawn).
