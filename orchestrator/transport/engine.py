@@ -1,0 +1,252 @@
+"""One-way coupled transport: debris boxes carried through a recorded flow on MuJoCo.
+
+The flume study found that the debris barely changes the flow, so the flow is computed once
+without bodies and recorded (:class:`~orchestrator.transport.flow.FlowField`), and any number
+of bodies is then carried through the record by a rigid-body engine. This module runs that
+engine: :func:`run_transport` builds the MuJoCo model (:mod:`~orchestrator.transport.model`:
+why MuJoCo, and how a contact law's stiffness and damping become MuJoCo's ``solref``), steps
+it at a fixed time step to ``t_end_s``, applies the hydrodynamic forcing of
+:mod:`analytical.hydrodynamics` and records tracks and contact events
+(:mod:`~orchestrator.transport.events`).
+
+The step
+--------
+* Time step: from the stiffest contact, at least 40 steps per contact period
+  (``2 pi sqrt(m_eff / K)``; 2.3e-4 s for the 0.236 kg container on the calibrated law).
+  Bodies have full six degrees of freedom (free joints), no upright constraint.
+* Hydrodynamic forcing every ``hydro_interval_s`` (default 1 ms, a whole number of steps),
+  held between updates (zero-order hold) in ``data.xfrc_applied`` (force and moment about the
+  centre of mass, world frame). Its fastest time scales, a floating container's heave period
+  (about 0.3 s) and the drag time constant (over 0.05 s at 4 m/s), are resolved by hundreds of
+  updates, while the contact, 20 times faster, is resolved by the step itself.
+* At each update the body's added mass ``C_a rho V_sub`` becomes the armature of its three
+  translational degrees of freedom (an implicit added inertia: see
+  :mod:`analytical.hydrodynamics` for why it is not a lagged force), and the contact
+  ``solref`` of the body and of its pairs is rescaled to the new translational mass, so the
+  contact stiffness stays the law's ``K`` afloat as well as dry.
+* Flow time: ``flow_start_s + t`` (``flow_start_s`` defaults to the record's first time); the
+  record must cover the run's whole time span, and every sub-volume's plan position at every
+  update (else :class:`~orchestrator.transport.flow.FlowCoverageError`). Without a flow the
+  bodies move in air (no forcing): the dry tests and launches.
+
+Output: :class:`TransportResult`: ``tracks`` (bodies.csv's columns, every
+``output_interval_s``), ``impacts`` (column and wall strikes), ``body_contacts`` (body-body
+onsets), ``wall_s`` (the stepping) and ``pulse_wall_s`` (the column pulses after it).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+from dataclasses import dataclass, field
+
+import mujoco
+import numpy as np
+import pandas as pd
+
+from analytical.errors import InputError, require_positive
+from analytical.hydrodynamics import HydroCoefficients, hydro_loads, sub_volumes, submerged_fraction
+from orchestrator.transport.events import EventBook
+from orchestrator.transport.flow import FlowCoverageError, FlowField
+from orchestrator.transport.model import (
+    Flume,
+    PlacedColumn,
+    TransportBody,
+    angles_deg,
+    build_model,
+)
+
+__all__ = ["BODY_COLUMNS", "TransportResult", "TransportSettings", "run_transport"]
+
+BODY_COLUMNS = ["time_s", "body", "x_m", "y_m", "z_m", "u_m_s", "v_m_s", "w_m_s", "speed_m_s",
+                "omega_x_rad_s", "omega_y_rad_s", "omega_z_rad_s", "yaw_deg", "pitch_deg", "roll_deg"] + [
+                   f"q_{a}{b}" for a in "xyz" for b in "xyz"]
+"""bodies.csv's columns (the coupled path's, orchestrator.results.post): world frame, the
+angular velocity too; ``q_ab`` the body-to-world rotation."""
+
+
+@dataclass(frozen=True)
+class TransportSettings:
+    """How to run: output and forcing intervals (s), steps per contact period (>= 40), the
+    largest step, the flow time of ``t = 0``, the re-arm time of contact events and the
+    hydrodynamic coefficients (their density and gravity are replaced by the flow's)."""
+
+    output_interval_s: float = 0.01
+    hydro_interval_s: float = 1e-3
+    steps_per_contact_period: int = 40
+    max_timestep_s: float = 1e-3
+    flow_start_s: float | None = None
+    separation_s: float = 0.005
+    hydro: HydroCoefficients = field(default_factory=HydroCoefficients)
+
+    def __post_init__(self):
+        for name in ("output_interval_s", "hydro_interval_s", "max_timestep_s", "separation_s"):
+            require_positive(f"transport.{name}", getattr(self, name))
+
+
+@dataclass(frozen=True)
+class TransportResult:
+    """A transport run: tables (pandas), the step, and the wall-clock cost (s)."""
+
+    tracks: pd.DataFrame
+    impacts: pd.DataFrame
+    body_contacts: pd.DataFrame
+    wall_s: float
+    pulse_wall_s: float
+    timestep_s: float
+    steps: int
+    hydro_interval_s: float
+    output_interval_s: float
+    pulses: dict = field(default_factory=dict, repr=False)
+
+    def track(self, body: str) -> pd.DataFrame:
+        """One body's rows, in time order."""
+        return self.tracks[self.tracks["body"] == body].reset_index(drop=True)
+
+
+class _Forcing:
+    """The hydrodynamic forcing of all bodies at one flow time (vectorised over bodies)."""
+
+    def __init__(self, flow: FlowField, bodies, coefficients: HydroCoefficients):
+        self.flow = flow
+        self.coeffs = coefficients
+        self.size = np.array([b.size_m for b in bodies], dtype=float)
+        self.local = np.stack([sub_volumes(b.size_m, coefficients.sub_volumes).centres_m for b in bodies])
+        self.cell = self.size / np.asarray(coefficients.sub_volumes, float)
+        self.names = [b.name for b in bodies]
+
+    def __call__(self, t_flow: float, com, rot, vel, omega):
+        pts = com[:, None, :] + np.einsum("bij,bnj->bni", rot, self.local)
+        flat = pts.reshape(-1, 3)
+        try:
+            eta = self.flow.surface(flat[:, 0], flat[:, 1], t_flow).reshape(pts.shape[:2])
+        except FlowCoverageError as err:
+            outside = [n for n, p in zip(self.names, pts) if not self._inside(p)]
+            raise FlowCoverageError(err.field, f"{err.rule} (t = {t_flow:.4g} s; bodies {outside})") from None
+        half_z = 0.5 * np.einsum("bk,bk->b", np.abs(rot[:, 2, :]), self.cell)
+        wet = submerged_fraction(pts[:, :, 2], half_z[:, None], eta) > 0.0
+        u = np.zeros_like(pts)
+        a = np.zeros_like(pts)
+        if np.any(wet):
+            sample = self.flow.sample(pts[wet], t_flow, eta_m=eta[wet])
+            u[wet] = sample.velocity_m_s
+            a[wet] = sample.material_acceleration_m_s2
+        return hydro_loads(com, rot, vel, omega, self.size, pts, eta, u, a, self.coeffs)
+
+    def _inside(self, pts) -> bool:
+        (x0, x1), (y0, y1), _ = self.flow.extent_m
+        return bool(np.all((pts[:, 0] >= x0) & (pts[:, 0] <= x1) & (pts[:, 1] >= y0) & (pts[:, 1] <= y1)))
+
+
+def run_transport(bodies, flume: Flume, t_end_s: float, flow: FlowField | None = None,
+                  column: PlacedColumn | None = None, settings: TransportSettings | None = None) -> TransportResult:
+    """Carry ``bodies`` (:class:`TransportBody`) through ``flow`` (None: dry) for ``t_end_s``
+    seconds in ``flume`` with ``column``; see the module notes."""
+    settings = TransportSettings() if settings is None else settings
+    bodies = [b if isinstance(b, TransportBody) else TransportBody(**b) for b in bodies]
+    t_end = require_positive("t_end_s", t_end_s)
+    coeffs = settings.hydro
+    gravity = coeffs.gravity_m_s2
+    t0 = 0.0
+    if flow is not None:
+        coeffs = dataclasses.replace(coeffs, water_density_kg_m3=flow.water_density_kg_m3,
+                                     gravity_m_s2=flow.gravity_m_s2)
+        gravity = flow.gravity_m_s2
+        t0 = flow.t_s[0] if settings.flow_start_s is None else float(settings.flow_start_s)
+        lo, hi = flow.time_span_s
+        if t0 < lo or t0 + t_end > hi + 1e-9 * max(1.0, hi):
+            raise FlowCoverageError("flow.t", f"the run needs flow times [{t0:.6g}, {t0 + t_end:.6g}] s, the record "
+                                              f"covers [{lo:.6g}, {hi:.6g}] s")
+        if abs(flow.bed_z_m - flume.bed_z_m) > 1e-9:
+            raise InputError("flume.bed_z_m", f"must equal the flow's bed ({flow.bed_z_m} m), got {flume.bed_z_m}")
+    built = build_model(bodies, flume, column, gravity_m_s2=gravity,
+                        steps_per_contact_period=settings.steps_per_contact_period,
+                        max_timestep_s=settings.max_timestep_s)
+    m, dt = built.model, built.timestep_s
+    d = mujoco.MjData(m)
+    for i, b in enumerate(bodies):
+        q, v = built.qpos_adr[i], built.dof_adr[i]
+        rot = b.rotation
+        d.qpos[q:q + 3] = b.centre_m
+        mujoco.mju_mat2Quat(d.qpos[q + 3:q + 7], rot.ravel())
+        d.qvel[v:v + 3] = b.velocity_m_s
+        d.qvel[v + 3:v + 6] = rot.T @ np.asarray(b.angular_velocity_rad_s)  # free joint: body-frame rates
+    mujoco.mj_forward(m, d)
+
+    steps = int(round(t_end / dt))
+    n_hydro = max(1, int(round(settings.hydro_interval_s / dt)))
+    n_out = max(1, int(round(settings.output_interval_s / dt)))
+    forcing = _Forcing(flow, bodies, coeffs) if flow is not None else None
+    surface = (lambda x, y, t: flow.surface(x, y, t0 + t)) if flow is not None else None
+    book = EventBook(built.geom_owner, built.geom_names, bodies, built.body_ids, built.dof_adr, column,
+                     flume.bed_z_m, settings.separation_s, surface)
+    mass = np.array([b.mass_kg for b in bodies])
+    lin = built.dof_adr[:, None] + np.arange(3)[None, :]
+    ang = built.dof_adr[:, None] + np.arange(3, 6)[None, :]
+    rows: list[np.ndarray] = []
+    times: list[float] = []
+
+    def state():
+        rot = d.xmat[built.body_ids].reshape(-1, 3, 3).copy()
+        vel = d.qvel[lin].copy()
+        omega = np.einsum("bij,bj->bi", rot, d.qvel[ang])
+        return d.xpos[built.body_ids].copy(), rot, vel, omega
+
+    def record():
+        com, rot, vel, omega = state()
+        times.append(d.time)
+        rows.append(np.concatenate([com, vel, omega, rot.reshape(-1, 9)], axis=1))
+
+    pair_i, pair_j = built.pair_bodies[:, 0], built.pair_bodies[:, 1]
+
+    def update_friction():
+        vel = d.qvel[lin]
+        other = np.where((pair_j >= 0)[:, None], vel[np.maximum(pair_j, 0)], 0.0)
+        m.pair_solreffriction[:] = built.friction_solref(np.linalg.norm(vel[pair_i] - other, axis=1))
+
+    def apply_forcing():
+        com, rot, vel, omega = state()
+        loads = forcing(t0 + d.time, com, rot, vel, omega)
+        d.xfrc_applied[built.body_ids, :3] = loads.force_N
+        d.xfrc_applied[built.body_ids, 3:] = loads.moment_Nm
+        total = mass + loads.added_mass_kg
+        m.dof_armature[lin] = loads.added_mass_kg[:, None]
+        # MuJoCo keeps a free body's diagonal mass in dof_M0, fixed at compile time: the armature
+        # changed at run time only counts once dof_M0 carries it as well (MuJoCo 4.0).
+        m.dof_M0[lin] = total[:, None]
+        m.pair_solref[:] = built.pair_solref(total)
+
+    start = time.perf_counter()
+    for k in range(steps):
+        if k % n_hydro == 0:
+            update_friction()
+            if forcing is not None:
+                apply_forcing()
+        if k % n_out == 0:
+            record()
+        before = d.qvel.copy()
+        t_before = d.time
+        mujoco.mj_step(m, d)
+        if d.ncon:
+            book.observe(t_before, d, before, d.xmat[built.body_ids])
+    record()
+    wall = time.perf_counter() - start
+    impacts, body_contacts = book.finish()
+    return TransportResult(_tracks(bodies, np.array(times), rows), impacts, body_contacts, wall, book.pulse_wall_s,
+                           dt, steps, n_hydro * dt, n_out * dt, dict(book.pulses))
+
+
+def _tracks(bodies, times: np.ndarray, rows: list[np.ndarray]) -> pd.DataFrame:
+    data = np.stack(rows)  # (T, B, 18)
+    frames = []
+    for i, b in enumerate(bodies):
+        x = data[:, i, :]
+        angles = np.array([angles_deg(q) for q in x[:, 9:18]]).reshape(-1, 3)
+        frame = {"time_s": times, "body": b.name, "x_m": x[:, 0], "y_m": x[:, 1], "z_m": x[:, 2],
+                 "u_m_s": x[:, 3], "v_m_s": x[:, 4], "w_m_s": x[:, 5], "speed_m_s": np.linalg.norm(x[:, 3:6], axis=1),
+                 "omega_x_rad_s": x[:, 6], "omega_y_rad_s": x[:, 7], "omega_z_rad_s": x[:, 8],
+                 "yaw_deg": angles[:, 0], "pitch_deg": angles[:, 1], "roll_deg": angles[:, 2]}
+        for n, (a, c) in enumerate((a, c) for a in "xyz" for c in "xyz"):
+            frame[f"q_{a}{c}"] = x[:, 9 + n]
+        frames.append(pd.DataFrame(frame, columns=BODY_COLUMNS))
+    return pd.concat(frames, ignore_index=True)

@@ -1,0 +1,333 @@
+"""The MuJoCo model of a transport run: flume, column and debris bodies, written as MJCF in code.
+
+Why MuJoCo
+----------
+MuJoCo is a maintained rigid-body engine (Google DeepMind, Apache 2.0, wheels for every
+platform, no display needed) with full six-degree-of-freedom free bodies, box-box, box-plane
+collision with several contact points per patch, Coulomb friction cones, and, the reason it
+fits this problem, contacts whose **stiffness and damping can be set directly**: a negative
+``solref = (-k, -b)`` makes the contact's reference acceleration ``-k r - b v`` (``r`` the
+penetration, ``v`` its rate), scaled so that it holds independently of the impedance
+``d``. MuJoCo's constraint dynamics then give, along a contact normal,
+``a = (1 - d) a0 - k r - b v`` (``a0`` the unconstrained acceleration). With a constant
+impedance ``d`` close to 1 (``solimp = (d, d, ...)``, here 0.99) and no other force along the
+normal (the column struck by a body: ``a0`` horizontal is zero), this is the spring-dashpot
+``m_eff r'' + c r' + K r = 0`` of the contact law with ``k = K / m_eff`` and
+``b = c / m_eff = 2 zeta sqrt(K / m_eff)``. The acceleration, not the force, is prescribed
+per contact point, so a face contact of four points has the same total stiffness ``K`` as one
+point. ``m_eff`` is the body's translational mass (its structural mass plus the added mass
+of the water it displaces, refreshed during the run), i.e. the effective mass of an end-on
+strike through the centre; the column's pulse itself comes from
+:func:`analytical.contact_law.column_impact`, as on the coupled path (see engine.py).
+
+Contact parameters by pair
+--------------------------
+Every contact is an explicit ``<pair>`` (the geoms' own collision flags are off, so MuJoCo
+checks exactly these pairs), because MuJoCo's combination of two geoms' direct solrefs takes
+the stiffer one, and the friction reference must be set per pair (below).
+
+* body - walls, column: the body's contact law over its mass; its friction coefficient.
+* body - bed: the body's stiffness over its mass, critically damped (:data:`BED_DAMPING_RATIO`).
+* body - body: the two springs in series
+  (:meth:`~analytical.contact_law.ContactLaw.pair` for two equal laws), the mean damping
+  ratio, over the two-body mass ``m1 m2 / (m1 + m2)``, and the mean friction coefficient
+  (the coupled path's rule).
+* Friction: condim 3 (sliding friction, elliptic cone, Newton solver), with its own reference
+  ``solreffriction``: a damping ``b`` on the sliding velocity (the normal law's damping may be
+  zero, and friction would then not slow a slide at all). In MuJoCo's convex model a sliding
+  contact's force sits on the friction cone with a size that grows with the tangential
+  demand ``b |v_t|``, and so does the *normal* force: a stiff friction reference (``b`` of
+  order ``1 / dt``) makes a box sliding at 1 m/s hop off the bed every few centimetres (found
+  here: 0.28 m/s upward in one step). The engine therefore sets, per pair and at every
+  forcing update, ``b = mu g / max(|v|, 0.01 m/s)`` (``|v|`` the body's speed relative to
+  the other): the demand is the Coulomb deceleration ``mu g`` while sliding, and a stiff
+  damper (time constant about 1 ms) once nearly at rest, which holds a body stuck.
+
+Time step: ``min(2 pi sqrt(m_eff / K)) / steps_per_contact_period`` over every contact pair
+(at least 40 steps per contact period; the default contact law gives about 2.3e-4 s).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import mujoco
+import numpy as np
+
+from analytical.column import Column
+from analytical.contact_law import CONTAINER, ContactLaw, box_inertia
+from analytical.errors import InputError, require_positive
+from analytical.impact import DEFAULT_FRICTION_COEFFICIENT
+
+__all__ = [
+    "BED_DAMPING_RATIO",
+    "CONTACT_IMPEDANCE",
+    "FRICTION_DEMAND",
+    "STICK_SPEED_M_S",
+    "BuiltModel",
+    "Flume",
+    "PlacedColumn",
+    "TransportBody",
+    "angles_deg",
+    "build_model",
+    "contact_period_s",
+    "contact_solref",
+    "pair_law",
+    "rotation_matrix",
+]
+
+CONTACT_IMPEDANCE = 0.99
+"""Constant impedance ``d`` of every contact (solimp dmin = dmax): the share of the
+unconstrained acceleration the contact cancels outright; 1 - d is the error of the
+spring-dashpot picture under a sustained load (none in a horizontal strike)."""
+
+
+BED_DAMPING_RATIO = 1.0
+"""Damping ratio of every body's contact with the bed (its stiffness is the body's law):
+critical, so a body set down or landing on the bed neither rings nor bounces. The bed is not
+an impact target (as on the coupled path); an undamped bed contact would keep a sliding box
+rocking on its edges, which the friction then decelerates at less than ``mu g``."""
+
+
+FRICTION_DEMAND = 1.0
+"""Friction's reference deceleration over ``mu g`` (see the module notes on friction)."""
+
+STICK_SPEED_M_S = 0.01
+"""Below this sliding speed the friction reference is a stiff damper (``b = mu g / 0.01``,
+a time constant of a few steps): the body sticks."""
+
+
+@dataclass(frozen=True)
+class TransportBody:
+    """A debris box: ``size_m`` (length, width, height along its body axes), ``mass_kg``,
+    centre ``centre_m`` and orientation ``Rz(yaw) Ry(pitch) Rx(roll)`` at the start, its start
+    velocity (world) and angular velocity (world), its wall thickness (None: solid) for the
+    inertia, its Coulomb ``friction_coefficient`` and its ``contact`` law."""
+
+    name: str
+    size_m: tuple[float, float, float]
+    mass_kg: float
+    centre_m: tuple[float, float, float]
+    yaw_deg: float = 0.0
+    pitch_deg: float = 0.0
+    roll_deg: float = 0.0
+    velocity_m_s: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    angular_velocity_rad_s: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    wall_thickness_m: float | None = None
+    friction_coefficient: float = DEFAULT_FRICTION_COEFFICIENT
+    contact: ContactLaw = CONTAINER
+
+    def __post_init__(self):
+        if not isinstance(self.name, str) or not self.name.isidentifier():
+            raise InputError("body.name", f"must be an identifier, got {self.name!r}")
+        for name in ("size_m", "centre_m", "velocity_m_s", "angular_velocity_rad_s"):
+            value = tuple(float(v) for v in getattr(self, name))
+            if len(value) != 3 or not all(math.isfinite(v) for v in value):
+                raise InputError(f"{self.name}.{name}", f"must be three finite numbers, got {getattr(self, name)!r}")
+            object.__setattr__(self, name, value)
+        for s in self.size_m:
+            require_positive(f"{self.name}.size_m", s)
+        object.__setattr__(self, "mass_kg", require_positive(f"{self.name}.mass_kg", self.mass_kg))
+        mu = float(self.friction_coefficient)
+        if not math.isfinite(mu) or mu < 0.0:
+            raise InputError(f"{self.name}.friction_coefficient", f"must be >= 0, got {self.friction_coefficient!r}")
+
+    @property
+    def rotation(self) -> np.ndarray:
+        """Body-to-world rotation at the start."""
+        return rotation_matrix(self.yaw_deg, self.pitch_deg, self.roll_deg)
+
+    @property
+    def inertia_kg_m2(self) -> tuple[float, float, float]:
+        return box_inertia(self.size_m, self.mass_kg, self.wall_thickness_m)
+
+
+@dataclass(frozen=True)
+class Flume:
+    """The flume: bed plane at ``bed_z_m``, side walls at ``y_m`` and end walls at ``x_m``."""
+
+    x_m: tuple[float, float]
+    y_m: tuple[float, float]
+    bed_z_m: float = 0.0
+
+    def __post_init__(self):
+        for name in ("x_m", "y_m"):
+            lo, hi = (float(v) for v in getattr(self, name))
+            if not (math.isfinite(lo) and math.isfinite(hi) and hi > lo):
+                raise InputError(f"flume.{name}", f"must be (low, high) with high > low, got {getattr(self, name)!r}")
+            object.__setattr__(self, name, (lo, hi))
+
+
+@dataclass(frozen=True)
+class PlacedColumn:
+    """The column (:class:`~analytical.column.Column`: footprint, height, structure) with the
+    centre of its footprint at ``(x_m, y_m)``, standing on the bed."""
+
+    x_m: float
+    y_m: float = 0.0
+    column: Column = field(default_factory=Column)
+
+
+@dataclass
+class BuiltModel:
+    """The compiled model and the index maps the engine needs."""
+
+    xml: str
+    model: mujoco.MjModel
+    timestep_s: float
+    body_ids: np.ndarray  # MuJoCo body id per transport body
+    geom_ids: np.ndarray  # MuJoCo geom id per transport body
+    dof_adr: np.ndarray  # first dof of each body's free joint
+    qpos_adr: np.ndarray
+    geom_owner: np.ndarray  # per MuJoCo geom: body index >= 0, or -1 bed, -2 wall, -3 column
+    geom_names: list[str]
+    pair_bodies: np.ndarray  # (P, 2) body indices of each explicit pair; -1 second: a static geom
+    pair_stiffness_N_m: np.ndarray  # (P,) the pair's contact law
+    pair_damping_ratio: np.ndarray  # (P,)
+    pair_friction: np.ndarray  # (P,) Coulomb coefficient
+    gravity_m_s2: float = 9.81
+
+    def friction_solref(self, speed_m_s) -> np.ndarray:
+        """Every pair's ``solreffriction`` (P, 2) for the pairs' current sliding speeds (P,):
+        damping ``b = FRICTION_DEMAND mu g / max(speed, STICK_SPEED_M_S)`` (module notes)."""
+        speed = np.maximum(np.asarray(speed_m_s, float), STICK_SPEED_M_S)
+        b = FRICTION_DEMAND * np.maximum(self.pair_friction, 1e-5) * self.gravity_m_s2 / speed
+        return np.stack([np.zeros_like(b), -b], axis=-1)
+
+    def pair_solref(self, body_mass_kg) -> np.ndarray:
+        """Every pair's solref (P, 2) for the bodies' current translational masses (B,)."""
+        mass = np.asarray(body_mass_kg, float)
+        i, j = self.pair_bodies[:, 0], self.pair_bodies[:, 1]
+        mi = mass[i]
+        mj = np.where(j >= 0, mass[np.maximum(j, 0)], np.inf)
+        m_eff = np.where(j >= 0, mi * mj / (mi + np.where(j >= 0, mj, 0.0)), mi)
+        k = self.pair_stiffness_N_m / m_eff
+        return np.stack([-k, -2.0 * self.pair_damping_ratio * np.sqrt(k)], axis=-1)
+
+
+BED, WALL, COLUMN = -1, -2, -3
+
+
+def rotation_matrix(yaw_deg: float, pitch_deg: float, roll_deg: float) -> np.ndarray:
+    """Body-to-world rotation ``Rz(yaw) Ry(pitch) Rx(roll)`` (the scene's convention)."""
+    y, p, r = (math.radians(a) for a in (yaw_deg, pitch_deg, roll_deg))
+    rz = np.array([[math.cos(y), -math.sin(y), 0.0], [math.sin(y), math.cos(y), 0.0], [0.0, 0.0, 1.0]])
+    ry = np.array([[math.cos(p), 0.0, math.sin(p)], [0.0, 1.0, 0.0], [-math.sin(p), 0.0, math.cos(p)]])
+    rx = np.array([[1.0, 0.0, 0.0], [0.0, math.cos(r), -math.sin(r)], [0.0, math.sin(r), math.cos(r)]])
+    return rz @ ry @ rx
+
+
+def angles_deg(rotation) -> tuple[float, float, float]:
+    """(yaw, pitch, roll) in degrees of ``R = Rz(yaw) Ry(pitch) Rx(roll)``."""
+    q = np.asarray(rotation, float).reshape(3, 3)
+    pitch = math.asin(max(-1.0, min(1.0, -q[2, 0])))
+    return math.degrees(math.atan2(q[1, 0], q[0, 0])), math.degrees(pitch), math.degrees(math.atan2(q[2, 1], q[2, 2]))
+
+
+def contact_solref(law: ContactLaw, mass_kg) -> np.ndarray:
+    """MuJoCo direct ``solref = (-K / m, -2 zeta sqrt(K / m))`` for a law over an effective mass
+    (arrays broadcast; the last axis holds the pair)."""
+    k = law.stiffness_N_m / np.asarray(mass_kg, float)
+    return np.stack([-k, -2.0 * law.damping_ratio * np.sqrt(k)], axis=-1)
+
+
+def pair_law(a: ContactLaw, b: ContactLaw) -> ContactLaw:
+    """Two bodies' springs in series with their mean damping ratio (the coupled path's rule)."""
+    k = 1.0 / (1.0 / a.stiffness_N_m + 1.0 / b.stiffness_N_m)
+    name = a.name if a.name == b.name else f"{a.name} + {b.name}"
+    return ContactLaw(k, 0.5 * (a.damping_ratio + b.damping_ratio), f"{name}, body-body")
+
+
+def contact_period_s(law: ContactLaw, mass_kg: float) -> float:
+    return 2.0 * math.pi * math.sqrt(mass_kg / law.stiffness_N_m)
+
+
+def _f(values) -> str:
+    return " ".join(f"{float(v):.12g}" for v in values)
+
+
+def build_model(bodies, flume: Flume, column: PlacedColumn | None = None, *, gravity_m_s2: float = 9.81,
+                steps_per_contact_period: int = 40, max_timestep_s: float = 1e-3) -> BuiltModel:
+    """The MJCF of the flume, the column and ``bodies`` (:class:`TransportBody`), compiled."""
+    bodies = list(bodies)
+    if not bodies:
+        raise InputError("bodies", "give at least one body")
+    names = [b.name for b in bodies]
+    if len(set(names)) != len(names):
+        raise InputError("bodies", f"names must be unique, got {names}")
+    if steps_per_contact_period < 40:
+        raise InputError("steps_per_contact_period", f"must be >= 40, got {steps_per_contact_period}")
+    periods = [contact_period_s(b.contact, b.mass_kg) for b in bodies]
+    dt_bound = min(periods) / steps_per_contact_period
+    for i in range(len(bodies)):
+        for j in range(i + 1, len(bodies)):
+            a, b = bodies[i], bodies[j]
+            periods.append(contact_period_s(pair_law(a.contact, b.contact), a.mass_kg * b.mass_kg / (a.mass_kg + b.mass_kg)))
+    dt = min(min(periods) / steps_per_contact_period, max_timestep_s, dt_bound)
+    imp = f"{CONTACT_IMPEDANCE} {CONTACT_IMPEDANCE} 0.001 0.5 2"
+    fric_ref = f"0 {-FRICTION_DEMAND * gravity_m_s2 / STICK_SPEED_M_S!r}"  # at rest; rescaled in the run
+    bed = flume.bed_z_m
+    (x0, x1), (y0, y1) = flume.x_m, flume.y_m
+    off = 'contype="0" conaffinity="0"'
+    statics = ["bed", "wall_y0", "wall_y1", "wall_x0", "wall_x1"]
+    world = [
+        f'<geom name="bed" type="plane" pos="0 0 {bed}" size="0 0 1" {off}/>',
+        f'<geom name="wall_y0" type="plane" pos="0 {y0} 0" zaxis="0 1 0" size="0 0 1" {off}/>',
+        f'<geom name="wall_y1" type="plane" pos="0 {y1} 0" zaxis="0 -1 0" size="0 0 1" {off}/>',
+        f'<geom name="wall_x0" type="plane" pos="{x0} 0 0" zaxis="1 0 0" size="0 0 1" {off}/>',
+        f'<geom name="wall_x1" type="plane" pos="{x1} 0 0" zaxis="-1 0 0" size="0 0 1" {off}/>',
+    ]
+    if column is not None:
+        c = column.column
+        statics.append("column")
+        world.append(f'<geom name="column" type="box" pos="{column.x_m} {column.y_m} {bed + c.height_m / 2}" '
+                     f'size="{c.size_x_m / 2} {c.size_y_m / 2} {c.height_m / 2}" {off}/>')
+    for b in bodies:
+        quat = np.zeros(4)
+        mujoco.mju_mat2Quat(quat, b.rotation.ravel())
+        world.append(
+            f'<body name="{b.name}" pos="{_f(b.centre_m)}" quat="{_f(quat)}">'
+            f'<joint name="{b.name}_free" type="free" armature="0"/>'
+            f'<inertial pos="0 0 0" mass="{b.mass_kg!r}" diaginertia="{_f(b.inertia_kg_m2)}"/>'
+            f'<geom name="{b.name}_box" type="box" size="{_f(np.asarray(b.size_m) / 2)}" {off} density="0"/></body>')
+    pairs, stiffness, damping, friction, contact = [], [], [], [], []
+
+    def add_pair(i, j, geom2, law, mu, m_eff, damping_ratio=None):
+        zeta = law.damping_ratio if damping_ratio is None else damping_ratio
+        k = law.stiffness_N_m / m_eff
+        pairs.append((i, j))
+        stiffness.append(law.stiffness_N_m)
+        damping.append(zeta)
+        mu = max(mu, 1e-5)
+        friction.append(mu)
+        contact.append(f'<pair geom1="{bodies[i].name}_box" geom2="{geom2}" condim="3" '
+                       f'friction="{mu!r} {mu!r} 0 0 0" solref="{-k!r} {-2.0 * zeta * math.sqrt(k)!r}" '
+                       f'solimp="{imp}" solreffriction="{fric_ref}"/>')
+
+    for i, b in enumerate(bodies):
+        for name in statics:
+            add_pair(i, -1, name, b.contact, b.friction_coefficient, b.mass_kg,
+                     BED_DAMPING_RATIO if name == "bed" else None)
+    for i in range(len(bodies)):
+        for j in range(i + 1, len(bodies)):
+            a, b = bodies[i], bodies[j]
+            add_pair(i, j, f"{b.name}_box", pair_law(a.contact, b.contact),
+                     0.5 * (a.friction_coefficient + b.friction_coefficient), a.mass_kg * b.mass_kg / (a.mass_kg + b.mass_kg))
+    xml = (f'<mujoco model="transport"><option timestep="{dt!r}" gravity="0 0 {-gravity_m_s2!r}" '
+           f'density="0" viscosity="0" cone="elliptic" solver="Newton" integrator="Euler"/>'
+           f'<worldbody>{"".join(world)}</worldbody>'
+           + (f'<contact>{"".join(contact)}</contact>' if contact else "") + "</mujoco>")
+    model = mujoco.MjModel.from_xml_string(xml)
+    body_ids = np.array([mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, b.name) for b in bodies])
+    geom_ids = np.array([mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, f"{b.name}_box") for b in bodies])
+    owner = np.full(model.ngeom, WALL, dtype=int)
+    geom_names = [mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, g) for g in range(model.ngeom)]
+    owner[geom_names.index("bed")] = BED
+    if column is not None:
+        owner[geom_names.index("column")] = COLUMN
+    owner[geom_ids] = np.arange(len(bodies))
+    joints = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, f"{b.name}_free") for b in bodies]
+    return BuiltModel(xml, model, dt, body_ids, geom_ids, model.jnt_dofadr[joints].copy(),
+                      model.jnt_qposadr[joints].copy(), owner, geom_names, np.array(pairs, dtype=int).reshape(-1, 2),
+                      np.array(stiffness, float), np.array(damping, float), np.array(friction, float), gravity_m_s2)
