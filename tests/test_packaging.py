@@ -35,6 +35,16 @@ def test_the_wheel_carries_every_template_and_scene(wheel):
 
 
 @pytest.mark.slow
+def test_the_wheel_carries_every_code_package(wheel):
+    names = set(zipfile.ZipFile(wheel).namelist())
+    packages = [p.parent.relative_to(ROOT).as_posix() for top in ("orchestrator", "analytical")
+                for p in (ROOT / top).rglob("__init__.py")]
+    assert len(packages) >= 10
+    missing = [p for p in packages if f"{p}/__init__.py" not in names]
+    assert not missing, f"packages not in the wheel (pyproject.toml [tool.setuptools] packages): {missing}"
+
+
+@pytest.mark.slow
 def test_an_installed_wheel_renders_a_scene_from_another_folder(wheel, tmp_path):
     target = tmp_path / "site"
     proc = subprocess.run([sys.executable, "-m", "pip", "install", "-q", "--no-deps", "--target", str(target),
@@ -48,7 +58,7 @@ def test_an_installed_wheel_renders_a_scene_from_another_folder(wheel, tmp_path)
                          cwd=work, env=env, capture_output=True, text=True)
     assert run.returncode == 0, run.stderr
     assert (work / "case" / "system" / "blockMeshDict").is_file()
-    assert (work / "case" / "constant" / "dynamicMeshDict").is_file()
+    assert (work / "case" / "system" / "controlDict").is_file()
     where = subprocess.run([sys.executable, "-c", "import orchestrator.case.render as r; print(r.TEMPLATE_DIR)"],
                            cwd=work, env=env, capture_output=True, text=True)
     assert where.stdout.strip().startswith(str(target))  # the wheel's templates, not the repository's
