@@ -1,0 +1,164 @@
+"""orchestrator/transport/engine.py on real MuJoCo, against closed forms.
+
+Each test names the expected value and a tolerance that the model could miss. The flat box
+(0.20 x 0.20 x 0.02 m, 0.4 kg: draft 10 mm, metacentric height 0.33 m) is the floating test
+body: the seed container (square section, relative density 0.44) is unstable upright in roll.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from analytical.contact_law import CONTAINER, column_impact, contact_law
+from analytical.hydrodynamics import HydroCoefficients, archimedes_draft, drag_time_constant, heave_period
+from orchestrator.transport.engine import BODY_COLUMNS, TransportSettings, run_transport
+from orchestrator.transport.events import IMPACT_COLUMNS
+from orchestrator.transport.flow import FlowCoverageError, FlowField
+from orchestrator.transport.model import Flume, PlacedColumn, TransportBody
+
+RHO, G = 998.0, 9.81
+PLATE = dict(size_m=(0.2, 0.2, 0.02), mass_kg=0.4)
+CONTAINER_BOX = dict(size_m=(0.15, 0.06, 0.06), mass_kg=0.236, wall_thickness_m=0.005)
+FLUME = Flume((-1.0, 3.0), (-0.5, 0.5))
+
+
+def _still(depth=0.1, **kw):
+    return FlowField.still_water(depth, x_m=(-1.0, 3.0), y_m=(-0.5, 0.5), t_s=(0.0, 10.0), **kw)
+
+
+def test_a_box_in_still_water_floats_level_at_archimedes_draft():
+    """Expected draft m / (rho A) = 10.02 mm within 2 %; level within 0.01 degrees."""
+    run = run_transport([TransportBody("plate", centre_m=(0.0, 0.0, 0.1), **PLATE)], FLUME, 2.0, _still())
+    track = run.track("plate")
+    assert list(run.tracks.columns) == BODY_COLUMNS
+    late = track[track["time_s"] > 1.5]
+    draft = 0.1 - (late["z_m"].mean() - 0.01)
+    assert draft == pytest.approx(archimedes_draft(0.4, 0.04, RHO), rel=0.02)
+    assert late["pitch_deg"].abs().max() < 0.01 and late["roll_deg"].abs().max() < 0.01
+
+
+def test_heave_period_with_the_added_mass_of_the_displaced_water():
+    """Expected 2 pi sqrt((m + m_a) / (rho g A)) with m_a = C_a rho V_sub = 1.0 x m (the model's
+    added mass: C_a times the displaced water, which afloat equals the body's mass): 0.284 s
+    within 10 % (without the added mass it would be 0.201 s)."""
+    run = run_transport([TransportBody("plate", centre_m=(0.0, 0.0, 0.103), **PLATE)], FLUME, 2.0, _still())
+    track = run.track("plate")
+    z = track["z_m"].to_numpy() - 0.1
+    t = track["time_s"].to_numpy()
+    up = np.nonzero((z[:-1] < 0) & (z[1:] >= 0))[0]
+    crossings = t[up] - z[up] * (t[up + 1] - t[up]) / (z[up + 1] - z[up])
+    assert len(crossings) >= 4
+    assert np.diff(crossings).mean() == pytest.approx(heave_period(0.4, 0.4, 0.04, RHO, G), rel=0.10)
+
+
+def test_on_a_sloped_surface_a_thin_box_tilts_with_it():
+    """eta = h + s x, s = 0.05: the plate pitches nose-up (pitch < 0 in Rz Ry Rx) by
+    atan(s) BM / GM = 2.91 degrees (BM = L^2 / (12 T), GM = T/2 + BM - H/2; small angles),
+    within 10 %, mean over the last second; no roll, no drift (the record has no velocity)."""
+    s = 0.05
+    flow = FlowField.sloped_surface(0.1, s, x_m=(-1.0, 3.0), y_m=(-0.5, 0.5), t_s=(0.0, 10.0))
+    run = run_transport([TransportBody("plate", centre_m=(0.0, 0.0, 0.1), **PLATE)], FLUME, 3.0, flow)
+    late = run.track("plate").query("time_s > 2.0")
+    draft = archimedes_draft(0.4, 0.04, RHO)
+    bm = 0.2 ** 2 / (12 * draft)
+    gm = draft / 2 + bm - 0.01
+    expected = -math.degrees(math.atan(s)) * bm / gm
+    assert late["pitch_deg"].mean() == pytest.approx(expected, rel=0.10)
+    assert late["roll_deg"].abs().max() < 0.01
+    assert abs(late["x_m"].iloc[-1]) < 1e-3
+
+
+def test_in_a_uniform_current_a_floating_box_drifts_up_to_the_current_speed():
+    """(m + m_a) dv/dt = 0.5 rho C_d A (U - v)^2 from rest: v = U (t/tau) / (1 + t/tau), tau =
+    (m + m_a) / (0.5 rho C_d A U) = 1.52 s (A = width x draft). Expected v(tau) = U/2 and
+    v(2 tau) = 2U/3 within 5 %."""
+    U = 0.5
+    flow = FlowField.uniform_current(0.1, U, x_m=(-1.0, 3.0), y_m=(-0.5, 0.5), t_s=(0.0, 10.0))
+    run = run_transport([TransportBody("plate", centre_m=(-0.8, 0.0, 0.1), **PLATE)], FLUME, 3.2, flow)
+    track = run.track("plate")
+    area = 0.2 * archimedes_draft(0.4, 0.04, RHO)
+    tau = drag_time_constant(0.8, HydroCoefficients().drag_coefficient, area, U, RHO)
+    assert np.interp(tau, track["time_s"], track["u_m_s"]) == pytest.approx(U / 2, rel=0.05)
+    assert np.interp(2 * tau, track["time_s"], track["u_m_s"]) == pytest.approx(2 * U / 3, rel=0.05)
+
+
+def _deceleration(track) -> float:
+    sliding = track[(track["time_s"] > 0.02) & (track["u_m_s"] > 0.1)]
+    return -float(np.polyfit(sliding["time_s"], sliding["u_m_s"], 1)[0])
+
+
+def test_a_box_sliding_on_a_dry_bed_stops_at_mu_g():
+    """Expected deceleration mu g = 2.943 m/s^2 within 3 %, the box staying on the bed (no hops)."""
+    body = TransportBody("box", centre_m=(0.0, 0.0, 0.03), velocity_m_s=(1.0, 0.0, 0.0), friction_coefficient=0.3,
+                         **CONTAINER_BOX)
+    run = run_transport([body], FLUME, 0.45, settings=TransportSettings(output_interval_s=0.005))
+    track = run.track("box")
+    assert _deceleration(track) == pytest.approx(0.3 * G, rel=0.03)
+    assert track["z_m"].max() < 0.0301
+    assert track["u_m_s"].iloc[-1] == pytest.approx(0.0, abs=1e-3)
+
+
+def test_a_partly_submerged_box_slides_at_mu_g_less_its_buoyancy():
+    """15 mm of still water (the seed's wet bed), drag and added mass off to isolate friction:
+    expected mu g (1 - rho V_sub / m) = 1.263 m/s^2 within 3 %."""
+    body = TransportBody("box", centre_m=(0.0, 0.0, 0.03), velocity_m_s=(1.0, 0.0, 0.0), friction_coefficient=0.3,
+                         **CONTAINER_BOX)
+    settings = TransportSettings(output_interval_s=0.005,
+                                 hydro=HydroCoefficients(drag_coefficient=0.0, added_mass_coefficient=0.0))
+    run = run_transport([body], FLUME, 0.5, _still(0.015), settings=settings)
+    v_sub = 0.15 * 0.06 * 0.015
+    assert _deceleration(run.track("box")) == pytest.approx(0.3 * G * (1 - RHO * v_sub / 0.236), rel=0.03)
+
+
+@pytest.mark.parametrize("law", [CONTAINER, contact_law(restitution=0.5)], ids=["container", "restitution_0.5"])
+def test_a_box_launched_at_the_column(law):
+    """At 1.5 m/s head-on (frictionless bed): the recorded impact velocity 1.5 m/s within 2 %;
+    the pulse equals column_impact's at that velocity and height (rel 1e-6: the same call);
+    the rebound speed over the impact speed equals the law's rigid-wall restitution within 10 %."""
+    body = TransportBody("box", centre_m=(0.5, 0.0, 0.03), velocity_m_s=(1.5, 0.0, 0.0), friction_coefficient=0.0,
+                         contact=law, **CONTAINER_BOX)
+    run = run_transport([body], FLUME, 0.5, column=PlacedColumn(1.0, 0.0))
+    assert set(IMPACT_COLUMNS) <= set(run.impacts.columns)
+    column = run.impacts[run.impacts["kind"] == "column"]
+    assert len(column) == 1
+    hit = column.iloc[0]
+    assert hit["impact_velocity_m_s"] == pytest.approx(1.5, rel=0.02)
+    assert hit["normal_x"] == pytest.approx(-1.0)
+    assert hit["obliquity_deg"] < 1.0
+    ref = column_impact(law, hit["impact_velocity_m_s"], hit["height_m"], obliquity_deg=hit["obliquity_deg"],
+                        mass_kg=0.236, size_m=(0.15, 0.06, 0.06), wall_thickness_m=0.005, friction_coefficient=0.0)
+    assert hit["peak_force_N"] == pytest.approx(ref.peak_force_N, rel=1e-6)
+    assert hit["impulse_Ns"] == pytest.approx(ref.impulse_Ns, rel=1e-6)
+    assert hit["duration_s"] == pytest.approx(ref.duration_s, rel=1e-6)
+    assert hit["peak_base_shear_N"] == pytest.approx(abs(ref.base_shear.peak_N), rel=1e-6)
+    assert hit["rebound_speed_m_s"] / hit["impact_velocity_m_s"] == pytest.approx(law.wall_restitution, rel=0.10)
+    assert hit["restitution"] == pytest.approx(law.wall_restitution, rel=0.10)
+
+
+def test_two_boxes_colliding_conserve_momentum():
+    """0.236 kg at +1 m/s meets 0.4 kg at -0.5 m/s on a frictionless bed: m1 v1 + m2 v2 conserved
+    within 1 %; one body-body event; elastic law: separation / approach speed 1 within 5 %."""
+    a = TransportBody("a", centre_m=(0.0, 0.0, 0.03), velocity_m_s=(1.0, 0.0, 0.0), friction_coefficient=0.0,
+                      size_m=(0.15, 0.06, 0.06), mass_kg=0.236)
+    b = TransportBody("b", centre_m=(0.3, 0.0, 0.03), velocity_m_s=(-0.5, 0.0, 0.0), friction_coefficient=0.0,
+                      size_m=(0.15, 0.06, 0.06), mass_kg=0.4)
+    run = run_transport([a, b], FLUME, 0.3, settings=TransportSettings(output_interval_s=0.005))
+    ta, tb = run.track("a"), run.track("b")
+    before = 0.236 * ta["u_m_s"].iloc[0] + 0.4 * tb["u_m_s"].iloc[0]
+    after = 0.236 * ta["u_m_s"].iloc[-1] + 0.4 * tb["u_m_s"].iloc[-1]
+    assert after == pytest.approx(before, rel=0.01)
+    assert ta["u_m_s"].iloc[-1] < 0.0 < tb["u_m_s"].iloc[-1]
+    assert len(run.body_contacts) == 1
+    event = run.body_contacts.iloc[0]
+    assert (event["body"], event["other"]) == ("a", "b")
+    assert event["approach_velocity_m_s"] == pytest.approx(1.5, rel=0.02)
+    assert event["restitution"] == pytest.approx(1.0, rel=0.05)
+
+
+def test_a_run_longer_than_the_record_is_refused():
+    body = TransportBody("plate", centre_m=(0.0, 0.0, 0.1), **PLATE)
+    with pytest.raises(FlowCoverageError, match=r"flow\.t"):
+        run_transport([body], FLUME, 12.0, _still())
