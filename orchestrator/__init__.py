@@ -1,6 +1,9 @@
-"""debrisfoam orchestration: scene -> plan -> case -> run -> results -> analysis.
+"""debrisfoam orchestration, one subpackage per stage of the data flow (bottom first):
 
-One module per stage of the data flow; `cli` turns errors into messages and exit codes.
+core -> scene -> plan -> case -> run -> transport -> results -> report -> pipeline -> studies -> cli
+
+A stage imports only from itself and the stages below it (tests/test_layers.py checks it);
+`cli` turns errors into messages and exit codes. docs/architecture.md is the map.
 """
 
 __version__ = "0.1.0"

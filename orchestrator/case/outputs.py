@@ -109,7 +109,7 @@ def read_force_series(case_dir: str | Path, function_object: str = "columnForces
 
 
 #: the water balance's bound: a run that creates or loses more than this fraction of its
-#: water is flagged in summary.json and report.md (issue 6: water conserved to 1 %)
+#: water is flagged in summary.json and report.md
 WATER_BALANCE_TOLERANCE = 0.01
 
 #: function objects of the water balance (templates/system/controlDict.j2)

@@ -1,4 +1,4 @@
-"""Comparisons of a run with the analytical models and with the seed study (issue 5).
+"""Comparisons of a run with the analytical models and with the seed study.
 
 :func:`compare` takes the tables of :func:`orchestrator.results.tables.tables` and returns a
 :class:`Comparison`; :func:`write_tables` writes its tables to ``DIR/results/``:

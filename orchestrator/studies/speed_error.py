@@ -1,4 +1,4 @@
-"""Speed against error: what each member of a sweep costs and how wrong it is (issue 6).
+"""Speed against error: what each member of a sweep costs and how wrong it is.
 
 :func:`speed_error` reads a sweep folder (its results store and every member's
 ``results/``), optionally baseline sweep folders (e.g. the hand-made set-up: uniform

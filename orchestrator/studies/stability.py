@@ -1,7 +1,7 @@
 """Numerical stability of runs: did each finish with sane physics, or stop with a diagnosis?
 
 :func:`assess` looks at one run (a case folder, run by `debrisfoam run`, `case` or a sweep)
-and answers the questions of issue 6's hard cases:
+and answers, for the hard cases of cases/hard/:
 
 * outcome: finished, or how it stopped (the runner's diagnosis: divergence, contact the
   runner could not resolve, a failed OpenFOAM step) and at what simulated time;
@@ -44,7 +44,7 @@ from orchestrator.studies.sweep.store import load_store, read_member_record
 
 __all__ = ["INSIDE_TOLERANCE_M", "MASS_TOLERANCE", "Assessment", "assess", "markdown", "stability_table"]
 
-#: largest relative water-balance error of a sane run (issue 6: conserved to 1 %)
+#: largest relative water-balance error of a sane run
 MASS_TOLERANCE = WATER_BALANCE_TOLERANCE
 #: deepest a body may be found inside the column, a wall or another body (m): the runner
 #: acts on contacts at the end of a solver step, so a body can overlap by what it moves in
