@@ -4,10 +4,12 @@ After every step the engine hands MuJoCo's contacts to :class:`EventBook`. Conta
 bed are not events (a body resting or sliding on it is in contact all the time). Every other
 contact is keyed by (body, other): the column, a wall, or another body (the lower index
 first). A key that was out of contact for at least ``separation_s`` (default 5 ms, about one
-contact duration of the container law) and is in contact now is an **onset**: an event is
+contact duration of the container law) and is in contact now is an **onset**; if the body
+approaches at ``min_impact_velocity_m_s`` (default 0.05 m/s) or faster along the normal, an event is
 opened with the body's state *before* the step that found the contact (its centre-of-mass
 velocity ``v_in`` and angular velocity), the mean contact point and the normal from the
-other thing into the body. While the key stays in contact (or comes back within
+other thing into the body (slower onsets are touches: a body held against the column by
+the flow makes and breaks contact every few milliseconds). While the key stays in contact (or comes back within
 ``separation_s``: chatter of a rocking body) it is the same event; whenever the key is found
 out of contact the event's rebound is (re)written from the body's velocity then, so it holds
 the velocity after the last separation.
@@ -93,7 +95,7 @@ class EventBook:
     """
 
     def __init__(self, owner, geom_names, bodies, body_ids, dof_adr, column=None, bed_z_m: float = 0.0,
-                 separation_s: float = 0.005, surface=None):
+                 separation_s: float = 0.005, surface=None, min_impact_velocity_m_s: float = 0.05):
         self.owner = np.asarray(owner)
         self.body_ids = np.asarray(body_ids)
         self.geom_names = list(geom_names)
@@ -103,6 +105,7 @@ class EventBook:
         self.bed_z_m = float(bed_z_m)
         self.separation_s = float(separation_s)
         self.surface = surface
+        self.min_impact_velocity_m_s = float(min_impact_velocity_m_s)
         self.last_seen: dict[tuple, float] = {}
         self.open: dict[tuple, _Event] = {}
         self.events: list[_Event] = []
@@ -155,6 +158,10 @@ class EventBook:
             kind = "column" if other == "column" else "wall"
             v_other = None
         adr = self.dof_adr[body]
+        v_in = np.array(qvel_before[adr:adr + 3], dtype=float)
+        if -float((v_in - (v_other if v_other is not None else 0.0)) @ normal) < self.min_impact_velocity_m_s:
+            self.open.pop(key, None)  # the earlier strike's rebound is final
+            return  # a touch, not a strike: a body pressed against the column by the flow
         rot = xmat[body].reshape(3, 3)
         half = np.asarray(self.bodies[body].size_m) / 2.0
         centre_z = float(data.xpos[self.body_ids[body]][2])
@@ -166,8 +173,8 @@ class EventBook:
                 level = float(self.surface(c.x_m - c.column.size_x_m / 2.0 - 0.01, c.y_m, time_s))
             except InputError:
                 level = math.nan
-        event = _Event(len(self.events) + 1, time_s, body, other, kind, point, normal,
-                       np.array(qvel_before[adr:adr + 3], dtype=float), v_other, clearance, level)
+        event = _Event(len(self.events) + 1, time_s, body, other, kind, point, normal, v_in, v_other, clearance,
+                       level)
         self.events.append(event)
         self.open[key] = event
 
