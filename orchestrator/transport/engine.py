@@ -229,7 +229,7 @@ def run_transport(bodies, flume: Flume, t_end_s: float, flow: FlowField | None =
         before = d.qvel.copy()
         t_before = d.time
         mujoco.mj_step(m, d)
-        if d.ncon:
+        if d.ncon or book.touching:
             book.observe(t_before, d, before, d.xmat[built.body_ids])
     record()
     wall = time.perf_counter() - start

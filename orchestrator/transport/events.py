@@ -11,8 +11,9 @@ velocity ``v_in`` and angular velocity), the mean contact point and the normal f
 other thing into the body (slower onsets are touches: a body held against the column by
 the flow makes and breaks contact every few milliseconds). While the key stays in contact (or comes back within
 ``separation_s``: chatter of a rocking body) it is the same event; whenever the key is found
-out of contact the event's rebound is (re)written from the body's velocity then, so it holds
-the velocity after the last separation.
+out of contact after being in contact, the event's rebound is (re)written from the body's
+velocity at that step, so it holds the velocity just after the last separation. The engine
+calls :meth:`EventBook.observe` after every step with a contact or with pairs still touching.
 
 Velocities are the centre of mass's: ``impact_velocity_m_s = normal_velocity_in_m_s =
 -(v_in . n)``, the tangential part ``|v_in - (v_in . n) n|``, the obliquity ``atan2(tangential,
@@ -108,6 +109,7 @@ class EventBook:
         self.min_impact_velocity_m_s = float(min_impact_velocity_m_s)
         self.last_seen: dict[tuple, float] = {}
         self.open: dict[tuple, _Event] = {}
+        self.touching: set[tuple] = set()
         self.events: list[_Event] = []
         self.pulse_wall_s = 0.0
         self.pulses: dict = {}
@@ -135,11 +137,13 @@ class EventBook:
             if last is None or time_s - last > self.separation_s:
                 self._open(key, rows, time_s, data, qvel_before, xmat)
             self.last_seen[key] = time_s
-        for key, event in self.open.items():
-            if key not in current:
+        for key in self.touching - current.keys():  # separated during this step
+            event = self.open.get(key)
+            if event is not None:
                 event.v_out = self._velocity(data.qvel, key[0])
                 if isinstance(key[1], int):
                     event.v_other_out = self._velocity(data.qvel, key[1])
+        self.touching = set(current)
 
     def _velocity(self, qvel, body: int) -> np.ndarray:
         adr = self.dof_adr[body]
