@@ -255,6 +255,8 @@ def build_context(scene, plan, numerics: Numerics | None = None) -> dict[str, An
       max_courant, max_alpha_courant, sample_interval_s (None = every step)
     - decomposition: {n, n_subdomains}; fluid: water/air rho and nu, sigma, g;
       numerics: `Numerics` as a dict; motion: inner/outer distance; reasons: lines
+    - flow_record: None, or (a one-way plan) {name, interval_s, points}: the plan's sample
+      grid as points, x outermost, z innermost
     """
     solver = plan.solver
     numerics = numerics or Numerics.for_solver(solver, float(plan.max_courant))
@@ -298,6 +300,7 @@ def build_context(scene, plan, numerics: Numerics | None = None) -> dict[str, An
         "probes": probes,
         "column": column,
         "time": _time_context(plan, outputs),
+        "flow_record": _flow_record_context(plan),
         "decomposition": {"n": n, "n_subdomains": int(np.prod(n))},
         "fluid": {"water_rho": fluids.water_density_kg_m3, "water_nu": fluids.water_viscosity_m2_s,
                   "air_rho": fluids.air_density_kg_m3, "air_nu": fluids.air_viscosity_m2_s,
@@ -377,6 +380,15 @@ def _sampling_context(plan: ModelPlan, lo: np.ndarray, hi: np.ndarray, column: d
             z = lo[2] + plan.water_depth_m * n / 5
             probes.append({"name": f"column_face_{n}", "point": (x_face, yc, z)})
     return gauges, probes
+
+
+def _flow_record_context(plan: ModelPlan) -> dict[str, Any] | None:
+    """The flow record's sampling (a one-way plan): every point of its grid, z fastest."""
+    record = plan.flow_record
+    if record is None:
+        return None
+    points = [(x, y, z) for x in record.x_m for y in record.y_m for z in record.z_m]
+    return {"name": record.name, "interval_s": float(record.interval_s), "points": points}
 
 
 def _time_context(plan: ModelPlan, outputs) -> dict[str, Any]:

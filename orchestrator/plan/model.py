@@ -15,7 +15,7 @@ from typing import Any, Literal
 from analytical.errors import InputError
 from orchestrator.plan.grid import BoxGrid, Segment
 
-__all__ = ["BodyPlan", "GaugePlan", "ModelPlan", "WaterBox", "grid_from_dict", "grid_to_dict"]
+__all__ = ["BodyPlan", "FlowRecordPlan", "GaugePlan", "ModelPlan", "WaterBox", "grid_from_dict", "grid_to_dict"]
 
 Vector = tuple[float, float, float]
 Box = tuple[Vector, Vector]
@@ -38,6 +38,49 @@ class GaugePlan:
     x: float
     y: float
     z_top: float
+
+
+@dataclass(frozen=True)
+class FlowRecordPlan:
+    """The flow a one-way run records for its bodies: alpha.water and U on a regular grid.
+
+    ``x_m``, ``y_m``: evenly spaced sample positions along and across the flume; ``z_m``: the
+    background's cell centres from the bed to ``z_faces_m[-1]``, between the faces
+    ``z_faces_m`` (so each sample is its cell's value and the water column is
+    ``sum(alpha dz)``, as the gauges integrate it). One frame every ``interval_s``, written
+    by the ``sets`` function object ``name`` to ``postProcessing/<name>/``.
+    ``bodies_region_m``: ((x0, x1), (y0, y1)) of the bodies' footprints at the start, which
+    the record must cover.
+    """
+
+    name: str
+    interval_s: float
+    x_m: tuple[float, ...]
+    y_m: tuple[float, ...]
+    z_m: tuple[float, ...]
+    z_faces_m: tuple[float, ...]
+    bodies_region_m: tuple[tuple[float, float], tuple[float, float]]
+
+    @property
+    def points(self) -> int:
+        """Sample points per frame (those inside the column's hole included)."""
+        return len(self.x_m) * len(self.y_m) * len(self.z_m)
+
+    @property
+    def region_m(self) -> tuple[tuple[float, float], tuple[float, float], tuple[float, float]]:
+        """((x0, x1), (y0, y1), (bed, top)) the record spans."""
+        return ((self.x_m[0], self.x_m[-1]), (self.y_m[0], self.y_m[-1]), (self.z_faces_m[0], self.z_faces_m[-1]))
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"name": self.name, "interval_s": self.interval_s, "points": self.points,
+                "region_m": [list(a) for a in self.region_m], "x_m": list(self.x_m), "y_m": list(self.y_m),
+                "z_m": list(self.z_m), "z_faces_m": list(self.z_faces_m),
+                "bodies_region_m": [list(a) for a in self.bodies_region_m]}
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> "FlowRecordPlan":
+        return cls(data["name"], data["interval_s"], tuple(data["x_m"]), tuple(data["y_m"]), tuple(data["z_m"]),
+                   tuple(data["z_faces_m"]), _pairs(data["bodies_region_m"]))
 
 
 @dataclass(frozen=True)
@@ -158,11 +201,20 @@ class ModelPlan:
     first_delta_t_s: float = field(kw_only=True)
     #: the largest time step the case allows (maxDeltaT)
     max_delta_t_s: float = field(kw_only=True)
+    #: how the debris meets the flow: "none" (no debris), "two-way" (the bodies on overset
+    #: meshes in the flow) or "one-way" (the flow without them, recorded in ``flow_record``)
+    debris_coupling: Literal["none", "one-way", "two-way"] = field(default="none", kw_only=True)
+    #: the flow record of a one-way plan (None otherwise)
+    flow_record: FlowRecordPlan | None = field(default=None, kw_only=True)
 
     def __post_init__(self) -> None:
         for i, box in enumerate(self.water):
             if not all(hi > lo for lo, hi in zip(box.min_m, box.max_m)):
                 raise InputError(f"plan.water.{i}", f"box max {tuple(box.max_m)} must exceed min {tuple(box.min_m)}")
+        if (self.debris_coupling == "one-way") != (self.flow_record is not None):
+            raise InputError("plan.flow_record", "a one-way plan, and only a one-way plan, records the flow")
+        if self.debris_coupling == "one-way" and self.bodies:
+            raise InputError("plan.bodies", "a one-way plan models no bodies in the flow")
         n = tuple(self.decomposition)
         if len(n) != 3 or min(n) < 1:
             raise InputError("plan.decomposition", f"hierarchical n must be 3 counts >= 1, got {n}")
@@ -201,6 +253,8 @@ class ModelPlan:
             "column_box_m": None if self.column_box_m is None else [list(c) for c in self.column_box_m],
             "first_delta_t_s": self.first_delta_t_s,
             "max_delta_t_s": self.max_delta_t_s,
+            "debris_coupling": self.debris_coupling,
+            "flow_record": None if self.flow_record is None else self.flow_record.to_dict(),
             "background": grid_to_dict(self.background),
             "bodies": [b.to_dict() for b in self.bodies],
             "water": [{"name": w.name, "min_m": list(w.min_m), "max_m": list(w.max_m)} for w in self.water],
@@ -230,6 +284,9 @@ class ModelPlan:
                 gauges=tuple(GaugePlan(g["name"], g["x"], g["y"], g["z_top"]) for g in data["gauges"]),
                 reasons=dict(data["reasons"]),
                 warnings=tuple(data["warnings"]),
+                # plan.json written before the coupling choice: bodies meant the overset path
+                debris_coupling=data.get("debris_coupling", "two-way" if data["bodies"] else "none"),
+                flow_record=None if data.get("flow_record") is None else FlowRecordPlan.from_dict(data["flow_record"]),
             )
         except KeyError as missing:
             raise InputError("plan.json", f"has no {missing.args[0]!r} (written by an older debrisfoam?)") from None

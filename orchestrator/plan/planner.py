@@ -1,14 +1,17 @@
 """Planning: decide what a scene needs to be modelled, and say why.
 
-:func:`plan_case` is a pure function ``Scene -> ModelPlan``. It chooses the solver
-(interFoam on a static mesh without debris, overInterDyMFoam with one six-DoF body per
-debris otherwise) and 2D or 3D here, then asks each stage of the plan in turn: the bodies'
+:func:`plan_case` is a pure function ``Scene -> ModelPlan``. It chooses how the debris meets
+the flow (:mod:`~orchestrator.plan.coupling`), the solver (interFoam on a static mesh without
+debris or for a one-way flow record, overInterDyMFoam with one six-DoF body per debris for
+two-way) and 2D or 3D here, then asks each stage of the plan in turn: the bodies'
 placement (:mod:`~orchestrator.plan.bodies`), how much of the reservoir and of the
 downstream flume to model and where cells are fine (:mod:`~orchestrator.plan.domain`), the
 background mesh and its grading (:mod:`~orchestrator.plan.grading`), the body meshes, the
 water to fill and the gauges, the time step and its cost (:mod:`~orchestrator.plan.timestep`),
-the domain decomposition (:mod:`~orchestrator.plan.decompose`) and the numbers the case's
-dictionaries need (:mod:`~orchestrator.plan.case_numbers`). Every choice has a sentence in
+the domain decomposition (:mod:`~orchestrator.plan.decompose`), the numbers the case's
+dictionaries need (:mod:`~orchestrator.plan.case_numbers`) and, one-way, the flow record.
+A one-way plan keeps the background mesh a two-way plan of the scene would have (the gap
+layers under resting bodies included), so the two flows compare cell for cell. Every choice has a sentence in
 ``ModelPlan.reasons``; ``ModelPlan.to_json()`` is written to ``plan.json`` in a case.
 """
 
@@ -17,8 +20,9 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
-from orchestrator.plan.bodies import body_inertia, body_layout, body_plans
+from orchestrator.plan.bodies import BodyLayout, body_inertia, body_layout, body_plans
 from orchestrator.plan.case_numbers import WET_BED, case_numbers
+from orchestrator.plan.coupling import ONE_WAY_MAX_COURANT, choose_coupling, flow_record_plan
 from orchestrator.plan.decompose import decompose
 from orchestrator.plan.domain import SAFETY, Domain, column_spans_width, plan_domain
 from orchestrator.plan.grading import background_grid
@@ -52,6 +56,7 @@ __all__ = [
 
 #: Every decision the plan records a reason for.
 REASON_KEYS = (
+    "debris_coupling",
     "solver",
     "two_d",
     "gate",
@@ -79,11 +84,16 @@ def plan_case(scene: Scene) -> ModelPlan:
     """
     reasons: dict[str, str] = {}
     warnings: list[str] = []
-    solver, two_d = _choose_model(scene, reasons)
+    coupling = choose_coupling(scene, reasons, warnings)
+    solver, two_d = _choose_model(scene, coupling, reasons)
     layout = body_layout(scene)
     domain = plan_domain(scene, list(layout.boxes), reasons, warnings)
     background = background_grid(scene, domain, layout.gap, two_d, reasons, warnings)
-    bodies = body_plans(scene, layout, reasons, warnings)
+    flow_record = None
+    if coupling == "one-way":
+        scene, layout, bodies, flow_record = _one_way(scene, layout, background, domain, reasons)
+    else:
+        bodies = body_plans(scene, layout, reasons, warnings)
     water = _water(scene, domain, reasons)
     gauges = _gauges(scene, domain, reasons)
     dt = time_step_estimate_s(scene, solver, background, bodies, two_d, reasons)
@@ -118,11 +128,13 @@ def plan_case(scene: Scene) -> ModelPlan:
         bed_friction_calibration=scene.bed.friction_calibration,
         stall_limit_s=run.stall_limit_s,
         water_balance_limit=run.water_balance_limit,
-        bed_gap_m=layout.lift_m,
+        bed_gap_m=layout.lift_m if bodies else 0.0,
         velocity_scale_m_s=2.0 * math.sqrt(scene.fluids.gravity_m_s2 * scene.reservoir.depth_m),
         time_step_estimate_s=dt,
         reasons=reasons,
         warnings=tuple(warnings),
+        debris_coupling=coupling,
+        flow_record=flow_record,
         **case_numbers(background, water, two_d=two_d, max_courant=run.max_courant,
                        write_interval_s=run.write_interval_s, max_delta_t=run.max_delta_t_s,
                        gravity_m_s2=scene.fluids.gravity_m_s2),
@@ -130,10 +142,36 @@ def plan_case(scene: Scene) -> ModelPlan:
     return _with_wall_time(plan)
 
 
-def _choose_model(scene: Scene, reasons: dict[str, str]) -> tuple[str, bool]:
-    """The solver (overset with debris) and whether the case is 2D (nothing varies across)."""
+def _one_way(scene: Scene, layout: BodyLayout, background, domain: Domain, reasons: dict[str, str]):
+    """A one-way plan's scene (its Courant limit for interFoam), body layout (none in the flow),
+    bodies (none) and flow record."""
+    n = len(scene.debris)
+    record = flow_record_plan(scene, background, domain, reasons)
+    reasons["bodies"] = (
+        f"one-way: none of the {n} bod{'y' if n == 1 else 'ies'} in the flow (no body meshes); they are carried "
+        f"through the flow record afterwards"
+    )
+    run = scene.run
+    if run.max_courant > ONE_WAY_MAX_COURANT:
+        reasons["max_courant"] = (
+            f"maxCo = maxAlphaCo = {ONE_WAY_MAX_COURANT:g}, not the scene's {run.max_courant:g}: that value is for "
+            "the overset solver, which counts hole and fringe faces in its Courant number; interFoam's explicit "
+            "MULES keeps alpha bounded only up to an alpha Courant number of 1"
+        )
+        scene = scene.model_copy(update={"run": run.model_copy(update={"max_courant": ONE_WAY_MAX_COURANT})})
+    return scene, BodyLayout((), (), layout.margin_m, layout.gap), (), record
+
+
+def _choose_model(scene: Scene, coupling: str, reasons: dict[str, str]) -> tuple[str, bool]:
+    """The solver (overset for two-way debris) and whether the case is 2D (nothing varies across)."""
     n, col = len(scene.debris), scene.column
-    if n:
+    if coupling == "one-way":
+        solver = "interFoam"
+        reasons["solver"] = (
+            f"one-way: interFoam on a static mesh without the {n} debris bod{'y' if n == 1 else 'ies'}, "
+            "the flow recorded for them (flow_record)"
+        )
+    elif n:
         solver = "overInterDyMFoam"
         reasons["solver"] = (
             f"{n} debris bod{'y' if n == 1 else 'ies'}: overInterDyMFoam with one "

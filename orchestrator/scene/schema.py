@@ -303,6 +303,11 @@ class Run(SceneSection):
         None, gt=0, description="fraction of the initial water a run may create or lose (its water balance, "
                                 "results/water_balance.csv) before the runner stops it with a diagnosis; "
                                 "null = 0.01, the stability check's 1 % (docs/stability.md)")
+    debris_coupling: Literal["auto", "one-way", "two-way"] = Field(
+        "auto", description="how the debris meets the flow: two-way: six-DoF bodies on overset meshes in the "
+        "flow (overInterDyMFoam); one-way: the flow once without them (interFoam), recorded, the bodies carried "
+        "through the record afterwards; auto: one-way when the bodies displace under 0.1 % of the reservoir's "
+        "water and block under 40 % of the width, else two-way (plan.json says which and why)")
 
 
 class Outputs(SceneSection):
@@ -314,6 +319,9 @@ class Outputs(SceneSection):
     fields: tuple[str, ...] = Field(("alpha.water", "U", "p_rgh"), description="fields written at each write "
                                     "interval")
     preview: bool = Field(True, description="draw the scene to preview.png when rendering")
+    flow_record_hz: float = Field(
+        50.0, ge=50, le=1000, description="frames per second of the flow record a one-way run writes "
+        "(run.debris_coupling; the bodies are carried through it) (Hz)")
 
 
 class Scene(SceneSection):
