@@ -41,7 +41,8 @@ MASS = 0.236
 
 @pytest.fixture(scope="module")
 def scene():
-    return load_scene(ROOT / "cases" / "1debris.yaml")
+    """The seed's 1-debris scene on the coupled (overset) path, whose runner these contacts serve."""
+    return load_scene(ROOT / "cases" / "1debris.yaml", ["run.debris_coupling=two-way"])
 
 
 @pytest.fixture(scope="module")
@@ -325,7 +326,7 @@ def test_body_state_checks_and_plan():
     assert err.value.field == "b.orientation"
     with pytest.raises(InputError):
         state(mass=0.0)
-    plan = plan_case(load_scene(ROOT / "cases" / "1debris.yaml"))
+    plan = plan_case(load_scene(ROOT / "cases" / "1debris.yaml", ["run.debris_coupling=two-way"]))
     s = BodyState.from_plan(plan.bodies[0], velocity_m_s=(1.5, 0, 0))
     assert s.name == "debris1" and s.mass_kg == pytest.approx(0.236)
     np.testing.assert_allclose(s.inertia_kg_m2, plan.bodies[0].moment_of_inertia_kg_m2)

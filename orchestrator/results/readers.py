@@ -28,7 +28,7 @@ from analytical.errors import DebrisfoamError, InputError
 from orchestrator.case.bodystate import read_body_properties
 from orchestrator.case.folder import EPS_T, CaseFolder
 from orchestrator.case.outputs import numeric_dirs
-from orchestrator.run.contact_book import CONTACTS_JSON
+from orchestrator.run.event_files import CONTACTS_JSON
 from orchestrator.run.monitor import parse_log
 from orchestrator.scene.scenefile import load_scene
 from orchestrator.scene.schema import column_for_analysis

@@ -38,7 +38,6 @@ from __future__ import annotations
 
 import csv
 import dataclasses
-import json
 import math
 from pathlib import Path
 from typing import Any, Callable, Sequence
@@ -46,23 +45,14 @@ from typing import Any, Callable, Sequence
 from orchestrator.case import bodystate
 from orchestrator.case.bodystate import BodyState
 from orchestrator.case.folder import EPS_T
-from orchestrator.core.files import write_text_atomic
 from orchestrator.run.case_info import CaseInfo
 from orchestrator.run.contact_geometry import Contact, Geometry, resting_contact
 from orchestrator.run.contact_settings import ContactSettings
 from orchestrator.run.errors import ContactError
+from orchestrator.run.event_files import IMPACTS_CSV, read_events, write_events, write_pulse_files
 from orchestrator.run.monitor import StepRecord
 
-__all__ = [
-    "CONTACTS_DIR",
-    "CONTACTS_JSON",
-    "IMPACTS_CSV",
-    "ContactBook",
-]
-
-CONTACTS_JSON = "contacts.json"
-IMPACTS_CSV = "impacts.csv"
-CONTACTS_DIR = "contacts"
+__all__ = ["ContactBook"]
 
 
 # --------------------------------------------------------------------------- the book
@@ -325,31 +315,16 @@ class ContactBook:
                 csv.writer(fh).writerows(kept)
 
     def _read_events(self) -> list[dict]:
-        path = self.case / CONTACTS_JSON
-        return json.loads(path.read_text()) if path.is_file() else []
+        return read_events(self.case)
 
     def _write_events(self, events: list[dict]) -> None:
-        write_text_atomic(self.case / CONTACTS_JSON, json.dumps(events, indent=2))
+        write_events(self.case, events)
 
     def _record_event(self, time_name: str, c: Contact, before: dict[str, BodyState], after: dict[str, BodyState],
                       result) -> None:
         events = self._read_events()
         number = len(events) + 1
-        (self.case / CONTACTS_DIR).mkdir(exist_ok=True)
-        history = self.case / CONTACTS_DIR / f"event{number:04d}-force.csv"
-        with open(history, "w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(["time_s", "force_N"])
-            for t, f in zip(result.force.time_s, result.force.force_N):
-                w.writerow([repr(float(t)), repr(float(f))])
-        if result.base_shear is not None:
-            shear = self.case / CONTACTS_DIR / f"event{number:04d}-base-shear.csv"
-            with open(shear, "w", newline="") as fh:
-                w = csv.writer(fh)
-                w.writerow(["time_s", "base_shear_x_N"] + (["base_shear_y_N"] if result.base_shear_y else []))
-                ys = result.base_shear_y.response_N if result.base_shear_y is not None else None
-                for i, (t, v) in enumerate(zip(result.base_shear.time_s, result.base_shear.response_N)):
-                    w.writerow([repr(float(t)), repr(float(v))] + ([repr(float(ys[i]))] if ys is not None else []))
+        history = write_pulse_files(self.case, number, result)
         b0, b1 = before[c.body], after[c.body]
         event = {
             "event": number,
@@ -373,7 +348,7 @@ class ContactBook:
             "peak_force_N": float(result.peak_force_N),
             "duration_s": float(result.duration_s),
             "impulse_Ns": float(result.impulse_Ns),
-            "force_history": str(history.relative_to(self.case)),
+            "force_history": str(history),
         }
         if c.kind == "body":
             event["other_velocity_in_m_s"] = list(before[c.other].velocity_m_s)
