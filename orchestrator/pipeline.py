@@ -25,6 +25,7 @@ from orchestrator.report.postprocess import post_case
 from orchestrator.report.preview import preview_scene
 from orchestrator.run.runner import run_case
 from orchestrator.scene.scenefile import load_scene
+from orchestrator.transport.case_transport import TransportSummary, transport_case
 
 #: Post-processing draws with matplotlib's pyplot (and pyvista), which are not thread-safe:
 #: cases run in threads of one process (a sweep's local executor) post-process one at a time.
@@ -88,6 +89,7 @@ def run_full_case(scene_path: str | Path, out_dir: str | Path | None = None, set
     for message in _plan_warnings(case):  # before anything runs, on every start
         print(f"debrisfoam: warning: {message}", file=sys.stderr, flush=True)
     run = run_case(case, np=np, quiet=quiet, stop_event=stop_event)
+    carry_debris(case, already=run.already_finished, quiet=quiet)
     with _POST_LOCK:
         post = post_case(case)
     summary = final_summary(post.headline)
@@ -97,6 +99,20 @@ def run_full_case(scene_path: str | Path, out_dir: str | Path | None = None, set
     summary["wall_time_s"] = round(time.perf_counter() - t0, 1)
     summary["solver_wall_s"] = round(run.solver_wall_s, 1)
     return summary
+
+
+def carry_debris(case: str | Path, already: bool = False, quiet: bool = False) -> TransportSummary | None:
+    """A one-way case's transport after its flow run (None for any other case).
+
+    Skipped when the flow run had already finished and run.json records a transport: the
+    bodies were carried through this very record before.
+    """
+    folder = CaseFolder(case)
+    if (folder.plan() or {}).get("debris_coupling") != "one-way":
+        return None
+    if already and "transport" in (folder.run_record() or {}):
+        return None
+    return transport_case(case, say=(lambda _: None) if quiet else (lambda m: print(m, flush=True)))
 
 
 def _num(value: Any, fmt: str = ".3f") -> str:

@@ -52,6 +52,7 @@ def cmd_preview(args: argparse.Namespace) -> int:
 
 def cmd_run(args: argparse.Namespace) -> int:
     from orchestrator.run.monitor import DivergenceLimits
+    from orchestrator.pipeline import carry_debris
     from orchestrator.run.runner import RunInterrupted, run_case
 
     if args.stall_limit is not None and not args.stall_limit > 0:
@@ -63,6 +64,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     try:
         limits = DivergenceLimits(stall_s=args.stall_limit) if args.stall_limit is not None else None
         summary = run_case(args.case_dir, np=args.np, quiet=args.quiet, reconstruct=args.reconstruct, limits=limits)
+        carry_debris(args.case_dir, already=summary.already_finished, quiet=args.quiet or args.json)
     except RunInterrupted as exc:  # resumable: say how, exit 128 + signal (130 for Ctrl-C)
         if args.debug:
             raise

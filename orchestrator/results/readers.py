@@ -71,12 +71,14 @@ class CaseData:
             names = []
         if not names and self.plan:
             names = [b["name"] for b in self.plan.get("bodies", [])]
+        if not names and self.scene is not None:  # one-way: the bodies are the scene's, not the flow's
+            names = [b.name for b in self.scene.debris]
         return names
 
     @property
     def body_masses_kg(self) -> dict[str, float]:
-        if self.plan:
-            return {b["name"]: float(b["mass_kg"]) for b in self.plan.get("bodies", [])}
+        if self.plan and self.plan.get("bodies"):
+            return {b["name"]: float(b["mass_kg"]) for b in self.plan["bodies"]}
         if self.scene is not None:
             return {b.name: float(b.mass_kg) for b in self.scene.debris}
         return {}

@@ -1,0 +1,161 @@
+"""A one-way case's bodies carried through its recorded flow, written as a coupled run writes them.
+
+After the flow run of a one-way case (``plan.debris_coupling == "one-way"``: interFoam without
+the bodies, recording alpha.water and U), :func:`transport_case`:
+
+1. reads the record into a :class:`~orchestrator.transport.flow.FlowField`
+   (:func:`~orchestrator.transport.record.read_flow_record`, kept as results/flow_record.npz);
+2. builds every scene body as it starts (size, mass, wall thickness, centre and orientation from
+   the resolved scene, start velocity, its contact law and its bed friction coefficient), the
+   flume's bed and side walls, end walls at the record's ends, and the column;
+3. runs the MuJoCo engine (:func:`~orchestrator.transport.engine.run_transport`) from t = 0 to
+   the run's end time;
+4. writes what the coupled runner writes, so that post-processing, sweeps and reports read both
+   paths alike: ``bodies.csv`` (the tracks), ``contacts.json`` with one impact event per column
+   strike and its pulse under ``contacts/`` (from the same contact law and column model the
+   coupled path resolves strikes with), and run.json's ``transport`` record with
+   ``transport_wall_s``. Strikes on walls and between bodies are contact events of type
+   ``transport_contact`` in contacts.json (the engine resolves them; no pulse is computed), and
+   ``transport/body_contacts.csv`` lists the body-body ones.
+
+A body that leaves the recorded region stops the transport with a FlowCoverageError naming the
+coordinate; the end walls at the record's ends keep bodies inside it, so the record's region
+(plan.flow_record) should reach past where the bodies can go in the run's time.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable
+
+from analytical.errors import InputError
+from orchestrator.case.folder import CaseFolder
+from orchestrator.core.files import write_text_atomic
+from orchestrator.run.event_files import write_events, write_pulse_files
+from orchestrator.run.impact_resolution import body_contact_law
+from orchestrator.scene.schema import Scene, column_for_analysis
+from orchestrator.scene.scenefile import load_scene
+from orchestrator.transport.engine import TransportResult, TransportSettings, run_transport
+from orchestrator.transport.model import Flume, PlacedColumn, TransportBody
+from orchestrator.transport.record import read_flow_record
+
+__all__ = ["TRANSPORT_DIR", "TransportSummary", "scene_bodies", "transport_case"]
+
+#: The transport's own files in the case folder.
+TRANSPORT_DIR = "transport"
+
+
+@dataclass(frozen=True)
+class TransportSummary:
+    """What :func:`transport_case` did: the engine's result and what it wrote."""
+
+    result: TransportResult
+    column_impacts: int
+    other_contacts: int
+    flow_record: Path
+    flow_record_bytes: int
+    wall_s: float
+
+
+def scene_bodies(scene: Scene) -> list[TransportBody]:
+    """The scene's bodies as they start (the resolved scene's centres: on the bed, afloat or given)."""
+    bodies = []
+    for b in scene.debris:
+        bodies.append(TransportBody(
+            name=b.name, size_m=tuple(b.size_m), mass_kg=b.mass_kg, centre_m=tuple(b.centre_m),
+            yaw_deg=b.yaw_deg, pitch_deg=b.pitch_deg, roll_deg=b.roll_deg, velocity_m_s=tuple(b.velocity_m_s),
+            wall_thickness_m=b.wall_thickness_m, friction_coefficient=b.contact.bed_friction_coefficient,
+            contact=body_contact_law(b.contact)))
+    return bodies
+
+
+def _placed_column(scene: Scene) -> PlacedColumn | None:
+    if scene.column is None:
+        return None
+    return PlacedColumn(scene.column.x_m, scene.column.y_m, column_for_analysis(scene))
+
+
+def _event(row: dict[str, Any], number: int, kind_type: str) -> dict[str, Any]:
+    """A contacts.json event from a row of the engine's impacts table."""
+    n = [row["normal_x"], row["normal_y"], row["normal_z"]]
+    rebound = [row["rebound_u_m_s"], row["rebound_v_m_s"], row["rebound_w_m_s"]]
+    vn = float(row["normal_velocity_in_m_s"])
+    tangential = float(row["tangential_velocity_in_m_s"])
+    # the engine's table keeps the approach's normal part per axis and the tangential part's size
+    v_in = [float(-vn * n[i]) for i in range(3)]
+    event = {
+        "event": number, "type": kind_type, "time_s": float(row["time_s"]), "body": row["body"],
+        "other": row["other"], "kind": row["kind"], "point_m": [row["point_x_m"], row["point_y_m"], row["point_z_m"]],
+        "normal": n, "velocity_in_m_s": v_in, "velocity_out_m_s": rebound,
+        "normal_velocity_in_m_s": -vn, "normal_velocity_out_m_s": float(row["rebound_normal_velocity_m_s"]),
+        "tangential_velocity_in_m_s": tangential,
+        "restitution": float(row["restitution"]), "obliquity_deg": float(row["obliquity_deg"]),
+        "height_m": float(row["height_m"]), "face_water_level_m": float(row["face_water_level_m"]),
+        "body_clearance_m": float(row["body_clearance_m"]), "afloat": bool(row["afloat"]),
+        "source": "one-way transport",
+    }
+    return {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in event.items()}
+
+
+def _write_events(folder: CaseFolder, result: TransportResult) -> tuple[int, int]:
+    """contacts.json and the pulse files: (column impacts, other contacts)."""
+    events: list[dict[str, Any]] = []
+    strikes = others = 0
+    for row in result.impacts.sort_values("time_s", kind="stable").to_dict("records"):
+        number = len(events) + 1
+        pulse = result.pulses.get(int(row["event"])) if row["kind"] == "column" else None
+        if pulse is None:
+            events.append(_event(row, number, "transport_contact"))
+            others += 1
+            continue
+        event = _event(row, number, "impact")
+        event.update(peak_force_N=float(pulse.peak_force_N), duration_s=float(pulse.duration_s),
+                     impulse_Ns=float(pulse.impulse_Ns), pulse_restitution=float(pulse.restitution),
+                     force_history=str(write_pulse_files(folder.path, number, pulse)))
+        events.append(event)
+        strikes += 1
+    write_events(folder.path, events)
+    if not result.body_contacts.empty:
+        (folder.path / TRANSPORT_DIR).mkdir(exist_ok=True)
+        write_text_atomic(folder.path / TRANSPORT_DIR / "body_contacts.csv",
+                          result.body_contacts.to_csv(index=False, float_format="%.10g"))
+    return strikes, others + len(result.body_contacts)
+
+
+def transport_case(case_dir: str | Path, *, settings: TransportSettings | None = None,
+                   say: Callable[[str], None] = print) -> TransportSummary:
+    """Carry the one-way case's bodies through its recorded flow and write the results a
+    coupled run writes (module notes). Raises InputError when the case is not one-way or its
+    record does not cover the run."""
+    folder = CaseFolder(case_dir)
+    plan = folder.plan() or {}
+    if plan.get("debris_coupling") != "one-way":
+        raise InputError(str(folder.plan_path), f"debris_coupling is {plan.get('debris_coupling')!r}: only a one-way "
+                                                "case carries its bodies through a recorded flow")
+    scene = load_scene(folder.scene_path)
+    record = read_flow_record(folder.path, delete_raw=False)
+    flow = record.field
+    say(f"debrisfoam: flow record: {record.frames} frames of {record.points:,} points, "
+        f"{record.bytes_total / 1e6:.1f} MB ({record.path.name})")
+    (x0, x1), (y0, y1), _ = flow.extent_m
+    flume = Flume(x_m=(x0, x1), y_m=(max(y0, -scene.flume.width_m / 2), min(y1, scene.flume.width_m / 2)),
+                  bed_z_m=flow.bed_z_m)
+    t_end = float(plan.get("end_time_s", scene.run.end_time_s))
+    result = run_transport(scene_bodies(scene), flume, t_end, flow=flow, column=_placed_column(scene),
+                           settings=settings)
+    write_text_atomic(folder.path / "bodies.csv", result.tracks.to_csv(index=False, float_format="%.10g"))
+    strikes, others = _write_events(folder, result)
+    run = folder.run_record() or {}
+    run["transport"] = {"engine": "mujoco", "bodies": len(scene.debris), "end_time_s": t_end,
+                        "timestep_s": result.timestep_s, "steps": result.steps, "wall_s": round(result.wall_s, 3),
+                        "pulse_wall_s": round(result.pulse_wall_s, 3), "column_impacts": strikes,
+                        "other_contacts": others, "flow_record": str(record.path.relative_to(folder.path)),
+                        "flow_record_bytes": record.bytes_total}
+    run["transport_wall_s"] = round(result.wall_s + result.pulse_wall_s, 3)
+    folder.write_run_record(run)
+    say(f"debrisfoam: transport: {len(scene.debris)} bod{'y' if len(scene.debris) == 1 else 'ies'} over "
+        f"{t_end:g} s in {result.wall_s:.1f} s (+ {result.pulse_wall_s:.1f} s of column pulses): "
+        f"{strikes} column strike(s), {others} other contact(s)")
+    return TransportSummary(result, strikes, others, record.path, record.bytes_total,
+                            result.wall_s + result.pulse_wall_s)

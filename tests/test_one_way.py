@@ -1,0 +1,96 @@
+"""The one-way path end to end with real OpenFOAM: `debrisfoam case` on a tiny one-way scene runs
+interFoam without the body, records the flow, carries the container through the record on
+MuJoCo, and leaves the results a coupled run leaves (contacts.json, pulses, impacts.csv,
+bodies.csv, report), so post-processing reads both paths alike."""
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+from analytical.contact_law import column_impact
+from orchestrator.run.impact_resolution import body_contact_law
+from orchestrator.scene.schema import column_for_analysis
+from orchestrator.scene.scenefile import load_scene
+from tests.conftest import run_cli
+
+ROOT = Path(__file__).resolve().parent.parent
+SCENE = ROOT / "tests" / "data" / "scenes" / "tiny-oneway-strike.yaml"
+LAUNCH_M_S = 0.8
+#: from the container's nose (x = 0.95 + 0.075) to the column's face (1.2 - 0.05)
+GAP_M = 0.125
+
+
+@pytest.fixture(scope="module")
+def one_way_case(tmp_path_factory):
+    case = tmp_path_factory.mktemp("oneway") / "case"
+    proc = run_cli("case", str(SCENE), "-o", str(case))
+    assert proc.returncode == 0, proc.stderr
+    return case, proc
+
+
+@pytest.mark.openfoam
+def test_a_one_way_case_runs_the_flow_without_the_body_and_records_it(one_way_case, openfoam):
+    case, _ = one_way_case
+    plan = json.loads((case / "plan.json").read_text())
+    assert (plan["debris_coupling"], plan["solver"], plan["bodies"]) == ("one-way", "interFoam", [])
+    assert not (case / "constant" / "dynamicMeshDict").exists()
+    run = json.loads((case / "run.json").read_text())
+    assert run["status"] == "finished"
+    transport = run["transport"]
+    assert transport["engine"] == "mujoco" and transport["bodies"] == 1 and transport["steps"] > 0
+    assert run["transport_wall_s"] == pytest.approx(transport["wall_s"] + transport["pulse_wall_s"], abs=2e-3)
+    assert (case / transport["flow_record"]).is_file() and transport["flow_record_bytes"] > 0
+
+
+@pytest.mark.openfoam
+def test_the_container_strikes_the_column_with_the_coupled_paths_contact_law(one_way_case, openfoam):
+    case, _ = one_way_case
+    events = json.loads((case / "contacts.json").read_text())
+    strikes = [e for e in events if e["type"] == "impact"]
+    assert [e["kind"] for e in strikes][:1] == ["column"]
+    impacts = pd.read_csv(case / "results" / "impacts.csv")
+    first = impacts.iloc[0]
+    # launched at 0.8 m/s, slowed by the water's drag: it arrives later than at its launch speed,
+    # and slower
+    assert first["time_s"] > GAP_M / LAUNCH_M_S
+    assert 0.3 < first["impact_velocity_m_s"] < LAUNCH_M_S
+    # the pulse is the contact law's in series with the column's MDOF model at that strike
+    scene = load_scene(SCENE)
+    body = scene.debris[0]
+    speed = math.hypot(first["normal_velocity_in_m_s"], first["tangential_velocity_in_m_s"])
+    expected = column_impact(body_contact_law(body.contact), speed, first["height_m"],
+                             column=column_for_analysis(scene), obliquity_deg=first["obliquity_deg"],
+                             mass_kg=body.mass_kg, size_m=body.size_m, wall_thickness_m=body.wall_thickness_m,
+                             friction_coefficient=body.contact.bed_friction_coefficient)
+    assert first["peak_force_N"] == pytest.approx(expected.peak_force_N, rel=0.01)
+    assert first["duration_s"] == pytest.approx(expected.duration_s, rel=0.01)
+    assert first["impulse_Ns"] == pytest.approx(expected.impulse_Ns, rel=0.01)
+    assert (case / first["force_history"]).is_file()
+
+
+@pytest.mark.openfoam
+def test_post_processing_reads_the_one_way_results_as_a_coupled_runs(one_way_case, openfoam):
+    case, _ = one_way_case
+    tracks = pd.read_csv(case / "results" / "bodies.csv")
+    start = tracks.sort_values("time_s").iloc[0]
+    assert start["body"] == "debris1" and start["x_m"] == pytest.approx(0.95, abs=1e-6)
+    assert tracks["time_s"].max() == pytest.approx(0.2, abs=0.011)
+    summary = json.loads((case / "results" / "summary.json").read_text())
+    assert summary["impacts"]["first"]["other"] == "column"
+    assert summary["impacts"]["first"]["peak_force_N"] > 0
+    for name in ("report.md", "tracks.png", "impacts.png"):
+        assert (case / "results" / name).is_file(), name
+
+
+@pytest.mark.openfoam
+def test_running_a_finished_one_way_case_again_does_not_carry_the_bodies_again(one_way_case, openfoam):
+    case, _ = one_way_case
+    before = json.loads((case / "run.json").read_text())["transport"]
+    proc = run_cli("case", str(SCENE), "-o", str(case))
+    assert proc.returncode == 0, proc.stderr
+    assert "transport:" not in proc.stdout
+    assert json.loads((case / "run.json").read_text())["transport"] == before
