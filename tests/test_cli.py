@@ -5,7 +5,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from tests.conftest import cli_json, run_cli
+from tests.conftest import ROOT, cli_json, run_cli
 
 
 def test_asce7_json_keys_and_values():
@@ -215,20 +215,27 @@ def test_zero_column_damping_is_accepted(model):
 
 
 def test_plan_warnings_reach_the_terminal_and_the_json(tmp_path):
-    """The 2x3 layout's overlapping body meshes (v1912 may never finish their overset
-    addressing) are said on stderr by render, in render --json, and per member by sweep --dry-run."""
+    """The 2x3 layout's overlapping body meshes on the coupled path (v1912 may never finish their
+    overset addressing) are said on stderr by render, in render --json, and per member by sweep
+    --dry-run."""
     import json
 
-    proc = run_cli("render", "cases/6debris-2x3.yaml", "-o", str(tmp_path / "c"), "--set", "outputs.preview=false")
+    two_way = ["--set", "run.debris_coupling=two-way"]
+    proc = run_cli("render", "cases/6debris-2x3.yaml", "-o", str(tmp_path / "c"), "--set", "outputs.preview=false",
+                   *two_way)
     assert proc.returncode == 0, proc.stderr
     lines = [line for line in proc.stderr.splitlines() if line.startswith("debrisfoam: warning: ")]
     assert lines and all("overlap" in line or "debris" in line for line in lines)
     plan = json.loads((tmp_path / "c" / "plan.json").read_text())
     assert len(lines) == len(plan["warnings"]) > 0
     out = json.loads(run_cli("render", "cases/6debris-2x3.yaml", "-o", str(tmp_path / "d"), "--set",
-                             "outputs.preview=false", "--json").stdout)
+                             "outputs.preview=false", "--json", *two_way).stdout)
     assert out["warnings"] == plan["warnings"]
-    dry = run_cli("sweep", "cases/sweeps/debris-layouts.yaml", "--dry-run", "-o", str(tmp_path / "s"))
+    layouts = tmp_path / "layouts-two-way.yaml"
+    layouts.write_text("name: layouts-two-way\nscenes:\n" + "".join(
+        f"  - {ROOT / 'cases' / n}.yaml\n" for n in ("1debris", "6debris-2x3")) +
+        "axes:\n  run.debris_coupling: [two-way]\n")
+    dry = run_cli("sweep", str(layouts), "--dry-run", "-o", str(tmp_path / "s"))
     assert dry.returncode == 0, dry.stderr
     assert any(line.startswith("debrisfoam: warning: member ") and "overlap" in line for line in dry.stderr.splitlines())
     clean = run_cli("render", "cases/nodebris.yaml", "-o", str(tmp_path / "n"), "--set", "outputs.preview=false")

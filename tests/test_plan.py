@@ -45,11 +45,14 @@ G = 9.81
 
 
 def case(name: str, *overrides: str):
-    return load_scene(CASES / f"{name}.yaml", list(overrides))
+    """A shipped scene planned on the coupled (overset) path, which these tests check body by body
+    (auto sends the shipped layouts one-way: tests/test_coupling.py)."""
+    return load_scene(CASES / f"{name}.yaml", ["run.debris_coupling=two-way", *overrides])
 
 
 def valid(*overrides: str):
-    return load_scene(VALID, list(overrides))
+    """The valid base scene on the coupled (overset) path (see case())."""
+    return load_scene(VALID, ["run.debris_coupling=two-way", *overrides])
 
 
 def all_cell_sizes(segs) -> list[float]:
@@ -634,15 +637,14 @@ def test_every_decision_has_a_reason_for_any_scene(d):
     assert all(p.reasons[k].strip() for k in REASON_KEYS)
     assert p.cores == s.run.cores
     assert p.cell_count == p.background.cell_count() + sum(b.grid.cell_count() for b in p.bodies)
-    assert (p.solver == "interFoam") == (not s.debris)
+    assert (p.solver == "interFoam") == (not s.debris or p.debris_coupling == "one-way")
     json.loads(p.to_json())
 
 
 def test_bodies_on_the_bed_are_held_until_the_bore_can_lift_them():
     from analytical.dambreak import dam_break
-    from orchestrator.scene.scenefile import load_scene
 
-    scene = load_scene(ROOT / "cases" / "1debris.yaml")
+    scene = case("1debris")
     plan = plan_case(scene)
     body, debris = plan.bodies[0], scene.debris[0]
     assert body.on_bed and 0 < body.hold_until_s < scene.run.end_time_s
@@ -653,16 +655,16 @@ def test_bodies_on_the_bed_are_held_until_the_bore_can_lift_them():
     assert depth == pytest.approx(draft, rel=1e-6)  # released exactly when the bore reaches its draft
     assert body.hold_until_s > float(chanson.arrival_time_s(debris.centre_m[0]))
     assert "hold_on_bed" in plan.reasons and body.name in plan.reasons["hold_on_bed"]
-    floating = plan_case(load_scene(ROOT / "cases" / "1debris.yaml", ["bed.wet_depth_m=0.05"]))
+    floating = plan_case(case("1debris", "bed.wet_depth_m=0.05"))
     assert floating.bodies[0].hold_until_s == 0.0  # 5 cm of water float the 26 mm draft + 7.5 mm gap: no hold
 
 
 def test_overlapping_body_meshes_are_named_in_the_warnings():
     # the seed's 2x3 layout at 4 cm: 0.12 m margins across a 0.15 m spacing (docs/stability.md)
-    six = plan_case(load_scene(CASES / "6debris-2x3.yaml"))
+    six = plan_case(case("6debris-2x3"))
     assert any("debris1 and debris2 overlap at the start" in w and "never finish the overset addressing" in w
                for w in six.warnings)
-    assert not any("overlap" in w for w in plan_case(load_scene(CASES / "1debris.yaml")).warnings)
+    assert not any("overlap" in w for w in plan_case(case("1debris")).warnings)
 
 
 # ------------------------------------------------------------- plan.json round trip

@@ -38,7 +38,7 @@ import numpy as np
 from analytical.errors import DebrisfoamError
 from orchestrator.core.files import write_bytes_atomic
 from orchestrator.plan.planner import ModelPlan, estimated_steps, plan_case
-from orchestrator.scene.geometry import flume_extent
+from orchestrator.scene.geometry import body_rotation, flume_extent
 from orchestrator.scene.scenefile import load_scene
 from orchestrator.scene.schema import Scene
 
@@ -201,6 +201,12 @@ def _geometry(pv, scene: Scene, plan: ModelPlan) -> _Geometry:
         column_top = (c.x_m, c.y_m, c.height_m)
 
     debris, tops, body_meshes = [], [], []
+    # one-way: the bodies are the scene's, carried through the recorded flow (no body meshes)
+    for body in ([] if plan.bodies else scene.debris):
+        box = _oriented_box(pv, body.centre_m, body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg),
+                            body.size_m)
+        debris.append(box)
+        tops.append((body.centre_m[0], body.centre_m[1], box.bounds[5]))
     for body in plan.bodies:
         box = _oriented_box(pv, body.centre_of_mass_m, body.orientation, body.size_m)
         debris.append(box)
@@ -237,7 +243,7 @@ def _geometry(pv, scene: Scene, plan: ModelPlan) -> _Geometry:
         column=column,
         column_top=column_top,
         debris=debris,
-        debris_names=[b.name for b in plan.bodies],
+        debris_names=[b.name for b in (plan.bodies or scene.debris)],
         debris_tops=np.array(tops, dtype=float).reshape(-1, 3),
         body_meshes=body_meshes,
         gauges=gauges,
@@ -320,7 +326,8 @@ def _draw_isometric(plotter, geo: _Geometry, scene: Scene, plan: ModelPlan) -> N
     entries = [["simulated domain", COLOURS["domain"]], ["fine-mesh region", COLOURS["fine"]]]
     entries += [["water at t = 0", COLOURS["water"]]] if geo.water else []
     entries += [["column", COLOURS["column"]]] if geo.column is not None else []
-    entries += [["debris (+ overset mesh)", COLOURS["debris"]]] if geo.debris else []
+    entries += [["debris (+ overset mesh)" if geo.body_meshes else "debris (carried one-way)",
+                 COLOURS["debris"]]] if geo.debris else []
     entries += [["gauge", COLOURS["gauge"]]] if geo.gauges else []
     plotter.add_legend(
         labels=entries,

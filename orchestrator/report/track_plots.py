@@ -17,16 +17,37 @@ from orchestrator.report.figures import SMALL, WIDTH_IN, empty, legend, pyplot, 
 from orchestrator.results.compare import SPREADING_ANGLES_DEG
 from orchestrator.scene.geometry import flume_extent
 
-__all__ = ["figure_tracks", "plot_tracks"]
+__all__ = ["clipped_area", "draw_column", "draw_spreading_areas", "figure_tracks", "plot_tracks"]
 
 
-def _clipped(poly: np.ndarray, box: tuple[float, float, float, float] | None):
+def clipped_area(poly: np.ndarray, box: tuple[float, float, float, float] | None):
     """The polygon as a matplotlib path, cut at the flume walls (x0, x1, y0, y1) if given."""
     path = MplPath(np.vstack([poly, poly[:1]]), closed=True)
     if box is None:
         return path
     x0, x1, y0, y1 = box
     return path.clip_to_bbox(Bbox([[x0, y0], [x1, y1]]), inside=True)
+
+
+def draw_spreading_areas(ax, areas: dict[str, np.ndarray], box: tuple[float, float, float, float] | None) -> None:
+    """The spreading areas (name -> polygon of :func:`orchestrator.results.compare.spreading_area`),
+    cut at the walls ``box``, and their source line when it is a line (more than one body)."""
+    colours = ["#2b83ba", "#fdae61"]
+    for (name, poly), colour in zip(areas.items(), colours):
+        spec = SPREADING_ANGLES_DEG[name]
+        flag = "" if spec["verified"] else " (unverified)"
+        ax.add_patch(PathPatch(clipped_area(poly, box), alpha=0.22, color=colour, lw=0,
+                               label=f"{name}, {spec['half_angle_deg']:g} deg{flag}"))
+    if areas:
+        poly = next(iter(areas.values()))
+        if abs(poly[3, 1] - poly[0, 1]) > 1e-9:  # one body: the source line is a point
+            ax.plot(poly[[0, 3], 0], poly[[0, 3], 1], color="0.2", lw=2.0, label="source line of the areas")
+
+
+def draw_column(ax, column) -> None:
+    """The scene's column (``scene.column``) in plan view."""
+    ax.add_patch(Rectangle((column.x_m - column.size_x_m / 2, column.y_m - column.size_y_m / 2), column.size_x_m,
+                           column.size_y_m, color="#5f6b73", label="column", zorder=2))
 
 
 def figure_tracks(results, comp):
@@ -66,20 +87,9 @@ def figure_tracks(results, comp):
         ax.add_patch(Rectangle((x_lo, y_lo), x_hi - x_lo, y_hi - y_lo, fill=False, lw=1.2, color="0.3",
                                label="walls of the simulated domain"))
         box = (x_lo, x_hi, y_lo, y_hi)
-    colours = ["#2b83ba", "#fdae61"]
-    for (name, poly), colour in zip(comp.areas.items(), colours):
-        spec = SPREADING_ANGLES_DEG[name]
-        flag = "" if spec["verified"] else " (unverified)"
-        ax.add_patch(PathPatch(_clipped(poly, box), alpha=0.22, color=colour, lw=0,
-                               label=f"{name}, {spec['half_angle_deg']:g} deg{flag}"))
-    if comp.areas:
-        poly = next(iter(comp.areas.values()))
-        if abs(poly[3, 1] - poly[0, 1]) > 1e-9:  # one body: the source line is a point
-            ax.plot(poly[[0, 3], 0], poly[[0, 3], 1], color="0.2", lw=2.0, label="source line of the areas")
+    draw_spreading_areas(ax, comp.areas, box)
     if scene is not None and scene.column is not None:
-        c = scene.column
-        ax.add_patch(Rectangle((c.x_m - c.size_x_m / 2, c.y_m - c.size_y_m / 2), c.size_x_m, c.size_y_m,
-                               color="#5f6b73", label="column", zorder=2))
+        draw_column(ax, scene.column)
     for r in results.gauge_summary.itertuples():
         if np.isfinite(r.x_m):
             ax.plot(r.x_m, r.y_m, marker="o", ms=6, color="#1a9641", ls="none", label="gauge", zorder=4)
@@ -114,7 +124,8 @@ def figure_tracks(results, comp):
         ax.set_xlim(*xlim)
     if ylim:
         ax.set_ylim(*ylim)
-    ax.set_aspect("equal", adjustable="datalim")
+    # the limits are fixed (the flume's reach), so the axes box takes the equal aspect
+    ax.set_aspect("equal", adjustable="box" if (xlim and ylim) else "datalim")
     ax.set_xlabel("x along the flume (m)")
     ax.set_ylabel("y across (m)")
     ax.set_title("Debris tracks (centre of mass) in plan view, and the spreading areas (ASCE 7-22 6.11.5.1)\n"

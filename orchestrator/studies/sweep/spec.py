@@ -45,9 +45,12 @@ _EXECUTOR_KEYS = ("kind", "workers", "scheduler")
 _MODES = ("grid", "zip")
 _NAME_RE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]*$")
 
-#: scene keys added after member ids were first issued: hashed only when set (not None), so
-#: that adding a key leaves the ids of existing members, and their finished runs, as they were
-LATE_KEYS = (("run", "max_delta_t_s"), ("run", "stall_limit_s"), ("run", "water_balance_limit"))
+#: scene keys added after member ids were first issued, with the value they are not hashed at,
+#: so that adding a key leaves the ids of existing members, and their finished runs, as they were.
+#: run.debris_coupling is left out only for a scene without debris: with debris, its default
+#: (auto) now picks one-way where a member hashed before it ran two-way, so the id must change.
+LATE_KEYS = ((("run", "max_delta_t_s"), None), (("run", "stall_limit_s"), None), (("run", "water_balance_limit"), None),
+             (("outputs", "flow_record_hz"), 50.0))
 
 
 class SweepMemberError(InputError):
@@ -123,9 +126,10 @@ def default_sweep_dir(sweep: Sweep | str | Path) -> Path:
 def member_id(scene: Scene) -> str:
     """A short hash of the resolved scene (canonical JSON): the same scene, the same id."""
     data = scene_to_dict(scene)
-    for section, key in LATE_KEYS:
-        if isinstance(data.get(section), dict) and data[section].get(key) is None:
-            data[section].pop(key, None)
+    late = LATE_KEYS + (((("run", "debris_coupling"), "auto"),) if not scene.debris else ())
+    for (section, key), unhashed in late:
+        if isinstance(data.get(section), dict) and key in data[section] and data[section][key] == unhashed:
+            data[section].pop(key)
     text = json.dumps(data, sort_keys=True, separators=(",", ":"), default=json_default)
     return hashlib.sha256(text.encode()).hexdigest()[:ID_LENGTH]
 
