@@ -4,17 +4,22 @@ PYTHON  ?= python3
 VENV    := .venv
 PY      := $(VENV)/bin/python
 STAMP   := $(VENV)/.installed
-# make case-1debris CELL=0.01 runs the 1-debris scene finer (finest cell size in metres).
-CELL    ?=
-OUT     ?= runs/1debris
-CASE_SET := $(if $(CELL),--set mesh.cell_size_m=$(CELL),)
+# make case-1debris CELL=0.01 runs the 1-debris scene finer (finest cell size in metres);
+# COUPLING=two-way runs it coupled (overset six-DoF bodies) instead of the planner's choice
+# (one-way for this scene: the flow once, the container carried through its record).
+CELL     ?=
+COUPLING ?=
+OUT      ?= runs/1debris$(if $(COUPLING),-$(COUPLING),)
+CASE_SET := $(if $(CELL),--set mesh.cell_size_m=$(CELL),) $(if $(COUPLING),--set run.debris_coupling=$(COUPLING),)
 
-.PHONY: help venv openfoam test test-fast case-1debris sweep speed-error speed-error-debris stability synthetic-study contact-law results-1debris scene-doc bench clean
+.PHONY: help venv openfoam test test-fast case-1debris case-layouts results-layouts sweep speed-error speed-error-debris stability synthetic-study contact-law results-1debris scene-doc bench clean
 
 help:
 	@echo "make venv                   the Python environment only (.venv, the package installed editable)"
-	@echo "make case-1debris [CELL=m]  the study's 1-debris scene, end to end (about 30 min on 2 cores)"
+	@echo "make case-1debris [CELL=m] [COUPLING=two-way]  the study's 1-debris scene, end to end (one-way: about 6 min on 2 cores; two-way: about 60 min)"
 	@echo "make results-1debris        after it: its table, plots and summary to docs/results/case-1debris/"
+	@echo "make case-layouts           the study's four debris layouts one-way (about 25 min on 2 cores), then results-layouts"
+	@echo "make results-layouts        after it: the layouts side by side to docs/results/layouts/"
 	@echo "make sweep SWEEP=mesh-study a sweep from cases/sweeps/ (runs/sweeps/<name>; run again to resume)"
 	@echo "make speed-error            mesh study + hand-made baseline, then the speed-against-error report"
 	@echo "make speed-error-debris     mesh study with one container to its impact, then its report"
@@ -57,7 +62,20 @@ case-1debris: venv openfoam
 # After make case-1debris: its table beside the study's figures, its plots and summary, to
 # docs/results/case-1debris/ (the page the README's table comes from).
 results-1debris: venv
-	$(VENV)/bin/debrisfoam report case $(OUT) -o docs/results/case-1debris --force
+	$(VENV)/bin/debrisfoam report case $(OUT) -o docs/results/case-1debris$(if $(COUPLING),-$(COUPLING),) --force
+
+# The seed's four debris layouts (cases/sweeps/debris-layouts.yaml), each one-way (run.debris_coupling
+# auto): the flow without the bodies, then the bodies carried through its record; run again to resume.
+# A failed member does not stop the page: it is listed there with its error and log.
+LAYOUTS_OUT ?= runs/sweeps/debris-layouts
+case-layouts: venv openfoam
+	-$(NICE) $(VENV)/bin/debrisfoam sweep cases/sweeps/debris-layouts.yaml -o $(LAYOUTS_OUT)
+	$(MAKE) results-layouts
+
+# After make case-layouts: gauges and column force overlaid, tracks, strikes and contacts per layout,
+# to docs/results/layouts/ (report.md, tables, plots).
+results-layouts: venv
+	$(VENV)/bin/debrisfoam report layouts $(LAYOUTS_OUT) -o docs/results/layouts --force
 
 # make sweep SWEEP=mesh-study [EXECUTOR=dask]: cases/sweeps/$(SWEEP).yaml -> runs/sweeps/<name>
 SWEEP    ?= mesh-study
