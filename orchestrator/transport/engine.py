@@ -69,7 +69,8 @@ angular velocity too; ``q_ab`` the body-to-world rotation."""
 class TransportSettings:
     """How to run: output and forcing intervals (s), steps per contact period (>= 40), the
     largest step, the flow time of ``t = 0``, the re-arm time of contact events, the slowest
-    approach that counts as an impact (m/s) and the
+    approach that counts as an impact (m/s), whether only each body's first column strike gets
+    its pulse (:class:`~orchestrator.transport.events.EventBook`) and the
     hydrodynamic coefficients (their density and gravity are replaced by the flow's)."""
 
     output_interval_s: float = 0.01
@@ -79,6 +80,7 @@ class TransportSettings:
     flow_start_s: float | None = None
     separation_s: float = 0.005
     min_impact_velocity_m_s: float = 0.05
+    first_pulse_only: bool = False
     hydro: HydroCoefficients = field(default_factory=HydroCoefficients)
 
     def __post_init__(self):
@@ -181,7 +183,8 @@ def run_transport(bodies, flume: Flume, t_end_s: float, flow: FlowField | None =
     forcing = _Forcing(flow, bodies, coeffs) if flow is not None else None
     surface = (lambda x, y, t: flow.surface(x, y, t0 + t)) if flow is not None else None
     book = EventBook(built.geom_owner, built.geom_names, bodies, built.body_ids, built.dof_adr, column,
-                     flume.bed_z_m, settings.separation_s, surface, settings.min_impact_velocity_m_s)
+                     flume.bed_z_m, settings.separation_s, surface, settings.min_impact_velocity_m_s,
+                     settings.first_pulse_only)
     mass = np.array([b.mass_kg for b in bodies])
     lin = built.dof_adr[:, None] + np.arange(3)[None, :]
     ang = built.dof_adr[:, None] + np.arange(3, 6)[None, :]
