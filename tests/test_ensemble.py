@@ -1,0 +1,264 @@
+"""Ensembles (orchestrator/studies/ensemble.py): the perturbed starts (reproducible, inside their
+clip, never within the gap of a wall, the column or another body; an impossible layout is bad
+input naming the body), the table and the summary on a synthetic flow, the report, the verb's bad
+input, and the verb end to end on the tiny one-way scene with OpenFOAM on both executors."""
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from analytical.column import Column
+from analytical.contact_law import SEED_IMPACT_VELOCITY_M_S
+from analytical.errors import InputError
+from orchestrator.studies.ensemble import (
+    TABLE_COLUMNS,
+    EnsembleResult,
+    Perturbation,
+    ensemble_starts,
+    perturbed_starts,
+    plan_footprint,
+    run_ensemble,
+    start_clash,
+    summarise,
+)
+from orchestrator.studies.ensemble_report import write_report
+from orchestrator.transport.engine import TransportSettings, run_transport
+from orchestrator.transport.flow import FlowField
+from orchestrator.transport.model import Flume, PlacedColumn, TransportBody
+from tests.conftest import run_cli
+
+ROOT = Path(__file__).resolve().parent.parent
+TINY = ROOT / "tests" / "data" / "scenes" / "tiny-oneway-strike.yaml"
+HEADLINE_KEYS = {"realisations", "impact_probability", "impact_velocity_m_s", "peak_force_N", "wall_time_s"}
+
+FLUME = Flume((0.0, 2.0), (-0.3, 0.3), 0.0)
+COLUMN = PlacedColumn(1.0, 0.0, Column(size_x_m=0.1, size_y_m=0.1, height_m=0.3, wall_thickness_m=0.005))
+
+
+def container(name: str = "debris1", x: float = 0.6, y: float = 0.0, yaw: float = 0.0) -> TransportBody:
+    return TransportBody(name, (0.15, 0.06, 0.06), 0.236, (x, y, 0.03), yaw_deg=yaw, wall_thickness_m=0.005)
+
+
+def _inside(points: np.ndarray, poly: np.ndarray) -> np.ndarray:
+    """Points strictly inside a counter-clockwise convex polygon."""
+    inside = np.ones(len(points), bool)
+    for a, b in zip(poly, np.roll(poly, -1, axis=0)):
+        inside &= (b[0] - a[0]) * (points[:, 1] - a[1]) - (b[1] - a[1]) * (points[:, 0] - a[0]) > 1e-12
+    return inside
+
+
+def _footprint_points(body: TransportBody, n: int = 15) -> np.ndarray:
+    """A grid over the body's footprint, from its own axes (independent of plan_footprint)."""
+    u = np.linspace(-0.5, 0.5, n)
+    local = np.array([[a * body.size_m[0], b * body.size_m[1], 0.0] for a in u for b in u])
+    return (local @ body.rotation.T)[:, :2] + np.asarray(body.centre_m[:2])
+
+
+# --------------------------------------------------------------------------- starts
+def test_starts_are_reproducible_from_the_seed_and_independent_of_n():
+    bodies = [container()]
+    a = ensemble_starts(bodies, FLUME, COLUMN, Perturbation(), seed=7, n=5)
+    b = ensemble_starts(bodies, FLUME, COLUMN, Perturbation(), seed=7, n=3)
+    assert a[:3] == b
+    assert perturbed_starts(bodies, FLUME, COLUMN, Perturbation(), 7, 4) == a[4]
+    assert ensemble_starts(bodies, FLUME, COLUMN, Perturbation(), seed=8, n=3) != b
+    assert len({s[0].centre_m for s in a}) == 5  # every realisation its own start
+
+
+def test_starts_follow_the_documented_clipped_normal_draws():
+    p = Perturbation()
+    body = container()
+    starts = ensemble_starts([body], FLUME, None, p, seed=1, n=600)
+    dx = np.array([s[0].centre_m[0] - body.centre_m[0] for s in starts])
+    dy = np.array([s[0].centre_m[1] - body.centre_m[1] for s in starts])
+    dyaw = np.array([s[0].yaw_deg for s in starts])
+    sigma = p.position_sigma_fraction * body.size_m[0]  # 37.5 mm for the container
+    assert sigma == pytest.approx(0.0375)
+    assert np.abs(dx).max() <= p.clip_sigmas * sigma + 1e-12 and np.abs(dy).max() <= p.clip_sigmas * sigma + 1e-12
+    assert np.abs(dyaw).max() <= p.clip_sigmas * p.yaw_sigma_deg + 1e-12
+    # a normal clipped at 2 sigma keeps 0.96 of its standard deviation
+    for draws, scale in ((dx, sigma), (dy, sigma), (dyaw, p.yaw_sigma_deg)):
+        assert abs(draws.mean()) < 0.12 * scale
+        assert 0.85 * scale < draws.std() < 1.05 * scale
+    assert {s[0].centre_m[2] for s in starts} == {body.centre_m[2]}  # the height is kept
+
+
+def test_starts_never_come_within_the_gap_of_walls_column_or_another_body():
+    # two containers side by side 1 cm apart, 3 cm from a side wall and 5 cm from the column
+    bodies = [container("a", x=0.80, y=0.20), container("b", x=0.80, y=0.13), container("c", x=0.87, y=0.02)]
+    flume = Flume((0.0, 2.0), (-0.3, 0.3))
+    p = Perturbation()
+    starts = ensemble_starts(bodies, flume, COLUMN, p, seed=3, n=150)
+    col = COLUMN.column
+    for placed in starts:
+        for i, body in enumerate(placed):
+            assert start_clash(body, placed[:i], flume, COLUMN, p.min_gap_m) is None
+            pts = _footprint_points(body)
+            assert pts[:, 1].max() <= 0.3 - p.min_gap_m and pts[:, 1].min() >= -0.3 + p.min_gap_m
+            assert not np.any((np.abs(pts[:, 0] - COLUMN.x_m) < col.size_x_m / 2)
+                              & (np.abs(pts[:, 1] - COLUMN.y_m) < col.size_y_m / 2))
+            for other in placed[:i]:
+                assert not _inside(pts, plan_footprint(other)).any()
+                assert not _inside(_footprint_points(other), plan_footprint(body)).any()
+
+
+def test_an_impossible_layout_is_bad_input_naming_the_body():
+    narrow = Flume((0.0, 2.0), (-0.02, 0.02))  # narrower than the container's 0.06 m
+    with pytest.raises(InputError) as err:
+        perturbed_starts([container()], narrow, None, Perturbation(max_tries=20), 0, 0)
+    assert err.value.field == "debris.debris1.centre_m" and "side wall" in str(err.value)
+    twins = [container("a"), container("b")]  # the same place, no room to move
+    with pytest.raises(InputError) as err:
+        perturbed_starts(twins, FLUME, None, Perturbation(position_sigma_fraction=0.0, yaw_sigma_deg=0.0), 0, 0)
+    assert err.value.field == "debris.b.centre_m" and "body a" in str(err.value)
+    with pytest.raises(InputError) as err:
+        Perturbation(yaw_sigma_deg=-1.0)
+    assert err.value.field == "yaw_sigma_deg"
+
+
+# --------------------------------------------------------------------------- table and summary
+@pytest.fixture(scope="module")
+def current(tmp_path_factory):
+    """A 0.6 m/s current 0.1 m deep past the column, saved as the .npz the workers load."""
+    flow = FlowField.uniform_current(0.1, 0.6, x_m=np.linspace(0.0, 2.0, 21), y_m=np.linspace(-0.3, 0.3, 7),
+                                     t_s=np.linspace(0.0, 3.0, 31))
+    return flow, flow.save(tmp_path_factory.mktemp("flow") / "flow_record.npz")
+
+
+def test_the_table_holds_each_bodys_first_strike_and_its_pulse(current):
+    flow, npz = current
+    starts = ensemble_starts([container()], FLUME, COLUMN, Perturbation(), seed=0, n=3)
+    runs = run_ensemble(starts, FLUME, COLUMN, 1.3, flow, npz, "local", workers=1)
+    table = pd.DataFrame([row for r in runs for row in r.rows], columns=TABLE_COLUMNS)
+    assert list(table["realisation"]) == [0, 1, 2] and list(table.columns) == TABLE_COLUMNS
+    assert (table["start_x_m"].to_numpy() == [s[0].centre_m[0] for s in starts]).all()
+    struck = table[table["struck"]]
+    assert len(struck) >= 1
+    assert struck[["impact_time_s", "impact_velocity_m_s", "peak_force_N", "duration_s", "impulse_Ns",
+                   "peak_base_shear_N"]].notna().all().all()
+    assert (struck["strikes"] >= 1).all() and (table.loc[~table["struck"], "strikes"] == 0).all()
+    # the same realisation run alone: the same first strike, and later strikes without a pulse
+    r = int(struck.iloc[0]["realisation"])
+    alone = run_transport(starts[r], FLUME, 1.3, flow=flow, column=COLUMN,
+                          settings=TransportSettings(first_pulse_only=True))
+    column = alone.impacts[alone.impacts["kind"] == "column"]
+    assert column.iloc[0]["peak_force_N"] == pytest.approx(struck.iloc[0]["peak_force_N"])
+    assert column.iloc[1:]["peak_force_N"].isna().all()
+    # a process pool gives the same table as this process
+    pooled = run_ensemble(starts, FLUME, COLUMN, 1.3, flow, npz, "local", workers=2)
+    pooled_table = pd.DataFrame([row for r in pooled for row in r.rows], columns=TABLE_COLUMNS)
+    pd.testing.assert_frame_equal(pooled_table.drop(columns="wall_time_s"), table.drop(columns="wall_time_s"))
+
+
+def _table(struck_velocities, misses: int) -> pd.DataFrame:
+    rows = []
+    for i, v in enumerate([*struck_velocities, *[math.nan] * misses]):
+        hit = not math.isnan(v)
+        rows.append({"realisation": i, "body": "debris1", "start_x_m": 3.2, "start_y_m": 0.0, "start_yaw_deg": 0.0,
+                     "struck": hit, "impact_time_s": 2.5 if hit else math.nan, "impact_velocity_m_s": v,
+                     "impact_height_m": 0.02 if hit else math.nan, "obliquity_deg": 0.0 if hit else math.nan,
+                     "peak_force_N": 100 * v, "duration_s": 0.0047 if hit else math.nan,
+                     "impulse_Ns": 0.3 * v, "peak_base_shear_N": 110 * v, "strikes": 2 if hit else 0,
+                     "wall_time_s": 1.5})
+    return pd.DataFrame(rows, columns=TABLE_COLUMNS)
+
+
+def test_the_summary_counts_strikes_and_states_sample_statistics():
+    table = _table([1.5, 1.6, 1.7], misses=1)
+    s = summarise(table, 4, wall_time_s=12.3)
+    assert s["realisations"] == 4 and s["bodies"] == 1 and s["impact_probability"] == 0.75
+    assert s["impact_velocity_m_s"]["mean"] == pytest.approx(1.6)
+    assert s["impact_velocity_m_s"]["std"] == pytest.approx(0.1)  # ddof 1
+    assert s["peak_force_N"] == pytest.approx({"count": 3, "mean": 160.0, "std": 10.0, "min": 150.0, "max": 170.0})
+    assert s["strikes_per_struck_body"]["mean"] == 2 and s["transport_wall_time_s"] == 6.0
+    assert s["seed_study"]["impact_velocity_m_s"] == dict(zip(("mean", "std"), SEED_IMPACT_VELOCITY_M_S))
+    assert s["seed_study"]["peak_force_N"]["mean"] == pytest.approx(171.07)
+    head = EnsembleResult(table, pd.DataFrame(), s).headline()
+    assert set(head) == HEADLINE_KEYS and set(head["impact_velocity_m_s"]) == {"mean", "std"}
+    one = summarise(_table([1.4], misses=3), 4, 1.0)
+    assert one["impact_probability"] == 0.25 and one["impact_velocity_m_s"]["std"] is None
+    none = summarise(_table([], misses=2), 2, 1.0)
+    assert none["impact_probability"] == 0.0 and none["peak_force_N"]["mean"] is None
+    json.dumps(none, allow_nan=False)  # no NaN in ensemble.json
+
+
+def test_the_report_draws_the_histograms_and_the_envelope(tmp_path):
+    table = _table([1.5, 1.6, 1.7], misses=1)
+    t = np.linspace(0.0, 2.0, 21)
+    tracks = pd.concat([pd.DataFrame({"realisation": r, "body": "debris1", "time_s": t, "x_m": 3.2 + 0.8 * t,
+                                      "y_m": 0.02 * r * t, "speed_m_s": 0.8}) for r in range(4)])
+    summary = summarise(table, 4, 3.0) | {"scene": "cases/1debris.yaml", "perturbation": Perturbation().to_dict(),
+                                          "pulses": "first"}
+    result = EnsembleResult(table, tracks, summary)
+    from orchestrator.scene.scenefile import load_scene
+
+    scene = load_scene(ROOT / "cases" / "1debris.yaml")
+    column = PlacedColumn(5.0, 0.0, Column())
+    files = write_report(tmp_path, result, scene, [container(x=3.2)], column)
+    assert {p.name for p in files.values()} == {"histograms.png", "envelope.png", "report.md"}
+    text = (tmp_path / "report.md").read_text()
+    assert "Impact probability: 75 %" in text and "| impact velocity (m/s) | 1.6 +- 0.1 (3) | 1.6 +- 0.13 |" in text
+    assert "| peak force (N) | 160 +- 10 (3) | 171 +- 62.9 |" in text
+
+
+# --------------------------------------------------------------------------- the verb
+@pytest.mark.parametrize("args, flag", [
+    (["-n", "0"], "-n"),
+    (["-n", "2", "--executor", "ray"], "--executor"),
+    (["-n", "2", "--workers", "0"], "--workers"),
+    (["-n", "2", "--yaw-sigma", "-3"], "--yaw-sigma"),
+    (["-n", "2", "--set", "run.debris_coupling=two-way"], "run.debris_coupling"),
+])
+def test_bad_input_is_exit_2_naming_the_flag(tmp_path, args, flag):
+    proc = run_cli("ensemble", str(TINY), "-o", str(tmp_path / "ens"), *args)
+    assert proc.returncode == 2, proc.stderr
+    assert flag in proc.stderr
+    assert not (tmp_path / "ens" / "flow").exists()  # nothing rendered
+
+
+def test_a_scene_without_debris_is_exit_2_naming_debris(tmp_path):
+    proc = run_cli("ensemble", str(ROOT / "cases" / "nodebris.yaml"), "-n", "2", "-o", str(tmp_path / "ens"))
+    assert proc.returncode == 2 and "debris" in proc.stderr, proc.stderr
+
+
+def test_an_ensemble_folder_is_not_replaced_without_force(tmp_path):
+    out = tmp_path / "ens"
+    out.mkdir()
+    (out / "ensemble.csv").write_text("x\n")
+    proc = run_cli("ensemble", str(TINY), "-n", "2", "-o", str(out))
+    assert proc.returncode == 2 and "-o/--out" in proc.stderr and "--force" in proc.stderr
+
+
+@pytest.mark.openfoam
+def test_the_verb_runs_the_flow_once_and_realisations_on_both_executors(tmp_path, openfoam):
+    out = tmp_path / "ens"
+    proc = run_cli("ensemble", str(TINY), "-n", "4", "-o", str(out), "--seed", "5", "--executor", "local", "--json")
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    head = json.loads(proc.stdout)
+    assert set(head) == HEADLINE_KEYS and head["realisations"] == 4
+    local = pd.read_csv(out / "ensemble.csv")
+    assert list(local.columns) == TABLE_COLUMNS and list(local["realisation"]) == [0, 1, 2, 3]
+    assert head["impact_probability"] == pytest.approx(local["struck"].mean())
+    assert local["struck"].any()  # launched at the column at 0.8 m/s: most starts strike it
+    struck = local[local["struck"]]
+    assert head["peak_force_N"]["mean"] == pytest.approx(struck["peak_force_N"].mean())
+    summary = json.loads((out / "ensemble.json").read_text())
+    assert summary["executor"] == "local" and summary["seed"] == 5
+    for name in ("report.md", "histograms.png", "envelope.png", "tracks.csv"):
+        assert (out / name).is_file(), name
+    run_json = (out / "flow" / "run.json").read_text()
+    # again on Dask with 2 realisations: the flow is reused, and realisations 0 and 1 are the same
+    proc = run_cli("ensemble", str(TINY), "-n", "2", "-o", str(out), "--seed", "5", "--executor", "dask", "--force",
+                   "--json")
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    assert json.loads(proc.stdout)["realisations"] == 2
+    assert (out / "flow" / "run.json").read_text() == run_json
+    on_dask = pd.read_csv(out / "ensemble.csv")
+    pd.testing.assert_frame_equal(on_dask.drop(columns="wall_time_s"),
+                                  local.iloc[:2].drop(columns="wall_time_s"))
+    assert json.loads((out / "ensemble.json").read_text())["executor"] == "dask"
