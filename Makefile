@@ -12,12 +12,13 @@ COUPLING ?=
 OUT      ?= runs/1debris$(if $(COUPLING),-$(COUPLING),)
 CASE_SET := $(if $(CELL),--set mesh.cell_size_m=$(CELL),) $(if $(COUPLING),--set run.debris_coupling=$(COUPLING),)
 
-.PHONY: help venv openfoam test test-fast case-1debris case-layouts results-layouts sweep speed-error speed-error-debris stability synthetic-study contact-law results-1debris scene-doc bench clean
+.PHONY: help venv openfoam test test-fast case-1debris case-layouts results-layouts sweep speed-error speed-error-debris stability synthetic-study contact-law results-1debris ensemble-1debris scene-doc bench clean
 
 help:
 	@echo "make venv                   the Python environment only (.venv, the package installed editable)"
 	@echo "make case-1debris [CELL=m] [COUPLING=two-way]  the study's 1-debris scene, end to end (one-way: about 6 min on 2 cores; two-way: about 60 min)"
 	@echo "make results-1debris        after it: its table, plots and summary to docs/results/case-1debris/"
+	@echo "make ensemble-1debris [N=100] the 1-debris flow once, N perturbed starts through it (runs/ensemble-1debris)"
 	@echo "make case-layouts           the study's four debris layouts one-way (about 25 min on 2 cores), then results-layouts"
 	@echo "make results-layouts        after it: the layouts side by side to docs/results/layouts/"
 	@echo "make sweep SWEEP=mesh-study a sweep from cases/sweeps/ (runs/sweeps/<name>; run again to resume)"
@@ -76,6 +77,12 @@ case-layouts: venv openfoam
 # to docs/results/layouts/ (report.md, tables, plots).
 results-layouts: venv
 	$(VENV)/bin/debrisfoam report layouts $(LAYOUTS_OUT) -o docs/results/layouts --force
+
+# make ensemble-1debris [N=100]: the 1-debris scene's one-way flow once (about 5 min of interFoam on
+# 2 cores; reused when run again), then N realisations of perturbed starts through it (docs/ensembles.md).
+N ?= 100
+ensemble-1debris: venv openfoam
+	$(VENV)/bin/debrisfoam ensemble cases/1debris.yaml -n $(N) -o runs/ensemble-1debris --force
 
 # make sweep SWEEP=mesh-study [EXECUTOR=dask]: cases/sweeps/$(SWEEP).yaml -> runs/sweeps/<name>
 SWEEP    ?= mesh-study

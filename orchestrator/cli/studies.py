@@ -1,5 +1,5 @@
-"""The study verbs: ``sweep`` (a parameter sweep, resumable) and ``report`` (across runs:
-``speed-error``, ``case``, ``stability``).
+"""The study verbs: ``sweep`` (a parameter sweep, resumable), ``ensemble`` (one recorded flow,
+many perturbed debris starts) and ``report`` (across runs: ``speed-error``, ``case``, ``stability``).
 
 ``sweep --dry-run`` prints the members, their cell counts and estimated wall times and runs
 nothing. A sweep with failed members exits 1 and lists them; an interrupted one exits
@@ -15,10 +15,11 @@ from pathlib import Path
 from typing import Any
 
 from analytical.errors import InputError
-from orchestrator.cli.common import EXIT_FAILURE, EXIT_OK, ArgParser, emit, output_path, warn
+from orchestrator.cli.common import EXIT_FAILURE, EXIT_OK, ArgParser, Flags, emit, output_path, warn
 
 __all__ = [
     "add_study_parsers",
+    "cmd_ensemble",
     "cmd_report_case",
     "cmd_report_speed_error",
     "cmd_report_stability",
@@ -107,6 +108,67 @@ def _print_failures(result) -> None:
     print("\n".join(lines), file=sys.stderr)
 
 
+def _ensemble_out(path: str, force: bool) -> Path:
+    """The ensemble's folder: new, or holding only its flow/ (reused), or anything with --force
+    (the ensemble's files are replaced; flow/ is still reused when it holds this scene's case)."""
+    out = Path(path)
+    if out.exists() and not out.is_dir():
+        raise InputError("-o/--out", f"{out} is a file, not a folder")
+    others = sorted(p.name for p in out.iterdir() if p.name != "flow") if out.is_dir() else []
+    if others and not force:
+        raise InputError("-o/--out", f"{out} holds files already ({', '.join(others[:4])}"
+                                     f"{', ...' if len(others) > 4 else ''}): give --force to replace the ensemble "
+                                     "(its flow/ is reused), or another folder")
+    return out
+
+
+def cmd_ensemble(args: argparse.Namespace) -> int:
+    if args.n <= 0:
+        raise InputError("-n", f"must be a whole number > 0 of realisations, got {args.n}")
+    if args.workers is not None and args.workers <= 0:
+        raise InputError("--workers", f"must be > 0, got {args.workers}")
+    out = _ensemble_out(args.out, args.force)
+    from orchestrator.studies.ensemble import Perturbation, ensemble
+
+    with Flags(position_sigma_fraction="--position-sigma", yaw_sigma_deg="--yaw-sigma"):
+        perturbation = Perturbation(**{k: v for k, v in (("position_sigma_fraction", args.position_sigma),
+                                                          ("yaw_sigma_deg", args.yaw_sigma)) if v is not None})
+    bar = []
+
+    def progress(done: int, total: int) -> None:
+        if args.json:
+            return
+        if not bar:  # made at the first completion: the local pool has forked its workers by then
+            from tqdm import tqdm
+
+            bar.append(tqdm(total=total, desc="realisations", unit="run", file=sys.stderr))
+        bar[0].update(done - bar[0].n)
+        if done == total:
+            bar[0].close()
+
+    say = (lambda _: None) if args.json else (lambda m: print(m, flush=True))
+    try:
+        result = ensemble(args.scene, out, args.n, seed=args.seed, executor=args.executor, sets=list(args.set or []),
+                          workers=args.workers, perturbation=perturbation, progress=progress, quiet=args.json,
+                          say=say)
+    finally:
+        if bar:
+            bar[0].close()
+    if args.json:
+        emit(result.headline(), True)
+        return EXIT_OK
+    head = result.headline()
+    lines = {"realisations": head["realisations"], "impact_probability": head["impact_probability"]}
+    for key in ("impact_velocity_m_s", "peak_force_N"):
+        stats = head[key]
+        lines[key] = "-" if stats["mean"] is None else (
+            f"{stats['mean']:.4g}" + (f" +- {stats['std']:.3g}" if stats["std"] is not None else ""))
+    lines["wall_time_s"] = head["wall_time_s"]
+    lines.update({name: str(path) for name, path in result.files.items() if name in ("table", "summary", "report")})
+    emit(lines, False)
+    return EXIT_OK
+
+
 def cmd_report_speed_error(args: argparse.Namespace) -> int:
     from orchestrator.studies.speed_error import speed_error
     from orchestrator.studies.speed_error_report import markdown, write_report
@@ -177,6 +239,28 @@ def add_study_parsers(verbs) -> None:
     p.add_argument("--retry-failed", action="store_true", help="run failed members again (they resume)")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_sweep)
+
+    p = verbs.add_parser("ensemble", help="one one-way flow, then N realisations of the debris from perturbed "
+                                          "starts carried through it: impact probability and load statistics "
+                                          "beside the seed's (docs/ensembles.md)")
+    p.add_argument("scene", help="scene YAML (it must plan one-way: run.debris_coupling auto or one-way)")
+    p.add_argument("-n", type=int, required=True, metavar="N", help="number of realisations")
+    p.add_argument("-o", "--out", required=True, metavar="DIR",
+                   help="ensemble folder: the flow case in DIR/flow (reused when finished), ensemble.csv, "
+                        "ensemble.json, tracks.csv, report.md")
+    p.add_argument("--seed", type=int, default=0, help="seed of the starts (realisation r draws from (seed, r))")
+    p.add_argument("--executor", choices=["local", "dask"], default="local",
+                   help="local: a process pool here; dask: a Dask LocalCluster")
+    p.add_argument("--workers", type=int, default=None, metavar="N",
+                   help="realisations at once (default: this machine's cores)")
+    p.add_argument("--position-sigma", type=float, default=None, metavar="FRACTION",
+                   help="standard deviation of the start's x and y offsets over the body's length (default 0.25)")
+    p.add_argument("--yaw-sigma", type=float, default=None, metavar="DEG",
+                   help="standard deviation of the start's yaw offset (default 12)")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE", help="scene override (repeatable)")
+    p.add_argument("--force", action="store_true", help="replace an ensemble already in DIR (its flow is reused)")
+    p.add_argument("--json", action="store_true", help="print JSON (no progress)")
+    p.set_defaults(func=cmd_ensemble)
 
     rp = verbs.add_parser("report", help="reports across runs: speed-error (a sweep's cost against its errors), "
                                                  "stability (a sweep's runs checked)")
