@@ -90,7 +90,7 @@ def _dense(tracks, per_segment: int = 8) -> tuple[np.ndarray, np.ndarray]:
 def figure_envelope(tracks, table, bodies, flume_y, column, x_end_m: float):
     """Plan view: every track, their envelope, starts, column, walls and the spreading areas' edges."""
     plt = pyplot()
-    fig, ax = plt.subplots(figsize=(WIDTH_IN, 4.6), layout="constrained")
+    fig, ax = plt.subplots(figsize=(WIDTH_IN, 6.4), layout="constrained")
     if tracks is None or not len(tracks):
         empty(ax, "no tracks")
         return fig
@@ -132,10 +132,10 @@ def figure_envelope(tracks, table, bodies, flume_y, column, x_end_m: float):
     ax.set_aspect("equal", adjustable="box")
     ax.set_xlabel("x along the flume (m)")
     ax.set_ylabel("y across (m)")
-    ax.set_title("All tracks (centre of mass) in plan view, their envelope and the spreading areas (ASCE 7-22 "
-                 "6.11.5.1) from the nominal start line", fontsize=10, loc="left")
+    ax.set_title("All tracks (centre of mass) in plan view, their envelope, and the spreading areas\n"
+                 "(ASCE 7-22 6.11.5.1) from the nominal start line", fontsize=10, loc="left")
     ax.grid(alpha=0.3)
-    legend(ax, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=SMALL)
+    legend(ax, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2, fontsize=SMALL)
     note(ax, [f"{tracks.groupby(['realisation', 'body']).ngroups} tracks"], left=True)
     return fig
 
