@@ -1,5 +1,6 @@
 """The study verbs: ``sweep`` (a parameter sweep, resumable), ``ensemble`` (one recorded flow,
-many perturbed debris starts) and ``report`` (across runs: ``speed-error``, ``case``, ``stability``).
+many perturbed debris starts) and ``report`` (across runs: ``speed-error``, ``case``, ``layouts``,
+``stability``).
 
 ``sweep --dry-run`` prints the members, their cell counts and estimated wall times and runs
 nothing. A sweep with failed members exits 1 and lists them; an interrupted one exits
@@ -21,6 +22,7 @@ __all__ = [
     "add_study_parsers",
     "cmd_ensemble",
     "cmd_report_case",
+    "cmd_report_layouts",
     "cmd_report_speed_error",
     "cmd_report_stability",
     "cmd_sweep",
@@ -199,6 +201,15 @@ def cmd_report_case(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def cmd_report_layouts(args: argparse.Namespace) -> int:
+    from orchestrator.report.layouts import write_layouts_report
+
+    out = output_path(args.out, "-o/--out", args.force, folder=True)
+    files = write_layouts_report(args.runs, out)
+    emit({kind: str(path) for kind, path in files.items()}, args.json)
+    return EXIT_OK
+
+
 def cmd_report_stability(args: argparse.Namespace) -> int:
     from orchestrator.studies.stability import markdown, stability_table
 
@@ -290,6 +301,16 @@ def add_study_parsers(verbs) -> None:
     p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_report_case)
+
+    p = rp_verbs.add_parser("layouts", help="debris layouts of one scene side by side: gauges and column force "
+                                           "overlaid, tracks in plan view, strikes, body-body contacts "
+                                           "(make results-layouts)")
+    p.add_argument("runs", nargs="+", metavar="RUN",
+                   help="post-processed case folders, or sweep folders (their members in member order)")
+    p.add_argument("-o", "--out", required=True, help="output folder (report.md, tables, plots)")
+    p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_report_layouts)
 
     p = rp_verbs.add_parser("stability", help="for every member of a sweep: finished with sane physics (water "
                                               "conserved, no body inside a wall, finite forces) or stopped with "

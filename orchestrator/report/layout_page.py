@@ -1,0 +1,217 @@
+"""The page of :mod:`orchestrator.report.layouts` (``report.md``): the runs, the flow of every
+layout overlaid and what their agreement means, then per layout its tracks, strikes and
+contacts between bodies. The layouts are :class:`orchestrator.report.layouts.Layout` objects,
+read before; this module only writes text.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from orchestrator.results.compare import SPREADING_ANGLES_DEG
+
+__all__ = ["CONTACT_ROWS", "markdown"]
+
+
+def _f(value, spec: str = ".3f", unit: str = "") -> str:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        return "-"
+    return f"{v:{spec}}{unit}" if np.isfinite(v) else "-"
+
+
+def _minutes(seconds) -> str:
+    return _f(seconds / 60 if seconds is not None else None, ".1f", " min")
+
+
+#: Rows of a layout's body-body contact table on the page (all of them in body_contacts.csv).
+CONTACT_ROWS = 12
+
+
+def _runs_table(layouts: list, table: pd.DataFrame) -> list[str]:
+    lines = ["| layout | bodies | cells | flow (solver) | mesh | transport | strikes on the column (per body) | "
+             "first strike: body, time, velocity, peak force | largest base shear | body-body contacts | "
+             "wall contacts | largest spreading angle |", "|" + "---|" * 12]
+    for lay, row in zip(layouts, table.to_dict("records")):
+        if not lay.ok:
+            lines.append(f"| {lay.name} | {row['bodies']} | - | {lay.status} | | | | | | | | |")
+            continue
+        first = "-"
+        if row.get("column_strikes"):
+            first = (f"{row['first_strike_body']}, {_f(row['first_strike_time_s'])} s, "
+                     f"{_f(row['first_strike_velocity_m_s'], '.2f')} m/s, {_f(row['first_strike_peak_force_N'], '.0f')} N")
+        lines.append(
+            f"| {lay.name} | {row['bodies']} | {_f(row['cells'], ',.0f')} | {_minutes(row['flow_wall_s'])} | "
+            f"{_f(row['mesh_wall_s'], '.0f', ' s')} | {_f(row['transport_wall_s'], '.1f', ' s')} | "
+            f"{row['column_strikes']} ({row['strikes_per_body']}) | {first} | "
+            f"{_f(row.get('max_base_shear_N'), '.0f', ' N')} | {row['body_contacts']} | {row['wall_contacts']} | "
+            f"{_f(row.get('max_spread_deg'), '.1f', ' deg')} |")
+    return lines
+
+
+def _worst(agreement: pd.DataFrame) -> tuple[float, float, float, float]:
+    """(largest gauge difference m, as a fraction of its peak, largest force difference N, fraction)."""
+    if agreement.empty:
+        return (float("nan"),) * 4
+    gauges = agreement[agreement["quantity"] != "hydro_force_x_N"]
+    force = agreement[agreement["quantity"] == "hydro_force_x_N"]
+    return (float(gauges["max_abs_diff"].max()), float(gauges["max_abs_diff_fraction_of_peak"].max()),
+            float(force["max_abs_diff"].max()), float(force["max_abs_diff_fraction_of_peak"].max()))
+
+
+def _differences(agreement: pd.DataFrame) -> str:
+    g, gf, f, ff = _worst(agreement)
+    return (f"the gauges by at most {_f(1e3 * g, '.1f', ' mm')} ({_f(100 * gf, '.1f', ' %')} of a peak), the "
+            f"hydrodynamic force by at most {_f(f, '.2f', ' N')} ({_f(100 * ff, '.1f', ' %')} of its peak)")
+
+
+def _flow_text(layouts: list, agreement: pd.DataFrame, agree) -> list[str]:
+    """The peaks and differences table and what they mean; ``agree``: the agreement of a list of
+    layouts (:func:`orchestrator.report.layouts.flow_agreement`)."""
+    done = [lay for lay in layouts if lay.ok]
+    if agreement.empty or len(done) < 2:
+        return ["Fewer than two layouts have results: nothing to overlay."]
+    ref = done[0].name
+    lines = ["| quantity | " + " | ".join(f"{lay.name}: peak" for lay in done) +
+             f" | largest difference from {ref} |", "|" + "---|" * (len(done) + 2)]
+    for quantity, rows in agreement.groupby("quantity", sort=False):
+        unit = rows["unit"].iloc[0]
+        peaks = {r.layout: r for r in rows.itertuples()}
+        spec = ".3f" if unit == "m" else ".1f"
+        cells = [f"{_f(peaks[lay.name].peak, spec, ' ' + unit)} at {_f(peaks[lay.name].time_of_peak_s, '.2f')} s"
+                 if lay.name in peaks else "-" for lay in done]
+        w = rows.loc[rows["max_abs_diff"].fillna(-1).idxmax()]
+        lines.append(f"| {quantity} | " + " | ".join(cells) +
+                     f" | {_f(w['max_abs_diff'], '.4f' if unit == 'm' else '.2f', ' ' + unit)} "
+                     f"({_f(100 * w['max_abs_diff_fraction_of_peak'], '.1f', ' %')} of the peak; {w['layout']}) |")
+    groups = _plan_groups(done)
+    same = [g for g in groups.values() if len(g) > 1]
+    text = (f"Against {ref}, the other layouts' records differ: {_differences(agreement)}. The plans: "
+            + "; ".join(f"{', '.join(lay.name for lay in g)}: {cells:,} cells, domain x {_f(x0, '.2f')} to "
+                        f"{_f(x1, '.2f')} m, run to {_f(end, 'g')} s" for (cells, x0, x1, end), g in groups.items())
+            + ("" if len(groups) < 2 else " (the planner truncates the reservoir so that the wave reflected from its "
+               "upstream end does not reach the gate region within the run's end time: plan.json, "
+               "reasons.reservoir_length)") + ".")
+    for g in same:
+        text += (f" {' and '.join(lay.name for lay in g)} run the same plan: between them, "
+                 f"{_differences(agree(g))}.")
+    lines += ["", text, ""]
+    identical = [g for g in same if _worst(agree(g))[0] == 0.0 and _worst(agree(g))[2] == 0.0]
+    if all(lay.plan.get("debris_coupling") == "one-way" for lay in done):
+        lines += [
+            "All layouts ran one-way: each layout's flow is its scene run without the bodies, so the bodies cannot "
+            "change the water levels or the force on the column; the records can differ only where the plans "
+            "differ" + (f" ({'; '.join(' and '.join(lay.name for lay in g) for g in identical)}: the same plan, "
+                        "identical records)" if identical else "") + ".", "",
+            "The seed found that six containers changed neither the water levels nor the column's force. Here that "
+            "finding is an assumption of the one-way model, not a result: the planner sends a layout one-way because "
+            "its bodies displace under 0.1 % of the reservoir's water and block under 40 % of the flume's width "
+            "(plan.json, `debris_coupling`), i.e. because the seed's finding is expected to hold. These runs can "
+            "neither confirm nor refute it; a two-way (overset) run of the 6-body layout would, and v1912 stalls on "
+            "it."]
+    else:
+        lines.append("Not every layout ran one-way: the differences above include the bodies' effect on the flow.")
+    return lines
+
+
+def _plan_groups(done: list) -> dict[tuple, list]:
+    """The layouts by plan: (cells, domain x0, x1, end time) -> layouts (one group: one flow computation)."""
+    groups: dict[tuple, list] = {}
+    for lay in done:
+        x = (lay.plan.get("domain_m") or [[float("nan"), float("nan")]])[0]
+        groups.setdefault((lay.summary.get("cells") or 0, x[0], x[1], lay.summary.get("end_time_s")), []).append(lay)
+    return groups
+
+
+def _strike_table(lay) -> list[str]:
+    s = lay.strikes
+    if not len(s):
+        return ["No strike on the column in the simulated time."]
+    lines = ["| # | body | strike | time | velocity (normal) | obliquity | contact height | water at the face | "
+             "yaw / pitch / roll | peak force | duration | impulse | peak base shear |", "|" + "---|" * 13]
+    for i, r in enumerate(s.itertuples(), 1):
+        lines.append(f"| {i} | {r.body} | {r.strike} | {_f(r.time_s)} s | {_f(r.impact_velocity_m_s, '.2f')} m/s | "
+                     f"{_f(r.obliquity_deg, '.0f')} deg | {_f(r.height_m)} m | {_f(r.face_water_level_m)} m | "
+                     f"{_f(r.yaw_deg, '.0f')} / {_f(r.pitch_deg, '.0f')} / {_f(r.roll_deg, '.0f')} deg | "
+                     f"{_f(r.peak_force_N, '.0f')} N | {_f(1e3 * r.duration_s, '.2f')} ms | {_f(r.impulse_Ns)} N s | "
+                     f"{_f(r.peak_base_shear_N, '.0f')} N |")
+    return lines
+
+
+def _contact_lines(lay) -> list[str]:
+    bc = lay.body_contacts
+    if not len(bc):
+        return [f"No contact between two bodies ({lay.wall_contacts} with the side or end walls)."]
+    approach = bc["approach_velocity_m_s"].abs()
+    lines = [f"{len(bc)} contacts between two bodies, from {_f(bc['time_s'].min())} s to {_f(bc['time_s'].max())} s; "
+             f"relative velocity along the contact normal {_f(approach.min(), '.2f')}-{_f(approach.max(), '.2f')} m/s "
+             f"(median {_f(approach.median(), '.2f')} m/s); {lay.wall_contacts} contacts with the side or end walls.",
+             "", "| time | bodies | approach velocity | separation velocity | restitution |", "|---|---|---|---|---|"]
+    for r in bc.sort_values("time_s").head(CONTACT_ROWS).itertuples():
+        lines.append(f"| {_f(r.time_s)} s | {r.body} - {r.other} | {_f(abs(r.approach_velocity_m_s), '.3f')} m/s | "
+                     f"{_f(r.separation_velocity_m_s, '.3f')} m/s | {_f(r.restitution, '.2f')} |")
+    if len(bc) > CONTACT_ROWS:
+        lines.append(f"\nThe first {CONTACT_ROWS} of {len(bc)}; all in `body_contacts.csv`.")
+    return lines
+
+
+def _spread_line(lay) -> str:
+    sp = lay.spreading
+    if sp.empty:
+        return "No spreading table (results/spreading.csv)."
+    parts = []
+    for name, spec in SPREADING_ANGLES_DEG.items():
+        key = "inside_" + name.split()[0].lower()
+        if key in sp:
+            inside = int(sp[key].astype(str).eq("True").sum())
+            parts.append(f"{inside} of {len(sp)} bodies stayed inside {name}'s {spec['half_angle_deg']:g} deg area")
+    return (f"Largest spreading angle of a track from the start line: {_f(sp['max_spread_deg'].max(), '.1f', ' deg')}; "
+            + "; ".join(parts) + ".")
+
+
+def markdown(layouts: list, table: pd.DataFrame, agreement: pd.DataFrame, figures: dict[str, str], agree) -> str:
+    """The page (module notes); ``figures``: figure name -> file name in the page's folder; ``agree``: the
+    flow agreement of a list of layouts (:func:`orchestrator.report.layouts.flow_agreement`)."""
+    done = [lay for lay in layouts if lay.ok]
+    lines = ["# The debris layouts side by side", "",
+             "Generated by `make results-layouts` (`debrisfoam report layouts RUNS... -o DIR`) from the runs; never "
+             "edited by hand. Tables: `layouts.csv`, `impacts.csv`, `body_contacts.csv`, `flow_agreement.csv`.", ""]
+    couplings = sorted({str(lay.plan.get("debris_coupling")) for lay in done})
+    if couplings == ["one-way"]:
+        lines += ["Every layout ran one-way: interFoam without the bodies, the flow recorded, then the bodies "
+                  "carried through the record on MuJoCo; each strike on the column is resolved by the contact law in "
+                  "series with the column's MDOF model, which gives its force history and base shear. Wall times: "
+                  "the solver's (2 cores), meshing, and the transport with its pulses.", ""]
+    lines += ["## The runs", "", *_runs_table(layouts, table), ""]
+    for lay in layouts:
+        if not lay.ok:
+            lines.append(f"- **{lay.name}** did not give results: {lay.status}; {lay.error or 'no error recorded'}"
+                         + (f" (log: `{lay.log}`)" if lay.log else "") + f"; case `{lay.case}`.")
+    lines += ["", "## The flow of every layout (cf. the seed's Figs. 12-13)", ""]
+    if "flow" in figures:
+        lines += [f"![gauges and column force]({figures['flow']})", "",
+                  "Water levels at WG1-WG4 and the hydrodynamic force on the column along the flow, the layouts "
+                  "overlaid (each with its own dashes, so coinciding lines stay visible).", ""]
+    lines += [*_flow_text(layouts, agreement, agree), ""]
+    if "impact_summary" in figures:
+        lines += ["## Impact velocities and orientations (cf. the seed's Fig. 16)", "",
+                  f"![impact velocities and yaw]({figures['impact_summary']})", "",
+                  "Each strike on the column: the body's velocity along the contact normal and its yaw at the strike "
+                  "(0: long axis along the flow), first strikes of a body and later ones apart.", ""]
+    for lay in done:
+        lines += [f"## {lay.name}", ""]
+        if f"{lay.slug}-tracks" in figures:
+            lines += [f"![{lay.name} tracks]({figures[f'{lay.slug}-tracks']})", "",
+                      "Tracks of the bodies' centres of mass in plan view (cf. the seed's Fig. 14), with the column, "
+                      "the spreading areas from the debris's start line and the contacts between bodies; below, "
+                      "each body's speed and the times of the strikes.", "", _spread_line(lay), ""]
+        lines += ["Strikes on the column (orientation from the body's track at the strike):", "", *_strike_table(lay),
+                  ""]
+        if f"{lay.slug}-impacts" in figures and len(lay.strikes):
+            lines += [f"![{lay.name} impact forces]({figures[f'{lay.slug}-impacts']})", "",
+                      "Force of each strike on the column and the base shear it causes at the load cell, from "
+                      "contact (cf. the seed's Fig. 15).", ""]
+        lines += ["Contacts between bodies:", "", *_contact_lines(lay), ""]
+    return "\n".join(lines)

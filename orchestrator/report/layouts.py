@@ -1,0 +1,357 @@
+"""`debrisfoam report layouts RUNS... -o DIR`: several debris layouts of one scene side by side,
+in the manner of the seed's Figs. 12-16 (``make results-layouts`` on the four layouts of
+``cases/sweeps/debris-layouts.yaml``).
+
+RUNS are post-processed case folders, or sweep folders whose members are read in member order.
+Every layout is read from what its run left (``results/*.csv``, ``results/summary.json``,
+``run.json``, ``contacts/eventNNNN-*.csv``, ``transport/body_contacts.csv``, ``contacts.json``);
+nothing is computed again but what this page adds. DIR receives:
+
+``report.md``
+    the page: the runs (cells, wall times, strikes, contacts), the flow of every layout overlaid
+    and how far the layouts' flows differ, then per layout its tracks, its strikes and its
+    body-body contacts; written by this module, never by hand.
+``layouts.csv``
+    one row per layout: the figures of the page's first table.
+``impacts.csv``
+    every strike on the column of every layout: time, body, velocity along the contact normal,
+    obliquity, contact height, water level at the column's face, the body's yaw, pitch and roll at
+    the strike (interpolated in its track, ``bodies.csv``), the pulse (peak, duration, impulse)
+    and the peak base shear the pulse causes at the load cell (``contacts/eventNNNN-base-shear.csv``).
+``body_contacts.csv``
+    every contact between two bodies: time, pair, approach and separation velocities.
+``flow_agreement.csv``
+    per layout and gauge (and the column's hydrodynamic force): the peak, and the largest
+    difference from the first layout's record on its time axis.
+``flow.png``, ``impact_summary.png``, ``<layout>-tracks.png``, ``<layout>-impacts.png``
+    the figures (:mod:`orchestrator.report.layout_plots`).
+
+A layout whose run did not finish (no ``results/summary.json``) is listed with its status, its
+error and the log to read, and left out of the figures.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from analytical.errors import InputError
+from orchestrator.case.folder import CaseFolder
+from orchestrator.core.files import write_text_atomic
+from orchestrator.report import layout_plots
+from orchestrator.report.layout_page import markdown
+from orchestrator.results.readers import read_contact_events
+from orchestrator.results.compare import SPREADING_ANGLES_DEG, spreading_area
+from orchestrator.results.tables import write_table
+from orchestrator.scene.scenefile import load_scene
+from orchestrator.transport.case_transport import TRANSPORT_DIR
+
+__all__ = ["IMPACT_TABLE_COLUMNS", "Layout", "find_runs", "flow_agreement", "impact_table", "layout_row", "load_layout",
+           "write_layouts_report"]
+
+#: The gauges the seed reports (its WG1-WG4), in order.
+GAUGES = ("WG1", "WG2", "WG3", "WG4")
+#: Columns of the page's impacts.csv, in order.
+IMPACT_TABLE_COLUMNS = [
+    "layout", "event", "strike", "body", "time_s", "impact_velocity_m_s", "obliquity_deg", "height_m",
+    "face_water_level_m", "yaw_deg", "pitch_deg", "roll_deg", "peak_force_N", "duration_s", "impulse_Ns",
+    "peak_base_shear_N", "point_x_m", "point_y_m", "force_history"]
+#: The file a sweep folder holds (its members are the runs).
+SWEEP_JSON = "sweep.json"
+MEMBER_JSON = "member.json"
+
+
+@dataclass
+class Layout:
+    """One layout's run as the page reads it; the frames are empty when the run has no results."""
+
+    name: str
+    case: Path
+    status: str
+    error: str | None = None
+    log: str | None = None
+    scene: Any | None = None
+    plan: dict = field(default_factory=dict)
+    run: dict = field(default_factory=dict)
+    member: dict = field(default_factory=dict)
+    summary: dict = field(default_factory=dict)
+    bodies: pd.DataFrame = field(default_factory=pd.DataFrame)
+    strikes: pd.DataFrame = field(default_factory=pd.DataFrame)
+    #: event -> ((time from contact s, force on the column N), (time s, base shear N) or None)
+    pulses: dict[int, tuple[tuple[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray] | None]] = field(default_factory=dict)
+    body_contacts: pd.DataFrame = field(default_factory=pd.DataFrame)
+    wall_contacts: int = 0
+    gauges: pd.DataFrame = field(default_factory=pd.DataFrame)
+    gauge_summary: pd.DataFrame = field(default_factory=pd.DataFrame)
+    hydro: pd.DataFrame = field(default_factory=pd.DataFrame)
+    spreading: pd.DataFrame = field(default_factory=pd.DataFrame)
+
+    @property
+    def ok(self) -> bool:
+        return self.status == "finished" and bool(self.summary)
+
+    @property
+    def body_names(self) -> list[str]:
+        if self.scene is not None:
+            return [b.name for b in self.scene.debris]
+        return sorted(self.bodies["body"].unique()) if not self.bodies.empty else []
+
+    @property
+    def slug(self) -> str:
+        return "".join(c if c.isalnum() or c in "-_" else "-" for c in self.name)
+
+    def areas(self) -> dict[str, np.ndarray]:
+        """The spreading areas from the bodies' start line (as post's spreading.csv draws them)."""
+        if self.bodies.empty:
+            return {}
+        start = self.bodies.sort_values("time_s", kind="stable").groupby("body", sort=False).first()
+        src = start[["x_m", "y_m"]].to_numpy(float)
+        domain = self.plan.get("domain_m")
+        x_end = float(domain[0][1]) if domain else float(src[:, 0].max() + 5.0)
+        return {name: spreading_area(src, spec["half_angle_deg"], x_end) for name, spec in SPREADING_ANGLES_DEG.items()}
+
+
+def _csv(path: Path) -> pd.DataFrame:
+    return pd.read_csv(path) if path.is_file() and path.stat().st_size > 0 else pd.DataFrame()
+
+
+def find_runs(paths) -> list[Path]:
+    """The case folders of RUNS: each path itself, or a sweep folder's members in member order."""
+    out: list[Path] = []
+    for raw in paths:
+        path = Path(raw)
+        if not path.is_dir():
+            raise InputError("RUNS", "not a folder", str(path))
+        if (path / SWEEP_JSON).is_file():
+            members = []
+            for m in path.iterdir():
+                record = m / MEMBER_JSON
+                if record.is_file():
+                    members.append((json.loads(record.read_text()).get("member", 0), m))
+            if not members:
+                raise InputError("RUNS", "a sweep folder without members (run the sweep first)", str(path))
+            out += [m for _, m in sorted(members)]
+        elif CaseFolder(path).is_case():
+            out.append(path)
+        else:
+            raise InputError("RUNS", "neither a case folder (plan.json) nor a sweep folder (sweep.json)", str(path))
+    if not out:
+        raise InputError("RUNS", "no runs given")
+    return out
+
+
+def _failure(folder: CaseFolder, run: dict, member: dict) -> tuple[str, str | None, str | None]:
+    """(status, error, log) of a run without results: the sweep's record, else run.json's."""
+    status = member.get("status") or run.get("status") or "not run"
+    error = member.get("error") or run.get("error") or run.get("diagnosis")
+    logs = [s.get("log") for s in [*run.get("steps", []), *run.get("segments", [])] if s.get("log")]
+    failed = [s.get("log") for s in [*run.get("steps", []), *run.get("segments", [])]
+              if s.get("exit_status") not in (0, None) and s.get("log")]
+    log = (failed or logs or [None])[-1]
+    if status == "finished":
+        status, error = "not post-processed", error or "no results/summary.json (run `debrisfoam post` on it)"
+    return status, error, str(folder.path / log) if log else None
+
+
+def _orientation_at(track: pd.DataFrame, t: float) -> tuple[float, float, float]:
+    """(yaw, pitch, roll) in degrees at time t, interpolated in the track (yaw unwrapped first)."""
+    if track.empty:
+        return (np.nan, np.nan, np.nan)
+    times = track["time_s"].to_numpy(float)
+    out = []
+    for name in ("yaw_deg", "pitch_deg", "roll_deg"):
+        angle = np.degrees(np.unwrap(np.radians(track[name].to_numpy(float))))
+        value = float(np.interp(t, times, angle))
+        out.append((value + 180.0) % 360.0 - 180.0)
+    return tuple(out)  # type: ignore[return-value]
+
+
+def _history(path: Path) -> tuple[np.ndarray, np.ndarray] | None:
+    """(time from contact, value) of a pulse file: the force, or the base shear's magnitude
+    (x and, where the file has it, y)."""
+    frame = _csv(path)
+    if frame.empty or frame.shape[1] < 2:
+        return None
+    values = frame.iloc[:, 1:].to_numpy(float)
+    return frame.iloc[:, 0].to_numpy(float), np.sqrt((values ** 2).sum(axis=1))
+
+
+def impact_table(layout: Layout) -> pd.DataFrame:
+    """The layout's column strikes with the orientation at the strike and the peak base shear
+    (columns: see the module notes); fills ``layout.pulses``."""
+    cols = IMPACT_TABLE_COLUMNS
+    impacts = _csv(CaseFolder(layout.case).results_dir / "impacts.csv")
+    if impacts.empty:
+        return pd.DataFrame(columns=cols)
+    column = impacts[impacts["kind"] == "column"].sort_values("time_s", kind="stable")
+    rows = []
+    tracks = {b: t.sort_values("time_s") for b, t in layout.bodies.groupby("body")} if not layout.bodies.empty else {}
+    counts: dict[str, int] = {}
+    for r in column.to_dict("records"):
+        counts[r["body"]] = counts.get(r["body"], 0) + 1
+        yaw, pitch, roll = _orientation_at(tracks.get(r["body"], pd.DataFrame()), float(r["time_s"]))
+        history = str(r.get("force_history") or "")
+        force = _history(layout.case / history) if history else None
+        shear = _history(layout.case / history.replace("-force.csv", "-base-shear.csv")) if history else None
+        if force is not None:
+            layout.pulses[int(r["event"])] = (force, shear)
+        rows.append({"layout": layout.name, "event": int(r["event"]), "strike": counts[r["body"]], "body": r["body"],
+                     "time_s": r["time_s"], "impact_velocity_m_s": r["impact_velocity_m_s"],
+                     "obliquity_deg": r["obliquity_deg"], "height_m": r["height_m"],
+                     "face_water_level_m": r["face_water_level_m"], "yaw_deg": yaw, "pitch_deg": pitch,
+                     "roll_deg": roll, "peak_force_N": r["peak_force_N"], "duration_s": r["duration_s"],
+                     "impulse_Ns": r["impulse_Ns"],
+                     "peak_base_shear_N": float(np.max(np.abs(shear[1]))) if shear is not None else np.nan,
+                     "point_x_m": r["point_x_m"], "point_y_m": r["point_y_m"], "force_history": history})
+    return pd.DataFrame(rows, columns=cols)
+
+
+def load_layout(case_dir: str | Path) -> Layout:
+    """Read one layout's run (see the module notes); a run without results is read as far as it goes."""
+    folder = CaseFolder(case_dir)
+    plan, run = folder.plan() or {}, folder.run_record() or {}
+    member_path = folder.path / MEMBER_JSON
+    member = json.loads(member_path.read_text()) if member_path.is_file() else {}
+    summary = folder.summary() or {}
+    scene = load_scene(folder.scene_path) if folder.scene_path.is_file() else None
+    name = summary.get("scene") or (scene.name if scene is not None else None) or \
+        (member.get("params") or {}).get("scene") or folder.path.name
+    if not summary:
+        status, error, log = _failure(folder, run, member)
+        return Layout(name, folder.path, status, error, log, scene, plan, run, member)
+    results = folder.results_dir
+    layout = Layout(name, folder.path, summary.get("status") or "unknown", None, None, scene, plan, run, member,
+                    summary)
+    layout.bodies = _csv(results / "bodies.csv")
+    layout.strikes = impact_table(layout)
+    layout.body_contacts = _csv(folder.path / TRANSPORT_DIR / "body_contacts.csv")
+    layout.wall_contacts = sum(1 for e in read_contact_events(folder.path) if e.get("type") == "transport_contact"
+                               and e.get("kind") == "wall")
+    layout.gauges = _csv(results / "gauges.csv")
+    layout.gauge_summary = _csv(results / "gauge_summary.csv")
+    forces = _csv(results / "column_forces.csv")
+    if not forces.empty and "hydro_force_x_N" in forces:
+        layout.hydro = forces[["time_s", "hydro_force_x_N"]].dropna().reset_index(drop=True)
+    layout.spreading = _csv(results / "spreading.csv")
+    if layout.status != "finished":
+        layout.error = f"the run stopped at t = {summary.get('reached_time_s')} s ({layout.status})"
+    return layout
+
+
+def _wall(layout: Layout) -> dict[str, float | None]:
+    run = layout.run
+    mesh = sum(float(s.get("wall_s") or 0.0) for s in run.get("steps", []) if not s.get("skipped"))
+    solver = (run.get("runner") or {}).get("solver_wall_s")
+    if solver is None:
+        solver = sum(float(s.get("wall_s") or 0.0) for s in run.get("segments", [])) or None
+    return {"mesh_wall_s": mesh or None, "flow_wall_s": solver, "transport_wall_s": run.get("transport_wall_s"),
+            "member_wall_s": layout.member.get("wall_time_s")}
+
+
+def layout_row(layout: Layout) -> dict[str, Any]:
+    """The layout's figures for the page's first table (and layouts.csv)."""
+    row: dict[str, Any] = {"layout": layout.name, "status": layout.status, "bodies": len(layout.body_names),
+                           "coupling": layout.plan.get("debris_coupling"), "cells": layout.summary.get("cells"),
+                           "reached_time_s": layout.summary.get("reached_time_s"), **_wall(layout)}
+    strikes = layout.strikes
+    per_body = {b: 0 for b in layout.body_names}
+    for b in strikes.get("body", []):
+        per_body[b] = per_body.get(b, 0) + 1
+    row["column_strikes"] = len(strikes)
+    row["strikes_per_body"] = " ".join(f"{b}:{n}" for b, n in per_body.items())
+    row["bodies_striking"] = sum(1 for n in per_body.values() if n)
+    if len(strikes):
+        first = strikes.iloc[0]
+        row.update(first_strike_body=first["body"], first_strike_time_s=first["time_s"],
+                   first_strike_velocity_m_s=first["impact_velocity_m_s"],
+                   first_strike_peak_force_N=first["peak_force_N"],
+                   max_peak_force_N=float(strikes["peak_force_N"].max()),
+                   max_base_shear_N=float(strikes["peak_base_shear_N"].max()))
+    bc = layout.body_contacts
+    row["body_contacts"] = len(bc)
+    row["body_contact_max_approach_m_s"] = float(bc["approach_velocity_m_s"].abs().max()) if len(bc) else None
+    row["wall_contacts"] = layout.wall_contacts
+    sp = layout.spreading
+    if not sp.empty:
+        row["max_spread_deg"] = float(sp["max_spread_deg"].max())
+        for name in SPREADING_ANGLES_DEG:
+            key = "inside_" + name.split()[0].lower()
+            if key in sp:
+                row[f"{key}_all"] = bool(sp[key].astype(str).eq("True").all())
+    return row
+
+
+def _series(layout: Layout, quantity: str) -> tuple[np.ndarray, np.ndarray] | None:
+    if quantity == "hydro_force_x_N":
+        frame, col = layout.hydro, "hydro_force_x_N"
+    else:
+        frame, col = layout.gauges, f"{quantity}_elevation_m"
+    if frame.empty or col not in frame:
+        return None
+    data = frame[["time_s", col]].dropna()
+    return (data["time_s"].to_numpy(float), data[col].to_numpy(float)) if len(data) else None
+
+
+def flow_agreement(layouts: list[Layout]) -> pd.DataFrame:
+    """Per layout and quantity (WG1-WG4, the column's hydrodynamic force along the flow): the
+    peak and the largest difference from the first layout's record (on that record's times,
+    over the span both cover); the first layout's own row has difference 0."""
+    done = [lay for lay in layouts if lay.ok]
+    rows = []
+    if not done:
+        return pd.DataFrame(columns=["layout", "quantity", "unit", "peak", "time_of_peak_s", "max_abs_diff",
+                                     "max_abs_diff_fraction_of_peak"])
+    ref = done[0]
+    for quantity in (*GAUGES, "hydro_force_x_N"):
+        unit = "N" if quantity == "hydro_force_x_N" else "m"
+        base = _series(ref, quantity)
+        for lay in done:
+            s = _series(lay, quantity)
+            if s is None:
+                continue
+            i = int(np.argmax(s[1]))
+            diff = np.nan
+            if base is not None:
+                t0, t1 = max(base[0][0], s[0][0]), min(base[0][-1], s[0][-1])
+                inside = (base[0] >= t0) & (base[0] <= t1)
+                if inside.any():
+                    diff = float(np.max(np.abs(np.interp(base[0][inside], *s) - base[1][inside])))
+            peak = float(s[1][i])
+            rows.append({"layout": lay.name, "quantity": quantity, "unit": unit, "peak": peak,
+                         "time_of_peak_s": float(s[0][i]), "max_abs_diff": diff,
+                         "max_abs_diff_fraction_of_peak": diff / abs(peak) if peak else np.nan})
+    return pd.DataFrame(rows)
+
+
+def write_layouts_report(runs, out_dir: str | Path) -> dict[str, Path]:
+    """Read the runs (:func:`find_runs`) and write the page, its tables and figures into out_dir
+    (see the module notes); returns name -> path."""
+    layouts = [load_layout(case) for case in find_runs(runs)]
+    seen: dict[str, int] = {}
+    for lay in layouts:  # the same scene twice (two folders): told apart by their folders
+        seen[lay.name] = seen.get(lay.name, 0) + 1
+        if seen[lay.name] > 1:
+            lay.name = f"{lay.name} ({lay.case.name})"
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    written: dict[str, Path] = {}
+    table = pd.DataFrame([layout_row(lay) for lay in layouts])
+    written["layouts"] = write_table(table, out / "layouts.csv")
+    strikes = [lay.strikes for lay in layouts if len(lay.strikes)]
+    impacts = pd.concat(strikes, ignore_index=True) if strikes else pd.DataFrame(columns=IMPACT_TABLE_COLUMNS)
+    written["impacts"] = write_table(impacts, out / "impacts.csv")
+    contacts = [lay.body_contacts.assign(layout=lay.name) for lay in layouts if len(lay.body_contacts)]
+    written["body_contacts"] = write_table(pd.concat(contacts, ignore_index=True) if contacts else
+                                           pd.DataFrame(columns=["layout"]), out / "body_contacts.csv")
+    agreement = flow_agreement(layouts)
+    written["flow_agreement"] = write_table(agreement, out / "flow_agreement.csv")
+    figures = layout_plots.draw_all(layouts, out)
+    written.update(figures)
+    text = markdown(layouts, table, agreement, {k: p.name for k, p in figures.items()}, flow_agreement)
+    written["report"] = write_text_atomic(out / "report.md", text)
+    return written
