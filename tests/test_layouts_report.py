@@ -46,9 +46,12 @@ def synthetic_case(case: Path, name: str, wg2_offset_m: float = 0.0, force_offse
     (case / "plan.json").write_text(json.dumps({"debris_coupling": "one-way", "solver": "interFoam",
                                                 "domain_m": [[-0.32, 1.6], [-0.2, 0.2], [0.0, 0.3]]}))
     (case / "run.json").write_text(json.dumps({
-        "status": "finished", "runner": {"solver_wall_s": 300.0},
+        "status": "finished", "ranks": 2, "runner": {"solver_wall_s": 300.0},
         "steps": [{"name": "blockMesh", "wall_s": 2.0, "exit_status": 0, "log": "log.blockMesh"}],
-        "transport": {"engine": "mujoco"}, "transport_wall_s": 3.5}))
+        "segments": [{"log": "log.interFoam", "exit_status": 0}],
+        "transport": {"engine": "mujoco", "wall_s": 1.5, "pulse_wall_s": 2.0}, "transport_wall_s": 3.5}))
+    (case / "log.interFoam").write_text("Time = 0.1\nExecutionTime = 100.5 s  ClockTime = 150 s\n\n"
+                                        "Time = 0.2\nExecutionTime = 240 s  ClockTime = 300 s\n")
     results = case / "results"
     results.mkdir()
     (results / "summary.json").write_text(json.dumps({"scene": name, "status": "finished", "cells": 1000,
@@ -141,7 +144,7 @@ def test_a_layouts_row_counts_strikes_per_body_contacts_and_wall_times(tmp_path)
     assert (row["first_strike_body"], row["first_strike_velocity_m_s"], row["first_strike_peak_force_N"]) == \
         ("debris1", 0.9, 90.0)
     assert (row["body_contacts"], row["body_contact_max_approach_m_s"], row["wall_contacts"]) == (2, 0.3, 1)
-    assert (row["flow_wall_s"], row["mesh_wall_s"], row["transport_wall_s"]) == (300.0, 2.0, 3.5)
+    assert (row["flow_wall_s"], row["flow_cpu_s"], row["mesh_wall_s"], row["transport_wall_s"]) == (300.0, 240.0, 2.0, 3.5)
     assert row["max_spread_deg"] == 20.0 and row["inside_naito_all"] and not row["inside_nistor_all"]
 
 
@@ -172,9 +175,9 @@ def test_the_page_states_the_figures_and_links_every_figure_it_draws(tmp_path):
     text = (out / "report.md").read_text()
     for name in ("flow.png", "impact_summary.png", "two-a-tracks.png", "two-b-impacts.png"):
         assert (out / name).is_file() and f"]({name})" in text, name
-    assert "never edited by hand" in text
-    assert "| two-a | 2 | 1,000 | 5.0 min | 2 s | 3.5 s | 3 (debris1:2 debris2:1) | debris1, 0.100 s, 0.90 m/s, 90 N" \
-        in text
+    assert "never edited by hand" in text and "the solver's on 2 cores" in text
+    assert "| two-a | 2 | 1,000 | 5.0 min (CPU 4.0 min) | 2 s | 3.5 s (1.5 stepping + 2.0 pulses) | " \
+        "3 (debris1:2 debris2:1) | debris1, 0.100 s, 0.90 m/s, 90 N" in text
     assert "2 contacts between two bodies, from 0.050 s to 0.120 s" in text
     assert "0.10-0.30 m/s" in text
     assert "| 45 / 2 / -1 deg |" in text  # debris1's first strike: yaw / pitch / roll

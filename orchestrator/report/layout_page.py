@@ -30,6 +30,19 @@ def _minutes(seconds) -> str:
 CONTACT_ROWS = 12
 
 
+def _ranks(done: list) -> str:
+    ranks = sorted({int(lay.run.get("ranks") or 1) for lay in done})
+    return " or ".join(str(r) for r in ranks) + (" core" if ranks == [1] else " cores")
+
+
+def _transport(row: dict) -> str:
+    """The transport's wall time, and its MuJoCo stepping and column pulses where run.json has them."""
+    total = _f(row.get("transport_wall_s"), ".1f", " s")
+    if row.get("transport_stepping_s") is None or row.get("transport_pulses_s") is None:
+        return total
+    return f"{total} ({_f(row['transport_stepping_s'], '.1f')} stepping + {_f(row['transport_pulses_s'], '.1f')} pulses)"
+
+
 def _runs_table(layouts: list, table: pd.DataFrame) -> list[str]:
     lines = ["| layout | bodies | cells | flow (solver) | mesh | transport | strikes on the column (per body) | "
              "first strike: body, time, velocity, peak force | largest base shear | body-body contacts | "
@@ -43,8 +56,8 @@ def _runs_table(layouts: list, table: pd.DataFrame) -> list[str]:
             first = (f"{row['first_strike_body']}, {_f(row['first_strike_time_s'])} s, "
                      f"{_f(row['first_strike_velocity_m_s'], '.2f')} m/s, {_f(row['first_strike_peak_force_N'], '.0f')} N")
         lines.append(
-            f"| {lay.name} | {row['bodies']} | {_f(row['cells'], ',.0f')} | {_minutes(row['flow_wall_s'])} | "
-            f"{_f(row['mesh_wall_s'], '.0f', ' s')} | {_f(row['transport_wall_s'], '.1f', ' s')} | "
+            f"| {lay.name} | {row['bodies']} | {_f(row['cells'], ',.0f')} | {_minutes(row['flow_wall_s'])} (CPU {_minutes(row.get('flow_cpu_s'))}) | "
+            f"{_f(row['mesh_wall_s'], '.0f', ' s')} | {_transport(row)} | "
             f"{row['column_strikes']} ({row['strikes_per_body']}) | {first} | "
             f"{_f(row.get('max_base_shear_N'), '.0f', ' N')} | {row['body_contacts']} | {row['wall_contacts']} | "
             f"{_f(row.get('max_spread_deg'), '.1f', ' deg')} |")
@@ -183,7 +196,8 @@ def markdown(layouts: list, table: pd.DataFrame, agreement: pd.DataFrame, figure
         lines += ["Every layout ran one-way: interFoam without the bodies, the flow recorded, then the bodies "
                   "carried through the record on MuJoCo; each strike on the column is resolved by the contact law in "
                   "series with the column's MDOF model, which gives its force history and base shear. Wall times: "
-                  "the solver's (2 cores), meshing, and the transport with its pulses.", ""]
+                  f"the solver's on {_ranks(done)} (and its master rank's CPU time, which other jobs on the machine "
+                  "do not lengthen), meshing, and the transport: MuJoCo's stepping and the strikes' pulses.", ""]
     lines += ["## The runs", "", *_runs_table(layouts, table), ""]
     for lay in layouts:
         if not lay.ok:

@@ -33,6 +33,7 @@ error and the log to read, and left out of the figures.
 from __future__ import annotations
 
 import json
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -243,13 +244,31 @@ def load_layout(case_dir: str | Path) -> Layout:
     return layout
 
 
+_EXECUTION_TIME = re.compile(r"^ExecutionTime = ([0-9.eE+-]+) s", re.MULTILINE)
+
+
+def _solver_cpu_s(layout: Layout) -> float | None:
+    """The solver's CPU time on its master rank (s): the last ``ExecutionTime`` of each segment's
+    log, summed (the wall time also counts other jobs' turns on a shared machine; this does not)."""
+    total, found = 0.0, False
+    for seg in layout.run.get("segments", []):
+        log = layout.case / str(seg.get("log") or "")
+        if seg.get("log") and log.is_file():
+            hits = _EXECUTION_TIME.findall(log.read_text(errors="replace"))
+            if hits:
+                total, found = total + float(hits[-1]), True
+    return round(total, 1) if found else None
+
+
 def _wall(layout: Layout) -> dict[str, float | None]:
     run = layout.run
     mesh = sum(float(s.get("wall_s") or 0.0) for s in run.get("steps", []) if not s.get("skipped"))
     solver = (run.get("runner") or {}).get("solver_wall_s")
     if solver is None:
         solver = sum(float(s.get("wall_s") or 0.0) for s in run.get("segments", [])) or None
-    return {"mesh_wall_s": mesh or None, "flow_wall_s": solver, "transport_wall_s": run.get("transport_wall_s"),
+    transport = run.get("transport") or {}
+    return {"mesh_wall_s": mesh or None, "flow_wall_s": solver, "flow_cpu_s": _solver_cpu_s(layout), "transport_wall_s": run.get("transport_wall_s"),
+            "transport_stepping_s": transport.get("wall_s"), "transport_pulses_s": transport.get("pulse_wall_s"),
             "member_wall_s": layout.member.get("wall_time_s")}
 
 
