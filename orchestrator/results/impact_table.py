@@ -135,6 +135,8 @@ def impact_context(data: CaseData, impacts: pd.DataFrame, gauges: pd.DataFrame, 
         missing.append("no gauge at the column's upstream face: impacts.csv has no water level there "
                        "(add one with `at: column_upstream_face`)")
     sizes = {b["name"]: np.asarray(b["size_m"], float) for b in (data.plan or {}).get("bodies", [])}
+    if not sizes and data.scene is not None:  # one-way: the bodies are the scene's
+        sizes = {b.name: np.asarray(b.size_m, float) for b in data.scene.debris}
     if bodies.empty or not sizes:
         return out
     gap = float((data.plan or {}).get("bed_gap_m", 0.0) or 0.0)
