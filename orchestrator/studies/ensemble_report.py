@@ -65,7 +65,7 @@ def figure_histograms(table, summary: dict[str, Any]):
         ax.set_xlabel(label)
         ax.set_ylabel("strikes")
         ax.grid(alpha=0.3)
-        legend(ax, loc="upper right")
+        legend(ax, loc="best")
     fig.suptitle(f"First column strike of each body over {summary['realisations']} realisations "
                  f"(impact probability {_pct(summary.get('impact_probability'))})", fontsize=11)
     return fig
