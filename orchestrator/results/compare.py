@@ -69,7 +69,13 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from analytical.asce7 import SEED_DEBRIS_STIFFNESS_N_M, asce7_impact
+from analytical.dambreak import dam_break
 from analytical.errors import DebrisfoamError
+from analytical.fitting import fit_mdof, fit_sdof
+from analytical.formulas import haehnel_daly, hertz_effective_modulus, ikeno, matsutomi
+from analytical.mdof import mdof_response
+from analytical.pulses import Tabulated
 from orchestrator.results.tables import write_table
 
 __all__ = [
@@ -167,7 +173,6 @@ def _area_column(name: str) -> str:
 
 
 def _solutions(scene) -> dict[str, Any]:
-    from analytical.dambreak import dam_break
 
     h0 = float(scene.reservoir.depth_m)
     hr = float(scene.bed.wet_depth_m)
@@ -232,8 +237,6 @@ def _body_geometry(data, body: str) -> tuple[float, tuple[float, float, float]] 
 
 
 def _formula_rows(results, column) -> pd.DataFrame:
-    from analytical.asce7 import SEED_DEBRIS_STIFFNESS_N_M, asce7_impact
-    from analytical.formulas import haehnel_daly, hertz_effective_modulus, ikeno, matsutomi
 
     data = results.data
     rows = []
@@ -284,8 +287,6 @@ def _formula_rows(results, column) -> pd.DataFrame:
 
 def _impact_record(results, column, event: int, t: np.ndarray, direction: np.ndarray, height_of: dict) -> np.ndarray:
     """Base shear along `direction` (horizontal unit) from every column impact pulse, at times t."""
-    from analytical.mdof import mdof_response
-    from analytical.pulses import Tabulated
 
     columns = (column, replace(column, size_x_m=column.size_y_m, size_y_m=column.size_x_m))
     total = np.zeros_like(t)
@@ -302,10 +303,6 @@ def _impact_record(results, column, event: int, t: np.ndarray, direction: np.nda
 
 
 def _seed_procedure(results, column, notes: list[str]):
-    from analytical.asce7 import SEED_DEBRIS_STIFFNESS_N_M, asce7_impact
-    from analytical.fitting import fit_mdof, fit_sdof
-    from analytical.mdof import mdof_response
-    from analytical.pulses import Tabulated
 
     impacts = results.impacts
     on_column = impacts[impacts["kind"] == "column"] if len(impacts) else impacts
