@@ -10,8 +10,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from types import SimpleNamespace
-from typing import Any
 
 from orchestrator.case import bodystate
 from orchestrator.case.bodystate import BodyProperties
@@ -23,6 +21,22 @@ __all__ = ["CaseInfo", "load_case_info"]
 
 
 @dataclass(frozen=True)
+class NamedBody:
+    name: str
+
+
+@dataclass(frozen=True)
+class MeshStepsPlan:
+    """What :func:`orchestrator.case.foam.mesh_steps` needs of a plan, read from plan.json and
+    constant/dynamicMeshDict: the solver, the decomposition, the bed friction and the bodies' names."""
+
+    solver: str
+    decomposition: tuple
+    bed_friction_factor: float
+    bodies: tuple[NamedBody, ...]
+
+
+@dataclass(frozen=True)
 class CaseInfo:
     """What the runner needs to know of a rendered case (plan.json, controlDict, dynamicMeshDict);
     `domain_m` and `downstream_type` say where the modelled flume has walls.
@@ -30,7 +44,7 @@ class CaseInfo:
 
     case: Path
     solver: str
-    plan: Any  # what foam.mesh_steps / solve_steps read: bodies, bed_friction_factor, decomposition, solver
+    plan: MeshStepsPlan  # what foam.mesh_steps / solve_steps read
     ranks: int
     planned_cells: int
     end_time_s: float
@@ -87,12 +101,8 @@ def load_case_info(case_dir: str | Path, np_override: int | None = None) -> Case
     missing = [b.name for b in bodies if b.name not in sizes]
     if missing:
         raise RunError(f"{folder.plan_path}: no size for bodies {missing} of constant/dynamicMeshDict")
-    steps_plan = SimpleNamespace(
-        solver=solver,
-        decomposition=n,
-        bed_friction_factor=float(plan.get("bed_friction_factor", 0.0)),
-        bodies=[SimpleNamespace(name=b.name) for b in bodies],
-    )
+    steps_plan = MeshStepsPlan(solver, n, float(plan.get("bed_friction_factor", 0.0)),
+                               tuple(NamedBody(b.name) for b in bodies))
     return CaseInfo(
         case=case,
         solver=solver,

@@ -42,6 +42,7 @@ __all__ = [
     "PlaneObstacle",
     "Obstacles",
     "Contact",
+    "ModelledDomain",
     "scene_obstacles",
     "find_contacts",
     "time_to_contact",
@@ -184,6 +185,21 @@ class Obstacles:
         return ((self.column,) if self.column is not None else ()) + self.walls
 
 
+@dataclass(frozen=True)
+class ModelledDomain:
+    """Where the CFD has walls: the modelled domain (``((x0, x1), (y0, y1), (z0, z1))``, m) and
+    what its downstream end is (``"wall"`` or ``"outlet"``). A :class:`~orchestrator.plan.model.ModelPlan`
+    has both; :meth:`from_plan_json` reads them from a plan.json mapping."""
+
+    domain_m: tuple
+    downstream_type: str
+
+    @classmethod
+    def from_plan_json(cls, plan: dict) -> "ModelledDomain":
+        return cls(tuple(tuple(float(v) for v in axis) for axis in plan["domain_m"]),
+                   str(plan.get("downstream_type", "wall")))
+
+
 def scene_obstacles(scene: Scene, plan=None) -> Obstacles:
     """The column, walls and bed of ``scene``.
 
@@ -192,7 +208,8 @@ def scene_obstacles(scene: Scene, plan=None) -> Obstacles:
     ``flume.downstream_end == "closed"``. With a :class:`~orchestrator.plan.planner.ModelPlan`, the
     modelled domain's boundaries are used instead (``plan.domain_m``; its upstream end is a
     wall also when the reservoir is cut short, and the downstream end is a wall only if
-    ``plan.downstream_type == "wall"``): those are where the CFD has walls.
+    ``plan.downstream_type == "wall"``): those are where the CFD has walls. Any object with
+    ``domain_m`` and ``downstream_type`` serves (:class:`ModelledDomain` from a plan.json).
     """
     if plan is not None:
         (x0, x1), (y0, y1), _ = plan.domain_m

@@ -14,7 +14,6 @@ Units: seconds, metres, kg, N.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from types import SimpleNamespace
 from typing import Any, Sequence
 
 import numpy as np
@@ -56,7 +55,7 @@ class Geometry:
         # the modelled domain's walls: where the CFD has them (its upstream end is a wall
         # also when the reservoir is cut short; the downstream end only if it is a wall)
         self.obstacles = geo.scene_obstacles(
-            self.scene, SimpleNamespace(domain_m=info.domain_m, downstream_type=info.downstream_type))
+            self.scene, geo.ModelledDomain(info.domain_m, info.downstream_type))
         self.props = {p.name: p for p in info.bodies}
         self.sizes = info.body_sizes_m
 

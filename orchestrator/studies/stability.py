@@ -38,7 +38,7 @@ from orchestrator.case.outputs import (
 )
 from orchestrator.core.numbers import finite_or_none
 from orchestrator.results.readers import read_contact_events
-from orchestrator.run.contact import BodyState, find_contacts, scene_obstacles
+from orchestrator.run.contact import BodyState, ModelledDomain, find_contacts, scene_obstacles
 from orchestrator.scene.scenefile import load_scene
 from orchestrator.studies.sweep.store import load_store, read_member_record
 
@@ -90,7 +90,7 @@ def _clearances(case: Path, plan: dict | None, scene) -> tuple[float | None, str
     if tracks.empty:
         return None, None, None, None
     bodies = {b["name"]: b for b in plan["bodies"]}
-    obstacles = scene_obstacles(scene, _PlanExtent(plan))
+    obstacles = scene_obstacles(scene, ModelledDomain.from_plan_json(plan))
     q_cols = [f"q_{a}{b}" for a in "xyz" for b in "xyz"]
     deepest, what, sink, clearance = 0.0, None, 0.0, math.inf
     for _, rows in tracks.groupby("time_s", sort=True):
@@ -109,21 +109,6 @@ def _clearances(case: Path, plan: dict | None, scene) -> tuple[float | None, str
             if -c.distance_m > deepest:
                 deepest, what = -c.distance_m, f"{c.body} in {c.other}"
     return deepest, what, max(sink, 0.0), (clearance if math.isfinite(clearance) else None)
-
-
-@dataclass(frozen=True)
-class _PlanExtent:
-    """What :func:`orchestrator.run.contact.scene_obstacles` needs of a plan, from plan.json."""
-
-    plan: dict
-
-    @property
-    def domain_m(self):
-        return self.plan["domain_m"]
-
-    @property
-    def downstream_type(self):
-        return self.plan.get("downstream_type", "wall")
 
 
 def _forces_finite(case: Path) -> bool | None:
