@@ -36,6 +36,8 @@ from typing import Any, Callable, Iterable, Sequence
 
 import numpy as np
 
+from orchestrator.core.files import write_text_atomic
+
 __all__ = [
     "BodyProperties",
     "BodyState",
@@ -324,10 +326,7 @@ def record_states(case_dir: str | Path, time_name: str, states: Sequence[BodySta
     ("log": the solver's report; "contact": an impact model's rebound)."""
     record = _read_record(case_dir)
     record[time_name] = {"source": source, "bodies": [s.to_dict() for s in states]}
-    path = _record_path(case_dir)
-    tmp = path.with_suffix(".json.tmp")
-    tmp.write_text(json.dumps(record, indent=1))
-    os.replace(tmp, path)
+    write_text_atomic(_record_path(case_dir), json.dumps(record, indent=1))
 
 
 def recorded_states(case_dir: str | Path, time_name: str) -> tuple[list[BodyState], str] | None:
@@ -344,10 +343,7 @@ def forget_after(case_dir: str | Path, time_s: float) -> None:
     record = _read_record(case_dir)
     keep = {k: v for k, v in record.items() if float(k) <= time_s * (1 + 1e-12) + 1e-12}
     if len(keep) != len(record):
-        path = _record_path(case_dir)
-        tmp = path.with_suffix(".json.tmp")
-        tmp.write_text(json.dumps(keep, indent=1))
-        os.replace(tmp, path)
+        write_text_atomic(_record_path(case_dir), json.dumps(keep, indent=1))
 
 
 def prepare_restart(case_dir: str | Path, time_name: str, states: Sequence[BodyState], source: str) -> None:
