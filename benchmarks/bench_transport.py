@@ -27,7 +27,7 @@ sys.path.insert(0, str(ROOT))
 
 from orchestrator.transport.engine import run_transport  # noqa: E402
 from orchestrator.transport.flow import FlowField  # noqa: E402
-from orchestrator.transport.model import Flume, PlacedColumn, TransportBody  # noqa: E402
+from orchestrator.transport.model import FlumeBounds, PlacedColumn, TransportBody  # noqa: E402
 
 T_END_S = 3.5
 SIZE = (0.15, 0.06, 0.06)
@@ -51,7 +51,7 @@ def bodies(count: int) -> list[TransportBody]:
 def main() -> None:
     flow = FlowField.ritter(0.40, np.linspace(-1.0, 6.0, 141), np.linspace(0.0, T_END_S, 176),
                             y_m=np.linspace(-0.75, 0.75, 4), levels=5)
-    flume = Flume((-1.0, 6.0), (-0.75, 0.75))
+    flume = FlumeBounds((-1.0, 6.0), (-0.75, 0.75))
     column = PlacedColumn(5.0, 0.0)
     rows = []
     for count in (1, 6, 50):

@@ -18,8 +18,8 @@ from scipy.spatial import cKDTree
 from analytical.errors import InputError
 from orchestrator.run.boxes import box_box_proximity, box_plane_proximity
 from orchestrator.run.contact import (
-    BodyState,
     BoxObstacle,
+    BoxState,
     Obstacles,
     PlaneObstacle,
     bed_clearance,
@@ -55,14 +55,14 @@ def state(
 ):
     sx, sy, sz = size
     inertia = [mass * (sy**2 + sz**2) / 12, mass * (sx**2 + sz**2) / 12, mass * (sx**2 + sy**2) / 12]
-    return BodyState(name, centre, body_rotation(yaw, pitch, roll), velocity, omega, size, mass, inertia)
+    return BoxState(name, centre, body_rotation(yaw, pitch, roll), velocity, omega, size, mass, inertia)
 
 
 def face_x(scene) -> float:
     return scene.column.x_m - scene.column.size_x_m / 2
 
 
-def prox_to_column(s: BodyState, scene):
+def prox_to_column(s: BoxState, scene):
     col = scene.column
     return box_box_proximity(
         s.centre_of_mass_m, s.orientation, s.size_m,
@@ -322,12 +322,12 @@ def test_time_to_contact_between_bodies_and_with_spin(scene, obstacles):
 
 def test_body_state_checks_and_plan():
     with pytest.raises(InputError) as err:
-        BodyState("b", (0, 0, 0), np.diag([1, 1, -1]), (0, 0, 0), (0, 0, 0), SIZE, MASS, (1, 1, 1))
+        BoxState("b", (0, 0, 0), np.diag([1, 1, -1]), (0, 0, 0), (0, 0, 0), SIZE, MASS, (1, 1, 1))
     assert err.value.field == "b.orientation"
     with pytest.raises(InputError):
         state(mass=0.0)
     plan = plan_case(load_scene(ROOT / "cases" / "1debris.yaml", ["run.debris_coupling=two-way"]))
-    s = BodyState.from_plan(plan.bodies[0], velocity_m_s=(1.5, 0, 0))
+    s = BoxState.from_plan(plan.bodies[0], velocity_m_s=(1.5, 0, 0))
     assert s.name == "debris1" and s.mass_kg == pytest.approx(0.236)
     np.testing.assert_allclose(s.inertia_kg_m2, plan.bodies[0].moment_of_inertia_kg_m2)
     np.testing.assert_allclose(s.inverse_inertia(), np.diag(1 / np.asarray(plan.bodies[0].moment_of_inertia_kg_m2)))

@@ -29,14 +29,14 @@ from orchestrator.studies.ensemble import (
 from orchestrator.studies.ensemble_report import write_report
 from orchestrator.transport.engine import TransportSettings, run_transport
 from orchestrator.transport.flow import FlowField
-from orchestrator.transport.model import Flume, PlacedColumn, TransportBody
+from orchestrator.transport.model import FlumeBounds, PlacedColumn, TransportBody
 from tests.conftest import run_cli
 
 ROOT = Path(__file__).resolve().parent.parent
 TINY = ROOT / "tests" / "data" / "scenes" / "tiny-oneway-strike.yaml"
 HEADLINE_KEYS = {"realisations", "impact_probability", "impact_velocity_m_s", "peak_force_N", "wall_time_s"}
 
-FLUME = Flume((0.0, 2.0), (-0.3, 0.3), 0.0)
+FLUME = FlumeBounds((0.0, 2.0), (-0.3, 0.3), 0.0)
 COLUMN = PlacedColumn(1.0, 0.0, Column(size_x_m=0.1, size_y_m=0.1, height_m=0.3, wall_thickness_m=0.005))
 
 
@@ -91,7 +91,7 @@ def test_starts_follow_the_documented_clipped_normal_draws():
 def test_starts_never_come_within_the_gap_of_walls_column_or_another_body():
     # two containers side by side 1 cm apart, 3 cm from a side wall and 5 cm from the column
     bodies = [container("a", x=0.80, y=0.20), container("b", x=0.80, y=0.13), container("c", x=0.87, y=0.02)]
-    flume = Flume((0.0, 2.0), (-0.3, 0.3))
+    flume = FlumeBounds((0.0, 2.0), (-0.3, 0.3))
     p = Perturbation()
     starts = ensemble_starts(bodies, flume, COLUMN, p, seed=3, n=150)
     col = COLUMN.column
@@ -108,7 +108,7 @@ def test_starts_never_come_within_the_gap_of_walls_column_or_another_body():
 
 
 def test_an_impossible_layout_is_bad_input_naming_the_body():
-    narrow = Flume((0.0, 2.0), (-0.02, 0.02))  # narrower than the container's 0.06 m
+    narrow = FlumeBounds((0.0, 2.0), (-0.02, 0.02))  # narrower than the container's 0.06 m
     with pytest.raises(InputError) as err:
         perturbed_starts([container()], narrow, None, Perturbation(max_tries=20), 0, 0)
     assert err.value.field == "debris.debris1.centre_m" and "side wall" in str(err.value)

@@ -17,12 +17,12 @@ from analytical.hydrodynamics import HydroCoefficients, archimedes_draft, drag_t
 from orchestrator.transport.engine import BODY_COLUMNS, TransportSettings, run_transport
 from orchestrator.transport.events import IMPACT_COLUMNS
 from orchestrator.transport.flow import FlowCoverageError, FlowField
-from orchestrator.transport.model import Flume, PlacedColumn, TransportBody
+from orchestrator.transport.model import FlumeBounds, PlacedColumn, TransportBody
 
 RHO, G = 998.0, 9.81
 PLATE = dict(size_m=(0.2, 0.2, 0.02), mass_kg=0.4)
 CONTAINER_BOX = dict(size_m=(0.15, 0.06, 0.06), mass_kg=0.236, wall_thickness_m=0.005)
-FLUME = Flume((-1.0, 3.0), (-0.5, 0.5))
+FLUME = FlumeBounds((-1.0, 3.0), (-0.5, 0.5))
 
 
 def _still(depth=0.1, **kw):

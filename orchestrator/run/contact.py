@@ -37,11 +37,11 @@ from orchestrator.scene.geometry import flume_extent
 from orchestrator.scene.schema import Scene
 
 __all__ = [
-    "BodyState",
+    "BoxState",
     "BoxObstacle",
     "PlaneObstacle",
     "Obstacles",
-    "Contact",
+    "BoxContact",
     "ModelledDomain",
     "scene_obstacles",
     "find_contacts",
@@ -55,7 +55,7 @@ ContactKind = Literal["column", "wall", "body"]
 
 # ------------------------------------------------------------------------------ states
 @dataclass(frozen=True)
-class BodyState:
+class BoxState:
     """One debris body's rigid-body state (global frame; arrays are read-only).
 
     Attributes
@@ -114,7 +114,7 @@ class BodyState:
         object.__setattr__(self, "mass_kg", mass)
 
     @classmethod
-    def from_plan(cls, body, velocity_m_s=(0.0, 0.0, 0.0), angular_velocity_rad_s=(0.0, 0.0, 0.0)) -> "BodyState":
+    def from_plan(cls, body, velocity_m_s=(0.0, 0.0, 0.0), angular_velocity_rad_s=(0.0, 0.0, 0.0)) -> "BoxState":
         """The state of a planned body (:class:`orchestrator.plan.planner.BodyPlan`) with the given motion."""
         return cls(
             name=body.name,
@@ -127,7 +127,7 @@ class BodyState:
             inertia_kg_m2=body.moment_of_inertia_kg_m2,
         )
 
-    def replace(self, **changes) -> "BodyState":
+    def replace(self, **changes) -> "BoxState":
         """A copy with some fields changed."""
         return dataclasses.replace(self, **changes)
 
@@ -239,7 +239,7 @@ def scene_obstacles(scene: Scene, plan=None) -> Obstacles:
 
 # ------------------------------------------------------------------------------ contacts
 @dataclass(frozen=True)
-class Contact:
+class BoxContact:
     """A body within the gap of an obstacle or another body.
 
     ``body`` and ``other`` are names (``other`` is the obstacle's name for column and
@@ -256,10 +256,10 @@ class Contact:
 
 
 def find_contacts(
-    states: Sequence[BodyState],
+    states: Sequence[BoxState],
     obstacles: Obstacles | Iterable[BoxObstacle | PlaneObstacle],
     gap_m: float,
-) -> list[Contact]:
+) -> list[BoxContact]:
     """Every body-obstacle and body-body pair closer than ``gap_m`` (distance < gap_m).
 
     ``obstacles`` is an :class:`Obstacles` (its :attr:`~Obstacles.targets`: the bed is not an
@@ -275,7 +275,7 @@ def find_contacts(
     names = [s.name for s in states]
     if len(set(names)) != len(names):
         raise InputError("states", f"body names must be unique, got {names}")
-    found: list[Contact] = []
+    found: list[BoxContact] = []
     for state in states:
         box = Box.of(state)
         for obs in targets:
@@ -288,7 +288,7 @@ def find_contacts(
                 prox = box_box(box, other)
             if prox.distance_m < gap:
                 kind = "column" if obs.kind == "column" else "wall"
-                found.append(Contact(state.name, obs.name, prox.point, prox.normal, prox.distance_m, kind))
+                found.append(BoxContact(state.name, obs.name, prox.point, prox.normal, prox.distance_m, kind))
     for i, a in enumerate(states):
         box_a = Box.of(a)
         for b in states[i + 1 :]:
@@ -297,14 +297,14 @@ def find_contacts(
                 continue
             prox = box_box(box_a, box_b)
             if prox.distance_m < gap:
-                found.append(Contact(a.name, b.name, prox.point, prox.normal, prox.distance_m, "body"))
+                found.append(BoxContact(a.name, b.name, prox.point, prox.normal, prox.distance_m, "body"))
     return found
 
 
 # ------------------------------------------------------------------------------ watching
 def time_to_contact(
-    state: BodyState,
-    obstacle: BoxObstacle | PlaneObstacle | BodyState,
+    state: BoxState,
+    obstacle: BoxObstacle | PlaneObstacle | BoxState,
     horizon_s: float,
     gap_m: float = 0.0,
 ) -> float:
@@ -335,7 +335,7 @@ def time_to_contact(
             return math.inf
         t = float(np.min(dist[closing] / -rates[closing]))
         return t if t <= horizon else math.inf
-    if isinstance(obstacle, BodyState):
+    if isinstance(obstacle, BoxState):
         other = Box.of(obstacle)
         v_rel = state.velocity_m_s - obstacle.velocity_m_s
         spin = np.linalg.norm(state.angular_velocity_rad_s) * np.linalg.norm(box.half) + np.linalg.norm(
@@ -365,14 +365,14 @@ def time_to_contact(
 
 
 # ------------------------------------------------------------------------------ bed
-def bed_clearance(state: BodyState, bed: PlaneObstacle | Obstacles) -> float:
+def bed_clearance(state: BoxState, bed: PlaneObstacle | Obstacles) -> float:
     """Signed distance (m) of the body's lowest corner above the bed (< 0: sunk into it)."""
     plane = bed.bed if isinstance(bed, Obstacles) else bed
     n = np.asarray(plane.normal, float)
     return float(np.min((state.corners() - np.asarray(plane.point_m, float)) @ n))
 
 
-def clamp_to_bed(state: BodyState, bed: PlaneObstacle | Obstacles) -> BodyState:
+def clamp_to_bed(state: BoxState, bed: PlaneObstacle | Obstacles) -> BoxState:
     """``state`` lifted out of the bed if it has sunk into it, its velocity into the bed removed.
 
     A body resting on or above the bed is returned unchanged. Otherwise it is moved along

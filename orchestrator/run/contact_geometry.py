@@ -1,6 +1,6 @@
 """The runner's view of contact geometry: its body states against the case's obstacles.
 
-`orchestrator.run.contact` works on its own `BodyState` (numpy arrays, sizes, masses);
+`orchestrator.run.contact` works on its own `BoxState` (numpy arrays, sizes, masses);
 the runner's states are `bodystate.BodyState` (what the solver reports). `Geometry`
 translates between the two for one case: it builds the scene's obstacles for the modelled
 domain, finds every contact within a reach (the bed too) with the closing speed of the
@@ -35,7 +35,7 @@ class Contact:
     """A body near an obstacle, another body or the bed: signed `distance_m` (< 0:
     overlapping), the contact point, the unit `normal` from the other thing into the body,
     and the closing speed of the contact point along it (> 0: approaching). `source` is
-    orchestrator.run.contact's Contact (None for the bed)."""
+    orchestrator.run.contact's BoxContact (None for the bed)."""
 
     body: str
     other: str
@@ -61,7 +61,7 @@ class Geometry:
 
     def state(self, s: BodyState):
         p = self.props[s.name]
-        return geo.BodyState(
+        return geo.BoxState(
             name=s.name, centre_of_mass_m=s.centre_of_mass_m,
             orientation=np.asarray(bodystate.orthonormal(s.orientation)).reshape(3, 3),
             velocity_m_s=s.velocity_m_s, angular_velocity_rad_s=s.angular_velocity_rad_s,

@@ -19,20 +19,20 @@ from analytical.errors import InputError
 from analytical.impact import impact, pair_impact
 from analytical.impact_bodies import DEFAULT_ADDED_MASS_COEFFICIENT, Body, ColumnTarget, RigidWall
 from analytical.impact_results import ImpactResult
-from orchestrator.run.contact import BodyState, Contact
+from orchestrator.run.contact import BoxContact, BoxState
 from orchestrator.scene.schema import Scene, column_for_analysis
 
 __all__ = ["body_contact_law", "pair_contact_law", "resolve"]
 
 
 def resolve(
-    contact: Contact,
-    states: Sequence[BodyState],
+    contact: BoxContact,
+    states: Sequence[BoxState],
     scene: Scene,
     *,
     added_mass_coefficient: float = DEFAULT_ADDED_MASS_COEFFICIENT,
     **impact_options,
-) -> tuple[ImpactResult | None, tuple[BodyState, ...]]:
+) -> tuple[ImpactResult | None, tuple[BoxState, ...]]:
     """Resolve ``contact`` with :mod:`analytical.impact`; return the impact and the new states.
 
     The impact inputs come from the states: the inverse inertia tensor in the global frame
@@ -133,7 +133,7 @@ def _scene_options(scene: Scene, name: str, other: str | None = None) -> dict:
     return {**law.options(), "friction_coefficient": friction}
 
 
-def _impact_body(state: BodyState, added_mass_coefficient: float) -> Body:
+def _impact_body(state: BoxState, added_mass_coefficient: float) -> Body:
     return Body(
         mass_kg=state.mass_kg,
         inverse_inertia=state.inverse_inertia(),

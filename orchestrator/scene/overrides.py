@@ -18,7 +18,7 @@ import yaml
 from analytical.errors import InputError
 from orchestrator.scene.schema import (
     Bed,
-    Column,
+    ColumnSection,
     DebrisBody,
     DebrisLayout,
     DebrisTemplate,
@@ -40,7 +40,7 @@ _SECTIONS: dict[str, type[SceneSection]] = {
     "flume": Flume,
     "reservoir": Reservoir,
     "bed": Bed,
-    "column": Column,
+    "column": ColumnSection,
     "fluids": Fluids,
     "mesh": Mesh,
     "run": Run,

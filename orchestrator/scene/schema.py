@@ -28,7 +28,7 @@ from analytical.errors import InputError
 
 __all__ = [
     "Bed",
-    "Column",
+    "ColumnSection",
     "DebrisBody",
     "DebrisContact",
     "DebrisLayout",
@@ -94,7 +94,7 @@ class Bed(SceneSection):
     )
 
 
-class Column(SceneSection):
+class ColumnSection(SceneSection):
     """The obstacle: a rectangular box standing on the floor, centred at (x_m, y_m).
 
     The structural fields match :class:`analytical.column.Column` (same names, same
@@ -332,7 +332,7 @@ class Scene(SceneSection):
     flume: Flume
     reservoir: Reservoir
     bed: Bed = Bed()
-    column: Column | None = None
+    column: ColumnSection | None = None
     debris: tuple[DebrisBody, ...] = ()
     gauges: tuple[Gauge, ...] = ()
     fluids: Fluids = Fluids()
@@ -344,14 +344,14 @@ class Scene(SceneSection):
 # ------------------------------------------------------------------------ the column
 
 
-def default_column(x_m: float = 5.0, y_m: float = 0.0) -> Column:
+def default_column(x_m: float = 5.0, y_m: float = 0.0) -> ColumnSection:
     """The reference study's acrylic column (:class:`analytical.column.Column`'s defaults) at (x_m, y_m).
 
     0.20 x 0.20 x 0.80 m hollow section, 5 mm wall, E = 2.50 GPa, rho = 1200 kg/m^3,
     nu = 0.375, shear coefficient 0.50, measured 70 Hz, 4.685e5 N/m, damping 0.045.
     The default x (5.0 m) is this project's choice; see cases/1debris.yaml.
     """
-    return Column(
+    return ColumnSection(
         x_m=x_m,
         y_m=y_m,
         size_x_m=0.20,

@@ -83,7 +83,7 @@ from orchestrator.studies.sweep.executors import dask_executor
 from orchestrator.transport.case_transport import case_flow, scene_bodies
 from orchestrator.transport.engine import TransportResult, TransportSettings, run_transport
 from orchestrator.transport.flow import FlowField
-from orchestrator.transport.model import Flume, PlacedColumn, TransportBody
+from orchestrator.transport.model import FlumeBounds, PlacedColumn, TransportBody
 
 __all__ = [
     "EXECUTORS",
@@ -199,7 +199,7 @@ def _z_range(body: TransportBody) -> tuple[float, float]:
     return body.centre_m[2] - reach, body.centre_m[2] + reach
 
 
-def start_clash(body: TransportBody, placed: Sequence[TransportBody], flume: Flume,
+def start_clash(body: TransportBody, placed: Sequence[TransportBody], flume: FlumeBounds,
                 column: PlacedColumn | None, gap_m: float = 0.0) -> str | None:
     """What ``body``'s start comes within ``gap_m`` of (a wall, the column, a placed body), or None."""
     foot = plan_footprint(body)
@@ -222,7 +222,7 @@ def start_clash(body: TransportBody, placed: Sequence[TransportBody], flume: Flu
     return None
 
 
-def perturbed_starts(bodies: Sequence[TransportBody], flume: Flume, column: PlacedColumn | None,
+def perturbed_starts(bodies: Sequence[TransportBody], flume: FlumeBounds, column: PlacedColumn | None,
                      perturbation: Perturbation, seed: int, realisation: int) -> list[TransportBody]:
     """Realisation ``realisation``'s bodies: each start drawn about its nominal one (module notes)
     from ``numpy.random.default_rng([seed, realisation])``, in the bodies' order; raises
@@ -253,7 +253,7 @@ def perturbed_starts(bodies: Sequence[TransportBody], flume: Flume, column: Plac
     return placed
 
 
-def ensemble_starts(bodies: Sequence[TransportBody], flume: Flume, column: PlacedColumn | None,
+def ensemble_starts(bodies: Sequence[TransportBody], flume: FlumeBounds, column: PlacedColumn | None,
                     perturbation: Perturbation, seed: int, n: int) -> list[list[TransportBody]]:
     """The starts of realisations 0 .. n - 1."""
     return [perturbed_starts(bodies, flume, column, perturbation, seed, r) for r in range(n)]
@@ -304,7 +304,7 @@ def _keep_flow(npz: str, flow: FlowField | None = None) -> FlowField:
     return _FLOWS[npz]
 
 
-def run_realisation(number: int, bodies: list[TransportBody], flume: Flume, column: PlacedColumn | None,
+def run_realisation(number: int, bodies: list[TransportBody], flume: FlumeBounds, column: PlacedColumn | None,
                     t_end_s: float, npz: str, settings: TransportSettings) -> Realisation:
     """Carry one realisation's bodies through the flow of ``npz`` (loaded once per process)."""
     flow = _keep_flow(npz)
@@ -334,11 +334,11 @@ class EnsembleResult:
                 "wall_time_s": s["wall_time_s"]}
 
 
-def transport_setup(scene: Scene, flow: FlowField) -> tuple[list[TransportBody], Flume, PlacedColumn | None]:
+def transport_setup(scene: Scene, flow: FlowField) -> tuple[list[TransportBody], FlumeBounds, PlacedColumn | None]:
     """The scene's bodies, the flume the record bounds (side walls, end walls at its ends) and the
     column, as :func:`~orchestrator.transport.case_transport.transport_case` builds them."""
     (x0, x1), (y0, y1), _ = flow.extent_m
-    flume = Flume(x_m=(x0, x1), y_m=(max(y0, -scene.flume.width_m / 2), min(y1, scene.flume.width_m / 2)),
+    flume = FlumeBounds(x_m=(x0, x1), y_m=(max(y0, -scene.flume.width_m / 2), min(y1, scene.flume.width_m / 2)),
                   bed_z_m=flow.bed_z_m)
     column = None
     if scene.column is not None:
@@ -352,7 +352,7 @@ def _open_local(workers: int, npz: str, flow: FlowField):
                                                   initializer=_keep_flow, initargs=(npz, flow))
 
 
-def run_ensemble(starts: Sequence[list[TransportBody]], flume: Flume, column: PlacedColumn | None, t_end_s: float,
+def run_ensemble(starts: Sequence[list[TransportBody]], flume: FlumeBounds, column: PlacedColumn | None, t_end_s: float,
                  flow: FlowField, npz: str | Path, executor: str = "local", workers: int | None = None,
                  settings: TransportSettings | None = None,
                  progress: Callable[[int, int], None] | None = None) -> list[Realisation]:

@@ -38,7 +38,7 @@ from orchestrator.case.outputs import (
 )
 from orchestrator.core.numbers import finite_or_none
 from orchestrator.results.readers import read_contact_events
-from orchestrator.run.contact import BodyState, ModelledDomain, find_contacts, scene_obstacles
+from orchestrator.run.contact import BoxState, ModelledDomain, find_contacts, scene_obstacles
 from orchestrator.scene.scenefile import load_scene
 from orchestrator.studies.sweep.store import load_store, read_member_record
 
@@ -100,7 +100,7 @@ def _clearances(case: Path, plan: dict | None, scene) -> tuple[float | None, str
             if b is None:
                 continue
             rot = np.array([getattr(r, c) for c in q_cols], float).reshape(3, 3)
-            states.append(BodyState(r.body, (r.x_m, r.y_m, r.z_m), rot, (r.u_m_s, r.v_m_s, r.w_m_s), (0, 0, 0),
+            states.append(BoxState(r.body, (r.x_m, r.y_m, r.z_m), rot, (r.u_m_s, r.v_m_s, r.w_m_s), (0, 0, 0),
                                     b["size_m"], b["mass_kg"], b["moment_of_inertia_kg_m2"]))
             half = 0.5 * np.abs(rot) @ np.asarray(b["size_m"], float)  # the box's half extent in z
             sink = max(sink, -(r.z_m - half[2] - obstacles.bed.point_m[2]))

@@ -37,7 +37,7 @@ from orchestrator.run.impact_resolution import body_contact_law
 from orchestrator.scene.schema import Scene, column_for_analysis
 from orchestrator.scene.scenefile import load_scene
 from orchestrator.transport.engine import TransportResult, TransportSettings, run_transport
-from orchestrator.transport.model import Flume, PlacedColumn, TransportBody
+from orchestrator.transport.model import FlumeBounds, PlacedColumn, TransportBody
 from orchestrator.transport.flow import FlowField
 from orchestrator.transport.record import FLOW_RECORD_NPZ, read_flow_record
 
@@ -154,7 +154,7 @@ def transport_case(case_dir: str | Path, *, settings: TransportSettings | None =
     scene = load_scene(folder.scene_path)
     flow, npz = case_flow(folder.path, say=say)
     (x0, x1), (y0, y1), _ = flow.extent_m
-    flume = Flume(x_m=(x0, x1), y_m=(max(y0, -scene.flume.width_m / 2), min(y1, scene.flume.width_m / 2)),
+    flume = FlumeBounds(x_m=(x0, x1), y_m=(max(y0, -scene.flume.width_m / 2), min(y1, scene.flume.width_m / 2)),
                   bed_z_m=flow.bed_z_m)
     t_end = float(plan.get("end_time_s", scene.run.end_time_s))
     result = run_transport(scene_bodies(scene), flume, t_end, flow=flow, column=_placed_column(scene),

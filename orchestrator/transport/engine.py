@@ -49,7 +49,7 @@ from analytical.hydrodynamics import HydroCoefficients, hydro_loads, sub_volumes
 from orchestrator.transport.events import EventBook
 from orchestrator.transport.flow import FlowCoverageError, FlowField
 from orchestrator.transport.model import (
-    Flume,
+    FlumeBounds,
     PlacedColumn,
     TransportBody,
     angles_deg,
@@ -142,7 +142,7 @@ class _Forcing:
         return bool(np.all((pts[:, 0] >= x0) & (pts[:, 0] <= x1) & (pts[:, 1] >= y0) & (pts[:, 1] <= y1)))
 
 
-def run_transport(bodies, flume: Flume, t_end_s: float, flow: FlowField | None = None,
+def run_transport(bodies, flume: FlumeBounds, t_end_s: float, flow: FlowField | None = None,
                   column: PlacedColumn | None = None, settings: TransportSettings | None = None) -> TransportResult:
     """Carry ``bodies`` (:class:`TransportBody`) through ``flow`` (None: dry) for ``t_end_s``
     seconds in ``flume`` with ``column``; see the module notes."""

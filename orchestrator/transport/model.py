@@ -66,7 +66,7 @@ __all__ = [
     "FRICTION_DEMAND",
     "STICK_SPEED_M_S",
     "BuiltModel",
-    "Flume",
+    "FlumeBounds",
     "PlacedColumn",
     "TransportBody",
     "angles_deg",
@@ -144,7 +144,7 @@ class TransportBody:
 
 
 @dataclass(frozen=True)
-class Flume:
+class FlumeBounds:
     """The flume: bed plane at ``bed_z_m``, side walls at ``y_m`` and end walls at ``x_m``."""
 
     x_m: tuple[float, float]
@@ -247,7 +247,7 @@ def _f(values) -> str:
     return " ".join(f"{float(v):.12g}" for v in values)
 
 
-def build_model(bodies, flume: Flume, column: PlacedColumn | None = None, *, gravity_m_s2: float = 9.81,
+def build_model(bodies, flume: FlumeBounds, column: PlacedColumn | None = None, *, gravity_m_s2: float = 9.81,
                 steps_per_contact_period: int = 40, max_timestep_s: float = 1e-3) -> BuiltModel:
     """The MJCF of the flume, the column and ``bodies`` (:class:`TransportBody`), compiled."""
     bodies = list(bodies)
