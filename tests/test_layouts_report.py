@@ -44,7 +44,8 @@ def synthetic_case(case: Path, name: str, wg2_offset_m: float = 0.0, force_offse
     case.mkdir(parents=True)
     (case / "scene.yaml").write_text(_scene(name))
     (case / "plan.json").write_text(json.dumps({"debris_coupling": "one-way", "solver": "interFoam",
-                                                "domain_m": [[-0.32, 1.6], [-0.2, 0.2], [0.0, 0.3]]}))
+                                                "domain_m": [[-0.32, 1.6], [-0.2, 0.2], [0.0, 0.3]],
+                                                "flow_record": {"region_m": [[0.8, 1.6], [-0.2, 0.2], [0.0, 0.3]]}}))
     (case / "run.json").write_text(json.dumps({
         "status": "finished", "ranks": 2, "runner": {"solver_wall_s": 300.0},
         "steps": [{"name": "blockMesh", "wall_s": 2.0, "exit_status": 0, "log": "log.blockMesh"}],
@@ -81,7 +82,11 @@ def synthetic_case(case: Path, name: str, wg2_offset_m: float = 0.0, force_offse
     _write(results / "impacts.csv", pd.DataFrame(impacts))
     (case / "contacts.json").write_text(json.dumps([
         {"event": 1, "type": "impact", "kind": "column"},
-        {"event": 2, "type": "transport_contact", "kind": "wall", "body": "debris2", "other": "wall +y"},
+        {"event": 2, "type": "transport_contact", "kind": "wall", "body": "debris2", "other": "wall_y1"},
+        {"event": 5, "type": "transport_contact", "kind": "wall", "body": "debris1", "other": "wall_x1", "time_s": 0.18,
+         "point_m": [1.6, 0.0, 0.03]},
+        {"event": 6, "type": "transport_contact", "kind": "wall", "body": "debris1", "other": "wall_x1", "time_s": 0.19,
+         "point_m": [1.6, 0.0, 0.03]},
         {"event": 3, "type": "impact", "kind": "column"}, {"event": 4, "type": "impact", "kind": "column"}]))
     _write(case / "transport" / "body_contacts.csv", pd.DataFrame({
         "event": [1, 2], "time_s": [0.05, 0.12], "body": ["debris1", "debris1"], "other": ["debris2", "debris2"],
@@ -144,6 +149,8 @@ def test_a_layouts_row_counts_strikes_per_body_contacts_and_wall_times(tmp_path)
     assert (row["first_strike_body"], row["first_strike_velocity_m_s"], row["first_strike_peak_force_N"]) == \
         ("debris1", 0.9, 90.0)
     assert (row["body_contacts"], row["body_contact_max_approach_m_s"], row["wall_contacts"]) == (2, 0.3, 1)
+    # the record's end walls are not the flume's: counted apart, with when each body got there
+    assert (row["record_end_contacts"], row["bodies_at_record_end"]) == (2, "debris1:0.180")
     assert (row["flow_wall_s"], row["flow_cpu_s"], row["mesh_wall_s"], row["transport_wall_s"]) == (300.0, 240.0, 2.0, 3.5)
     assert row["max_spread_deg"] == 20.0 and row["inside_naito_all"] and not row["inside_nistor_all"]
 
@@ -180,6 +187,8 @@ def test_the_page_states_the_figures_and_links_every_figure_it_draws(tmp_path):
         "3 (debris1:2 debris2:1) | debris1, 0.100 s, 0.90 m/s, 90 N" in text
     assert "2 contacts between two bodies, from 0.050 s to 0.120 s" in text
     assert "0.10-0.30 m/s" in text
+    assert "1 contacts with the flume's side walls, 2 with the record's end walls" in text
+    assert "recorded over x = 0.80 to 1.60 m" in text and "Reached the end: debris1 from 0.180 s (x = 1.60 m)" in text
     assert "| 45 / 2 / -1 deg |" in text  # debris1's first strike: yaw / pitch / roll
     # the one-way statement: the flows coincide but for what the plans make different; the seed's finding assumed
     assert "two-a and two-b run the same plan: between them, the gauges by at most 2.0 mm" in text

@@ -46,7 +46,7 @@ def _transport(row: dict) -> str:
 def _runs_table(layouts: list, table: pd.DataFrame) -> list[str]:
     lines = ["| layout | bodies | cells | flow (solver) | mesh | transport | strikes on the column (per body) | "
              "first strike: body, time, velocity, peak force | largest base shear | body-body contacts | "
-             "wall contacts | largest spreading angle |", "|" + "---|" * 12]
+             "contacts with the side walls / the record's ends | largest spreading angle |", "|" + "---|" * 12]
     for lay, row in zip(layouts, table.to_dict("records")):
         if not lay.ok:
             lines.append(f"| {lay.name} | {row['bodies']} | - | {lay.status} | | | | | | | | |")
@@ -59,7 +59,7 @@ def _runs_table(layouts: list, table: pd.DataFrame) -> list[str]:
             f"| {lay.name} | {row['bodies']} | {_f(row['cells'], ',.0f')} | {_minutes(row['flow_wall_s'])} (CPU {_minutes(row.get('flow_cpu_s'))}) | "
             f"{_f(row['mesh_wall_s'], '.0f', ' s')} | {_transport(row)} | "
             f"{row['column_strikes']} ({row['strikes_per_body']}) | {first} | "
-            f"{_f(row.get('max_base_shear_N'), '.0f', ' N')} | {row['body_contacts']} | {row['wall_contacts']} | "
+            f"{_f(row.get('max_base_shear_N'), '.0f', ' N')} | {row['body_contacts']} | {row['wall_contacts']} / {row['record_end_contacts']} | "
             f"{_f(row.get('max_spread_deg'), '.1f', ' deg')} |")
     return lines
 
@@ -156,11 +156,11 @@ def _strike_table(lay) -> list[str]:
 def _contact_lines(lay) -> list[str]:
     bc = lay.body_contacts
     if not len(bc):
-        return [f"No contact between two bodies ({lay.wall_contacts} with the side or end walls)."]
+        return [f"No contact between two bodies; {_walls(lay)}."]
     approach = bc["approach_velocity_m_s"].abs()
     lines = [f"{len(bc)} contacts between two bodies, from {_f(bc['time_s'].min())} s to {_f(bc['time_s'].max())} s; "
              f"relative velocity along the contact normal {_f(approach.min(), '.2f')}-{_f(approach.max(), '.2f')} m/s "
-             f"(median {_f(approach.median(), '.2f')} m/s); {lay.wall_contacts} contacts with the side or end walls.",
+             f"(median {_f(approach.median(), '.2f')} m/s); {_walls(lay)}.",
              "", "| time | bodies | approach velocity | separation velocity | restitution |", "|---|---|---|---|---|"]
     for r in bc.sort_values("time_s").head(CONTACT_ROWS).itertuples():
         lines.append(f"| {_f(r.time_s)} s | {r.body} - {r.other} | {_f(abs(r.approach_velocity_m_s), '.3f')} m/s | "
@@ -168,6 +168,24 @@ def _contact_lines(lay) -> list[str]:
     if len(bc) > CONTACT_ROWS:
         lines.append(f"\nThe first {CONTACT_ROWS} of {len(bc)}; all in `body_contacts.csv`.")
     return lines
+
+
+def _walls(lay) -> str:
+    return f"{lay.wall_contacts} contacts with the flume's side walls, {lay.end_contacts} with the record's end walls"
+
+
+def _record_end(lay) -> list[str]:
+    """The bodies that reached an end of the flow record, where the transport holds them."""
+    if not lay.at_record_end:
+        return []
+    region = ((lay.plan.get("flow_record") or {}).get("region_m") or [[None, None]])[0]
+    bodies = ", ".join(f"{b} from {_f(t)} s (x = {_f(x, '.2f')} m)" for b, (t, x) in lay.at_record_end.items())
+    return [f"The flow is recorded over x = {_f(region[0], '.2f')} to {_f(region[1], '.2f')} m (plan.json, "
+            "`flow_record.region_m`: the bodies' starts to the column's downstream face and a margin); the transport "
+            "closes the record's ends with walls, so a body that gets there stays there. Reached the end: "
+            f"{bodies}; {lay.end_contacts} contacts with those walls. From then on their tracks and any strikes or "
+            "contacts they have are the end wall's, not the flow's, and their spreading angles are measured no "
+            "further downstream than the record's end.", ""]
 
 
 def _spread_line(lay) -> str:
@@ -220,7 +238,8 @@ def markdown(layouts: list, table: pd.DataFrame, agreement: pd.DataFrame, figure
             lines += [f"![{lay.name} tracks]({figures[f'{lay.slug}-tracks']})", "",
                       "Tracks of the bodies' centres of mass in plan view (cf. the seed's Fig. 14), with the column, "
                       "the spreading areas from the debris's start line and the contacts between bodies; below, "
-                      "each body's speed and the times of the strikes.", "", _spread_line(lay), ""]
+                      "each body's speed and the times of the strikes.", "", _spread_line(lay), "",
+                      *_record_end(lay)]
         lines += ["Strikes on the column (orientation from the body's track at the strike):", "", *_strike_table(lay),
                   ""]
         if f"{lay.slug}-impacts" in figures and len(lay.strikes):

@@ -74,6 +74,9 @@ def _frame(lay):
     scene = lay.scene
     if scene is not None and scene.column is not None:
         xs += [scene.column.x_m - scene.column.size_x_m, scene.column.x_m + scene.column.size_x_m]
+    region = (lay.plan.get("flow_record") or {}).get("region_m")
+    if xs and region:
+        xs += list(region[0])
     domain = lay.plan.get("domain_m")
     box = None
     if domain:
@@ -103,6 +106,10 @@ def figure_layout_tracks(lay):
         ax.add_patch(Rectangle((box[0], box[2]), box[1] - box[0], box[3] - box[2], fill=False, lw=1.2, color="0.3",
                                label="walls of the simulated domain"))
     draw_spreading_areas(ax, lay.areas(), box)
+    region = (lay.plan.get("flow_record") or {}).get("region_m")
+    if region and box is not None:  # the transport closes the record's ends with walls
+        for x in region[0]:
+            ax.plot([x, x], [box[2], box[3]], color="#7b3294", lw=1.2, ls="--", label="ends of the flow record")
     if lay.scene is not None and lay.scene.column is not None:
         draw_column(ax, lay.scene.column)
     for r in lay.gauge_summary.itertuples():
@@ -208,6 +215,7 @@ def figure_impact_summary(layouts):
     for ax, label in ((axv, "velocity along the contact normal (m/s)"),
                       (axy, "yaw at the strike (deg; 0: long axis along the flow)")):
         ax.set_xticks(range(len(names)), names, rotation=15)
+        ax.set_xlim(-0.5, len(names) - 0.5)
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
     axv.set_title("impact velocities", fontsize=10, loc="left")

@@ -62,6 +62,8 @@ IMPACT_TABLE_COLUMNS = [
     "layout", "event", "strike", "body", "time_s", "impact_velocity_m_s", "obliquity_deg", "height_m",
     "face_water_level_m", "yaw_deg", "pitch_deg", "roll_deg", "peak_force_N", "duration_s", "impulse_Ns",
     "peak_base_shear_N", "point_x_m", "point_y_m", "force_history"]
+#: The transport's planes at the flow record's ends (MuJoCo geoms wall_x0, wall_x1), not the flume's walls.
+END_WALLS = ("wall_x",)
 #: The file a sweep folder holds (its members are the runs).
 SWEEP_JSON = "sweep.json"
 MEMBER_JSON = "member.json"
@@ -86,7 +88,13 @@ class Layout:
     #: event -> ((time from contact s, force on the column N), (time s, base shear N) or None)
     pulses: dict[int, tuple[tuple[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray] | None]] = field(default_factory=dict)
     body_contacts: pd.DataFrame = field(default_factory=pd.DataFrame)
+    #: contacts with the flume's side walls
     wall_contacts: int = 0
+    #: contacts with the record's end walls (the transport's planes at the flow record's ends,
+    #: plan.json flow_record.region_m: they keep bodies inside the record, they are not the flume's)
+    end_contacts: int = 0
+    #: body -> (first time it met a record's end wall s, that wall's x m)
+    at_record_end: dict[str, tuple[float, float]] = field(default_factory=dict)
     gauges: pd.DataFrame = field(default_factory=pd.DataFrame)
     gauge_summary: pd.DataFrame = field(default_factory=pd.DataFrame)
     hydro: pd.DataFrame = field(default_factory=pd.DataFrame)
@@ -231,8 +239,15 @@ def load_layout(case_dir: str | Path) -> Layout:
     layout.bodies = _csv(results / "bodies.csv")
     layout.strikes = impact_table(layout)
     layout.body_contacts = _csv(folder.path / TRANSPORT_DIR / "body_contacts.csv")
-    layout.wall_contacts = sum(1 for e in read_contact_events(folder.path) if e.get("type") == "transport_contact"
-                               and e.get("kind") == "wall")
+    for e in read_contact_events(folder.path):
+        if e.get("type") != "transport_contact" or e.get("kind") != "wall":
+            continue
+        if str(e.get("other", "")).startswith(END_WALLS):
+            layout.end_contacts += 1
+            if e.get("body") not in layout.at_record_end:
+                layout.at_record_end[e["body"]] = (float(e["time_s"]), float((e.get("point_m") or [np.nan])[0]))
+        else:
+            layout.wall_contacts += 1
     layout.gauges = _csv(results / "gauges.csv")
     layout.gauge_summary = _csv(results / "gauge_summary.csv")
     forces = _csv(results / "column_forces.csv")
@@ -295,6 +310,8 @@ def layout_row(layout: Layout) -> dict[str, Any]:
     row["body_contacts"] = len(bc)
     row["body_contact_max_approach_m_s"] = float(bc["approach_velocity_m_s"].abs().max()) if len(bc) else None
     row["wall_contacts"] = layout.wall_contacts
+    row["record_end_contacts"] = layout.end_contacts
+    row["bodies_at_record_end"] = " ".join(f"{b}:{t:.3f}" for b, (t, _) in layout.at_record_end.items())
     sp = layout.spreading
     if not sp.empty:
         row["max_spread_deg"] = float(sp["max_spread_deg"].max())
