@@ -94,3 +94,21 @@ def test_running_a_finished_one_way_case_again_does_not_carry_the_bodies_again(o
     assert proc.returncode == 0, proc.stderr
     assert "transport:" not in proc.stdout
     assert json.loads((case / "run.json").read_text())["transport"] == before
+
+
+def test_the_scenes_transport_section_sets_the_forcing():
+    """transport.* reaches the engine's hydrodynamic coefficients; the defaults are the engine's."""
+    from orchestrator.transport.case_transport import scene_settings
+    from orchestrator.transport.engine import TransportSettings
+
+    default = scene_settings(load_scene(SCENE))
+    assert default.hydro == TransportSettings().hydro
+    custom = scene_settings(load_scene(SCENE, ["transport.drag_coefficient=0", "transport.added_mass_coefficient=0.5",
+                                               "transport.sub_volumes=[3, 2, 2]"]))
+    assert (custom.hydro.drag_coefficient, custom.hydro.added_mass_coefficient, custom.hydro.sub_volumes) == (
+        0.0, 0.5, (3, 2, 2))
+
+
+def test_a_bad_transport_coefficient_is_refused_naming_the_field():
+    proc = run_cli("validate", str(SCENE), "--set", "transport.drag_coefficient=-1")
+    assert proc.returncode == 2 and "transport.drag_coefficient" in proc.stderr

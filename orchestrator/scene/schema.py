@@ -25,6 +25,7 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator
 
 from analytical.column import Column as AnalysisColumn
 from analytical.errors import InputError
+from analytical.hydrodynamics import DEFAULT_ADDED_MASS_COEFFICIENT, DEFAULT_DRAG_COEFFICIENT
 
 __all__ = [
     "Bed",
@@ -324,6 +325,31 @@ class Outputs(SceneSection):
         "(run.debris_coupling; the bodies are carried through it) (Hz)")
 
 
+class Transport(SceneSection):
+    """The hydrodynamic forcing of one-way transport (run.debris_coupling one-way: the bodies
+    carried through the recorded flow; docs/one-way.md). Each body is split into sub-volumes; each
+    submerged one takes buoyancy, the water's inertia (Froude-Krylov and added mass, (1 + C_a) rho V
+    Du/Dt) and drag."""
+
+    drag_coefficient: float = Field(
+        DEFAULT_DRAG_COEFFICIENT, ge=0, le=5, description="C_d of a body face-on to the relative flow, on each "
+        "body axis; 0 switches drag off (a box face-on: about 1.05 for a cube, 1.0-1.2 for blocks, Hoerner 1965)")
+    added_mass_coefficient: float = Field(
+        DEFAULT_ADDED_MASS_COEFFICIENT, ge=0, le=5, description="C_a of the submerged volume, added to the water's "
+        "inertia force and to the body's translational inertia; 0 switches it off (DNV-RP-C205: 0.68 for a cube, "
+        "1.51 for a long square section)")
+    sub_volumes: tuple[int, int, int] = Field(
+        (5, 3, 3), description="sub-volumes along the body's length, width and height over which the water is "
+        "sampled, so that heave, pitch and roll answer the surface across the body")
+
+    @field_validator("sub_volumes")
+    @classmethod
+    def _counts(cls, value):
+        if any(n < 1 for n in value):
+            raise ValueError("must be three integers >= 1")
+        return value
+
+
 class Scene(SceneSection):
     """A resolved, validated scene (every body placed, every gauge positioned)."""
 
@@ -339,6 +365,7 @@ class Scene(SceneSection):
     mesh: Mesh
     run: Run
     outputs: Outputs = Outputs()
+    transport: Transport = Transport()
 
 
 # ------------------------------------------------------------------------ the column

@@ -80,7 +80,7 @@ from orchestrator.run.runner import run_case
 from orchestrator.scene.schema import Scene, column_for_analysis
 from orchestrator.scene.scenefile import load_scene
 from orchestrator.studies.sweep.executors import dask_executor
-from orchestrator.transport.case_transport import case_flow, scene_bodies
+from orchestrator.transport.case_transport import case_flow, scene_bodies, scene_settings
 from orchestrator.transport.engine import TransportResult, TransportSettings, run_transport
 from orchestrator.transport.flow import FlowField
 from orchestrator.transport.model import FlumeBounds, PlacedColumn, TransportBody
@@ -472,7 +472,8 @@ def ensemble(scene_path: str | Path, out_dir: str | Path, n: int, seed: int = 0,
     starts = ensemble_starts(bodies, flume, column, perturbation, seed, int(n))
     say(f"debrisfoam: {n} realisation(s) of {len(bodies)} bod{'y' if len(bodies) == 1 else 'ies'} over {t_end:g} s "
         f"on {executor}")
-    runs = run_ensemble(starts, flume, column, t_end, flow, npz, executor, workers, settings, progress)
+    runs = run_ensemble(starts, flume, column, t_end, flow, npz, executor, workers, scene_settings(scene, settings),
+                        progress)
     table = pd.DataFrame([row for r in runs for row in r.rows], columns=TABLE_COLUMNS)
     tracks = pd.concat([r.tracks for r in runs], ignore_index=True)[TRACK_COLUMNS]
     summary = summarise(table, int(n), time.perf_counter() - t0)

@@ -24,6 +24,7 @@ coordinate; the end walls at the record's ends keep bodies inside it, so the rec
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -41,7 +42,7 @@ from orchestrator.transport.model import FlumeBounds, PlacedColumn, TransportBod
 from orchestrator.transport.flow import FlowField
 from orchestrator.transport.record import FLOW_RECORD_NPZ, read_flow_record
 
-__all__ = ["TRANSPORT_DIR", "TransportSummary", "case_flow", "scene_bodies", "transport_case"]
+__all__ = ["TRANSPORT_DIR", "TransportSummary", "case_flow", "scene_bodies", "scene_settings", "transport_case"]
 
 #: The transport's own files in the case folder.
 TRANSPORT_DIR = "transport"
@@ -69,6 +70,16 @@ def scene_bodies(scene: Scene) -> list[TransportBody]:
             wall_thickness_m=b.wall_thickness_m, friction_coefficient=b.contact.bed_friction_coefficient,
             contact=body_contact_law(b.contact)))
     return bodies
+
+
+def scene_settings(scene: Scene, settings: TransportSettings | None = None) -> TransportSettings:
+    """``settings`` (the defaults when None) with the scene's hydrodynamic coefficients (its
+    ``transport`` section)."""
+    settings = TransportSettings() if settings is None else settings
+    hydro = dataclasses.replace(settings.hydro, drag_coefficient=scene.transport.drag_coefficient,
+                                added_mass_coefficient=scene.transport.added_mass_coefficient,
+                                sub_volumes=tuple(scene.transport.sub_volumes))
+    return dataclasses.replace(settings, hydro=hydro)
 
 
 def _placed_column(scene: Scene) -> PlacedColumn | None:
@@ -158,7 +169,7 @@ def transport_case(case_dir: str | Path, *, settings: TransportSettings | None =
                   bed_z_m=flow.bed_z_m)
     t_end = float(plan.get("end_time_s", scene.run.end_time_s))
     result = run_transport(scene_bodies(scene), flume, t_end, flow=flow, column=_placed_column(scene),
-                           settings=settings)
+                           settings=scene_settings(scene, settings))
     write_text_atomic(folder.path / "bodies.csv", result.tracks.to_csv(index=False, float_format="%.10g"))
     strikes, others = _write_events(folder, result)
     run = folder.run_record() or {}

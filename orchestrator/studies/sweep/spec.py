@@ -33,7 +33,7 @@ from analytical.errors import DebrisfoamError, InputError
 from orchestrator.core.jsonio import json_default
 from orchestrator.plan.planner import ModelPlan, estimate_wall_time_s, plan_case
 from orchestrator.scene.scenefile import load_scene, read_yaml, scene_to_dict
-from orchestrator.scene.schema import Scene
+from orchestrator.scene.schema import Scene, Transport
 
 #: Length of a member id (hex digits of the SHA-256 of the resolved scene).
 ID_LENGTH = 12
@@ -51,6 +51,8 @@ _NAME_RE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]*$")
 #: (auto) now picks one-way where a member hashed before it ran two-way, so the id must change.
 LATE_KEYS = ((("run", "max_delta_t_s"), None), (("run", "stall_limit_s"), None), (("run", "water_balance_limit"), None),
              (("outputs", "flow_record_hz"), 50.0))
+#: scene sections added after member ids were first issued: hashed only when not at their defaults
+LATE_SECTIONS = {"transport": Transport().model_dump(mode="json")}
 
 
 class SweepMemberError(InputError):
@@ -130,6 +132,9 @@ def member_id(scene: Scene) -> str:
     for (section, key), unhashed in late:
         if isinstance(data.get(section), dict) and key in data[section] and data[section][key] == unhashed:
             data[section].pop(key)
+    for section, default in LATE_SECTIONS.items():
+        if data.get(section) == default:
+            data.pop(section)
     text = json.dumps(data, sort_keys=True, separators=(",", ":"), default=json_default)
     return hashlib.sha256(text.encode()).hexdigest()[:ID_LENGTH]
 
