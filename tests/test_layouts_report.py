@@ -233,3 +233,11 @@ def test_a_tiny_one_way_run_reported_as_a_layout(tmp_path, openfoam):
     text = (out / "report.md").read_text()
     assert "| tiny-oneway-strike | 1 |" in text and "No contact between two bodies" in text
     assert (out / "tiny-oneway-strike-tracks.png").is_file()
+
+
+def test_layouts_on_one_plan_with_equal_records_are_said_to_be_the_same(tmp_path):
+    runs = [synthetic_case(tmp_path / name, name) for name in ("one", "two", "three")]
+    write_layouts_report(runs, tmp_path / "page")
+    text = (tmp_path / "page" / "report.md").read_text()
+    assert "one, two and three run the same plan" in text
+    assert "(one, two and three: the same plan, records equal to a millionth of their peaks)" in text

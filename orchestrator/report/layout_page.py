@@ -26,6 +26,8 @@ def _minutes(seconds) -> str:
     return _f(seconds / 60 if seconds is not None else None, ".1f", " min")
 
 
+#: Records of two layouts whose largest difference is under this fraction of their peak are the same.
+SAME_RECORD_FRACTION = 1e-6
 #: Rows of a layout's body-body contact table on the page (all of them in body_contacts.csv).
 CONTACT_ROWS = 12
 
@@ -108,16 +110,16 @@ def _flow_text(layouts: list, agreement: pd.DataFrame, agree) -> list[str]:
                "upstream end does not reach the gate region within the run's end time: plan.json, "
                "reasons.reservoir_length)") + ".")
     for g in same:
-        text += (f" {' and '.join(lay.name for lay in g)} run the same plan: between them, "
+        text += (f" {_names(g)} run the same plan: between them, "
                  f"{_differences(agree(g))}.")
     lines += ["", text, ""]
-    identical = [g for g in same if _worst(agree(g))[0] == 0.0 and _worst(agree(g))[2] == 0.0]
+    identical = [g for g in same if max(_worst(agree(g))[1], _worst(agree(g))[3]) < SAME_RECORD_FRACTION]
     if all(lay.plan.get("debris_coupling") == "one-way" for lay in done):
         lines += [
             "All layouts ran one-way: each layout's flow is its scene run without the bodies, so the bodies cannot "
             "change the water levels or the force on the column; the records can differ only where the plans "
-            "differ" + (f" ({'; '.join(' and '.join(lay.name for lay in g) for g in identical)}: the same plan, "
-                        "identical records)" if identical else "") + ".", "",
+            "differ" + (f" ({'; '.join(_names(g) for g in identical)}: the same plan, records equal to a "
+                        "millionth of their peaks)" if identical else "") + ".", "",
             "The seed found that six containers changed neither the water levels nor the column's force. Here that "
             "finding is an assumption of the one-way model, not a result: the planner sends a layout one-way because "
             "its bodies displace under 0.1 % of the reservoir's water and block under 40 % of the flume's width "
@@ -127,6 +129,11 @@ def _flow_text(layouts: list, agreement: pd.DataFrame, agree) -> list[str]:
     else:
         lines.append("Not every layout ran one-way: the differences above include the bodies' effect on the flow.")
     return lines
+
+
+def _names(layouts: list) -> str:
+    names = [lay.name for lay in layouts]
+    return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
 
 
 def _plan_groups(done: list) -> dict[tuple, list]:
