@@ -47,7 +47,7 @@ def _transport(row: dict) -> str:
 
 def _runs_table(layouts: list, table: pd.DataFrame) -> list[str]:
     lines = ["| layout | bodies | cells | flow (solver) | mesh | transport | strikes on the column (per body) | "
-             "first strike: body, time, velocity, peak force | largest base shear | body-body contacts | "
+             "first strike: body, time, velocity, peak force | largest base shear of a strike | body-body contacts | "
              "contacts with the side walls / the record's ends | largest spreading angle |", "|" + "---|" * 12]
     for lay, row in zip(layouts, table.to_dict("records")):
         if not lay.ok:
@@ -150,7 +150,8 @@ def _strike_table(lay) -> list[str]:
     if not len(s):
         return ["No strike on the column in the simulated time."]
     lines = ["| # | body | strike | time | velocity (normal) | obliquity | contact height | water at the face | "
-             "yaw / pitch / roll | peak force | duration | impulse | peak base shear |", "|" + "---|" * 13]
+             "yaw / pitch / roll | peak force | duration | impulse | peak base shear of the strike alone |",
+             "|" + "---|" * 13]
     for i, r in enumerate(s.itertuples(), 1):
         lines.append(f"| {i} | {r.body} | {r.strike} | {_f(r.time_s)} s | {_f(r.impact_velocity_m_s, '.2f')} m/s | "
                      f"{_f(r.obliquity_deg, '.0f')} deg | {_f(r.height_m)} m | {_f(r.face_water_level_m)} m | "
@@ -247,7 +248,9 @@ def markdown(layouts: list, table: pd.DataFrame, agreement: pd.DataFrame, figure
                       "the spreading areas from the debris's start line and the contacts between bodies; below, "
                       "each body's speed and the times of the strikes.", "", _spread_line(lay), "",
                       *_record_end(lay)]
-        lines += ["Strikes on the column (orientation from the body's track at the strike):", "", *_strike_table(lay),
+        lines += ["Strikes on the column (orientation from the body's track at the strike; the base shear is the "
+                  "strike's pulse alone on the column's MDOF model, without the hydrodynamic load, which "
+                  "results/column_response.csv adds):", "", *_strike_table(lay),
                   ""]
         if f"{lay.slug}-impacts" in figures and len(lay.strikes):
             lines += [f"![{lay.name} impact forces]({figures[f'{lay.slug}-impacts']})", "",
