@@ -241,3 +241,18 @@ def test_layouts_on_one_plan_with_equal_records_are_said_to_be_the_same(tmp_path
     text = (tmp_path / "page" / "report.md").read_text()
     assert "one, two and three run the same plan" in text
     assert "(one, two and three: the same plan, records equal to a millionth of their peaks)" in text
+
+
+def test_every_layout_figure_fits_a_report_page(tmp_path):
+    from orchestrator.report import layout_plots
+    from orchestrator.report.figures import DPI
+    from tests.test_plots import MAX_HEIGHT_PX, MAX_WIDTH_PX, texts_outside
+
+    layouts = [load_layout(c) for c in find_runs([synthetic_sweep(tmp_path)])][:2]
+    lay = layouts[0]
+    for fig in (layout_plots.figure_flow(layouts), layout_plots.figure_impact_summary(layouts),
+                layout_plots.figure_layout_tracks(lay), layout_plots.figure_layout_impacts(lay)):
+        fig.canvas.draw()
+        width, height = fig.get_size_inches() * DPI
+        assert width <= MAX_WIDTH_PX and height <= MAX_HEIGHT_PX, f"{width:.0f} x {height:.0f} px"
+        assert not texts_outside(fig), texts_outside(fig)
