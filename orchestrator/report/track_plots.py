@@ -124,8 +124,7 @@ def figure_tracks(results, comp):
         ax.set_xlim(*xlim)
     if ylim:
         ax.set_ylim(*ylim)
-    # the limits are fixed (the flume's reach), so the axes box takes the equal aspect
-    ax.set_aspect("equal", adjustable="box" if (xlim and ylim) else "datalim")
+    ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("x along the flume (m)")
     ax.set_ylabel("y across (m)")
     ax.set_title("Debris tracks (centre of mass) in plan view, and the spreading areas (ASCE 7-22 6.11.5.1)\n"
