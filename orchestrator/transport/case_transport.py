@@ -40,7 +40,7 @@ from orchestrator.scene.scenefile import load_scene
 from orchestrator.transport.engine import TransportResult, TransportSettings, run_transport
 from orchestrator.transport.model import FlumeBounds, PlacedColumn, TransportBody
 from orchestrator.transport.flow import FlowField
-from orchestrator.transport.record import FLOW_RECORD_NPZ, read_flow_record
+from orchestrator.transport.record import read_flow_record
 
 __all__ = ["TRANSPORT_DIR", "TransportSummary", "case_flow", "scene_bodies", "scene_settings", "transport_case"]
 
@@ -139,16 +139,10 @@ def case_flow(case_dir: str | Path, say: Callable[[str], None] = print) -> tuple
     """The one-way case's recorded flow and its .npz: converted from the function object's text
     (which is then deleted: about 6 MB a frame for the seed's scene, against 0.5 MB in the .npz)
     or, once converted, loaded from results/flow_record.npz."""
-    folder = CaseFolder(case_dir)
-    npz = folder.results_dir / FLOW_RECORD_NPZ
-    plan = folder.plan() or {}
-    raw = folder.path / "postProcessing" / (plan.get("flow_record") or {}).get("name", "flowRecord")
-    if npz.is_file() and not raw.is_dir():
-        return FlowField.load(npz), npz
-    record = read_flow_record(folder.path, delete_raw=True)
+    record = read_flow_record(case_dir, delete_raw=True)
     say(f"debrisfoam: flow record: {record.frames} frames of {record.points:,} points, "
-        f"{record.bytes_total / 1e6:.1f} MB in {record.path.name} ({record.raw_bytes / 1e6:.0f} MB of text converted "
-        "and removed)")
+        f"{record.bytes_total / 1e6:.1f} MB in {record.path.name} (from {record.raw_bytes / 1e6:.0f} MB of text, "
+        "removed once converted)")
     return record.field, record.path
 
 

@@ -145,7 +145,8 @@ def read_flow_record(case_dir: str | Path, *, delete_raw: bool = False, end_time
     """The case's recorded flow as a :class:`FlowField`, saved to ``results/flow_record.npz``.
 
     ``end_time_s``: the time the record must reach (None: the plan's end time). ``delete_raw``:
-    remove ``postProcessing/<name>/`` once the .npz is written. Raises :class:`FlowRecordError`
+    remove ``postProcessing/<name>/`` once the .npz is written; once it is gone, the .npz is read
+    back instead. Raises :class:`FlowRecordError`
     when the case is not one-way or the record misses a frame or a point (module docstring).
     """
     folder = CaseFolder(case_dir)
@@ -153,6 +154,9 @@ def read_flow_record(case_dir: str | Path, *, delete_raw: bool = False, end_time
     record = plan.flow_record
     end = float(plan.end_time_s if end_time_s is None else end_time_s)
     base = folder.path / "postProcessing" / record.name
+    npz = Path(out_path) if out_path is not None else folder.results_dir / FLOW_RECORD_NPZ
+    if not base.is_dir() and npz.is_file():  # converted before and its text removed
+        return _converted(npz, record, end)
     frames = _frames(base, record, end)
     xs, ys, zs = (np.asarray(a, float) for a in (record.x_m, record.y_m, record.z_m))
     shape = (xs.size, ys.size, zs.size)
@@ -199,8 +203,8 @@ def read_flow_record(case_dir: str | Path, *, delete_raw: bool = False, end_time
     field = FlowField(times, xs, ys, levels, bed, eta, u, *fluids, meta={
         "case": str(folder.path), "solver": plan.solver, "record": record.name, "interval_s": record.interval_s,
         "t0": "the plan's initial water at rest (not written by the function object)",
-        "hole_points": int((~seen).sum())})
-    path = Path(out_path) if out_path is not None else folder.results_dir / FLOW_RECORD_NPZ
+        "hole_points": int((~seen).sum()), "raw_bytes": int(raw)})
+    path = npz
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(path.name + ".tmp")
     field.save(tmp)
@@ -209,6 +213,18 @@ def read_flow_record(case_dir: str | Path, *, delete_raw: bool = False, end_time
         shutil.rmtree(base)
     total = path.stat().st_size
     return RecordFiles(field, path, times.size, int(np.prod(shape)), total, total / times.size, raw, delete_raw)
+
+
+def _converted(npz: Path, record: FlowRecordPlan, end_time_s: float) -> RecordFiles:
+    """The record as an earlier conversion saved it, checked against the run's end time."""
+    field = FlowField.load(npz)
+    last = float(field.t_s[-1])
+    if last < end_time_s - 1e-6 * max(1.0, end_time_s):
+        raise FlowRecordError(str(npz), f"the record ends at {last:g} s, the run's end time is {end_time_s:g} s")
+    total = npz.stat().st_size
+    points = len(record.x_m) * len(record.y_m) * len(record.z_m)
+    return RecordFiles(field, npz, int(field.t_s.size), points, total, total / field.t_s.size,
+                       int(field.meta.get("raw_bytes", 0)), True)
 
 
 def _fluids(folder: CaseFolder) -> tuple[float, float]:
