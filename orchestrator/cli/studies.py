@@ -253,7 +253,7 @@ def add_study_parsers(verbs) -> None:
 
     p = verbs.add_parser("ensemble", help="one one-way flow, then N realisations of the debris from perturbed "
                                           "starts carried through it: impact probability and load statistics "
-                                          "beside the seed's (docs/ensembles.md)")
+                                          "beside the study's (docs/ensembles.md)")
     p.add_argument("scene", help="scene YAML (it must plan one-way: run.debris_coupling auto or one-way)")
     p.add_argument("-n", type=int, required=True, metavar="N", help="number of realisations")
     p.add_argument("-o", "--out", required=True, metavar="DIR",

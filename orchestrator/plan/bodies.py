@@ -103,7 +103,7 @@ def body_cell_m(scene: Scene, body: DebrisBody, h: float) -> float:
 def bed_gap(scene: Scene, h: float) -> BedGap | None:
     """The gap under resting bodies: layers an eighth of the finest resting body's cell.
 
-    The gap (half a body cell: 7.5 mm under the seed's container at 1.5 cm body cells) delays
+    The gap (half a body cell: 7.5 mm under the study's container at 1.5 cm body cells) delays
     the float-off until the water is that much deeper than the draft (:func:`hold_until_s`).
 
     A wet bed shallower than the gap sets the layer so that its surface is one of the planes
@@ -244,7 +244,7 @@ def _placement_warnings(scene: Scene, layout: BodyLayout) -> list[str]:
             if np.all(lo_a < hi_b) and np.all(lo_b < hi_a):
                 warnings.append(
                     f"the overset meshes of {scene.debris[j].name} and {scene.debris[i].name} overlap at the start: "
-                    "OpenFOAM v1912 may then never finish the overset addressing of the first step (the seed's "
+                    "OpenFOAM v1912 may then never finish the overset addressing of the first step (the study's "
                     "2x3 layout at 4 cm cells: over 17 min; docs/stability.md, six-debris)"
                 )
     return warnings

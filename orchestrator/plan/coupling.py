@@ -22,7 +22,7 @@
   of the width sent 0.008 % of the water over a 1.5 h0 top, half the width 0.19 %, the whole
   width 1.9 %).
 
-The seed's four layouts (cases/1debris, 3debris-3x1, 3debris-1x3, 6debris-2x3: 0.15 x 0.06 x
+The study's four layouts (cases/1debris, 3debris-3x1, 3debris-1x3, 6debris-2x3: 0.15 x 0.06 x
 0.06 m containers, a 21.55 x 1.5 x 0.4 m reservoir) displace 0.0042-0.025 % of the reservoir
 and block 4-24 % of the width: one-way. The tiny test flumes (one container, a 0.5-0.8 m x
 0.4 m x 0.16 m reservoir) displace 1-1.7 %: two-way.
@@ -58,7 +58,7 @@ __all__ = [
 VOLUME_LIMIT = 1e-3
 #: One-way under this frontal blockage (sum of the bodies' widths over the flume's width).
 BLOCKAGE_LIMIT = RUNUP_BLOCKAGE
-#: maxCo and maxAlphaCo of a one-way flow run at most: the seed's scenes ask 2.5 for the overset
+#: maxCo and maxAlphaCo of a one-way flow run at most: the study's scenes ask 2.5 for the overset
 #: solver, which counts hole and fringe faces in its Courant number (cases/1debris.yaml);
 #: interFoam's explicit MULES keeps alpha bounded only up to an alpha Courant number of 1.
 ONE_WAY_MAX_COURANT = 1.0

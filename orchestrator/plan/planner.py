@@ -199,7 +199,7 @@ def _choose_model(scene: Scene, coupling: str, reasons: dict[str, str]) -> tuple
     reasons["gate"] = (
         f"gate '{gate}' modelled as instantaneous removal at t = 0"
         + (
-            " (the swing gate's opening time and its supports, which the seed says constrict the flow, are not modelled)"
+            " (the swing gate's opening time and its supports, which the study says constrict the flow, are not modelled)"
             if gate == "swing-gate"
             else ""
         )

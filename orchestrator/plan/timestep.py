@@ -28,7 +28,7 @@ __all__ = [
 ]
 
 #: Wall time per cell per time step on 2 cores (s; docs/openfoam-notes.md, "Cost"): interFoam
-#: 2-5 us (mid value). overInterDyMFoam measured on the seed's 1-debris scene at 4 cm
+#: 2-5 us (mid value). overInterDyMFoam measured on the study's 1-debris scene at 4 cm
 #: (111k cells, 3,760 of them the body's): 374 steps to t = 1.19 s in 413 s of solver CPU,
 #: 10 us per cell-step (5.9 us with a coarser 1,280-cell body mesh).
 US_PER_CELL_STEP = {"interFoam": 3.5e-6, "overInterDyMFoam": 10.0e-6}

@@ -1,5 +1,5 @@
 """The impact figures of a run: the column impacts' pulses against the predicted and fitted
-ones, and the seed study's fits to the simulated base shear.
+ones, and the study study's fits to the simulated base shear.
 
 ``impacts.png``   per column impact (up to four, a row each): the contact model's pulse
                   against the ASCE 7-22 (k_d, k_s) pulses from the impact velocity, over the
@@ -33,7 +33,7 @@ _METHOD_COLOURS = {
     "SDOF fit": "#e66101",
     "MDOF fit": "#1a9641",
 }
-#: The seed's fitted pulses: fitted to the base shear a run's contact pulse caused, so drawn
+#: The study's fitted pulses: fitted to the base shear a run's contact pulse caused, so drawn
 #: dashed and labelled as fits, apart from the pulses predicted from the impact velocity.
 _FITS = ("SDOF fit", "MDOF fit")
 _FIT_LABEL = "{} (fitted to this run's base shear)"

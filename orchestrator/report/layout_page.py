@@ -120,10 +120,10 @@ def _flow_text(layouts: list, agreement: pd.DataFrame, agree) -> list[str]:
             "change the water levels or the force on the column; the records can differ only where the plans "
             "differ" + (f" ({'; '.join(_names(g) for g in identical)}: the same plan, records equal to a "
                         "millionth of their peaks)" if identical else "") + ".", "",
-            "The seed found that six containers changed neither the water levels nor the column's force. Here that "
+            "The study found that six containers changed neither the water levels nor the column's force. Here that "
             "finding is an assumption of the one-way model, not a result: the planner sends a layout one-way because "
             "its bodies displace under 0.1 % of the reservoir's water and block under 40 % of the flume's width "
-            "(plan.json, `debris_coupling`), i.e. because the seed's finding is expected to hold. These runs can "
+            "(plan.json, `debris_coupling`), i.e. because the study's finding is expected to hold. These runs can "
             "neither confirm nor refute it; a two-way (overset) run of the 6-body layout would, and v1912 stalls on "
             "it."]
     else:
@@ -229,14 +229,14 @@ def markdown(layouts: list, table: pd.DataFrame, agreement: pd.DataFrame, figure
         if not lay.ok:
             lines.append(f"- **{lay.name}** did not give results: {lay.status}; {lay.error or 'no error recorded'}"
                          + (f" (log: `{lay.log}`)" if lay.log else "") + f"; case `{lay.case}`.")
-    lines += ["", "## The flow of every layout (cf. the seed's Figs. 12-13)", ""]
+    lines += ["", "## The flow of every layout (cf. the study's Figs. 12-13)", ""]
     if "flow" in figures:
         lines += [f"![gauges and column force]({figures['flow']})", "",
                   "Water levels at WG1-WG4 and the hydrodynamic force on the column along the flow, the layouts "
                   "overlaid (each with its own dashes, so coinciding lines stay visible).", ""]
     lines += [*_flow_text(layouts, agreement, agree), ""]
     if "impact_summary" in figures:
-        lines += ["## Impact velocities and orientations (cf. the seed's Fig. 16)", "",
+        lines += ["## Impact velocities and orientations (cf. the study's Fig. 16)", "",
                   f"![impact velocities and yaw]({figures['impact_summary']})", "",
                   "Each strike on the column: the body's velocity along the contact normal and its yaw at the strike "
                   "(0: long axis along the flow), first strikes of a body and later ones apart.", ""]
@@ -244,7 +244,7 @@ def markdown(layouts: list, table: pd.DataFrame, agreement: pd.DataFrame, figure
         lines += [f"## {lay.name}", ""]
         if f"{lay.slug}-tracks" in figures:
             lines += [f"![{lay.name} tracks]({figures[f'{lay.slug}-tracks']})", "",
-                      "Tracks of the bodies' centres of mass in plan view (cf. the seed's Fig. 14), with the column, "
+                      "Tracks of the bodies' centres of mass in plan view (cf. the study's Fig. 14), with the column, "
                       "the spreading areas from the debris's start line and the contacts between bodies; below, "
                       "each body's speed and the times of the strikes.", "", _spread_line(lay), "",
                       *_record_end(lay)]
@@ -255,6 +255,6 @@ def markdown(layouts: list, table: pd.DataFrame, agreement: pd.DataFrame, figure
         if f"{lay.slug}-impacts" in figures and len(lay.strikes):
             lines += [f"![{lay.name} impact forces]({figures[f'{lay.slug}-impacts']})", "",
                       "Force of each strike on the column and the base shear it causes at the load cell, from "
-                      "contact (cf. the seed's Fig. 15).", ""]
+                      "contact (cf. the study's Fig. 15).", ""]
         lines += ["Contacts between bodies:", "", *_contact_lines(lay), ""]
     return "\n".join(lines)

@@ -1,19 +1,19 @@
 """The figures of the layouts page (:mod:`orchestrator.report.layouts`), in the manner of the
-seed's Figs. 12-16:
+study's Figs. 12-16:
 
 ``flow.png``
     the gauges WG1-WG4 and the column's hydrodynamic force along the flow, every layout overlaid
-    (the seed's Figs. 12-13);
+    (the study's Figs. 12-13);
 ``<layout>-tracks.png``
     the layout's tracks in plan view with the column, the gauges, the spreading areas of
     ASCE 7-22 6.11.5.1 from the debris's start line, the strikes and the body-body contacts, and
-    the bodies' speeds below (the seed's Fig. 14);
+    the bodies' speeds below (the study's Fig. 14);
 ``<layout>-impacts.png``
     the force of every strike on the column and the base shear it causes at the load cell, against
-    the time from contact (the seed's Fig. 15);
+    the time from contact (the study's Fig. 15);
 ``impact_summary.png``
     every strike's velocity along the contact normal and the body's yaw at the strike, per layout
-    (the seed's Fig. 16).
+    (the study's Fig. 16).
 
 The layouts are read by :func:`orchestrator.report.layouts.load_layout`; a layout without
 results is left out.

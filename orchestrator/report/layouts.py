@@ -1,5 +1,5 @@
 """`debrisfoam report layouts RUNS... -o DIR`: several debris layouts of one scene side by side,
-in the manner of the seed's Figs. 12-16 (``make results-layouts`` on the four layouts of
+in the manner of the study's Figs. 12-16 (``make results-layouts`` on the four layouts of
 ``cases/sweeps/debris-layouts.yaml``).
 
 RUNS are post-processed case folders, or sweep folders whose members are read in member order.
@@ -55,7 +55,7 @@ from orchestrator.transport.case_transport import TRANSPORT_DIR
 __all__ = ["IMPACT_TABLE_COLUMNS", "Layout", "find_runs", "flow_agreement", "impact_table", "layout_row", "load_layout",
            "write_layouts_report"]
 
-#: The gauges the seed reports (its WG1-WG4), in order.
+#: The gauges the study reports (its WG1-WG4), in order.
 GAUGES = ("WG1", "WG2", "WG3", "WG4")
 #: Columns of the page's impacts.csv, in order.
 IMPACT_TABLE_COLUMNS = [

@@ -164,8 +164,8 @@ def write_report(results, comp, figures: dict, tables: dict[str, Path], plots: d
         out.append(markdown_table(comp.table1, {
             "event": "event", "method": "method", "magnitude_N": "magnitude (N)", "duration_s": "duration (s)",
             "impulse_Ns": "impulse (N s)", "peak_base_shear_N": "peak base shear (N)", "ratio_to_simulated": "ratio",
-            "seed_magnitude_N": "seed magnitude (N)", "seed_duration_s": "seed duration (s)",
-            "seed_impulse_Ns": "seed impulse (N s)"}))
+            "seed_magnitude_N": "the study's magnitude (N)", "seed_duration_s": "the study's duration (s)",
+            "seed_impulse_Ns": "the study's impulse (N s)"}))
         out.append("")
         out.append(markdown_table(comp.seed_fits, {
             "event": "event", "model": "fit", "magnitude_N": "magnitude (N)", "duration_s": "duration (s)",

@@ -9,7 +9,7 @@ the comparisons of :mod:`orchestrator.results.compare`:
                         shear it causes, each on a linear axis of its own; below them, when the run
                         has impacts, the impact pulses with the sum, and the base shear from them
                         with the total (tens of newtons and hundreds do not share one axis);
-``impacts.png``,        the impact pulses against the predicted and fitted ones, and the seed's
+``impacts.png``,        the impact pulses against the predicted and fitted ones, and the study's
 ``seed_fits.png``       fits to the simulated base shear (:mod:`orchestrator.report.impact_plots`);
 ``tracks.png``          debris tracks in plan view with the spreading areas, and the bodies'
                         speeds (:mod:`orchestrator.report.track_plots`);

@@ -31,7 +31,7 @@ without contacts is post-processed up to where it got; what is missing is listed
     the body's lowest point above the bed and whether it was ``afloat``, the pulse.
 ``column_response.csv``
     The total load on the column's MDOF model and the base shear at the load cell it causes
-    (the quantity the seed's experiments measured), split into its hydrodynamic and impact
+    (the quantity the study's experiments measured), split into its hydrodynamic and impact
     parts (see :func:`orchestrator.results.metrics.column_response`).
 ``water_balance.csv``
     Per solver step, the water volume in the fluid mesh, the water leaving through the open
@@ -48,7 +48,7 @@ without contacts is post-processed up to where it got; what is missing is listed
     The headline figures, the run's status, wall time and cell count, what is missing.
 
 With ``comparisons=True`` (the default) :func:`post_case` then writes the comparisons with
-the analytical models and the seed (:mod:`orchestrator.results.compare`), the plots
+the analytical models and the study (:mod:`orchestrator.results.compare`), the plots
 (:mod:`orchestrator.report.plots`) and ``report.md`` (:mod:`orchestrator.report.markdown`) beside them.
 
 The tables are built in memory by :func:`orchestrator.results.tables.tables` and the headline
@@ -119,7 +119,7 @@ def post_case(case_dir: str | Path, *, comparisons: bool = True, snapshot: bool 
               arrival_threshold_m: float | None = None) -> PostSummary:
     """Post-process a case into ``DIR/results/`` (see the module docstring); returns what was written.
 
-    comparisons: also the comparisons with the analytical models and the seed, the plots
+    comparisons: also the comparisons with the analytical models and the study, the plots
     and report.md. snapshot: include the pyvista 3D snapshot (needs fields on disk).
     arrival_threshold_m: rise above the initial level that marks the bore's arrival
     (default :data:`orchestrator.results.metrics.ARRIVAL_FRACTION` of the impoundment depth).

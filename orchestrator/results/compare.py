@@ -1,4 +1,4 @@
-"""Comparisons of a run with the analytical models and with the seed study.
+"""Comparisons of a run with the analytical models and with the study study.
 
 :func:`compare` takes the tables of :func:`orchestrator.results.tables.tables` and returns a
 :class:`Comparison`; :func:`write_tables` writes its tables to ``DIR/results/``:
@@ -6,8 +6,8 @@
 ``arrivals.csv``
     Bore arrival time at every gauge downstream of the gate against Ritter (dry,
     frictionless), Stoker (the scene's wet-bed depth, frictionless; only with a wet bed),
-    Chanson (dry bed, the scene's Darcy f; only with friction), and, at the seed's gauge
-    positions (x = 2.40 m and 3.20 m), the seed's measured arrival (0.91 s, 1.39 s) and its
+    Chanson (dry bed, the scene's Darcy f; only with friction), and, at the study's gauge
+    positions (x = 2.40 m and 3.20 m), the study's measured arrival (0.91 s, 1.39 s) and its
     LS-DYNA model's (0.88 s, 1.20 s); error = simulated - reference (s and %). The
     analytical arrival is the front's tip; the simulated one is the threshold crossing of
     :mod:`orchestrator.results.metrics` (2 % of h0 above the initial level), so a resolved front
@@ -19,17 +19,17 @@
     the contact normal) and the body's mass; peak force, duration and impulse where the
     method gives them, and the peak over the simulated (contact model) peak.
 ``seed_fits.csv``, ``table1.csv``
-    The seed's procedure (its section 3.3) turned on our own output: for each impact on the
+    The study's procedure (its section 3.3) turned on our own output: for each impact on the
     column, the base shear it caused (impact part only: by linearity this is exactly what
-    the seed's EEMD filtering tried to extract from its records) is fitted with an SDOF and
-    an MDOF half-sine pulse (:mod:`analytical.fitting`, the seed's bounds); every pulse
+    the study's EEMD filtering tried to extract from its records) is fitted with an SDOF and
+    an MDOF half-sine pulse (:mod:`analytical.fitting`, the study's bounds); every pulse
     (ASCE k_d, ASCE k_s, SDOF fit, MDOF fit and the contact model's own) is applied to the
-    MDOF column at the impact height; ``table1.csv`` is the seed's Table 1 regenerated for
-    the simulated impact (magnitude, duration, impulse) beside the seed's printed rows, with
+    MDOF column at the impact height; ``table1.csv`` is the study's Table 1 regenerated for
+    the simulated impact (magnitude, duration, impulse) beside the study's printed rows, with
     the peak base shear each pulse causes and its ratio to the simulated one (seed Fig. 7).
 ``spreading.csv``
     Debris transport against the spreading areas of Naito et al. (2014) and Nistor et al.
-    (2017b), started, as the seed describes (its 4.2.2, following ASCE 7-22 6.11.5.1), from a
+    (2017b), started, as the study describes (its 4.2.2, following ASCE 7-22 6.11.5.1), from a
     line through the debris source instead of the debris centroid: the line lies across the
     flow at the most upstream debris centroid and spans the centroids' lateral extent; the
     area is bounded by lines leaving its two ends at the spreading half-angle on either
@@ -51,9 +51,9 @@ Spreading half-angles (:data:`SPREADING_ANGLES_DEG`, either side of the flow dir
 Neither paper could be retrieved here (the search tool returned only their titles and
 abstract pages); the Naito value agrees with ASCE 7's 22.5 degrees, the Nistor value is as
 recalled from the literature and is flagged ``verified: False`` until checked against the
-paper. The seed (4.2.2, Fig. 14) finds the Nistor area the narrower of the two.
+paper. The study (4.2.2, Fig. 14) finds the Nistor area the narrower of the two.
 
-Material values not in the seed, used by Matsutomi and Ikeno for the polyethylene container
+Material values not in the study, used by Matsutomi and Ikeno for the polyethylene container
 (:data:`CONTAINER_MATERIAL`): E = 1.0 GPa, nu = 0.42, yield stress 25 MPa (typical of
 HDPE); the container as a log of equal cross-section area (equivalent diameter) and its
 length; apparent-mass coefficient C_MA = 1.7 (bore).
@@ -92,11 +92,11 @@ __all__ = [
     "write_tables",
 ]
 
-#: The seed's bore arrival times (its 4.1.2) by gauge position x (m): (experiment s, seed model s).
+#: The study's bore arrival times (its 4.1.2) by gauge position x (m): (experiment s, seed model s).
 SEED_ARRIVALS = {2.40: ("WG2", 0.91, 0.88), 3.20: ("WG3", 1.39, 1.20)}
 #: How close (m) a gauge must be to a seed gauge position to be compared with it.
 SEED_GAUGE_TOLERANCE_M = 0.02
-#: The seed's Table 1 (its Fig. 4b event, u = 1.50 m/s): magnitude N, duration s, impulse N s.
+#: The study's Table 1 (its Fig. 4b event, u = 1.50 m/s): magnitude N, duration s, impulse N s.
 SEED_TABLE1 = {
     "ASCE 7-22, k_d": (822.34, 0.0006, 0.46),
     "ASCE 7-22, k_s": (322.83, 0.0014, 0.46),
@@ -202,7 +202,7 @@ def gauge_models(scene, gauge_summary: pd.DataFrame, t_end_s: float, n: int = 40
 
 
 def arrival_table(scene, gauge_summary: pd.DataFrame) -> pd.DataFrame:
-    """Arrival times against the dam-break solutions and the seed: one row per gauge and reference."""
+    """Arrival times against the dam-break solutions and the study: one row per gauge and reference."""
     rows = []
     solutions = _solutions(scene) if scene is not None else {}
     for r in gauge_summary.itertuples():

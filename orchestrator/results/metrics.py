@@ -19,7 +19,7 @@ Definitions (units: s, m, N, N m, m/s, rad/s, degrees):
 * Arrival time (:func:`arrival_time`): the first time the elevation exceeds the gauge's
   initial level (the scene's still water there: the impoundment upstream of the gate, the
   wet bed downstream) by :data:`ARRIVAL_FRACTION` of the impoundment depth (8 mm for the
-  seed's 0.40 m), linearly interpolated between samples (from the initial level at t = 0
+  study's 0.40 m), linearly interpolated between samples (from the initial level at t = 0
   before the first sample). A gauge whose level never rises that much (e.g. upstream of the
   gate) has none (NaN).
 * Impact pulse metrics (:func:`impact_metrics`): peak force; duration from the first rise
@@ -234,7 +234,7 @@ def column_response(column, hydro: pd.DataFrame | None, pulses: dict[int, tuple[
     at the solver's output times and interpolated between them (the force varies over
     tenths of a second, the column's period is about 11 ms: quasi-static). Impact pulses:
     each at its own contact height; base shear on a 10 microsecond grid from 2 ms before to
-    0.1 s after each impact (the ringing has decayed to about 1 % by then with the seed's
+    0.1 s after each impact (the ringing has decayed to about 1 % by then with the study's
     4.5 % damping at 88 Hz). y loads bend the column with its section turned by 90 degrees.
     Linear superposition: ``base_shear = hydro part + impact part``.
 

@@ -45,7 +45,7 @@ speed leaves [u0 / `FRICTION_BAND`, u0 * `FRICTION_BAND`] (u0 the speed it was s
 force stays within 25 % of mu N. Limits: friction acts on the centre of mass only (no torque
 against yaw); N is the one of the last restart (the depth may change within a segment); below
 the floor speed the damper acts as a viscous one (time constant m u_floor / (mu N), 40 ms for
-the seed's container on a 15 mm wet bed), so a body never sticks exactly (no static friction);
+the study's container on a 15 mm wet bed), so a body never sticks exactly (no static friction);
 each refresh is a solver restart.
 """
 

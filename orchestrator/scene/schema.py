@@ -215,7 +215,7 @@ class DebrisLayout(SceneSection):
     """A generator of identical bodies on a grid: ``layout: RxC``.
 
     ``R`` rows follow one another along the flow (x) and ``C`` columns sit side by side
-    across it (y); the seed's layouts are ``1x1``, ``3x1`` (three in a line along the
+    across it (y); the study's layouts are ``1x1``, ``3x1`` (three in a line along the
     flow), ``1x3`` (three abreast) and ``2x3``. ``layout: 1`` means ``1x1``.
     Bodies are named ``<name_prefix><n>``, n = 1.. row by row from upstream, and across
     each row from -y to +y.

@@ -22,11 +22,11 @@ Each body is moved in x and in y by independent normal draws of standard deviati
 ``position_sigma_fraction`` (0.25) times its length, clipped at ``clip_sigmas`` (2) standard
 deviations, and turned about the vertical by a normal draw of ``yaw_sigma_deg`` (12 deg),
 clipped at two standard deviations too; its height, pitch, roll and start velocity are kept.
-Why these: the seed's container was set by hand on the centreline before each release, so its
+Why these: the study's container was set by hand on the centreline before each release, so its
 start scatters by a few centimetres and by the eye's alignment of a 0.15 m box, 10-15 deg; a
 quarter of the length (37.5 mm for the container) keeps a body within the same part of the
 bore, and the clip keeps rare draws from putting it somewhere the scene does not describe. The
-seed's impact velocities scatter by 0.13 m/s about 1.60 m/s over 22 releases; the ensemble
+study's impact velocities scatter by 0.13 m/s about 1.60 m/s over 22 releases; the ensemble
 asks how much of that the start alone explains.
 
 A start must keep ``min_gap_m`` (2 mm) from the side walls, the end walls at the record's ends,
@@ -410,7 +410,7 @@ def _stats(values: pd.Series) -> dict[str, Any]:
 def summarise(table: pd.DataFrame, realisations: int, wall_time_s: float) -> dict[str, Any]:
     """ensemble.json's figures: the share of (realisation, body) rows that struck the column, and
     for the struck ones the mean, sample standard deviation (ddof 1), extremes and count of each
-    first-strike figure; the strikes per struck body; the wall times; the seed's figures beside."""
+    first-strike figure; the strikes per struck body; the wall times; the study's figures beside."""
     struck = table[table["struck"].astype(bool)] if len(table) else table
     out: dict[str, Any] = {"realisations": int(realisations), "bodies": int(table["body"].nunique()) if len(table)
                            else 0, "impact_probability": float(len(struck) / len(table)) if len(table) else None}
@@ -423,7 +423,7 @@ def summarise(table: pd.DataFrame, realisations: int, wall_time_s: float) -> dic
     out["transport_wall_time_s"] = round(float(walls.sum()), 2)
     out["seed_study"] = {"impact_velocity_m_s": dict(zip(("mean", "std"), SEED_IMPACT_VELOCITY_M_S)),
                          **{k: dict(zip(("mean", "std"), v)) for k, v in SEED_TABLE2_MDOF.items()},
-                         "impacts": 22, "source": "the seed's 22 single-container impacts; Table 2's MDOF row"}
+                         "impacts": 22, "source": "the study's 22 single-container impacts; Table 2's MDOF row"}
     return out
 
 

@@ -2,13 +2,13 @@
 
 * ``histograms.png``: each struck body's first column strike over the ensemble: time, normal
   velocity, height above the bed, peak force, impulse and the column's peak base shear, with
-  the seed's mean and one standard deviation where the seed gives them (velocity 1.60 +- 0.13
+  the study's mean and one standard deviation where the study gives them (velocity 1.60 +- 0.13
   m/s; Table 2's MDOF row: 171 +- 63 N, 0.52 +- 0.22 N s; heights 0.16-0.50 m).
 * ``envelope.png``: every track in plan view, their envelope (the lowest and highest y reached in
   each x interval), the starts, the column, the flume's side walls and the spreading areas'
   edges of ASCE 7-22 6.11.5.1 (Naito et al. 2014, and Nistor et al. 2017b:
   :data:`~orchestrator.results.compare.SPREADING_ANGLES_DEG`) from the nominal start line.
-* ``report.md``: what was run, the impact probability, the statistics beside the seed's, the
+* ``report.md``: what was run, the impact probability, the statistics beside the study's, the
   figures.
 """
 
@@ -28,7 +28,7 @@ from orchestrator.results.compare import SPREADING_ANGLES_DEG, spreading_area
 
 __all__ = ["HISTOGRAMS", "figure_envelope", "figure_histograms", "markdown", "write_report"]
 
-#: (column of ensemble.csv, axis label, key of the seed's figures or None)
+#: (column of ensemble.csv, axis label, key of the study's figures or None)
 HISTOGRAMS = [
     ("impact_time_s", "first strike time (s)", None),
     ("impact_velocity_m_s", "impact velocity, normal (m/s)", "impact_velocity_m_s"),
@@ -57,11 +57,11 @@ def figure_histograms(table, summary: dict[str, Any]):
         ref = seed.get(seed_key) if seed_key else None
         if ref:
             lo, hi = ref["mean"] - ref["std"], ref["mean"] + ref["std"]
-            ax.axvspan(lo, hi, color="#d7191c", alpha=0.15, label="seed mean +- 1 std")
-            ax.axvline(ref["mean"], color="#d7191c", lw=1.6, label="seed mean")
+            ax.axvspan(lo, hi, color="#d7191c", alpha=0.15, label="study mean +- 1 std")
+            ax.axvline(ref["mean"], color="#d7191c", lw=1.6, label="study mean")
         if column == "impact_height_m":
             ax.axvspan(SEED_IMPACT_HEIGHTS_M[0], SEED_IMPACT_HEIGHTS_M[1], color="#d7191c", alpha=0.12,
-                       label="seed's impact heights")
+                       label="the study's impact heights")
         ax.set_xlabel(label)
         ax.set_ylabel("strikes")
         ax.grid(alpha=0.3)
@@ -165,7 +165,7 @@ def markdown(summary: dict[str, Any], figures: dict[str, Path]) -> str:
         f"**Impact probability: {_pct(summary.get('impact_probability'))}** of the (realisation, body) pairs "
         "struck the column. Pulses: "
         f"{summary.get('pulses')}.", "",
-        "| first column strike | ensemble mean +- std (strikes) | seed mean +- std (22 impacts) |",
+        "| first column strike | ensemble mean +- std (strikes) | study mean +- std (22 impacts) |",
         "|---|---|---|",
     ]
     for key, label in (("impact_velocity_m_s", "impact velocity (m/s)"), ("peak_force_N", "peak force (N)"),
@@ -176,7 +176,7 @@ def markdown(summary: dict[str, Any], figures: dict[str, Path]) -> str:
         seed_text = _figure(ref) if ref else ("0.16-0.50, mean 0.40" if key == "impact_height_m" else "-")
         lines.append(f"| {label} | {_figure(summary.get(key))} | {seed_text} |")
     lines += [
-        "", "The seed's figures are its 22 single-container releases: velocities backed out of Table 2's ASCE "
+        "", "The study's figures are its 22 single-container releases: velocities backed out of Table 2's ASCE "
         "rows, loads from Table 2's MDOF row. Their scatter comes from every difference between releases (the "
         "start, the gate, the bore); the ensemble's only from the start, through one flow.", "",
         f"Strikes per struck body: {_figure(summary.get('strikes_per_struck_body'))}. Wall time: "

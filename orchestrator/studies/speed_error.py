@@ -21,13 +21,13 @@ every finished member:
   clear of the column (more than :data:`COLUMN_CLEARANCE` column widths upstream of its
   face), from Chanson's arrival at the gauge to the end of the run (before it Chanson's
   bed is dry while the run's wet bed holds still water);
-* **errors against the seed's figures**: arrival at WG2 (x = 2.40 m) and WG3 (3.20 m)
-  against the experiment (0.91 s, 1.39 s) and the seed's LS-DYNA model (0.88 s, 1.20 s).
+* **errors against the study's figures**: arrival at WG2 (x = 2.40 m) and WG3 (3.20 m)
+  against the experiment (0.91 s, 1.39 s) and the study's LS-DYNA model (0.88 s, 1.20 s).
 
 It then marks the Pareto front (no other member is both cheaper and closer), works out
 the planner's speed-up over each baseline member (at the same cell size, and at equal
 error by log-log interpolation along the planner's members) and extrapolates both
-set-ups to a finer cell size (default the seed's 15 mm): cells from the planner (exact),
+set-ups to a finer cell size (default the study's 15 mm): cells from the planner (exact),
 time steps scaled as 1/cell size from the finest measured member of that set-up
 (Courant-limited steps), cost per cell-step as measured on that member. Extrapolated
 figures are labelled as such everywhere.
@@ -88,7 +88,7 @@ TIME_LABELS = {"solver_wall_s": "solver wall time (s)", "wall_time_s": "member w
                 "solver_cpu_s": "solver CPU time (s)"}
 #: A gauge is compared with Chanson only if it lies this many column widths (x) upstream of the column's face.
 COLUMN_CLEARANCE = 5.0
-#: The seed's gauges (the store's arrival-error columns are named after the reference).
+#: The study's gauges (the store's arrival-error columns are named after the reference).
 SEED_REFS = {"seed_experiment": "experiment", "seed_model": "seed model"}
 _EXEC_RE = re.compile(r"^ExecutionTime = ([0-9.eE+-]+) s\s+ClockTime = ([0-9.eE+-]+) s", re.M)
 
@@ -393,7 +393,7 @@ def _vs_analytical(row: dict, scene, positions: dict[str, float], gauges: pd.Dat
 
 
 def _vs_seed(row: dict, positions: dict[str, float]) -> dict[str, Any]:
-    """Arrivals against the seed's experiment and model."""
+    """Arrivals against the study's experiment and model."""
     out: dict[str, Any] = {}
     for key in SEED_REFS:
         errs = []

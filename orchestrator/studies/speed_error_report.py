@@ -111,7 +111,7 @@ def markdown(study: SpeedError) -> str:
         "- *gauge RMSE vs finest*: water level at every gauge against the reference on its time base, RMS over "
         "the gauges; *peak force*: the peak column force along the flume against the reference's.",
         "- *vs Chanson*: simulated minus Chanson's (f = the scene's) arrival time; *vs experiment*: minus the "
-        "seed's measured arrivals (0.91 s at WG2, 1.39 s at WG3). Arrival = the level rising 2 % of h0 above "
+        "study's measured arrivals (0.91 s at WG2, 1.39 s at WG3). Arrival = the level rising 2 % of h0 above "
         "its initial value.",
         f"- *depth RMSE vs Chanson*: gauges downstream of the gate and more than {COLUMN_CLEARANCE:g} column widths "
         "upstream of the column, from Chanson's arrival to the end of the run.",

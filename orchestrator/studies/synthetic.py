@@ -1,11 +1,11 @@
-"""`debrisfoam analytical study`: the seed's section 3.3 on synthetic records, to files.
+"""`debrisfoam analytical study`: the study's section 3.3 on synthetic records, to files.
 
 Writes into the output folder:
   records.csv      one row per record and method: pulse, peak response, ratio
-  table2.csv/.md   the seed's Table 2 regenerated, beside the seed's figures
+  table2.csv/.md   the study's Table 2 regenerated, beside the study's figures
   figure7.png      peak modelled vs peak measured base shear, 1:1 line
   figure4.png      one record with its SDOF and MDOF fits and every method's pulse
-  summary.json     headline numbers, the agreement with the seed, timings
+  summary.json     headline numbers, the agreement with the study, timings
   study.md         the same in words (generated, never hand-edited)
 """
 
@@ -45,9 +45,9 @@ LABELS = {
 }
 #: The three column set-ups the study compares: (records made with, fits use).
 VARIANTS = {
-    "rigid": ("rigid", "rigid"),  # the seed's model throughout
+    "rigid": ("rigid", "rigid"),  # the study's model throughout
     "calibrated": ("calibrated", "calibrated"),  # base spring: f1 = 70 Hz as measured
-    "calibrated-fit-rigid": ("calibrated", "rigid"),  # a 70 Hz column analysed with the seed's 88 Hz model
+    "calibrated-fit-rigid": ("calibrated", "rigid"),  # a 70 Hz column analysed with the study's 88 Hz model
 }
 
 
@@ -86,7 +86,7 @@ def run_variant(variant: str, n_records: int = 22, seed: int = 2019, workers: in
 
 
 def _agreement(ratios: dict) -> dict[str, str]:
-    """Plain statements comparing our ratio ranges with the seed's Fig. 7 ranges."""
+    """Plain statements comparing our ratio ranges with the study's Fig. 7 ranges."""
     out = {}
     for method in METHODS:
         lo, hi, mean = ratios[method]

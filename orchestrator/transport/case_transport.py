@@ -137,7 +137,7 @@ def _write_events(folder: CaseFolder, result: TransportResult) -> tuple[int, int
 
 def case_flow(case_dir: str | Path, say: Callable[[str], None] = print) -> tuple[FlowField, Path]:
     """The one-way case's recorded flow and its .npz: converted from the function object's text
-    (which is then deleted: about 6 MB a frame for the seed's scene, against 0.5 MB in the .npz)
+    (which is then deleted: about 6 MB a frame for the study's scene, against 0.5 MB in the .npz)
     or, once converted, loaded from results/flow_record.npz."""
     record = read_flow_record(case_dir, delete_raw=True)
     say(f"debrisfoam: flow record: {record.frames} frames of {record.points:,} points, "

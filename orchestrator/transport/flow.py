@@ -16,7 +16,7 @@ Why this shape
   material acceleration ``Du/Dt = du/dt + (u . grad) u`` that the added-mass and
   Froude-Krylov forces need comes from the same interpolant (the time derivative between
   frames, the gradient of the trilinear cell), so no second field is stored.
-* The bed is one flat plane (the seed flume's bed is): the engine models it as a MuJoCo
+* The bed is one flat plane (the study flume's bed is): the engine models it as a MuJoCo
   plane. A sloped or stepped bed would need a heightfield in the engine as well.
 * Outside the recorded box or time span nothing is made up: :class:`FlowCoverageError` (an
   :class:`~analytical.errors.InputError`) names the coordinate, the value and the range.
