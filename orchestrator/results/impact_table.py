@@ -18,18 +18,10 @@ import pandas as pd
 
 from orchestrator.results.metrics import PulseMetrics, impact_metrics
 from orchestrator.results.readers import CaseData, read_force_history
+from orchestrator.run.event_files import IMPACT_COLUMNS
 
 __all__ = ["AFLOAT_CLEARANCE_M", "FACE_GAUGE_REACH_M", "IMPACT_COLUMNS", "impact_context", "impact_rows"]
 
-#: Columns of impacts.csv, in order.
-IMPACT_COLUMNS = [
-    "event", "time_s", "body", "other", "kind", "height_m", "face_water_level_m", "body_clearance_m", "afloat",
-    "point_x_m", "point_y_m", "point_z_m",
-    "normal_x", "normal_y", "normal_z", "impact_velocity_m_s", "normal_velocity_in_m_s",
-    "tangential_velocity_in_m_s", "obliquity_deg", "peak_force_N", "time_of_peak_s", "duration_s",
-    "impulse_Ns", "rebound_normal_velocity_m_s", "rebound_u_m_s", "rebound_v_m_s", "rebound_w_m_s",
-    "rebound_speed_m_s", "restitution", "force_history",
-]
 #: The pulses of column impacts: event number -> (time_s, force on the column (n, 3) N).
 Pulses = dict[int, tuple[np.ndarray, np.ndarray]]
 

@@ -20,11 +20,23 @@ from typing import Any
 
 from orchestrator.core.files import write_text_atomic
 
-__all__ = ["CONTACTS_DIR", "CONTACTS_JSON", "IMPACTS_CSV", "read_events", "write_events", "write_pulse_files"]
+__all__ = ["CONTACTS_DIR", "CONTACTS_JSON", "IMPACTS_CSV", "IMPACT_COLUMNS", "read_events", "write_events",
+           "write_pulse_files"]
 
 CONTACTS_JSON = "contacts.json"
 IMPACTS_CSV = "impacts.csv"
 CONTACTS_DIR = "contacts"
+
+#: Columns of post-processing's results/impacts.csv, in order (the one-way transport's table adds
+#: its own at the end).
+IMPACT_COLUMNS = [
+    "event", "time_s", "body", "other", "kind", "height_m", "face_water_level_m", "body_clearance_m", "afloat",
+    "point_x_m", "point_y_m", "point_z_m",
+    "normal_x", "normal_y", "normal_z", "impact_velocity_m_s", "normal_velocity_in_m_s",
+    "tangential_velocity_in_m_s", "obliquity_deg", "peak_force_N", "time_of_peak_s", "duration_s",
+    "impulse_Ns", "rebound_normal_velocity_m_s", "rebound_u_m_s", "rebound_v_m_s", "rebound_w_m_s",
+    "rebound_speed_m_s", "restitution", "force_history",
+]
 
 
 def read_events(case: str | Path) -> list[dict]:

@@ -45,19 +45,12 @@ import pandas as pd
 
 from analytical.contact_law import column_impact
 from analytical.errors import InputError
+from orchestrator.run.event_files import IMPACT_COLUMNS as RESULTS_IMPACT_COLUMNS
 
 __all__ = ["AFLOAT_CLEARANCE_M", "BODY_EVENT_COLUMNS", "IMPACT_COLUMNS", "EventBook"]
 
-IMPACT_COLUMNS = [
-    "event", "time_s", "body", "other", "kind", "height_m", "face_water_level_m", "body_clearance_m", "afloat",
-    "point_x_m", "point_y_m", "point_z_m",
-    "normal_x", "normal_y", "normal_z", "impact_velocity_m_s", "normal_velocity_in_m_s",
-    "tangential_velocity_in_m_s", "obliquity_deg", "peak_force_N", "time_of_peak_s", "duration_s",
-    "impulse_Ns", "rebound_normal_velocity_m_s", "rebound_u_m_s", "rebound_v_m_s", "rebound_w_m_s",
-    "rebound_speed_m_s", "restitution", "force_history",
-    "peak_base_shear_N", "pulse_restitution",
-]
-"""impacts.csv's columns (the coupled path's, orchestrator.results.post) and two more: the
+IMPACT_COLUMNS = RESULTS_IMPACT_COLUMNS + ["peak_base_shear_N", "pulse_restitution"]
+"""impacts.csv's columns (orchestrator.run.event_files.IMPACT_COLUMNS) and two more: the
 column model's peak base shear and its restitution (the column's vibration takes energy a rigid
 MuJoCo column does not)."""
 

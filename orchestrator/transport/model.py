@@ -59,6 +59,7 @@ from analytical.column import Column
 from analytical.contact_law import CONTAINER, ContactLaw, box_inertia
 from analytical.errors import InputError, require_positive
 from analytical.impact import DEFAULT_FRICTION_COEFFICIENT
+from orchestrator.scene.geometry import body_rotation
 
 __all__ = [
     "BED_DAMPING_RATIO",
@@ -74,7 +75,6 @@ __all__ = [
     "contact_period_s",
     "contact_solref",
     "pair_law",
-    "rotation_matrix",
 ]
 
 CONTACT_IMPEDANCE = 0.99
@@ -136,7 +136,7 @@ class TransportBody:
     @property
     def rotation(self) -> np.ndarray:
         """Body-to-world rotation at the start."""
-        return rotation_matrix(self.yaw_deg, self.pitch_deg, self.roll_deg)
+        return body_rotation(self.yaw_deg, self.pitch_deg, self.roll_deg)
 
     @property
     def inertia_kg_m2(self) -> tuple[float, float, float]:
@@ -207,15 +207,6 @@ class BuiltModel:
 
 
 BED, WALL, COLUMN = -1, -2, -3
-
-
-def rotation_matrix(yaw_deg: float, pitch_deg: float, roll_deg: float) -> np.ndarray:
-    """Body-to-world rotation ``Rz(yaw) Ry(pitch) Rx(roll)`` (the scene's convention)."""
-    y, p, r = (math.radians(a) for a in (yaw_deg, pitch_deg, roll_deg))
-    rz = np.array([[math.cos(y), -math.sin(y), 0.0], [math.sin(y), math.cos(y), 0.0], [0.0, 0.0, 1.0]])
-    ry = np.array([[math.cos(p), 0.0, math.sin(p)], [0.0, 1.0, 0.0], [-math.sin(p), 0.0, math.cos(p)]])
-    rx = np.array([[1.0, 0.0, 0.0], [0.0, math.cos(r), -math.sin(r)], [0.0, math.sin(r), math.cos(r)]])
-    return rz @ ry @ rx
 
 
 def angles_deg(rotation) -> tuple[float, float, float]:
