@@ -27,7 +27,7 @@ import numpy as np
 from matplotlib.patches import Rectangle
 
 from orchestrator.report.figures import SMALL, WIDTH_IN, empty, legend, pyplot, save_figure
-from orchestrator.report.track_plots import draw_column, draw_spreading_areas
+from orchestrator.report.track_plots import draw_column, draw_spreading_areas, label_speed_axes, set_plan_view
 
 __all__ = ["draw_all", "figure_flow", "figure_impact_summary", "figure_layout_impacts", "figure_layout_tracks"]
 
@@ -135,19 +135,9 @@ def figure_layout_tracks(lay):
         if len(bc):
             ax.plot(bc["point_x_m"], bc["point_y_m"], marker="x", ms=7, ls="none", color="k",
                     label="contact between two bodies", zorder=5)
-        axv.set_xlabel("time (s)")
-        axv.set_ylabel("speed (m/s)")
-        axv.set_title("speed of each body (centre of mass)", fontsize=10, loc="left")
-        axv.grid(alpha=0.3)
-        legend(axv, loc="upper left", bbox_to_anchor=(1.01, 1.0))
-    if xlim:
-        ax.set_xlim(*xlim)
-    if ylim:
-        ax.set_ylim(*ylim)
+        label_speed_axes(axv)
     # the limits are fixed (the tracks' reach, the walls), so the axes box takes the equal aspect
-    ax.set_aspect("equal", adjustable="box" if (xlim and ylim) else "datalim")
-    ax.set_xlabel("x along the flume (m)")
-    ax.set_ylabel("y across (m)")
+    set_plan_view(ax, xlim, ylim, "box" if (xlim and ylim) else "datalim")
     ax.set_title(f"{lay.name}: tracks (centre of mass) in plan view and the spreading areas (ASCE 7-22 6.11.5.1) "
                  "from the debris's start line", fontsize=10, loc="left")
     legend(ax, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=4)

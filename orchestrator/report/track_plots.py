@@ -17,7 +17,28 @@ from orchestrator.report.figures import SMALL, WIDTH_IN, empty, legend, pyplot, 
 from orchestrator.results.compare import SPREADING_ANGLES_DEG
 from orchestrator.scene.geometry import flume_extent
 
-__all__ = ["clipped_area", "draw_column", "draw_spreading_areas", "figure_tracks", "plot_tracks"]
+__all__ = ["clipped_area", "draw_column", "draw_spreading_areas", "figure_tracks", "label_speed_axes", "plot_tracks",
+           "set_plan_view"]
+
+
+def label_speed_axes(axv) -> None:
+    """The speed panel under a plan view: labels, title, grid and its legend at the right."""
+    axv.set_xlabel("time (s)")
+    axv.set_ylabel("speed (m/s)")
+    axv.set_title("speed of each body (centre of mass)", fontsize=10, loc="left")
+    axv.grid(alpha=0.3)
+    legend(axv, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+
+
+def set_plan_view(ax, xlim, ylim, adjustable: str = "datalim") -> None:
+    """A plan view's limits (when given), equal aspect and axis labels."""
+    if xlim:
+        ax.set_xlim(*xlim)
+    if ylim:
+        ax.set_ylim(*ylim)
+    ax.set_aspect("equal", adjustable=adjustable)
+    ax.set_xlabel("x along the flume (m)")
+    ax.set_ylabel("y across (m)")
 
 
 def clipped_area(poly: np.ndarray, box: tuple[float, float, float, float] | None):
@@ -115,18 +136,8 @@ def figure_tracks(results, comp):
                     label="impacts", zorder=5)
             for t in imp["time_s"]:
                 axv.axvline(t, color="#d7191c", lw=0.8, alpha=0.7, label="impact")
-        axv.set_xlabel("time (s)")
-        axv.set_ylabel("speed (m/s)")
-        axv.set_title("speed of each body (centre of mass)", fontsize=10, loc="left")
-        axv.grid(alpha=0.3)
-        legend(axv, loc="upper left", bbox_to_anchor=(1.01, 1.0))
-    if xlim:
-        ax.set_xlim(*xlim)
-    if ylim:
-        ax.set_ylim(*ylim)
-    ax.set_aspect("equal", adjustable="datalim")
-    ax.set_xlabel("x along the flume (m)")
-    ax.set_ylabel("y across (m)")
+        label_speed_axes(axv)
+    set_plan_view(ax, xlim, ylim)
     ax.set_title("Debris tracks (centre of mass) in plan view, and the spreading areas (ASCE 7-22 6.11.5.1)\n"
                  "from the debris's start line (cf. the study's Fig. 14)", fontsize=10, loc="left")
     legend(ax, loc="upper left", bbox_to_anchor=(1.01, 1.0))
