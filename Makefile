@@ -16,7 +16,7 @@ CASE_SET := $(if $(CELL),--set mesh.cell_size_m=$(CELL),) $(if $(COUPLING),--set
 
 help:
 	@echo "make venv                   the Python environment only (.venv, the package installed editable)"
-	@echo "make case-1debris [CELL=m] [COUPLING=two-way]  the study's 1-debris scene, end to end (one-way: about 6 min on 2 cores; two-way: about 60 min)"
+	@echo "make case-1debris [CELL=m] [COUPLING=two-way]  the study's 1-debris scene, end to end (one-way: about 4 min on 2 idle cores; two-way: about 60 min)"
 	@echo "make results-1debris        after it: its table, plots and summary to docs/results/case-1debris/"
 	@echo "make ensemble-1debris [N=100] the 1-debris flow once, N perturbed starts through it (runs/ensemble-1debris)"
 	@echo "make case-layouts           the study's four debris layouts one-way (about 25 min on 2 cores), then results-layouts"
