@@ -117,8 +117,10 @@ def test_flow_record_grid_covers_the_bodies_and_integrates_the_cells():
     record = plan_case(scene).flow_record
     h = scene.mesh.cell_size_m
     x, y, z, faces = (np.asarray(a) for a in (record.x_m, record.y_m, record.z_m, record.z_faces_m))
-    # the bodies' footprints and the column's downstream face (5.1 m), with a margin, the full width
-    assert x[0] < 3.125 - 0.2 and x[-1] > 5.1 + 0.2
+    # from the bodies' footprints less a margin to the domain's downstream end (bodies pass the
+    # column and go on: the record's ends are walls for them), the full width
+    plan = plan_case(scene)
+    assert x[0] < 3.125 - 0.2 and x[-1] == pytest.approx(plan.domain_m[0][1]) and x[-1] > 5.1 + 1.0
     assert y[0] == pytest.approx(-0.75, abs=1e-3) and y[-1] == pytest.approx(0.75, abs=1e-3)
     # evenly spaced at the finest cell size or coarser
     for axis in (x, y):
@@ -126,7 +128,7 @@ def test_flow_record_grid_covers_the_bodies_and_integrates_the_cells():
         assert np.allclose(steps, steps[0]) and h - 1e-9 <= steps[0] < 1.1 * h
     # z: the background's cell centres from the bed to the domain's top
     assert faces[0] == 0.0 and faces[-1] == pytest.approx(0.6) and np.allclose(z, 0.5 * (faces[1:] + faces[:-1]))
-    assert record.interval_s == 0.02 and record.points == 62 * 38 * 19 <= RECORD_MAX_POINTS
+    assert record.interval_s == 0.02 and record.points == 84 * 38 * 19 <= RECORD_MAX_POINTS
     (bx0, bx1), (by0, by1) = record.bodies_region_m
     assert (bx0, bx1, by0, by1) == pytest.approx((3.125, 3.275, -0.03, 0.03))
 

@@ -140,9 +140,10 @@ def flow_record_plan(scene: Scene, background: BoxGrid, domain: Domain, reasons:
     """The flow a one-way run records: region, sample grid and rate, with the reason.
 
     Region: from the bodies' start footprints, less a margin (the largest body's diagonal, so a
-    body may turn round where it starts, plus two cells for the interpolation), to the column's
-    downstream face plus the margin (bodies pass beside it), else to the domain's end; the full
-    width; from the bed to the domain's top (no water is higher). x and y evenly spaced at the
+    body may turn round where it starts, plus two cells for the interpolation), to the domain's
+    downstream end: bodies pass beside the column and on, and the transport closes the record's
+    ends with walls, so a record ending just past the column would hold them there and push
+    them back into it. The full width; from the bed to the domain's top (no water is higher). x and y evenly spaced at the
     finest cell size, or whole multiples of it to keep :data:`RECORD_MAX_POINTS`; z at the
     background's cell centres, so the water column is exactly ``sum(alpha dz)``.
     """
@@ -151,13 +152,8 @@ def flow_record_plan(scene: Scene, background: BoxGrid, domain: Domain, reasons:
     lo = np.min([c - e for c, e in feet], axis=0)
     hi = np.max([c + e for c, e in feet], axis=0)
     margin = max(2.0 * float(np.hypot(*e)) for _, e in feet) + 2 * h
-    col = scene.column
     x0 = max(domain.x_lo, lo[0] - margin)
-    if col is not None and col.x_m + col.size_x_m / 2 > hi[0]:
-        x1, end = col.x_m + col.size_x_m / 2 + margin, "the column's downstream face"
-    else:
-        x1, end = domain.x_hi, "the domain's end"
-    x1 = min(domain.x_hi, max(x1, hi[0] + margin))
+    x1 = domain.x_hi
     (y0, y1), inset = domain.y, 1e-3 * h  # a hair inside the walls: a point on a boundary face may be lost
     faces = cell_edges(background.z)
     zc = 0.5 * (faces[:-1] + faces[1:])
@@ -180,8 +176,9 @@ def flow_record_plan(scene: Scene, background: BoxGrid, domain: Domain, reasons:
     reasons["flow_record"] = (
         f"{RECORD_NAME}: alpha.water and U every {interval:.4g} s ({scene.outputs.flow_record_hz:g} Hz, "
         f"outputs.flow_record_hz) on {nx + 1} x {ny + 1} x {zc.size} = {record.points} points: "
-        f"x {x0:.4g}..{x1:.4g} m every {(x1 - x0) / nx:.4g} m (the bodies' start footprints to {end}, with a "
-        f"{margin:.3g} m margin: the largest body's diagonal and two cells), the full width every "
+        f"x {x0:.4g}..{x1:.4g} m every {(x1 - x0) / nx:.4g} m (the bodies' start footprints, less a "
+        f"{margin:.3g} m margin: the largest body's diagonal and two cells, to the domain's downstream end: the "
+        "record's ends are walls for the bodies, so it reaches past the column as far as the flow is modelled), the full width every "
         f"{(y1 - y0 - 2 * inset) / ny:.4g} m"
         + (f" ({k} cell sizes: at most {RECORD_MAX_POINTS} points)" if k > 1 else "")
         + f", z at the background's {zc.size} cell centres from the bed to the domain's top {faces[-1]:.3g} m "

@@ -137,7 +137,7 @@ def _indices_within(segs: tuple[Segment, ...], lo: float, hi: float) -> list[int
     return [i for i, s in enumerate(segs) if lo - 1e-9 <= 0.5 * (s.start_m + s.end_m) <= hi + 1e-9]
 
 
-def _wanted_planes(scene: Scene, domain: Domain, gap: BedGap | None, warnings: list[str]):
+def _wanted_planes(scene: Scene, domain: Domain, gap: BedGap | None, warnings: list[str], one_way: bool):
     """The planes the water boxes and the column need, by axis (all hard)."""
     h0, h, col = scene.reservoir.depth_m, scene.mesh.cell_size_m, scene.column
     bed_layer = scene.bed.wet_depth_m if scene.bed.wet_depth_m > 0 else None
@@ -155,6 +155,8 @@ def _wanted_planes(scene: Scene, domain: Domain, gap: BedGap | None, warnings: l
         warnings.append(
             f"bed layer {thinnest:.3g} m thick under {h:g} m cells (aspect ratio {h / thinnest:.0f}): "
             + (f"the {gap.layers} layers of the gap under resting bodies" if gap else "the wet bed's own layer")
+            + (" (kept in a one-way flow, which has no bodies, so that its mesh is a two-way run's cell for cell)"
+               if gap and one_way else "")
         )
     if col:
         wx += [(col.x_m - col.size_x_m / 2, 2), (col.x_m + col.size_x_m / 2, 2)]
@@ -166,13 +168,13 @@ def _wanted_planes(scene: Scene, domain: Domain, gap: BedGap | None, warnings: l
 
 
 def background_grid(scene: Scene, domain: Domain, gap: BedGap | None, two_d: bool,
-                    reasons: dict[str, str], warnings: list[str]) -> BoxGrid:
+                    reasons: dict[str, str], warnings: list[str], *, one_way: bool = False) -> BoxGrid:
     """The background BoxGrid of ``domain``, the column a hole in it."""
     h, col = scene.mesh.cell_size_m, scene.column
     h_max = h * scene.mesh.coarsening_ratio
     growth = scene.mesh.growth_ratio
     (fy0, fy1), fine = domain.y, domain.fine
-    wx, wy, wz = _wanted_planes(scene, domain, gap, warnings)
+    wx, wy, wz = _wanted_planes(scene, domain, gap, warnings, one_way)
     xs = axis_segments(domain.x_lo, domain.x_hi, fine[0], wx, h, h_max, growth)
     ysegs = (Segment(fy0, fy1, 1),) if two_d else axis_segments(fy0, fy1, fine[1], wy, h, h_max, growth)
     zs = axis_segments(0.0, domain.z_hi, fine[2], wz, h, h_max, growth)

@@ -88,7 +88,7 @@ def plan_case(scene: Scene) -> ModelPlan:
     solver, two_d = _choose_model(scene, coupling, reasons)
     layout = body_layout(scene)
     domain = plan_domain(scene, list(layout.boxes), reasons, warnings)
-    background = background_grid(scene, domain, layout.gap, two_d, reasons, warnings)
+    background = background_grid(scene, domain, layout.gap, two_d, reasons, warnings, one_way=coupling == "one-way")
     flow_record = None
     if coupling == "one-way":
         scene, layout, bodies, flow_record = _one_way(scene, layout, background, domain, reasons)

@@ -189,8 +189,8 @@ def _record_end(lay) -> list[str]:
     region = ((lay.plan.get("flow_record") or {}).get("region_m") or [[None, None]])[0]
     bodies = ", ".join(f"{b} from {_f(t)} s (x = {_f(x, '.2f')} m)" for b, (t, x) in lay.at_record_end.items())
     return [f"The flow is recorded over x = {_f(region[0], '.2f')} to {_f(region[1], '.2f')} m (plan.json, "
-            "`flow_record.region_m`: the bodies' starts to the column's downstream face and a margin); the transport "
-            "closes the record's ends with walls, so a body that gets there stays there. Reached the end: "
+            "`flow_record.region_m`: the bodies' starts less a margin to the modelled flume's downstream end); the "
+            "transport closes the record's ends with walls, so a body that gets there stays there. Reached the end: "
             f"{bodies}; {lay.end_contacts} contacts with those walls. From then on their tracks and any strikes or "
             "contacts they have are the end wall's, not the flow's, and their spreading angles are measured no "
             "further downstream than the record's end.", ""]

@@ -77,10 +77,10 @@ from orchestrator.core.files import write_json_atomic, write_text_atomic
 from orchestrator.pipeline import prepare_case
 from orchestrator.plan.planner import plan_case
 from orchestrator.run.runner import run_case
-from orchestrator.scene.schema import Scene, column_for_analysis
+from orchestrator.scene.schema import Scene
 from orchestrator.scene.scenefile import load_scene
 from orchestrator.studies.sweep.executors import dask_executor
-from orchestrator.transport.case_transport import case_flow, scene_bodies, scene_settings
+from orchestrator.transport.case_transport import case_flow, scene_settings, transport_setup
 from orchestrator.transport.engine import TransportResult, TransportSettings, run_transport
 from orchestrator.transport.flow import FlowField
 from orchestrator.transport.model import FlumeBounds, PlacedColumn, TransportBody
@@ -102,7 +102,6 @@ __all__ = [
     "run_realisation",
     "start_clash",
     "summarise",
-    "transport_setup",
 ]
 
 EXECUTORS = ("local", "dask")
@@ -332,18 +331,6 @@ class EnsembleResult:
                 "impact_velocity_m_s": {k: s["impact_velocity_m_s"][k] for k in ("mean", "std")},
                 "peak_force_N": {k: s["peak_force_N"][k] for k in ("mean", "std")},
                 "wall_time_s": s["wall_time_s"]}
-
-
-def transport_setup(scene: Scene, flow: FlowField) -> tuple[list[TransportBody], FlumeBounds, PlacedColumn | None]:
-    """The scene's bodies, the flume the record bounds (side walls, end walls at its ends) and the
-    column, as :func:`~orchestrator.transport.case_transport.transport_case` builds them."""
-    (x0, x1), (y0, y1), _ = flow.extent_m
-    flume = FlumeBounds(x_m=(x0, x1), y_m=(max(y0, -scene.flume.width_m / 2), min(y1, scene.flume.width_m / 2)),
-                  bed_z_m=flow.bed_z_m)
-    column = None
-    if scene.column is not None:
-        column = PlacedColumn(scene.column.x_m, scene.column.y_m, column_for_analysis(scene))
-    return scene_bodies(scene), flume, column
 
 
 def _open_local(workers: int, npz: str, flow: FlowField):

@@ -82,10 +82,16 @@ def scene_settings(scene: Scene, settings: TransportSettings | None = None) -> T
     return dataclasses.replace(settings, hydro=hydro)
 
 
-def _placed_column(scene: Scene) -> PlacedColumn | None:
-    if scene.column is None:
-        return None
-    return PlacedColumn(scene.column.x_m, scene.column.y_m, column_for_analysis(scene))
+def transport_setup(scene: Scene, flow: FlowField) -> tuple[list[TransportBody], FlumeBounds, PlacedColumn | None]:
+    """The scene's bodies, the flume the record bounds (the flume's side walls, end walls at the
+    record's ends, the bed at the record's) and the column standing on the bed."""
+    (x0, x1), (y0, y1), _ = flow.extent_m
+    half = scene.flume.width_m / 2
+    flume = FlumeBounds(x_m=(x0, x1), y_m=(max(y0, -half), min(y1, half)), bed_z_m=flow.bed_z_m)
+    column = None
+    if scene.column is not None:
+        column = PlacedColumn(scene.column.x_m, scene.column.y_m, column_for_analysis(scene))
+    return scene_bodies(scene), flume, column
 
 
 def _event(row: dict[str, Any], number: int, kind_type: str) -> dict[str, Any]:
@@ -158,11 +164,9 @@ def transport_case(case_dir: str | Path, *, settings: TransportSettings | None =
                                                 "case carries its bodies through a recorded flow")
     scene = load_scene(folder.scene_path)
     flow, npz = case_flow(folder.path, say=say)
-    (x0, x1), (y0, y1), _ = flow.extent_m
-    flume = FlumeBounds(x_m=(x0, x1), y_m=(max(y0, -scene.flume.width_m / 2), min(y1, scene.flume.width_m / 2)),
-                  bed_z_m=flow.bed_z_m)
+    bodies, flume, column = transport_setup(scene, flow)
     t_end = float(plan.get("end_time_s", scene.run.end_time_s))
-    result = run_transport(scene_bodies(scene), flume, t_end, flow=flow, column=_placed_column(scene),
+    result = run_transport(bodies, flume, t_end, flow=flow, column=column,
                            settings=scene_settings(scene, settings))
     write_text_atomic(folder.path / "bodies.csv", result.tracks.to_csv(index=False, float_format="%.10g"))
     strikes, others = _write_events(folder, result)
