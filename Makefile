@@ -50,9 +50,12 @@ openfoam:
 	  echo "OpenFOAM is missing and this is not root: run 'sudo apt-get install openfoam', then make again" >&2; exit 1; \
 	fi
 
+# The Python tests two at a time (pytest-xdist, one per core), then the OpenFOAM tests one after
+# another: each OpenFOAM case runs on both cores itself.
 test: venv openfoam
 	$(VENV)/bin/ruff check .
-	$(PY) -m pytest -q
+	$(PY) -m pytest -q -n 2 -m "not openfoam"
+	$(PY) -m pytest -q -m openfoam
 
 test-fast: venv
 	$(PY) -m pytest -q -m "not openfoam and not slow"
