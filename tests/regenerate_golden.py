@@ -54,7 +54,7 @@ def body(name: str, centre, size=(0.15, 0.06, 0.06), mass_kg=0.236, yaw_deg=0.0,
 
 
 def flume_plan(n_bodies: int = 0, h: float = 0.04, two_d: bool = False, end_time_s: float = 0.02,
-               decomposition=(2, 1, 1), friction: float = 0.0293) -> ModelPlan:
+               decomposition=(2, 1, 1), friction: float = 0.0293, friction_calibration: float = 1.0) -> ModelPlan:
     """A 2.4 m flume segment (gate at x = 0), 0.6 m wide, with a 0.18 m column at x = 1.2 m.
 
     Reservoir 0.3 m deep upstream of the gate, a 0.06 m wet bed downstream (deep
@@ -80,15 +80,17 @@ def flume_plan(n_bodies: int = 0, h: float = 0.04, two_d: bool = False, end_time
     gauges = (GaugePlan("WG1", -0.1, 0.0, 0.45), GaugePlan("WG2", 0.6, 0.2, 0.45), GaugePlan("WG4", 1.17, 0.0, 0.45))
     cells = bg.cell_count() + sum(b.grid.cell_count() for b in bodies)
     # the numbers the dictionaries need, as the planner decides them (scene defaults: g = 9.81, no maxDeltaT)
-    numbers = case_numbers(bg, water, two_d=two_d, max_courant=0.8, write_interval_s=0.01, max_delta_t=None,
-                           gravity_m_s2=9.81)
+    numbers = case_numbers(bg, water, gauges, two_d=two_d, max_courant=0.8, write_interval_s=0.01, max_delta_t=None,
+                           gravity_m_s2=9.81, bed_friction_factor=friction,
+                           bed_friction_calibration=friction_calibration)
     return ModelPlan(
         scene_name="fixture",
         solver="overInterDyMFoam" if n_bodies else "interFoam",
         two_d=two_d, background=bg, bodies=bodies, water=water, gauges=gauges, cell_count=cells,
         decomposition=tuple(decomposition), end_time_s=end_time_s, write_interval_s=0.01, max_courant=0.8,
         domain_m=((-0.6, 1.8), (-0.3, 0.3), (0.0, 0.45)), fine_region_m=((-0.6, 1.8), (-0.3, 0.3), (0.0, 0.45)),
-        downstream_type="wall", bed_friction_factor=friction, velocity_scale_m_s=3.4,
+        downstream_type="wall", bed_friction_factor=friction, bed_friction_calibration=friction_calibration,
+        velocity_scale_m_s=3.4,
         time_step_estimate_s=0.8 * h / 3.4, reasons={"fixture": "a short flume segment for tests"}, **numbers,
     )
 

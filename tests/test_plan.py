@@ -727,3 +727,36 @@ def test_a_plan_json_without_a_field_is_refused_by_name():
     del data["first_delta_t_s"]
     with pytest.raises(InputError, match="first_delta_t_s"):
         ModelPlan.from_dict(data)
+
+
+def test_the_plan_places_the_gauge_lines_and_probes_inside_the_mesh():
+    """Gauge lines from a hair above the bed to a hair under the top, two points per bed cell;
+    a probe at the centre of the bed cell under each gauge; four up the column's upstream face,
+    in front of it, at 1/5 to 4/5 of the deepest water."""
+    p = plan_case(case("1debris"))
+    z0, z1 = p.background.planes("z")[0], p.background.planes("z")[-1]
+    assert [g.name for g in p.gauge_lines] == [g.name for g in p.gauges]
+    for line, gauge in zip(p.gauge_lines, p.gauges):
+        assert line.start_m[:2] == line.end_m[:2] == (gauge.x, gauge.y)
+        assert z0 < line.start_m[2] < z0 + p.bed_cell_m / 100
+        assert min(gauge.z_top, z1) - p.bed_cell_m / 100 < line.end_m[2] < min(gauge.z_top, z1)
+        assert line.n_points == math.ceil((min(gauge.z_top, z1) - z0) / (p.bed_cell_m / 2)) + 1
+    bed = {pr.name: pr.point_m for pr in p.probes if pr.name.endswith("_bed")}
+    assert bed == {f"{g.name}_bed": (g.x, g.y, z0 + p.bed_cell_m / 2) for g in p.gauges}
+    face = [pr.point_m for pr in p.probes if pr.name.startswith("column_face_")]
+    (cx0, cy0, _), (_, cy1, _) = p.column_box_m
+    assert [pt[0] for pt in face] == pytest.approx([cx0 - p.min_cell_m / 4] * 4)
+    assert [pt[1] for pt in face] == pytest.approx([(cy0 + cy1) / 2] * 4)
+    assert [pt[2] for pt in face] == pytest.approx([z0 + p.water_depth_m * n / 5 for n in range(1, 5)])
+    # the bodies' point motion reaches past the whole domain, so their meshes move rigidly
+    diag = math.dist([p.background.planes(a)[0] for a in "xyz"], [p.background.planes(a)[-1] for a in "xyz"])
+    inner, outer = p.motion_distance_m
+    assert diag < inner < outer
+
+
+def test_the_bed_friction_coefficient_is_f_over_4_dz_times_the_calibration():
+    p = plan_case(case("1debris", "bed.friction_calibration=2.0"))
+    f = p.bed_friction_factor
+    assert f > 0
+    assert p.bed_friction_per_m == pytest.approx(2.0 * f / (4 * p.friction_layer_m))
+    assert plan_case(case("1debris", "bed.friction_factor=0")).bed_friction_per_m == 0.0

@@ -167,9 +167,7 @@ def test_friction_zone_is_the_first_layer_the_moving_water_runs_in():
 
 @pytest.mark.parametrize("calibration", [1.0, 2.5])
 def test_bed_friction_drag_is_f_over_4_dz_times_the_calibration(calibration):
-    from dataclasses import replace
-
-    plan = replace(flume_plan(0), bed_friction_calibration=calibration)
+    plan = flume_plan(0, friction_calibration=calibration)
     ctx = build_context(None, plan)
     friction = ctx["bed_friction"]
     dz = plan.background.z[0].cell_sizes_m()[0]

@@ -282,9 +282,8 @@ def build_context(scene, plan, numerics: Numerics | None = None) -> dict[str, An
     lo = np.array([bg.planes(a)[0] for a in "xyz"])
     hi = np.array([bg.planes(a)[-1] for a in "xyz"])
     column = _column_context(plan)
-    gauges, probes = _sampling_context(plan, lo, hi, column)
+    gauges, probes = _sampling_context(plan)
     n = tuple(int(v) for v in plan.decomposition)
-    diag = float(np.linalg.norm(hi - lo))
     return {
         "generator_version": _version(),
         "case": {"solver": solver, "overset": overset, "two_d": bool(plan.two_d),
@@ -310,10 +309,8 @@ def build_context(scene, plan, numerics: Numerics | None = None) -> dict[str, An
                   # one p_rgh = 0 condition on the open boundaries is hydrostatic for both phases.
                   "h_ref_m": float(plan.still_water_m)},
         "numerics": asdict(numerics),
-        # Points are moved by a body only if connected to its wall patch; the body
-        # meshes are disconnected from the background and from each other, so a
-        # distance beyond the domain moves each body mesh rigidly and nothing else.
-        "motion": {"inner_distance_m": max(100.0, 10 * diag), "outer_distance_m": max(101.0, 10 * diag + 1)},
+        # the plan's distances: beyond the domain, so each body mesh moves rigidly (plan.sampling)
+        "motion": {"inner_distance_m": plan.motion_distance_m[0], "outer_distance_m": plan.motion_distance_m[1]},
         "reasons": [f"{k}: {v}" for k, v in plan.reasons.items()],
     }
 
@@ -357,28 +354,11 @@ def _column_context(plan: ModelPlan) -> dict[str, Any] | None:
     return {"patch": COLUMN_PATCH, "min": tuple(c_lo), "max": tuple(c_hi), "centre_of_rotation": base}
 
 
-def _sampling_context(plan: ModelPlan, lo: np.ndarray, hi: np.ndarray, column: dict[str, Any] | None):
-    """The gauge lines (bed to top, two points per bed cell) and the probes: one at the bed under
-    each gauge, four up the column's upstream face."""
-    dz_bed = plan.bed_cell_m
-    y_mid = (lo[1] + hi[1]) / 2
-    gauges, probes = [], []
-    for g in plan.gauges:
-        y = y_mid if plan.two_d else float(g.y)
-        top = min(float(g.z_top), hi[2])
-        n_points = int(min(1000, math.ceil((top - lo[2]) / (dz_bed / 2)) + 1))
-        # a line ending exactly on the bed or the top boundary starts "outside of
-        # the mesh" (a v1912 warning): keep both ends a hair inside
-        eps = 1e-3 * dz_bed
-        gauges.append({"name": g.name, "start": (float(g.x), y, lo[2] + eps), "end": (float(g.x), y, top - eps),
-                       "n_points": n_points})
-        probes.append({"name": f"{g.name}_bed", "point": (float(g.x), y, lo[2] + dz_bed / 2)})
-    if column is not None:
-        x_face = column["min"][0] - plan.min_cell_m / 4
-        yc = column["centre_of_rotation"][1]
-        for n in range(1, 5):
-            z = lo[2] + plan.water_depth_m * n / 5
-            probes.append({"name": f"column_face_{n}", "point": (x_face, yc, z)})
+def _sampling_context(plan: ModelPlan):
+    """The plan's gauge lines and probes as the sampling templates take them."""
+    gauges = [{"name": g.name, "start": tuple(g.start_m), "end": tuple(g.end_m), "n_points": int(g.n_points)}
+              for g in plan.gauge_lines]
+    probes = [{"name": p.name, "point": tuple(p.point_m)} for p in plan.probes]
     return gauges, probes
 
 
@@ -406,20 +386,14 @@ def _time_context(plan: ModelPlan, outputs) -> dict[str, Any]:
 
 
 def _friction_context(plan: ModelPlan, lo: np.ndarray, hi: np.ndarray) -> dict[str, Any] | None:
-    """Bed friction (Darcy f): a quadratic drag on the plan's friction layer next to the bed, as a
-    Darcy-Forchheimer porosity with only the Forchheimer term, horizontal only.
-
-    Per unit volume the model's drag is rho |U| F / 2 U; the bed shear rho (f / 8) |U| U spread
-    over the zone's height dz gives F = f / (4 dz), times the plan's calibration
-    (bed.friction_calibration: the zone under-brakes the thin bore tip).
-    """
-    f_darcy = float(plan.bed_friction_factor)
-    if f_darcy <= 0:
+    """Bed friction (Darcy f): the plan's quadratic drag on its friction layer next to the bed, a
+    Darcy-Forchheimer porosity with only the Forchheimer term, horizontal only, on every cell
+    below the layer's top."""
+    if float(plan.bed_friction_factor) <= 0:
         return None
-    calibration = float(plan.bed_friction_calibration)
     layer = float(plan.friction_layer_m)
-    return {"darcy_f": f_darcy, "layer_m": layer, "zone": BED_LAYER_ZONE, "calibration": calibration,
-            "forchheimer_per_m": calibration * f_darcy / (4 * layer),
+    return {"darcy_f": float(plan.bed_friction_factor), "layer_m": layer, "zone": BED_LAYER_ZONE,
+            "calibration": float(plan.bed_friction_calibration), "forchheimer_per_m": float(plan.bed_friction_per_m),
             "box_min": (lo[0] - 1, lo[1] - 1, lo[2] - 1), "box_max": (hi[0] + 1, hi[1] + 1, lo[2] + layer)}
 
 

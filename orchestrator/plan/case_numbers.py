@@ -2,8 +2,10 @@
 
 From the background grid and the water: the bed's first cell layer, the smallest first
 cell, the still water downstream (the case's hRef) and the top of the bed-friction zone
-above it, the deepest water, the column's box, the first time step and its cap. The
-renderer writes them as they are (:class:`orchestrator.plan.model.ModelPlan` fields).
+above it with its drag coefficient, the deepest water, the column's box, the first time step
+and its cap, the gauges' lines and the probes, the bodies' motion distances
+(:mod:`~orchestrator.plan.sampling`). The renderer writes them as they are
+(:class:`orchestrator.plan.model.ModelPlan` fields).
 """
 
 from __future__ import annotations
@@ -14,7 +16,8 @@ import numpy as np
 
 from orchestrator.plan.grading import COLUMN_PATCH, cell_edges, min_cell_m
 from orchestrator.plan.grid import BoxGrid, Segment
-from orchestrator.plan.model import WaterBox
+from orchestrator.plan.model import GaugePlan, WaterBox
+from orchestrator.plan.sampling import bed_friction_per_m, motion_distance_m, sampling
 from orchestrator.plan.timestep import first_delta_t_s, max_delta_t_s
 
 __all__ = ["WET_BED", "case_numbers", "column_box_m", "friction_layer_top_m"]
@@ -49,8 +52,9 @@ def column_box_m(grid: BoxGrid) -> tuple[tuple[float, ...], tuple[float, ...]] |
     return tuple(float(v) for v in c_lo), tuple(float(v) for v in c_hi)
 
 
-def case_numbers(background: BoxGrid, water: Sequence[WaterBox], *, two_d: bool, max_courant: float,
-                 write_interval_s: float, max_delta_t: float | None, gravity_m_s2: float) -> dict[str, Any]:
+def case_numbers(background: BoxGrid, water: Sequence[WaterBox], gauges: Sequence[GaugePlan], *, two_d: bool,
+                 max_courant: float, write_interval_s: float, max_delta_t: float | None, gravity_m_s2: float,
+                 bed_friction_factor: float, bed_friction_calibration: float) -> dict[str, Any]:
     """The ModelPlan fields of this module's docstring (keyword arguments of ModelPlan).
 
     ``max_delta_t``: the scene's run.max_delta_t_s (None: the default cap).
@@ -60,13 +64,21 @@ def case_numbers(background: BoxGrid, water: Sequence[WaterBox], *, two_d: bool,
     min_cell = min(min_cell_m(background.x), min_cell_m(background.y) if not two_d else np.inf, bed_cell)
     depth = max((box.max_m[2] - z0 for box in water), default=z1 - z0)
     still = max((box.max_m[2] for box in water if box.name == WET_BED), default=0.0)
+    layer = friction_layer_top_m(background.z, still)
+    column = column_box_m(background)
+    lines, probes = sampling(background, gauges, two_d=two_d, bed_cell_m=float(bed_cell), min_cell_m=float(min_cell),
+                             water_depth_m=float(depth), column_box_m=column)
     return {
         "bed_cell_m": float(bed_cell),
         "min_cell_m": float(min_cell),
         "still_water_m": float(still),
-        "friction_layer_m": friction_layer_top_m(background.z, still),
+        "friction_layer_m": layer,
         "water_depth_m": float(depth),
-        "column_box_m": column_box_m(background),
+        "column_box_m": column,
         "first_delta_t_s": first_delta_t_s(max_courant, min_cell, depth, gravity_m_s2),
         "max_delta_t_s": max_delta_t_s(max_delta_t, write_interval_s),
+        "gauge_lines": lines,
+        "probes": probes,
+        "bed_friction_per_m": bed_friction_per_m(bed_friction_factor, bed_friction_calibration, layer),
+        "motion_distance_m": motion_distance_m(background),
     }

@@ -15,7 +15,8 @@ from typing import Any, Literal
 from analytical.errors import InputError
 from orchestrator.plan.grid import BoxGrid, Segment
 
-__all__ = ["BodyPlan", "FlowRecordPlan", "GaugePlan", "ModelPlan", "WaterBox", "grid_from_dict", "grid_to_dict"]
+__all__ = ["BodyPlan", "FlowRecordPlan", "GaugeLine", "GaugePlan", "ModelPlan", "Probe", "WaterBox", "grid_from_dict",
+           "grid_to_dict"]
 
 Vector = tuple[float, float, float]
 Box = tuple[Vector, Vector]
@@ -38,6 +39,24 @@ class GaugePlan:
     x: float
     y: float
     z_top: float
+
+
+@dataclass(frozen=True)
+class GaugeLine:
+    """A gauge's sampling line in the case: ``n_points`` evenly from ``start_m`` to ``end_m``."""
+
+    name: str
+    start_m: Vector
+    end_m: Vector
+    n_points: int
+
+
+@dataclass(frozen=True)
+class Probe:
+    """A point where the case samples the fields (p, p_rgh, alpha.water, U)."""
+
+    name: str
+    point_m: Vector
 
 
 @dataclass(frozen=True)
@@ -153,7 +172,10 @@ class ModelPlan:
     cell (``min_cell_m``), the still water downstream (``still_water_m``, the case's hRef)
     and the top of the bed-friction zone above it (``friction_layer_m``), the deepest water
     (``water_depth_m``), the column's box in scene coordinates (``column_box_m``), the first
-    time step and the largest one (``first_delta_t_s``, ``max_delta_t_s``).
+    time step and the largest one (``first_delta_t_s``, ``max_delta_t_s``), the gauges' sampling
+    lines and the probes (``gauge_lines``, ``probes``), the bed friction's Forchheimer
+    coefficient (``bed_friction_per_m``) and the overset bodies' motion distances
+    (``motion_distance_m``).
     """
 
     scene_name: str
@@ -201,6 +223,14 @@ class ModelPlan:
     first_delta_t_s: float = field(kw_only=True)
     #: the largest time step the case allows (maxDeltaT)
     max_delta_t_s: float = field(kw_only=True)
+    #: each gauge's sampling line (bed to top, a hair inside the mesh)
+    gauge_lines: tuple[GaugeLine, ...] = field(kw_only=True)
+    #: the probes: the bed under each gauge, up the column's upstream face
+    probes: tuple[Probe, ...] = field(kw_only=True)
+    #: the Forchheimer coefficient F (1/m) of the bed-friction zone (0: no bed friction)
+    bed_friction_per_m: float = field(kw_only=True)
+    #: (inner, outer) distance of the six-DoF motion's point displacement from each body
+    motion_distance_m: tuple[float, float] = field(kw_only=True)
     #: how the debris meets the flow: "none" (no debris), "two-way" (the bodies on overset
     #: meshes in the flow) or "one-way" (the flow without them, recorded in ``flow_record``)
     debris_coupling: Literal["none", "one-way", "two-way"] = field(default="none", kw_only=True)
@@ -253,6 +283,11 @@ class ModelPlan:
             "column_box_m": None if self.column_box_m is None else [list(c) for c in self.column_box_m],
             "first_delta_t_s": self.first_delta_t_s,
             "max_delta_t_s": self.max_delta_t_s,
+            "bed_friction_per_m": self.bed_friction_per_m,
+            "motion_distance_m": list(self.motion_distance_m),
+            "gauge_lines": [{"name": g.name, "start_m": list(g.start_m), "end_m": list(g.end_m), "n_points": g.n_points}
+                            for g in self.gauge_lines],
+            "probes": [{"name": p.name, "point_m": list(p.point_m)} for p in self.probes],
             "debris_coupling": self.debris_coupling,
             "flow_record": None if self.flow_record is None else self.flow_record.to_dict(),
             "background": grid_to_dict(self.background),
@@ -282,6 +317,10 @@ class ModelPlan:
                 bodies=tuple(BodyPlan.from_dict(b) for b in data["bodies"]),
                 water=tuple(WaterBox(w["name"], _vector(w["min_m"]), _vector(w["max_m"])) for w in data["water"]),
                 gauges=tuple(GaugePlan(g["name"], g["x"], g["y"], g["z_top"]) for g in data["gauges"]),
+                gauge_lines=tuple(GaugeLine(g["name"], _vector(g["start_m"]), _vector(g["end_m"]), g["n_points"])
+                                  for g in data["gauge_lines"]),
+                probes=tuple(Probe(p["name"], _vector(p["point_m"])) for p in data["probes"]),
+                motion_distance_m=tuple(data["motion_distance_m"]),
                 reasons=dict(data["reasons"]),
                 warnings=tuple(data["warnings"]),
                 # plan.json written before the coupling choice: bodies meant the overset path
@@ -303,7 +342,7 @@ _PLAIN_KEYS = (
     "velocity_scale_m_s", "end_time_s", "write_interval_s", "max_courant", "downstream_type",
     "bed_friction_factor", "bed_friction_calibration", "stall_limit_s", "water_balance_limit", "bed_gap_m",
     "bed_cell_m", "min_cell_m", "still_water_m", "friction_layer_m", "water_depth_m", "first_delta_t_s",
-    "max_delta_t_s",
+    "max_delta_t_s", "bed_friction_per_m",
 )
 
 

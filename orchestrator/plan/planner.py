@@ -135,9 +135,10 @@ def plan_case(scene: Scene) -> ModelPlan:
         warnings=tuple(warnings),
         debris_coupling=coupling,
         flow_record=flow_record,
-        **case_numbers(background, water, two_d=two_d, max_courant=run.max_courant,
+        **case_numbers(background, water, gauges, two_d=two_d, max_courant=run.max_courant,
                        write_interval_s=run.write_interval_s, max_delta_t=run.max_delta_t_s,
-                       gravity_m_s2=scene.fluids.gravity_m_s2),
+                       gravity_m_s2=scene.fluids.gravity_m_s2, bed_friction_factor=scene.bed.friction_factor,
+                       bed_friction_calibration=scene.bed.friction_calibration),
     )
     return _with_wall_time(plan)
 
