@@ -317,10 +317,13 @@ class ModelPlan:
                 bodies=tuple(BodyPlan.from_dict(b) for b in data["bodies"]),
                 water=tuple(WaterBox(w["name"], _vector(w["min_m"]), _vector(w["max_m"])) for w in data["water"]),
                 gauges=tuple(GaugePlan(g["name"], g["x"], g["y"], g["z_top"]) for g in data["gauges"]),
+                # what only the renderer used: a plan.json written before the plan held it has none,
+                # and a case's readers (post, transport) do not need it
                 gauge_lines=tuple(GaugeLine(g["name"], _vector(g["start_m"]), _vector(g["end_m"]), g["n_points"])
-                                  for g in data["gauge_lines"]),
-                probes=tuple(Probe(p["name"], _vector(p["point_m"])) for p in data["probes"]),
-                motion_distance_m=tuple(data["motion_distance_m"]),
+                                  for g in data.get("gauge_lines", ())),
+                probes=tuple(Probe(p["name"], _vector(p["point_m"])) for p in data.get("probes", ())),
+                motion_distance_m=tuple(data.get("motion_distance_m", (0.0, 0.0))),
+                bed_friction_per_m=data.get("bed_friction_per_m", 0.0),
                 reasons=dict(data["reasons"]),
                 warnings=tuple(data["warnings"]),
                 # plan.json written before the coupling choice: bodies meant the overset path
@@ -342,7 +345,7 @@ _PLAIN_KEYS = (
     "velocity_scale_m_s", "end_time_s", "write_interval_s", "max_courant", "downstream_type",
     "bed_friction_factor", "bed_friction_calibration", "stall_limit_s", "water_balance_limit", "bed_gap_m",
     "bed_cell_m", "min_cell_m", "still_water_m", "friction_layer_m", "water_depth_m", "first_delta_t_s",
-    "max_delta_t_s", "bed_friction_per_m",
+    "max_delta_t_s",
 )
 
 
