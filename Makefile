@@ -12,7 +12,7 @@ COUPLING ?=
 OUT      ?= runs/1debris$(if $(COUPLING),-$(COUPLING),)
 CASE_SET := $(if $(CELL),--set mesh.cell_size_m=$(CELL),) $(if $(COUPLING),--set run.debris_coupling=$(COUPLING),)
 
-.PHONY: help venv openfoam test test-fast case-1debris case-layouts results-layouts sweep speed-error speed-error-debris stability synthetic-study contact-law results-1debris ensemble-1debris scene-doc bench clean
+.PHONY: help venv openfoam test test-fast case-1debris case-layouts results-layouts compare-coupling sweep speed-error speed-error-debris stability synthetic-study contact-law results-1debris ensemble-1debris scene-doc bench clean
 
 help:
 	@echo "make venv                   the Python environment only (.venv, the package installed editable)"
@@ -24,6 +24,7 @@ help:
 	@echo "make sweep SWEEP=mesh-study a sweep from cases/sweeps/ (runs/sweeps/<name>; run again to resume)"
 	@echo "make speed-error            mesh study + hand-made baseline, then the speed-against-error report"
 	@echo "make speed-error-debris     mesh study with one container to its impact, then its report"
+	@echo "make compare-coupling       the short flume to the first strike two-way and one-way on one mesh, side by side (about 30 min)"
 	@echo "make stability              the hard cases of cases/hard/ (about 2 h), then their stability table"
 	@echo "make test                   the test suite (installs the venv and OpenFOAM first)"
 	@echo "make synthetic-study        the seed's SDOF/MDOF/ASCE analysis on 22 synthetic records"
@@ -107,6 +108,18 @@ speed-error: venv openfoam
 speed-error-debris: venv openfoam
 	-$(NICE) $(VENV)/bin/debrisfoam sweep cases/sweeps/debris-mesh-study.yaml
 	$(VENV)/bin/debrisfoam report speed-error runs/sweeps/debris-mesh-study -o docs/results/speed-error-debris --force
+
+# One-way against two-way: the short flume (cases/hard/short-flume.yaml: the study's flume,
+# impoundment and container, the column at x = 3.0 m) to just past the first strike, run
+# two-way (overset, about 25 min) and one-way (about 3 min) on the same background mesh, then
+# the tracks' difference, the strikes and the cost side by side in docs/results/coupling/.
+# A finished run is reused (run it again to resume); runs/coupling/two-way is the 4 cm member of
+# make speed-error-debris, which a copy of that member serves.
+COMPARE_SET = --set run.end_time_s=2.1
+compare-coupling: venv openfoam
+	-$(NICE) $(VENV)/bin/debrisfoam case cases/hard/short-flume.yaml $(COMPARE_SET) -o runs/coupling/two-way
+	-$(NICE) $(VENV)/bin/debrisfoam case cases/hard/short-flume.yaml $(COMPARE_SET) --set run.debris_coupling=one-way -o runs/coupling/one-way
+	$(VENV)/bin/debrisfoam report coupling runs/coupling/one-way runs/coupling/two-way -o docs/results/coupling --force
 
 # The hard cases (cases/hard/, about 2 h on 2 cores), then their table in docs/stability.md.
 stability: venv openfoam

@@ -22,6 +22,7 @@ __all__ = [
     "add_study_parsers",
     "cmd_ensemble",
     "cmd_report_case",
+    "cmd_report_coupling",
     "cmd_report_layouts",
     "cmd_report_speed_error",
     "cmd_report_stability",
@@ -210,6 +211,15 @@ def cmd_report_layouts(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def cmd_report_coupling(args: argparse.Namespace) -> int:
+    from orchestrator.report.coupling import compare_coupling, write_coupling_report
+
+    comparison = compare_coupling(args.one_way, args.two_way)
+    files = write_coupling_report(comparison, output_path(args.out, "-o/--out", args.force, folder=True))
+    emit({kind: str(path) for kind, path in files.items()}, args.json)
+    return EXIT_OK
+
+
 def cmd_report_stability(args: argparse.Namespace) -> int:
     from orchestrator.studies.stability import markdown, stability_table
 
@@ -311,6 +321,16 @@ def add_study_parsers(verbs) -> None:
     p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_report_layouts)
+
+    p = rp_verbs.add_parser("coupling", help="one scene run one-way and two-way on the same mesh, side by side: "
+                                             "the tracks' difference until the first strike, the strikes, the "
+                                             "cost (make compare-coupling)")
+    p.add_argument("one_way", metavar="ONE_WAY", help="the one-way run's folder (post-processed)")
+    p.add_argument("two_way", metavar="TWO_WAY", help="the two-way run's folder (post-processed)")
+    p.add_argument("-o", "--out", required=True, help="output folder (report.md, tables, figure)")
+    p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_report_coupling)
 
     p = rp_verbs.add_parser("stability", help="for every member of a sweep: finished with sane physics (water "
                                               "conserved, no body inside a wall, finite forces) or stopped with "

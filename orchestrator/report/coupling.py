@@ -1,0 +1,233 @@
+"""One-way against two-way: the same scene run both ways, side by side.
+
+``debrisfoam report coupling ONE_WAY TWO_WAY -o DIR`` (``make compare-coupling``) reads a
+one-way run (the flow without the bodies, then the bodies carried through its record) and a
+two-way run (the bodies on overset meshes in the flow) of the same scene on the same background
+mesh, and writes into DIR:
+
+``track_difference.csv``
+    Per body and time step of the two-way run up to the comparison's end: the one-way centre
+    (interpolated to that time) minus the two-way one along x, y and z, their distance, and the
+    yaw difference.
+``coupling.csv``
+    The two runs' figures, a row each: the track difference up to the first strike (RMS, largest,
+    at the strike), the first strike on the column (time, body, velocity, obliquity, height, the
+    water level at the column's face, pulse, base shear), cells and wall times.
+``coupling.png``
+    The tracks' x and z against time, both runs, and the centres' distance, up to the end of the
+    shorter run; the first strikes marked.
+``report.md``
+    The page: the table and the figure, and what they say.
+
+The comparison ends at the first strike on the column of either run (after it the bodies
+rebound differently by construction), or at the shorter run's end when neither strikes.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from analytical.errors import InputError
+from orchestrator.core.files import write_text_atomic
+from orchestrator.report.figures import legend, pyplot, save_figure
+from orchestrator.report.layouts import Layout, layout_row, load_layout
+from orchestrator.results.tables import write_table
+
+__all__ = ["CouplingComparison", "compare_coupling", "write_coupling_report"]
+
+RUNS = ("one-way", "two-way")
+
+
+@dataclass
+class CouplingComparison:
+    """The two runs, the time the comparison ends at, and the tracks' difference until then."""
+
+    runs: dict[str, Layout]
+    until_s: float
+    #: why the comparison ends at until_s
+    until_reason: str
+    tracks: pd.DataFrame
+    table: pd.DataFrame
+    same_mesh: bool
+
+
+def _checked(path: str | Path, coupling: str, argument: str) -> Layout:
+    lay = load_layout(path)
+    if not lay.ok:
+        raise InputError(argument, f"{path} has no finished, post-processed run ({lay.status}: "
+                                   f"{lay.error or 'run `debrisfoam post` on it'})")
+    if lay.plan.get("debris_coupling") != coupling:
+        raise InputError(argument, f"{path} is a {lay.plan.get('debris_coupling')!r} run, not a {coupling} one")
+    return lay
+
+
+def _first_strike(lay: Layout) -> dict[str, Any] | None:
+    return None if lay.strikes.empty else lay.strikes.iloc[0].to_dict()
+
+
+def _track(lay: Layout, body: str) -> pd.DataFrame:
+    t = lay.bodies[lay.bodies["body"] == body]
+    return t.drop_duplicates("time_s", keep="last").sort_values("time_s").reset_index(drop=True)
+
+
+def _differences(runs: dict[str, Layout], until_s: float) -> pd.DataFrame:
+    rows = []
+    for body in runs["two-way"].body_names:
+        two, one = _track(runs["two-way"], body), _track(runs["one-way"], body)
+        if two.empty or one.empty:
+            continue
+        two = two[two["time_s"] <= until_s + 1e-9]
+        t = two["time_s"].to_numpy(float)
+        d = {a: np.interp(t, one["time_s"], one[f"{a}_m"]) - two[f"{a}_m"].to_numpy(float) for a in "xyz"}
+        yaw = np.interp(t, one["time_s"], np.unwrap(np.radians(one["yaw_deg"])))
+        dyaw = np.degrees(yaw - np.unwrap(np.radians(two["yaw_deg"].to_numpy(float))))
+        rows.append(pd.DataFrame({"time_s": t, "body": body, "dx_m": d["x"], "dy_m": d["y"], "dz_m": d["z"],
+                                  "distance_m": np.sqrt(d["x"] ** 2 + d["y"] ** 2 + d["z"] ** 2), "dyaw_deg": dyaw}))
+    return pd.concat(rows, ignore_index=True) if rows else pd.DataFrame(
+        columns=["time_s", "body", "dx_m", "dy_m", "dz_m", "distance_m", "dyaw_deg"])
+
+
+def _background_cells(lay: Layout) -> int | None:
+    return (lay.plan.get("background") or {}).get("cell_count")
+
+
+def compare_coupling(one_way: str | Path, two_way: str | Path) -> CouplingComparison:
+    """Read both runs and measure the one-way run against the two-way one (module notes).
+    InputError naming the argument when a run is missing, unfinished, of the other coupling, or
+    of other bodies."""
+    runs = {"one-way": _checked(one_way, "one-way", "ONE_WAY"), "two-way": _checked(two_way, "two-way", "TWO_WAY")}
+    if sorted(runs["one-way"].body_names) != sorted(runs["two-way"].body_names):
+        raise InputError("TWO_WAY", f"its bodies {runs['two-way'].body_names} are not the one-way run's "
+                                    f"{runs['one-way'].body_names}")
+    ends = {k: float(lay.summary.get("reached_time_s") or 0.0) for k, lay in runs.items()}
+    strikes = {k: _first_strike(lay) for k, lay in runs.items()}
+    struck = {k: float(s["time_s"]) for k, s in strikes.items() if s is not None}
+    if struck:
+        until_s = min(min(struck.values()), min(ends.values()))
+        first = min(struck, key=struck.get)
+        reason = f"the first strike on the column ({first}, t = {struck[first]:.3f} s)"
+    else:
+        until_s, reason = min(ends.values()), "the shorter run's end (neither run struck the column)"
+    tracks = _differences(runs, until_s)
+    cells = [_background_cells(lay) for lay in runs.values()]
+    same_mesh = cells[0] is not None and cells[0] == cells[1]
+    table = pd.DataFrame([_row(k, lay, strikes[k], tracks) for k, lay in runs.items()])
+    return CouplingComparison(runs, until_s, reason, tracks, table, same_mesh)
+
+
+def _row(kind: str, lay: Layout, strike: dict | None, tracks: pd.DataFrame) -> dict[str, Any]:
+    base = layout_row(lay)
+    row: dict[str, Any] = {"run": kind, "case": str(lay.case), "cells": lay.summary.get("cells"),
+                           "background_cells": _background_cells(lay), "reached_time_s": lay.summary.get("reached_time_s"),
+                           "flow_wall_s": base.get("flow_wall_s"), "flow_cpu_s": base.get("flow_cpu_s"),
+                           "transport_wall_s": base.get("transport_wall_s"), "column_strikes": base.get("column_strikes")}
+    if kind == "one-way" and not tracks.empty:
+        last = tracks.sort_values("time_s").groupby("body").last()
+        row.update(track_rms_m=float(np.sqrt(np.mean(tracks["distance_m"] ** 2))),
+                   track_max_m=float(tracks["distance_m"].max()), track_at_end_m=float(last["distance_m"].max()),
+                   dx_at_end_m=float(last["dx_m"].iloc[0]), dyaw_at_end_deg=float(last["dyaw_deg"].iloc[0]))
+    if strike:
+        row.update({f"strike_{k}": strike.get(k) for k in (
+            "body", "time_s", "impact_velocity_m_s", "obliquity_deg", "height_m", "face_water_level_m", "peak_force_N",
+            "duration_s", "impulse_Ns", "peak_base_shear_N")})
+    return row
+
+
+# --------------------------------------------------------------------------- the page
+
+
+def _f(value, fmt: str = ".3f", unit: str = "") -> str:
+    if value is None or (isinstance(value, float) and not math.isfinite(value)):
+        return "-"
+    return f"{format(value, fmt)}{unit}"
+
+
+def _minutes(seconds) -> str:
+    return "-" if seconds is None or not math.isfinite(float(seconds)) else f"{float(seconds) / 60:.1f} min"
+
+
+STRIKE_ROWS = (
+    ("time of the first strike", "strike_time_s", ".3f", " s"),
+    ("impact velocity", "strike_impact_velocity_m_s", ".2f", " m/s"),
+    ("obliquity", "strike_obliquity_deg", ".0f", " deg"),
+    ("contact height above the bed", "strike_height_m", ".3f", " m"),
+    ("water level at the column's face", "strike_face_water_level_m", ".3f", " m"),
+    ("pulse: peak force", "strike_peak_force_N", ".0f", " N"),
+    ("pulse: duration", "strike_duration_s", ".4f", " s"),
+    ("pulse: impulse", "strike_impulse_Ns", ".3f", " N s"),
+    ("peak base shear of the strike", "strike_peak_base_shear_N", ".0f", " N"),
+    ("strikes on the column", "column_strikes", "d", ""),
+)
+
+
+def markdown(cmp: CouplingComparison, figure: str | None) -> str:
+    one, two = (cmp.table.set_index("run").loc[k].to_dict() for k in RUNS)
+    lines = ["# One-way against two-way", "",
+             "Generated by `debrisfoam report coupling` (`make compare-coupling`) from the two runs; never edited by "
+             "hand. Tables: `coupling.csv`, `track_difference.csv`.", "",
+             f"- one-way: `{one['case']}`; two-way: `{two['case']}`.",
+             f"- Background mesh: {_f(one.get('background_cells'), ',.0f')} cells one-way, "
+             f"{_f(two.get('background_cells'), ',.0f')} two-way ("
+             + ("the same mesh" if cmp.same_mesh else "different meshes: the comparison mixes mesh and coupling") + ").",
+             f"- The tracks are compared from the start to {cmp.until_reason}: t = {cmp.until_s:.3f} s.", "",
+             "## The track until the first strike", "",
+             "| | one-way minus two-way |", "|---|---|",
+             f"| centre distance, RMS | {_f(one.get('track_rms_m'), '.3f', ' m')} |",
+             f"| centre distance, largest | {_f(one.get('track_max_m'), '.3f', ' m')} |",
+             f"| centre distance at t = {cmp.until_s:.3f} s | {_f(one.get('track_at_end_m'), '.3f', ' m')} |",
+             f"| x difference at t = {cmp.until_s:.3f} s (+: one-way ahead) | {_f(one.get('dx_at_end_m'), '+.3f', ' m')} |",
+             f"| yaw difference at t = {cmp.until_s:.3f} s | {_f(one.get('dyaw_at_end_deg'), '+.1f', ' deg')} |", "",
+             "## The first strike and the cost", "",
+             "| | one-way | two-way |", "|---|---|---|",
+             f"| striking body | {one.get('strike_body') or '-'} | {two.get('strike_body') or '-'} |"]
+    for label, key, fmt, unit in STRIKE_ROWS:
+        lines.append(f"| {label} | {_f(one.get(key), fmt, unit)} | {_f(two.get(key), fmt, unit)} |")
+    lines += [f"| cells | {_f(one.get('cells'), ',.0f')} | {_f(two.get('cells'), ',.0f')} |",
+              f"| flow solver wall time (master rank's CPU) | {_minutes(one.get('flow_wall_s'))} "
+              f"({_minutes(one.get('flow_cpu_s'))}) | {_minutes(two.get('flow_wall_s'))} ({_minutes(two.get('flow_cpu_s'))}) |",
+              f"| transport wall time | {_f(one.get('transport_wall_s'), '.1f', ' s')} | - |", ""]
+    if figure:
+        lines += [f"![tracks]({figure})", "",
+                  "The bodies' x and z against time in both runs and the distance between their centres; the "
+                  "dotted line marks the end of the comparison.", ""]
+    return "\n".join(lines)
+
+
+def _figure(cmp: CouplingComparison, path: Path) -> Path:
+    plt = pyplot()
+    fig, axes = plt.subplots(3, 1, figsize=(8, 8.5), sharex=True)
+    styles = {"one-way": "-", "two-way": "--"}
+    for kind, lay in cmp.runs.items():
+        for body in lay.body_names:
+            t = _track(lay, body)
+            axes[0].plot(t["time_s"], t["x_m"], styles[kind], label=f"{body}, {kind}")
+            axes[1].plot(t["time_s"], t["z_m"], styles[kind], label=f"{body}, {kind}")
+    for body, d in cmp.tracks.groupby("body"):
+        axes[2].plot(d["time_s"], d["distance_m"], label=body)
+    for ax in axes:
+        ax.axvline(cmp.until_s, color="0.4", linestyle=":")
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("x of the centre (m)")
+    axes[1].set_ylabel("z of the centre (m)")
+    axes[2].set_ylabel("one-way to two-way\ncentre distance (m)")
+    axes[2].set_xlabel("time (s)")
+    legend(axes[0], fontsize=8)
+    fig.tight_layout()
+    return save_figure(fig, path)
+
+
+def write_coupling_report(cmp: CouplingComparison, out_dir: str | Path) -> dict[str, Path]:
+    """The page, its tables and its figure into out_dir (module notes); name -> path."""
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    written = {"coupling": write_table(cmp.table, out / "coupling.csv"),
+               "track_difference": write_table(cmp.tracks, out / "track_difference.csv"),
+               "figure": _figure(cmp, out / "coupling.png")}
+    written["report"] = write_text_atomic(out / "report.md", markdown(cmp, written["figure"].name))
+    return written

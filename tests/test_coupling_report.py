@@ -1,0 +1,92 @@
+"""`debrisfoam report coupling`: one scene run one-way and two-way, side by side
+(orchestrator/report/coupling.py).
+
+The runs are the synthetic post-processed folders of tests/test_layouts_report.py; the two-way
+one is the same run relabelled, its bodies moved by a known offset, so every difference the
+comparison measures is known in closed form.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from analytical.errors import InputError
+from orchestrator.report.coupling import compare_coupling, write_coupling_report
+from tests.conftest import run_cli
+from tests.test_layouts_report import synthetic_case
+
+
+def _two_way(case: Path, dx: float = 0.0, dz: float = 0.0, dyaw: float = 0.0, strike_s: float | None = None) -> Path:
+    """The synthetic run as a two-way one: its bodies moved by (dx, 0, dz) and turned by dyaw,
+    its first strike at strike_s (None: as it is), its background mesh as large."""
+    plan = json.loads((case / "plan.json").read_text())
+    plan.update(debris_coupling="two-way", background={"cell_count": 900})
+    plan.pop("flow_record", None)
+    (case / "plan.json").write_text(json.dumps(plan))
+    bodies = pd.read_csv(case / "results" / "bodies.csv")
+    bodies["x_m"] += dx
+    bodies["z_m"] += dz
+    bodies["yaw_deg"] += dyaw
+    bodies.to_csv(case / "results" / "bodies.csv", index=False)
+    if strike_s is not None:
+        impacts = pd.read_csv(case / "results" / "impacts.csv")
+        impacts.loc[impacts["event"] == 1, "time_s"] = strike_s
+        impacts.to_csv(case / "results" / "impacts.csv", index=False)
+    return case
+
+
+def _one_way(case: Path) -> Path:
+    plan = json.loads((case / "plan.json").read_text())
+    plan["background"] = {"cell_count": 900}
+    (case / "plan.json").write_text(json.dumps(plan))
+    return case
+
+
+def test_the_tracks_differ_by_the_offset_until_the_first_strike(tmp_path):
+    one = _one_way(synthetic_case(tmp_path / "one", "pair"))
+    two = _two_way(synthetic_case(tmp_path / "two", "pair"), dx=0.03, dz=-0.04, dyaw=10.0, strike_s=0.08)
+    cmp = compare_coupling(one, two)
+    # the comparison ends at the earlier first strike: the two-way run's, at 0.08 s
+    assert cmp.until_s == pytest.approx(0.08)
+    assert "two-way" in cmp.until_reason
+    assert cmp.tracks["time_s"].max() <= 0.08 + 1e-9
+    assert set(cmp.tracks["body"]) == {"debris1", "debris2"}
+    # one-way minus two-way: -dx, 0, -dz; the distance is the offset's length throughout
+    assert np.allclose(cmp.tracks["dx_m"], -0.03) and np.allclose(cmp.tracks["dy_m"], 0.0)
+    assert np.allclose(cmp.tracks["dz_m"], 0.04) and np.allclose(cmp.tracks["distance_m"], 0.05)
+    assert np.allclose(cmp.tracks["dyaw_deg"], -10.0)  # debris2's yaw passes +-180 in both runs
+    row = cmp.table.set_index("run").loc["one-way"]
+    assert row["track_rms_m"] == pytest.approx(0.05) and row["track_max_m"] == pytest.approx(0.05)
+    assert row["dx_at_end_m"] == pytest.approx(-0.03)
+    assert cmp.same_mesh
+    strikes = cmp.table.set_index("run")["strike_time_s"]
+    assert strikes.to_dict() == pytest.approx({"one-way": 0.10, "two-way": 0.08})
+
+
+def test_the_page_and_the_verb(tmp_path):
+    one = _one_way(synthetic_case(tmp_path / "one", "pair"))
+    two = _two_way(synthetic_case(tmp_path / "two", "pair"), dx=0.03)
+    files = write_coupling_report(compare_coupling(one, two), tmp_path / "page")
+    text = files["report"].read_text()
+    assert "| centre distance, largest | 0.030 m |" in text
+    assert "the same mesh" in text and "![tracks](coupling.png)" in text
+    assert files["figure"].stat().st_size > 10_000
+    proc = run_cli("report", "coupling", str(one), str(two), "-o", str(tmp_path / "cli"), "--json")
+    assert proc.returncode == 0, proc.stderr
+    assert set(json.loads(proc.stdout)) == {"coupling", "track_difference", "figure", "report"}
+
+
+def test_runs_of_the_wrong_coupling_or_unfinished_are_refused_by_argument(tmp_path):
+    one = _one_way(synthetic_case(tmp_path / "one", "pair"))
+    also_one = _one_way(synthetic_case(tmp_path / "also", "pair"))
+    with pytest.raises(InputError, match="TWO_WAY.*'one-way' run, not a two-way one"):
+        compare_coupling(one, also_one)
+    (tmp_path / "empty").mkdir()
+    proc = run_cli("report", "coupling", str(one), str(tmp_path / "empty"), "-o", str(tmp_path / "out"))
+    assert proc.returncode == 2 and "TWO_WAY" in proc.stderr
+    assert not (tmp_path / "out").exists()
