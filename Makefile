@@ -119,7 +119,7 @@ COMPARE_SET = --set run.end_time_s=2.1
 compare-coupling: venv openfoam
 	-$(NICE) $(VENV)/bin/debrisfoam case cases/hard/short-flume.yaml $(COMPARE_SET) -o runs/coupling/two-way
 	-$(NICE) $(VENV)/bin/debrisfoam case cases/hard/short-flume.yaml $(COMPARE_SET) --set run.debris_coupling=one-way -o runs/coupling/one-way
-	$(VENV)/bin/debrisfoam report coupling runs/coupling/one-way runs/coupling/two-way -o docs/results/coupling --force
+	$(VENV)/bin/debrisfoam report coupling runs/coupling/one-way runs/coupling/two-way --drag-scan -o docs/results/coupling --force
 
 # The hard cases (cases/hard/, about 2 h on 2 cores), then their table in docs/stability.md.
 stability: venv openfoam

@@ -60,6 +60,7 @@ from analytical.errors import InputError, require_finite, require_positive
 __all__ = [
     "DEFAULT_ADDED_MASS_COEFFICIENT",
     "DEFAULT_DRAG_COEFFICIENT",
+    "FREE_STREAM_BOX_DRAG_COEFFICIENT",
     "HydroCoefficients",
     "HydroLoads",
     "SubVolumes",
@@ -71,9 +72,17 @@ __all__ = [
     "submerged_fraction",
 ]
 
-DEFAULT_DRAG_COEFFICIENT = 1.05
-"""A box face-on in steady flow: Hoerner (1965) ch. 3 gives about 1.05 for a cube and 1.0-1.2
-for rectangular blocks; applied on each body axis."""
+FREE_STREAM_BOX_DRAG_COEFFICIENT = 1.05
+"""A box face-on in steady, unbounded flow: Hoerner (1965) ch. 3 gives about 1.05 for a cube and
+1.0-1.2 for rectangular blocks."""
+
+DEFAULT_DRAG_COEFFICIENT = 3.0
+"""The effective C_d of a floating container carried by a dam-break bore, applied on each body
+axis: calibrated so that one-way transport reproduces the coupled (overset six-DoF) run of the
+same container in the same bore (docs/one-way.md, "Calibrated against the coupled run"). The
+container fills about half of the bore's depth, and the water piles up against it; the free-stream
+value (:data:`FREE_STREAM_BOX_DRAG_COEFFICIENT`) leaves it 0.38 m behind the coupled one at its
+strike."""
 
 DEFAULT_ADDED_MASS_COEFFICIENT = 1.0
 """Isotropic added-mass coefficient of a box: between DNV-RP-C205's 2-D square section

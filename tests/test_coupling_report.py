@@ -90,3 +90,30 @@ def test_runs_of_the_wrong_coupling_or_unfinished_are_refused_by_argument(tmp_pa
     proc = run_cli("report", "coupling", str(one), str(tmp_path / "empty"), "-o", str(tmp_path / "out"))
     assert proc.returncode == 2 and "TWO_WAY" in proc.stderr
     assert not (tmp_path / "out").exists()
+
+
+def test_the_drag_scan_finds_the_coefficient_that_carried_the_reference_track(tmp_path):
+    """Tracks made by the transport itself at C_d = 2 in a uniform current are the 'two-way' ones:
+    the scan measures zero distance at 2 and a growing one away from it."""
+    from orchestrator.report.coupling import drag_scan
+    from orchestrator.scene.scenefile import load_scene
+    from orchestrator.transport.case_transport import scene_settings, transport_setup
+    from orchestrator.transport.engine import run_transport
+    from orchestrator.transport.flow import FlowField
+
+    scene = load_scene(Path(__file__).parent / "data" / "scenes" / "tiny-oneway-strike.yaml",
+                       ["transport.drag_coefficient=2.0"])
+    flow = FlowField.uniform_current(0.1, 0.8, x_m=(0.0, 2.4), y_m=(-0.2, 0.2), t_s=(0.0, 2.0))
+    bodies, flume, column = transport_setup(scene, flow)
+    reference = run_transport(bodies, flume, 0.6, flow=flow, column=column, settings=scene_settings(scene))
+    tracks = {b.name: reference.track(b.name) for b in bodies}
+    scan = drag_scan(scene, flow, tracks, until_s=0.6, end_s=0.6, coefficients=(1.0, 2.0, 3.0))
+    rms = dict(zip(scan["drag_coefficient"], scan["track_rms_m"]))
+    assert rms[2.0] < 1e-6 < rms[1.0] and rms[3.0] > 1e-4
+    assert scan["scene_default"].tolist() == [False, True, False]
+    strikes = reference.impacts[reference.impacts["other"] == "column"] if len(reference.impacts) else []
+    at_two = scan.set_index("drag_coefficient").loc[2.0, "strike_time_s"]
+    if len(strikes):
+        assert at_two == pytest.approx(float(strikes.iloc[0]["time_s"]))
+    else:
+        assert pd.isna(at_two)

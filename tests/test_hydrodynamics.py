@@ -55,7 +55,7 @@ def test_level_box_in_a_level_surface_displaces_footprint_times_depth():
 
 def test_drag_of_a_submerged_box_in_a_stream_is_half_rho_cd_a_u_squared():
     """Expected: F_x = 0.5 rho C_d (W H) U^2 on the frontal area, and along y on (L H)."""
-    c = HydroCoefficients(added_mass_coefficient=0.0)
+    c = HydroCoefficients(drag_coefficient=1.05, added_mass_coefficient=0.0)
     out = _loads((0.0, 0.0, 0.03), np.eye(3), 1.0, u=(0.8, 0.0, 0.0), coeffs=c)
     buoy = RHO * G * float(np.prod(SIZE))
     np.testing.assert_allclose(out.force_N[0], [0.5 * RHO * 1.05 * 0.06 * 0.06 * 0.64, 0.0, buoy], rtol=1e-12)
@@ -64,7 +64,7 @@ def test_drag_of_a_submerged_box_in_a_stream_is_half_rho_cd_a_u_squared():
 
 
 def test_partly_submerged_drag_uses_the_wetted_share_of_the_frontal_area():
-    c = HydroCoefficients(added_mass_coefficient=0.0)
+    c = HydroCoefficients(drag_coefficient=1.05, added_mass_coefficient=0.0)
     out = _loads((0.0, 0.0, 0.03), np.eye(3), 0.02, u=(1.0, 0.0, 0.0), coeffs=c)
     assert out.force_N[0, 0] == pytest.approx(0.5 * RHO * 1.05 * 0.06 * 0.02 * 1.0, rel=1e-12)
 

@@ -212,9 +212,11 @@ def cmd_report_layouts(args: argparse.Namespace) -> int:
 
 
 def cmd_report_coupling(args: argparse.Namespace) -> int:
-    from orchestrator.report.coupling import compare_coupling, write_coupling_report
+    from orchestrator.report.coupling import compare_coupling, scan_runs, write_coupling_report
 
     comparison = compare_coupling(args.one_way, args.two_way)
+    if args.drag_scan:
+        scan_runs(comparison)
     files = write_coupling_report(comparison, output_path(args.out, "-o/--out", args.force, folder=True))
     emit({kind: str(path) for kind, path in files.items()}, args.json)
     return EXIT_OK
@@ -327,6 +329,9 @@ def add_study_parsers(verbs) -> None:
                                              "cost (make compare-coupling)")
     p.add_argument("one_way", metavar="ONE_WAY", help="the one-way run's folder (post-processed)")
     p.add_argument("two_way", metavar="TWO_WAY", help="the two-way run's folder (post-processed)")
+    p.add_argument("--drag-scan", action="store_true",
+                   help="also carry the bodies through the one-way record at several drag coefficients and measure "
+                        "each against the two-way track (seconds each)")
     p.add_argument("-o", "--out", required=True, help="output folder (report.md, tables, figure)")
     p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
     p.add_argument("--json", action="store_true", help="print JSON")

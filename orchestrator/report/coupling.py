@@ -13,6 +13,11 @@ mesh, and writes into DIR:
     The two runs' figures, a row each: the track difference up to the first strike (RMS, largest,
     at the strike), the first strike on the column (time, body, velocity, obliquity, height, the
     water level at the column's face, pulse, base shear), cells and wall times.
+``drag_scan.csv``
+    The one-way transport carried again through the one-way run's own record at several drag
+    coefficients (``transport.drag_coefficient``), each against the two-way track up to the
+    two-way run's first strike (RMS and largest centre distance) and its own first strike: the
+    evidence for the coefficient's default (docs/one-way.md).
 ``coupling.png``
     The tracks' x and z against time, both runs, and the centres' distance, up to the end of the
     shorter run; the first strikes marked.
@@ -26,7 +31,7 @@ rebound differently by construction), or at the shorter run's end when neither s
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -38,10 +43,15 @@ from orchestrator.core.files import write_text_atomic
 from orchestrator.report.figures import legend, pyplot, save_figure
 from orchestrator.report.layouts import Layout, layout_row, load_layout
 from orchestrator.results.tables import write_table
+from orchestrator.transport.case_transport import case_flow, scene_settings, transport_setup
+from orchestrator.transport.engine import run_transport
+from orchestrator.transport.flow import FlowField
 
-__all__ = ["CouplingComparison", "compare_coupling", "write_coupling_report"]
+__all__ = ["CouplingComparison", "compare_coupling", "drag_scan", "write_coupling_report"]
 
 RUNS = ("one-way", "two-way")
+#: drag coefficients the scan carries the bodies through the one-way record with
+SCAN_DRAG_COEFFICIENTS = (1.05, 2.0, 2.5, 3.0, 3.5, 4.0)
 
 
 @dataclass
@@ -55,6 +65,8 @@ class CouplingComparison:
     tracks: pd.DataFrame
     table: pd.DataFrame
     same_mesh: bool
+    #: the drag-coefficient scan (:func:`drag_scan`); empty until run
+    scan: pd.DataFrame = field(default_factory=pd.DataFrame)
 
 
 def _checked(path: str | Path, coupling: str, argument: str) -> Layout:
@@ -76,21 +88,60 @@ def _track(lay: Layout, body: str) -> pd.DataFrame:
     return t.drop_duplicates("time_s", keep="last").sort_values("time_s").reset_index(drop=True)
 
 
+def _track_differences(one: pd.DataFrame, two: pd.DataFrame, body: str, until_s: float) -> pd.DataFrame:
+    """One body's one-way centre (interpolated) minus its two-way one at the two-way times up to until_s."""
+    two = two[two["time_s"] <= until_s + 1e-9]
+    t = two["time_s"].to_numpy(float)
+    d = {a: np.interp(t, one["time_s"], one[f"{a}_m"]) - two[f"{a}_m"].to_numpy(float) for a in "xyz"}
+    yaw = np.interp(t, one["time_s"], np.unwrap(np.radians(one["yaw_deg"])))
+    dyaw = np.degrees(yaw - np.unwrap(np.radians(two["yaw_deg"].to_numpy(float))))
+    return pd.DataFrame({"time_s": t, "body": body, "dx_m": d["x"], "dy_m": d["y"], "dz_m": d["z"],
+                         "distance_m": np.sqrt(d["x"] ** 2 + d["y"] ** 2 + d["z"] ** 2), "dyaw_deg": dyaw})
+
+
 def _differences(runs: dict[str, Layout], until_s: float) -> pd.DataFrame:
     rows = []
     for body in runs["two-way"].body_names:
         two, one = _track(runs["two-way"], body), _track(runs["one-way"], body)
-        if two.empty or one.empty:
-            continue
-        two = two[two["time_s"] <= until_s + 1e-9]
-        t = two["time_s"].to_numpy(float)
-        d = {a: np.interp(t, one["time_s"], one[f"{a}_m"]) - two[f"{a}_m"].to_numpy(float) for a in "xyz"}
-        yaw = np.interp(t, one["time_s"], np.unwrap(np.radians(one["yaw_deg"])))
-        dyaw = np.degrees(yaw - np.unwrap(np.radians(two["yaw_deg"].to_numpy(float))))
-        rows.append(pd.DataFrame({"time_s": t, "body": body, "dx_m": d["x"], "dy_m": d["y"], "dz_m": d["z"],
-                                  "distance_m": np.sqrt(d["x"] ** 2 + d["y"] ** 2 + d["z"] ** 2), "dyaw_deg": dyaw}))
+        if not (two.empty or one.empty):
+            rows.append(_track_differences(one, two, body, until_s))
     return pd.concat(rows, ignore_index=True) if rows else pd.DataFrame(
         columns=["time_s", "body", "dx_m", "dy_m", "dz_m", "distance_m", "dyaw_deg"])
+
+
+def drag_scan(scene, flow: FlowField, two_way_tracks: dict[str, pd.DataFrame], until_s: float, end_s: float,
+              coefficients=SCAN_DRAG_COEFFICIENTS) -> pd.DataFrame:
+    """The scene's bodies carried through ``flow`` to ``end_s`` once per drag coefficient; per
+    coefficient the centre distance to the two-way tracks up to ``until_s`` (RMS over bodies and
+    times, largest) and the first strike on the column (time, body, velocity)."""
+    rows = []
+    for cd in coefficients:
+        changed = scene.model_copy(update={"transport": scene.transport.model_copy(update={"drag_coefficient": cd})})
+        bodies, flume, column = transport_setup(changed, flow)
+        result = run_transport(bodies, flume, end_s, flow=flow, column=column, settings=scene_settings(changed))
+        diffs = [_track_differences(result.track(b), t, b, until_s) for b, t in two_way_tracks.items() if not t.empty]
+        dist = np.concatenate([d["distance_m"].to_numpy(float) for d in diffs]) if diffs else np.array([np.nan])
+        impacts = result.impacts
+        strikes = impacts[impacts["other"] == "column"] if len(impacts) else impacts
+        first = strikes.iloc[0] if len(strikes) else None
+        rows.append({"drag_coefficient": cd, "scene_default": cd == scene.transport.drag_coefficient,
+                     "track_rms_m": float(np.sqrt(np.mean(dist ** 2))), "track_max_m": float(np.max(dist)),
+                     "strike_time_s": None if first is None else float(first["time_s"]),
+                     "strike_body": None if first is None else first["body"],
+                     "strike_velocity_m_s": None if first is None else float(first["impact_velocity_m_s"])})
+    return pd.DataFrame(rows)
+
+
+def scan_runs(cmp: CouplingComparison, coefficients=SCAN_DRAG_COEFFICIENTS) -> pd.DataFrame:
+    """:func:`drag_scan` on the one-way run's own record against the two-way run, up to the
+    two-way run's first strike (its end when it has none); fills ``cmp.scan``."""
+    one, two = cmp.runs["one-way"], cmp.runs["two-way"]
+    flow, _ = case_flow(one.case, say=lambda _: None)
+    strike = _first_strike(two)
+    until = float(strike["time_s"]) if strike else float(two.summary.get("reached_time_s") or cmp.until_s)
+    end = float(one.summary.get("reached_time_s") or until)
+    cmp.scan = drag_scan(one.scene, flow, {b: _track(two, b) for b in two.body_names}, until, end, coefficients)
+    return cmp.scan
 
 
 def _background_cells(lay: Layout) -> int | None:
@@ -192,6 +243,19 @@ def markdown(cmp: CouplingComparison, figure: str | None) -> str:
               f"| flow solver wall time (master rank's CPU) | {_minutes(one.get('flow_wall_s'))} "
               f"({_minutes(one.get('flow_cpu_s'))}) | {_minutes(two.get('flow_wall_s'))} ({_minutes(two.get('flow_cpu_s'))}) |",
               f"| transport wall time | {_f(one.get('transport_wall_s'), '.1f', ' s')} | - |", ""]
+    if not cmp.scan.empty:
+        lines += ["## The drag coefficient", "",
+                  "The one-way transport carried again through the same record at other drag coefficients "
+                  "(`transport.drag_coefficient`; the scene's value marked), each against the two-way track up to the "
+                  "two-way run's first strike; `drag_scan.csv`.", "",
+                  "| C_d | centre distance, RMS | largest | first strike | its velocity |", "|---|---|---|---|---|"]
+        for r in cmp.scan.to_dict("records"):
+            cd = f"**{r['drag_coefficient']:g}** (the scene's)" if r["scene_default"] else f"{r['drag_coefficient']:g}"
+            lines.append(f"| {cd} | {_f(r['track_rms_m'], '.3f', ' m')} | {_f(r['track_max_m'], '.3f', ' m')} | "
+                         f"{_f(r['strike_time_s'], '.3f', ' s')} | {_f(r['strike_velocity_m_s'], '.2f', ' m/s')} |")
+        two_strike = two.get("strike_time_s")
+        lines += ["", f"The two-way run's first strike: {_f(two_strike, '.3f', ' s')} at "
+                  f"{_f(two.get('strike_impact_velocity_m_s'), '.2f', ' m/s')}.", ""]
     if figure:
         lines += [f"![tracks]({figure})", "",
                   "The bodies' x and z against time in both runs and the distance between their centres; the "
@@ -228,6 +292,7 @@ def write_coupling_report(cmp: CouplingComparison, out_dir: str | Path) -> dict[
     out.mkdir(parents=True, exist_ok=True)
     written = {"coupling": write_table(cmp.table, out / "coupling.csv"),
                "track_difference": write_table(cmp.tracks, out / "track_difference.csv"),
+               **({"drag_scan": write_table(cmp.scan, out / "drag_scan.csv")} if not cmp.scan.empty else {}),
                "figure": _figure(cmp, out / "coupling.png")}
     written["report"] = write_text_atomic(out / "report.md", markdown(cmp, written["figure"].name))
     return written

@@ -333,7 +333,9 @@ class Transport(SceneSection):
 
     drag_coefficient: float = Field(
         DEFAULT_DRAG_COEFFICIENT, ge=0, le=5, description="C_d of a body face-on to the relative flow, on each "
-        "body axis; 0 switches drag off (a box face-on: about 1.05 for a cube, 1.0-1.2 for blocks, Hoerner 1965)")
+        "body axis; 0 switches drag off. The default is calibrated so that one-way transport reproduces the coupled "
+        "run of the study's container in its bore (docs/one-way.md); in unbounded flow a box face-on has about 1.05 "
+        "(a cube) to 1.0-1.2 (blocks), Hoerner 1965")
     added_mass_coefficient: float = Field(
         DEFAULT_ADDED_MASS_COEFFICIENT, ge=0, le=5, description="C_a of the submerged volume, added to the water's "
         "inertia force and to the body's translational inertia; 0 switches it off (DNV-RP-C205: 0.68 for a cube, "
