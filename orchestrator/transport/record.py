@@ -27,10 +27,9 @@ what is missing.
 Size on disk (measured). The raw text is about 135 bytes a point a frame (both files, 10
 digits); the .npz (``velocity_m_s`` float32, ``eta_m`` float64, compressed) about 11. The
 tiny one-way test scene: 2,870 points, 32 kB a frame against 379 kB of text. cases/1debris.yaml
-at its 4 cm cells, one-way (480 steps, 5.1 min of interFoam on 2 cores): 62 x 38 x 19 =
-44,764 points (380 in the column's hole), 176 frames to 3.5 s; 6.0 MB of text a frame, 1.06 GB
-in all; the .npz 0.51 MB a frame, 89 MB in all; reading it took 15 s. :class:`RecordFiles`
-returns the figures of each conversion.
+at its 4 cm cells, one-way (480 steps, 2.8 min of interFoam on 2 cores): 84 x 38 x 19 =
+60,648 points, 176 frames to 3.5 s; 8.1 MB of text a frame, 1.43 GB in all; the .npz 0.59 MB a
+frame, 104 MB in all. :class:`RecordFiles` returns the figures of each conversion.
 """
 
 from __future__ import annotations
