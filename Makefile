@@ -18,7 +18,7 @@ help:
 	@echo "make venv                   the Python environment only (.venv, the package installed editable)"
 	@echo "make case-1debris [CELL=m] [COUPLING=two-way]  the study's 1-debris scene, end to end (one-way: about 4 min on 2 idle cores; two-way: about 60 min)"
 	@echo "make results-1debris        after it: its table, plots and summary to docs/results/case-1debris/"
-	@echo "make ensemble-1debris [N=100] the 1-debris flow once, N perturbed starts through it (runs/ensemble-1debris)"
+	@echo "make ensemble-1debris [N=100] the 1-debris flow once, N perturbed starts through it (runs/ensemble-1debris, docs/results/ensemble-1debris)"
 	@echo "make case-layouts           the study's four debris layouts one-way (about 25 min on 2 cores), then results-layouts"
 	@echo "make results-layouts        after it: the layouts side by side to docs/results/layouts/"
 	@echo "make sweep SWEEP=mesh-study a sweep from cases/sweeps/ (runs/sweeps/<name>; run again to resume)"
@@ -87,6 +87,9 @@ results-layouts: venv
 N ?= 100
 ensemble-1debris: venv openfoam
 	$(VENV)/bin/debrisfoam ensemble cases/1debris.yaml -n $(N) -o runs/ensemble-1debris --force
+	mkdir -p docs/results/ensemble-1debris
+	cp runs/ensemble-1debris/report.md runs/ensemble-1debris/ensemble.json runs/ensemble-1debris/histograms.png \
+	   runs/ensemble-1debris/envelope.png docs/results/ensemble-1debris/
 
 # make sweep SWEEP=mesh-study [EXECUTOR=dask]: cases/sweeps/$(SWEEP).yaml -> runs/sweeps/<name>
 SWEEP    ?= mesh-study
