@@ -12,7 +12,7 @@ COUPLING ?=
 OUT      ?= runs/1debris$(if $(COUPLING),-$(COUPLING),)
 CASE_SET := $(if $(CELL),--set mesh.cell_size_m=$(CELL),) $(if $(COUPLING),--set run.debris_coupling=$(COUPLING),)
 
-.PHONY: help venv openfoam test test-fast case-1debris case-layouts results-layouts compare-coupling sweep speed-error speed-error-debris stability synthetic-study contact-law results-1debris ensemble-1debris scene-doc bench clean
+.PHONY: help venv openfoam test test-fast case-1debris case-layouts results-layouts compare-coupling sweep speed-error speed-error-debris stability synthetic-study contact-law results-1debris ensemble-1debris scene-doc bench bench-transport clean
 
 help:
 	@echo "make venv                   the Python environment only (.venv, the package installed editable)"
@@ -31,6 +31,7 @@ help:
 	@echo "make scene-doc              docs/scene.md, the scene reference, from the schema"
 	@echo "make contact-law            calibrate the contact law on Table 1, check it on Table 2 (docs/results/contact-law/)"
 	@echo "make bench                  benchmarks (figures go to benchmarks/*.md)"
+	@echo "make bench-transport        one-way transport and ensemble benchmarks (benchmarks/transport.md, ensemble.md)"
 
 venv: $(STAMP)
 $(STAMP): pyproject.toml
@@ -117,12 +118,16 @@ speed-error-debris: venv openfoam
 # two-way (overset, about 25 min) and one-way (about 3 min) on the same background mesh, then
 # the tracks' difference, the strikes and the cost side by side in docs/results/coupling/.
 # A finished run is reused (run it again to resume); runs/coupling/two-way is the 4 cm member of
-# make speed-error-debris, which a copy of that member serves.
-COMPARE_SET = --set run.end_time_s=2.1
+# make speed-error-debris, which a copy of that member serves. Another scene:
+#   make compare-coupling COMPARE_SCENE=cases/1debris.yaml COMPARE_SET= COMPARE_NAME=coupling-1debris
+# (the study's own layout, 3.5 s: about 60 min two-way).
+COMPARE_SCENE ?= cases/hard/short-flume.yaml
+COMPARE_SET   ?= --set run.end_time_s=2.1
+COMPARE_NAME  ?= coupling
 compare-coupling: venv openfoam
-	-$(NICE) $(VENV)/bin/debrisfoam case cases/hard/short-flume.yaml $(COMPARE_SET) -o runs/coupling/two-way
-	-$(NICE) $(VENV)/bin/debrisfoam case cases/hard/short-flume.yaml $(COMPARE_SET) --set run.debris_coupling=one-way -o runs/coupling/one-way
-	$(VENV)/bin/debrisfoam report coupling runs/coupling/one-way runs/coupling/two-way --drag-scan -o docs/results/coupling --force
+	-$(NICE) $(VENV)/bin/debrisfoam case $(COMPARE_SCENE) $(COMPARE_SET) --set run.debris_coupling=two-way -o runs/$(COMPARE_NAME)/two-way
+	-$(NICE) $(VENV)/bin/debrisfoam case $(COMPARE_SCENE) $(COMPARE_SET) --set run.debris_coupling=one-way -o runs/$(COMPARE_NAME)/one-way
+	$(VENV)/bin/debrisfoam report coupling runs/$(COMPARE_NAME)/one-way runs/$(COMPARE_NAME)/two-way --drag-scan -o docs/results/$(COMPARE_NAME) --force
 
 # The hard cases (cases/hard/, about 2 h on 2 cores), then their table in docs/stability.md.
 stability: venv openfoam
@@ -142,6 +147,12 @@ contact-law: venv
 bench: venv
 	$(PY) benchmarks/bench_analytical.py
 	$(PY) benchmarks/bench_preview.py
+
+# One-way transport (benchmarks/transport.md) and ensembles through one flow
+# (benchmarks/ensemble.md: runs the 1-debris and 2x3 ensembles, their flows once, about 15 min).
+bench-transport: venv openfoam
+	$(NICE) $(PY) benchmarks/bench_transport.py
+	$(NICE) $(PY) benchmarks/bench_ensemble.py
 
 clean:
 	rm -rf $(VENV) .pytest_cache build *.egg-info
