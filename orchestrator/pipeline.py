@@ -37,16 +37,37 @@ def default_case_dir(scene_path: str | Path) -> Path:
     return Path("runs") / Path(scene_path).stem
 
 
+#: what only a one-way run uses: a case of another coupling does not depend on it
+ONE_WAY_ONLY = {"transport": None, "outputs": ("flow_record_hz",)}
+
+
+def _modelled(scene_dump: dict, coupling: str | None) -> dict:
+    """The resolved scene without what the case's coupling does not use."""
+    if coupling == "one-way":
+        return scene_dump
+    out = dict(scene_dump)
+    for section, keys in ONE_WAY_ONLY.items():
+        if keys is None:
+            out.pop(section, None)
+        elif isinstance(out.get(section), dict):
+            out[section] = {k: v for k, v in out[section].items() if k not in keys}
+    return out
+
+
 def _same_case(case: Path, scene) -> bool:
     """Does `case` hold this scene? Compared as resolved scenes, so a case rendered before a
-    new scene key (with its default) was added is still the same case."""
-    existing = CaseFolder(case).scene_path
-    if not existing.is_file():
+    new scene key (with its default) was added is still the same case; keys the case's
+    coupling does not use (a two-way case: the one-way transport's) are left out, so a changed
+    default there does not make a finished coupled run another case."""
+    folder = CaseFolder(case)
+    if not folder.scene_path.is_file():
         return False
     try:
-        return load_scene(existing).model_dump() == scene.model_dump()
+        existing = load_scene(folder.scene_path).model_dump()
     except InputError:
         return False
+    coupling = (folder.plan() or {}).get("debris_coupling")
+    return _modelled(existing, coupling) == _modelled(scene.model_dump(), coupling)
 
 
 def _plan_warnings(case: Path) -> list[str]:

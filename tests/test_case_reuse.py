@@ -1,0 +1,34 @@
+"""A case folder is reused when it holds the same case (orchestrator.pipeline.prepare_case).
+
+"The same" is the resolved scene, less what the case's coupling does not use: a two-way case
+does not depend on the one-way transport's keys, so a changed default there (or a --set of
+one) does not turn a finished coupled run into another case; a one-way case does depend on
+them. Rendering only, no OpenFOAM.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from analytical.errors import InputError
+from orchestrator.pipeline import prepare_case
+from tests.conftest import ROOT
+
+TWO_WAY = ROOT / "cases" / "hard" / "small" / "tiny-flume.yaml"
+ONE_WAY = ROOT / "tests" / "data" / "scenes" / "tiny-oneway-strike.yaml"
+
+
+def test_a_two_way_case_is_the_same_whatever_the_transport_keys(tmp_path):
+    case, rendered = prepare_case(TWO_WAY, tmp_path / "two")
+    assert rendered
+    again, rendered = prepare_case(TWO_WAY, case, ["transport.drag_coefficient=1.5", "outputs.flow_record_hz=100"])
+    assert (again, rendered) == (case, False)
+    with pytest.raises(InputError, match="different case"):
+        prepare_case(TWO_WAY, case, ["run.end_time_s=0.7"])
+
+
+def test_a_one_way_case_depends_on_its_transport_keys(tmp_path):
+    case, _ = prepare_case(ONE_WAY, tmp_path / "one")
+    assert prepare_case(ONE_WAY, case) == (case, False)
+    with pytest.raises(InputError, match="different case"):
+        prepare_case(ONE_WAY, case, ["transport.drag_coefficient=1.5"])
