@@ -454,6 +454,7 @@ def ensemble(scene_path: str | Path, out_dir: str | Path, n: int, seed: int = 0,
     out = Path(out_dir)
     scene, case, flow, npz = ensemble_flow(scene_path, out / "flow", sets, quiet=quiet,
                                            stream=sys.stderr if quiet else None, say=say)
+    flow_wall_s = time.perf_counter() - t0
     bodies, flume, column = transport_setup(scene, flow)
     t_end = float(scene.run.end_time_s)
     starts = ensemble_starts(bodies, flume, column, perturbation, seed, int(n))
@@ -464,6 +465,9 @@ def ensemble(scene_path: str | Path, out_dir: str | Path, n: int, seed: int = 0,
     table = pd.DataFrame([row for r in runs for row in r.rows], columns=TABLE_COLUMNS)
     tracks = pd.concat([r.tracks for r in runs], ignore_index=True)[TRACK_COLUMNS]
     summary = summarise(table, int(n), time.perf_counter() - t0)
+    # the flow phase (run, or a finished flow and its record loaded) and the realisations after it
+    summary.update(flow_phase_wall_s=round(flow_wall_s, 2),
+                   realisations_wall_s=round(float(summary["wall_time_s"]) - flow_wall_s, 2))
     summary.update(scene=str(scene_path), overrides=list(sets), flow_case=str(case), flow_record=str(npz),
                    end_time_s=t_end, seed=int(seed), executor=executor,
                    workers=int(workers or os.cpu_count() or 1), perturbation=perturbation.to_dict(),
