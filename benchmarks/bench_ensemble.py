@@ -66,7 +66,7 @@ def main() -> None:
         f"({coupled / 60:.1f} min, docs/results/case-1debris-two-way)." if coupled else "", "",
         f"Machine: 2 cores; load average at the end {load[0]:.1f} / {load[1]:.1f} / {load[2]:.1f} (1 / 5 / 15 min).", "",
         "| scene | bodies | realisations | workers | the flow, once (solver) | realisations' wall | a realisation "
-        "| s of CPU per body-second | realisations / flow | realisations / one coupled run | target |",
+        "| realisation s per body-second | realisations / flow | realisations / one coupled run | target |",
         "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|",
         *rows, ""])
     (ROOT / "benchmarks" / "ensemble.md").write_text(text)
