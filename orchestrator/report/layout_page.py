@@ -11,10 +11,11 @@ import pandas as pd
 
 from orchestrator.results.compare import SPREADING_ANGLES_DEG
 
-__all__ = ["CONTACT_ROWS", "markdown"]
+__all__ = ["CONTACT_ROWS", "figure_text", "markdown", "minutes_text"]
 
 
-def _f(value, spec: str = ".3f", unit: str = "") -> str:
+def figure_text(value, spec: str = ".3f", unit: str = "") -> str:
+    """``value`` formatted with ``spec`` and ``unit``; "-" for a missing or non-finite one."""
     try:
         v = float(value)
     except (TypeError, ValueError):
@@ -22,8 +23,9 @@ def _f(value, spec: str = ".3f", unit: str = "") -> str:
     return f"{v:{spec}}{unit}" if np.isfinite(v) else "-"
 
 
-def _minutes(seconds) -> str:
-    return _f(seconds / 60 if seconds is not None else None, ".1f", " min")
+def minutes_text(seconds) -> str:
+    """Seconds as minutes to 0.1 min; "-" when missing."""
+    return figure_text(seconds / 60 if seconds is not None else None, ".1f", " min")
 
 
 #: Records of two layouts whose largest difference is under this fraction of their peak are the same.
@@ -39,10 +41,10 @@ def _ranks(done: list) -> str:
 
 def _transport(row: dict) -> str:
     """The transport's wall time, and its MuJoCo stepping and column pulses where run.json has them."""
-    total = _f(row.get("transport_wall_s"), ".1f", " s")
+    total = figure_text(row.get("transport_wall_s"), ".1f", " s")
     if row.get("transport_stepping_s") is None or row.get("transport_pulses_s") is None:
         return total
-    return f"{total} ({_f(row['transport_stepping_s'], '.1f')} stepping + {_f(row['transport_pulses_s'], '.1f')} pulses)"
+    return f"{total} ({figure_text(row['transport_stepping_s'], '.1f')} stepping + {figure_text(row['transport_pulses_s'], '.1f')} pulses)"
 
 
 def _runs_table(layouts: list, table: pd.DataFrame) -> list[str]:
@@ -55,14 +57,14 @@ def _runs_table(layouts: list, table: pd.DataFrame) -> list[str]:
             continue
         first = "-"
         if row.get("column_strikes"):
-            first = (f"{row['first_strike_body']}, {_f(row['first_strike_time_s'])} s, "
-                     f"{_f(row['first_strike_velocity_m_s'], '.2f')} m/s, {_f(row['first_strike_peak_force_N'], '.0f')} N")
+            first = (f"{row['first_strike_body']}, {figure_text(row['first_strike_time_s'])} s, "
+                     f"{figure_text(row['first_strike_velocity_m_s'], '.2f')} m/s, {figure_text(row['first_strike_peak_force_N'], '.0f')} N")
         lines.append(
-            f"| {lay.name} | {row['bodies']} | {_f(row['cells'], ',.0f')} | {_minutes(row['flow_wall_s'])} (CPU {_minutes(row.get('flow_cpu_s'))}) | "
-            f"{_f(row['mesh_wall_s'], '.0f', ' s')} | {_transport(row)} | "
+            f"| {lay.name} | {row['bodies']} | {figure_text(row['cells'], ',.0f')} | {minutes_text(row['flow_wall_s'])} (CPU {minutes_text(row.get('flow_cpu_s'))}) | "
+            f"{figure_text(row['mesh_wall_s'], '.0f', ' s')} | {_transport(row)} | "
             f"{row['column_strikes']} ({row['strikes_per_body']}) | {first} | "
-            f"{_f(row.get('max_base_shear_N'), '.0f', ' N')} | {row['body_contacts']} | {row['wall_contacts']} / {row['record_end_contacts']} | "
-            f"{_f(row.get('max_spread_deg'), '.1f', ' deg')} |")
+            f"{figure_text(row.get('max_base_shear_N'), '.0f', ' N')} | {row['body_contacts']} | {row['wall_contacts']} / {row['record_end_contacts']} | "
+            f"{figure_text(row.get('max_spread_deg'), '.1f', ' deg')} |")
     return lines
 
 
@@ -78,8 +80,8 @@ def _worst(agreement: pd.DataFrame) -> tuple[float, float, float, float]:
 
 def _differences(agreement: pd.DataFrame) -> str:
     g, gf, f, ff = _worst(agreement)
-    return (f"the gauges by at most {_f(1e3 * g, '.1f', ' mm')} ({_f(100 * gf, '.1f', ' %')} of a peak), the "
-            f"hydrodynamic force by at most {_f(f, '.2f', ' N')} ({_f(100 * ff, '.1f', ' %')} of its peak)")
+    return (f"the gauges by at most {figure_text(1e3 * g, '.1f', ' mm')} ({figure_text(100 * gf, '.1f', ' %')} of a peak), the "
+            f"hydrodynamic force by at most {figure_text(f, '.2f', ' N')} ({figure_text(100 * ff, '.1f', ' %')} of its peak)")
 
 
 def _flow_text(layouts: list, agreement: pd.DataFrame, agree) -> list[str]:
@@ -95,17 +97,17 @@ def _flow_text(layouts: list, agreement: pd.DataFrame, agree) -> list[str]:
         unit = rows["unit"].iloc[0]
         peaks = {r.layout: r for r in rows.itertuples()}
         spec = ".3f" if unit == "m" else ".1f"
-        cells = [f"{_f(peaks[lay.name].peak, spec, ' ' + unit)} at {_f(peaks[lay.name].time_of_peak_s, '.2f')} s"
+        cells = [f"{figure_text(peaks[lay.name].peak, spec, ' ' + unit)} at {figure_text(peaks[lay.name].time_of_peak_s, '.2f')} s"
                  if lay.name in peaks else "-" for lay in done]
         w = rows.loc[rows["max_abs_diff"].fillna(-1).idxmax()]
         lines.append(f"| {quantity} | " + " | ".join(cells) +
-                     f" | {_f(w['max_abs_diff'], '.4f' if unit == 'm' else '.2f', ' ' + unit)} "
-                     f"({_f(100 * w['max_abs_diff_fraction_of_peak'], '.1f', ' %')} of the peak; {w['layout']}) |")
+                     f" | {figure_text(w['max_abs_diff'], '.4f' if unit == 'm' else '.2f', ' ' + unit)} "
+                     f"({figure_text(100 * w['max_abs_diff_fraction_of_peak'], '.1f', ' %')} of the peak; {w['layout']}) |")
     groups = _plan_groups(done)
     same = [g for g in groups.values() if len(g) > 1]
     text = (f"Against {ref}, the other layouts' records differ: {_differences(agreement)}. The plans: "
-            + "; ".join(f"{', '.join(lay.name for lay in g)}: {cells:,} cells, domain x {_f(x0, '.2f')} to "
-                        f"{_f(x1, '.2f')} m, run to {_f(end, 'g')} s" for (cells, x0, x1, end), g in groups.items())
+            + "; ".join(f"{', '.join(lay.name for lay in g)}: {cells:,} cells, domain x {figure_text(x0, '.2f')} to "
+                        f"{figure_text(x1, '.2f')} m, run to {figure_text(end, 'g')} s" for (cells, x0, x1, end), g in groups.items())
             + ("" if len(groups) < 2 else " (the planner truncates the reservoir so that the wave reflected from its "
                "upstream end does not reach the gate region within the run's end time: plan.json, "
                "reasons.reservoir_length)") + ".")
@@ -153,11 +155,11 @@ def _strike_table(lay) -> list[str]:
              "yaw / pitch / roll | peak force | duration | impulse | peak base shear of the strike alone |",
              "|" + "---|" * 13]
     for i, r in enumerate(s.itertuples(), 1):
-        lines.append(f"| {i} | {r.body} | {r.strike} | {_f(r.time_s)} s | {_f(r.impact_velocity_m_s, '.2f')} m/s | "
-                     f"{_f(r.obliquity_deg, '.0f')} deg | {_f(r.height_m)} m | {_f(r.face_water_level_m)} m | "
-                     f"{_f(r.yaw_deg, '.0f')} / {_f(r.pitch_deg, '.0f')} / {_f(r.roll_deg, '.0f')} deg | "
-                     f"{_f(r.peak_force_N, '.0f')} N | {_f(1e3 * r.duration_s, '.2f')} ms | {_f(r.impulse_Ns)} N s | "
-                     f"{_f(r.peak_base_shear_N, '.0f')} N |")
+        lines.append(f"| {i} | {r.body} | {r.strike} | {figure_text(r.time_s)} s | {figure_text(r.impact_velocity_m_s, '.2f')} m/s | "
+                     f"{figure_text(r.obliquity_deg, '.0f')} deg | {figure_text(r.height_m)} m | {figure_text(r.face_water_level_m)} m | "
+                     f"{figure_text(r.yaw_deg, '.0f')} / {figure_text(r.pitch_deg, '.0f')} / {figure_text(r.roll_deg, '.0f')} deg | "
+                     f"{figure_text(r.peak_force_N, '.0f')} N | {figure_text(1e3 * r.duration_s, '.2f')} ms | {figure_text(r.impulse_Ns)} N s | "
+                     f"{figure_text(r.peak_base_shear_N, '.0f')} N |")
     return lines
 
 
@@ -166,13 +168,13 @@ def _contact_lines(lay) -> list[str]:
     if not len(bc):
         return [f"No contact between two bodies; {_walls(lay)}."]
     approach = bc["approach_velocity_m_s"].abs()
-    lines = [f"{len(bc)} contacts between two bodies, from {_f(bc['time_s'].min())} s to {_f(bc['time_s'].max())} s; "
-             f"relative velocity along the contact normal {_f(approach.min(), '.2f')}-{_f(approach.max(), '.2f')} m/s "
-             f"(median {_f(approach.median(), '.2f')} m/s); {_walls(lay)}.",
+    lines = [f"{len(bc)} contacts between two bodies, from {figure_text(bc['time_s'].min())} s to {figure_text(bc['time_s'].max())} s; "
+             f"relative velocity along the contact normal {figure_text(approach.min(), '.2f')}-{figure_text(approach.max(), '.2f')} m/s "
+             f"(median {figure_text(approach.median(), '.2f')} m/s); {_walls(lay)}.",
              "", "| time | bodies | approach velocity | separation velocity | restitution |", "|---|---|---|---|---|"]
     for r in bc.sort_values("time_s").head(CONTACT_ROWS).itertuples():
-        lines.append(f"| {_f(r.time_s)} s | {r.body} - {r.other} | {_f(abs(r.approach_velocity_m_s), '.3f')} m/s | "
-                     f"{_f(r.separation_velocity_m_s, '.3f')} m/s | {_f(r.restitution, '.2f')} |")
+        lines.append(f"| {figure_text(r.time_s)} s | {r.body} - {r.other} | {figure_text(abs(r.approach_velocity_m_s), '.3f')} m/s | "
+                     f"{figure_text(r.separation_velocity_m_s, '.3f')} m/s | {figure_text(r.restitution, '.2f')} |")
     if len(bc) > CONTACT_ROWS:
         lines.append(f"\nThe first {CONTACT_ROWS} of {len(bc)}; all in `body_contacts.csv`.")
     return lines
@@ -187,8 +189,8 @@ def _record_end(lay) -> list[str]:
     if not lay.at_record_end:
         return []
     region = ((lay.plan.get("flow_record") or {}).get("region_m") or [[None, None]])[0]
-    bodies = ", ".join(f"{b} from {_f(t)} s (x = {_f(x, '.2f')} m)" for b, (t, x) in lay.at_record_end.items())
-    return [f"The flow is recorded over x = {_f(region[0], '.2f')} to {_f(region[1], '.2f')} m (plan.json, "
+    bodies = ", ".join(f"{b} from {figure_text(t)} s (x = {figure_text(x, '.2f')} m)" for b, (t, x) in lay.at_record_end.items())
+    return [f"The flow is recorded over x = {figure_text(region[0], '.2f')} to {figure_text(region[1], '.2f')} m (plan.json, "
             "`flow_record.region_m`: the bodies' starts less a margin to the modelled flume's downstream end); the "
             "transport closes the record's ends with walls, so a body that gets there stays there. Reached the end: "
             f"{bodies}; {lay.end_contacts} contacts with those walls. From then on their tracks and any strikes or "
@@ -206,7 +208,7 @@ def _spread_line(lay) -> str:
         if key in sp:
             inside = int(sp[key].astype(str).eq("True").sum())
             parts.append(f"{inside} of {len(sp)} bodies stayed inside {name}'s {spec['half_angle_deg']:g} deg area")
-    return (f"Largest spreading angle of a track from the start line: {_f(sp['max_spread_deg'].max(), '.1f', ' deg')}; "
+    return (f"Largest spreading angle of a track from the start line: {figure_text(sp['max_spread_deg'].max(), '.1f', ' deg')}; "
             + "; ".join(parts) + ".")
 
 
