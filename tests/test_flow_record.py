@@ -151,7 +151,11 @@ def test_tiny_one_way_run_records_the_flow(tiny_scene, tmp_path, openfoam):
 
     out = read_flow_record(case)
     field = out.field
-    assert np.allclose(field.t_s, np.arange(11) * 0.02, atol=1e-9)
+    # one frame per 0.02 s, each within half a step (at most 0.01 s) of its multiple; the last at
+    # the end time itself (the step that reaches it is the one whose midpoint passes 0.2 s)
+    assert field.t_s.size == 11 and field.t_s[0] == 0.0
+    assert np.all(np.abs(field.t_s - np.arange(11) * 0.02) <= 0.005 + 1e-9)
+    assert field.t_s[-1] == pytest.approx(0.2, abs=1e-9) and field.meta["last_frame_held_s"] == 0.0
     assert out.bytes_per_frame < 0.2 * out.raw_bytes / (out.frames - 1)  # the .npz is far smaller than the text
     x, eta = np.asarray(field.x_m), field.eta_m
     # the reservoir: the impoundment at t = 0 and, at its upstream end, at the first recorded frame

@@ -7,6 +7,7 @@ interFoam and of overInterDyMFoam (one and two bodies) on 2 cores.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import re
 import time
@@ -184,6 +185,25 @@ def test_interfoam_runs_a_few_steps_on_two_cores(tmp_path, openfoam):
     z, alpha = zip(*(map(float, ln.split()) for ln in (gauges[0] / "WG1_alpha.water.xy").read_text().splitlines()))
     depth = sum((z[i + 1] - z[i]) * (alpha[i] + alpha[i + 1]) / 2 for i in range(len(z) - 1))
     assert depth == pytest.approx(0.3, abs=0.03)
+
+
+@pytest.mark.openfoam
+def test_sampling_every_step_or_so_keeps_the_solvers_courant_step(tmp_path, openfoam):
+    """Gauges and column forces every 0.01 s while the Courant-limited step is 4-6 ms (the 2-D
+    flume, maxCo 0.25). On adjustableRunTime v1912 rounds the steps left to each sample to the
+    nearest whole number and so lengthened steps to Co 0.336 (1.34 maxCo); the samples write on
+    runTime, and the largest Courant number stays within 20 % of maxCo (0.280 measured: the
+    solver sets each step from the last step's Courant number)."""
+    plan = dataclasses.replace(flume_plan(0, h=0.04, two_d=True, end_time_s=0.6, decomposition=(1, 1, 1)),
+                               max_delta_t_s=0.01, max_courant=0.25, write_interval_s=0.1)
+    case = render_case({}, plan, tmp_path / "case")
+    _run_all(case, plan)
+    log = (case / "log.interFoam").read_text()
+    courant = [float(c) for c in re.findall(r"^Courant Number mean: \S+ max: (\S+)", log, re.M)]
+    steps = [float(d) for d in re.findall(r"^deltaT = (\S+)", log, re.M)]
+    assert max(steps) > 0.004  # fewer than three steps between samples: where the rounding bites
+    assert max(courant) > 0.9 * 0.25  # the step is Courant-limited
+    assert max(courant) <= 1.2 * 0.25
 
 
 @pytest.mark.openfoam

@@ -1,7 +1,8 @@
 """The flow a one-way run recorded, read into a :class:`~orchestrator.transport.flow.FlowField`.
 
 A one-way plan (``plan.debris_coupling == "one-way"``) records alpha.water and U on its
-``flow_record`` grid: one ``sets`` function object writes, every ``interval_s`` of simulated time,
+``flow_record`` grid: one ``sets`` function object writes, once in every ``interval_s`` of simulated
+time (at the first time step at or past each multiple, so frames are about ``interval_s`` apart),
 ``postProcessing/<name>/<time>/<name>_alpha.water.xy`` and ``<name>_U.xy``, one line per point
 ("x y z values", each sample its cell's value). :func:`read_flow_record` grids them:
 
@@ -85,12 +86,18 @@ def _one_way_plan(folder: CaseFolder) -> ModelPlan:
 
 
 def _frames(base: Path, record: FlowRecordPlan, end_time_s: float) -> list[tuple[float, Path]]:
-    """The written frames, checked against every interval up to the end time."""
+    """The written frames, checked against every interval up to the end time.
+
+    The record writes on ``runTime``: v1912 samples at the first time step t with t + dt/2 past
+    a multiple t_k of the interval, so frame k lies within half a step of t_k; a step is at most
+    the interval (the plan's maxDeltaT), so each t_k has its frame within half an interval."""
     found = [(t, p) for t, p in numeric_dirs(base) if t > EPS_T]
     step = record.interval_s
     expected = np.arange(1, int(np.floor(end_time_s / step + 1e-6)) + 1) * step
     have = np.array([t for t, _ in found])
-    missing = [float(t) for t in expected if not have.size or np.min(np.abs(have - t)) > 1e-6 * max(1.0, t)]
+    tol = 1e-6 * max(1.0, end_time_s)
+    missing = [float(t) for t in expected
+               if not have.size or not np.any(np.abs(have - t) <= 0.5 * step + tol)]
     if missing:
         last = float(have.max()) if have.size else 0.0
         gaps = [t for t in missing if t < last]
@@ -198,11 +205,18 @@ def read_flow_record(case_dir: str | Path, *, delete_raw: bool = False, end_time
     levels = np.concatenate([[bed], zs, [faces[-1]]])
     u = np.concatenate([u[..., :1, :], u, u[..., -1:, :]], axis=-2)
     times = np.concatenate([[0.0], [t for t, _ in frames]])
+    held = 0.0
+    if times[-1] < end - 1e-6 * max(1.0, end):
+        # the last sample fell within half a step before the end (the step to the end began past
+        # its t + dt/2): the last frame is held to the end time
+        held = end - float(times[-1])
+        times = np.append(times, end)
+        eta, u = np.concatenate([eta, eta[-1:]]), np.concatenate([u, u[-1:]])
     fluids = _fluids(folder)
     field = FlowField(times, xs, ys, levels, bed, eta, u, *fluids, meta={
         "case": str(folder.path), "solver": plan.solver, "record": record.name, "interval_s": record.interval_s,
         "t0": "the plan's initial water at rest (not written by the function object)",
-        "hole_points": int((~seen).sum()), "raw_bytes": int(raw)})
+        "hole_points": int((~seen).sum()), "raw_bytes": int(raw), "last_frame_held_s": held})
     path = npz
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(path.name + ".tmp")
