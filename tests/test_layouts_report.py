@@ -82,7 +82,7 @@ def synthetic_case(case: Path, name: str, wg2_offset_m: float = 0.0, force_offse
     _write(results / "impacts.csv", pd.DataFrame(impacts))
     (case / "contacts.json").write_text(json.dumps([
         {"event": 1, "type": "impact", "kind": "column"},
-        {"event": 2, "type": "transport_contact", "kind": "wall", "body": "debris2", "other": "wall_y1"},
+        {"event": 2, "type": "impact", "kind": "wall", "body": "debris2", "other": "wall_y1"},
         {"event": 5, "type": "transport_contact", "kind": "wall", "body": "debris1", "other": "wall_x1", "time_s": 0.18,
          "point_m": [1.6, 0.0, 0.03]},
         {"event": 6, "type": "transport_contact", "kind": "wall", "body": "debris1", "other": "wall_x1", "time_s": 0.19,

@@ -140,7 +140,8 @@ def test_a_box_launched_at_the_column(law):
 
 def test_two_boxes_colliding_conserve_momentum():
     """0.236 kg at +1 m/s meets 0.4 kg at -0.5 m/s on a frictionless bed: m1 v1 + m2 v2 conserved
-    within 1 %; one body-body event; elastic law: separation / approach speed 1 within 5 %."""
+    within 1 %; one body-body event; elastic law: separation / approach speed 1 within 5 %, and
+    its pulse the half-sine of the two springs in series on the two-body mass within 3 %."""
     a = TransportBody("a", centre_m=(0.0, 0.0, 0.03), velocity_m_s=(1.0, 0.0, 0.0), friction_coefficient=0.0,
                       size_m=(0.15, 0.06, 0.06), mass_kg=0.236)
     b = TransportBody("b", centre_m=(0.3, 0.0, 0.03), velocity_m_s=(-0.5, 0.0, 0.0), friction_coefficient=0.0,
@@ -156,6 +157,29 @@ def test_two_boxes_colliding_conserve_momentum():
     assert (event["body"], event["other"]) == ("a", "b")
     assert event["approach_velocity_m_s"] == pytest.approx(1.5, rel=0.02)
     assert event["restitution"] == pytest.approx(1.0, rel=0.05)
+    # the pulse: the undamped container springs in series (k / 2) on the two-body mass, head on
+    k, m = CONTAINER.stiffness_N_m / 2.0, 0.236 * 0.4 / (0.236 + 0.4)
+    assert event["peak_force_N"] == pytest.approx(1.5 * math.sqrt(k * m), rel=0.03)
+    assert event["duration_s"] == pytest.approx(math.pi * math.sqrt(m / k), rel=0.03)
+    assert event["impulse_Ns"] == pytest.approx(2.0 * m * 1.5, rel=0.03)
+
+
+def test_a_box_launched_at_a_side_wall_gets_the_half_sine_of_its_law():
+    """The container broadside into the side wall at 1.5 m/s (frictionless): one wall impact with
+    its pulse, the undamped law's half-sine on the whole mass: peak v sqrt(k m), duration
+    pi sqrt(m / k), impulse 2 m v, each within 3 %."""
+    body = TransportBody("box", centre_m=(0.5, 0.3, 0.03), velocity_m_s=(0.0, 1.5, 0.0), friction_coefficient=0.0,
+                         **CONTAINER_BOX)
+    run = run_transport([body], FLUME, 0.3)
+    walls = run.impacts[run.impacts["kind"] == "wall"]
+    assert len(walls) == 1
+    hit = walls.iloc[0]
+    k, m = CONTAINER.stiffness_N_m, 0.236
+    assert hit["impact_velocity_m_s"] == pytest.approx(1.5, rel=0.02)
+    assert hit["peak_force_N"] == pytest.approx(1.5 * math.sqrt(k * m), rel=0.03)
+    assert hit["duration_s"] == pytest.approx(math.pi * math.sqrt(m / k), rel=0.03)
+    assert hit["impulse_Ns"] == pytest.approx(2.0 * m * 1.5, rel=0.03)
+    assert math.isnan(hit["peak_base_shear_N"])
 
 
 def test_a_run_longer_than_the_record_is_refused():

@@ -240,7 +240,7 @@ def load_layout(case_dir: str | Path) -> Layout:
     layout.strikes = impact_table(layout)
     layout.body_contacts = _csv(folder.path / TRANSPORT_DIR / "body_contacts.csv")
     for e in read_contact_events(folder.path):
-        if e.get("type") != "transport_contact" or e.get("kind") != "wall":
+        if e.get("kind") != "wall":  # an impact with its pulse, or a contact without one
             continue
         if str(e.get("other", "")).startswith(END_WALLS):
             layout.end_contacts += 1

@@ -12,11 +12,11 @@ the bodies, recording alpha.water and U), :func:`transport_case`:
    the run's end time;
 4. writes what the coupled runner writes, so that post-processing, sweeps and reports read both
    paths alike: ``bodies.csv`` (the tracks), ``contacts.json`` with one impact event per column
-   strike and its pulse under ``contacts/`` (from the same contact law and column model the
-   coupled path resolves strikes with), and run.json's ``transport`` record with
-   ``transport_wall_s``. Strikes on walls and between bodies are contact events of type
-   ``transport_contact`` in contacts.json (the engine resolves them; no pulse is computed), and
-   ``transport/body_contacts.csv`` lists the body-body ones.
+   or wall strike and its pulse under ``contacts/`` (from the same contact law, column model and
+   rigid wall the coupled path resolves strikes with), and run.json's ``transport`` record with
+   ``transport_wall_s``. A strike left without a pulse (an ensemble's later strikes) is a
+   contact event of type ``transport_contact``; ``transport/body_contacts.csv`` lists the
+   body-body strikes with their pulses' peak force, duration and impulse.
 
 A body that leaves the recorded region stops the transport with a FlowCoverageError naming the
 coordinate; the end walls at the record's ends keep bodies inside it, so the record's region
@@ -122,7 +122,7 @@ def _write_events(folder: CaseFolder, result: TransportResult) -> tuple[int, int
     strikes = others = 0
     for row in result.impacts.sort_values("time_s", kind="stable").to_dict("records"):
         number = len(events) + 1
-        pulse = result.pulses.get(int(row["event"])) if row["kind"] == "column" else None
+        pulse = result.pulses.get(int(row["event"]))
         if pulse is None:
             events.append(_event(row, number, "transport_contact"))
             others += 1

@@ -32,6 +32,14 @@ law's rigid-wall restitution. The pulses are computed at the end of the run
 0.5 s, more than a body's stepping to its strike; with ``first_pulse_only`` a body's later
 column strikes (its rebound sequence) are tabled with their velocities, heights and
 obliquities but without a pulse (NaN loads), which is all an ensemble of starts reads.
+
+Wall and body-body strikes: as on the coupled path, a wall strike is
+:func:`analytical.impact.impact` on a rigid wall and a body-body strike
+:func:`analytical.impact.pair_impact` (the two springs in series, the mean friction), each body
+at its centre, orientation, velocity and angular velocity before the step that found the
+contact, struck at the contact point along the contact normal. A wall strike's pulse is in
+impacts.csv and its files; a body-body strike's peak force, duration and impulse are in the
+body events table. Neither is computed with ``first_pulse_only``.
 """
 
 from __future__ import annotations
@@ -45,6 +53,9 @@ import pandas as pd
 
 from analytical.contact_law import column_impact
 from analytical.errors import InputError
+from analytical.impact import impact, pair_impact
+from analytical.impact_bodies import Body, RigidWall, inverse_inertia_tensor
+from orchestrator.run.impact_resolution import pair_contact_law
 from orchestrator.run.event_files import IMPACT_COLUMNS as RESULTS_IMPACT_COLUMNS
 
 __all__ = ["AFLOAT_CLEARANCE_M", "BODY_EVENT_COLUMNS", "IMPACT_COLUMNS", "EventBook"]
@@ -56,7 +67,7 @@ MuJoCo column does not)."""
 
 BODY_EVENT_COLUMNS = [
     "event", "time_s", "body", "other", "point_x_m", "point_y_m", "point_z_m", "normal_x", "normal_y", "normal_z",
-    "approach_velocity_m_s", "separation_velocity_m_s", "restitution",
+    "approach_velocity_m_s", "separation_velocity_m_s", "restitution", "peak_force_N", "duration_s", "impulse_Ns",
 ]
 
 AFLOAT_CLEARANCE_M = 0.005
@@ -79,6 +90,10 @@ class _Event:
     face_water_level_m: float
     v_out: np.ndarray | None = None
     v_other_out: np.ndarray | None = None
+    # each body's centre, body-to-world rotation and world angular velocity before the step
+    # (a wall or body-body pulse's inputs; the other's are None for a wall)
+    state: tuple | None = None
+    other_state: tuple | None = None
 
 
 class EventBook:
@@ -147,6 +162,13 @@ class EventBook:
         adr = self.dof_adr[body]
         return np.array(qvel[adr:adr + 3], dtype=float)
 
+    def _state(self, data, qvel, xmat, body: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(centre, rotation, world angular velocity): a free joint's rates are body-frame."""
+        rot = np.array(xmat[body], dtype=float).reshape(3, 3)
+        adr = self.dof_adr[body]
+        return (np.array(data.xpos[self.body_ids[body]], dtype=float), rot,
+                rot @ np.asarray(qvel[adr + 3:adr + 6], dtype=float))
+
     def _open(self, key, rows, time_s, data, qvel_before, xmat) -> None:
         body, other = key
         geom1_owner = self.owner[data.contact.geom[rows[0], 0]]
@@ -176,7 +198,8 @@ class EventBook:
             except InputError:
                 level = math.nan
         event = _Event(len(self.events) + 1, time_s, body, other, kind, point, normal, v_in, v_other, clearance,
-                       level)
+                       level, state=self._state(data, qvel_before, xmat, body),
+                       other_state=self._state(data, qvel_before, xmat, other) if kind == "body" else None)
         self.events.append(event)
         self.open[key] = event
 
@@ -204,11 +227,14 @@ class EventBook:
         sep = math.nan
         if e.v_out is not None and e.v_other_out is not None:
             sep = float((e.v_out - e.v_other_out) @ n)
+        loads = {} if self.first_pulse_only else self._pair_pulse(e)
         return {"event": e.number, "time_s": e.time_s, "body": self.bodies[e.body].name,
                 "other": self.bodies[e.other].name, "point_x_m": e.point[0], "point_y_m": e.point[1],
                 "point_z_m": e.point[2], "normal_x": n[0], "normal_y": n[1], "normal_z": n[2],
                 "approach_velocity_m_s": approach, "separation_velocity_m_s": sep,
-                "restitution": sep / approach if approach > 0 else math.nan}
+                "restitution": sep / approach if approach > 0 else math.nan,
+                "peak_force_N": loads.get("peak_force_N", math.nan), "duration_s": loads.get("duration_s", math.nan),
+                "impulse_Ns": loads.get("impulse_Ns", math.nan)}
 
     def _impact_row(self, e: _Event, pulse: bool = True) -> dict:
         n = e.normal
@@ -217,7 +243,12 @@ class EventBook:
         tangential = float(np.linalg.norm(v + vn * n))
         obliquity = math.degrees(math.atan2(tangential, vn)) if vn > 0 else math.nan
         height = float(e.point[2]) - self.bed_z_m
-        loads = self._pulse(e, height) if pulse and e.kind == "column" else {}
+        if not pulse:
+            loads = {}
+        elif e.kind == "column":
+            loads = self._pulse(e, height)
+        else:
+            loads = {} if self.first_pulse_only else self._wall_pulse(e)
         v_out = e.v_out if e.v_out is not None else np.full(3, math.nan)
         rebound = float(v_out @ n)
         return {
@@ -255,10 +286,45 @@ class EventBook:
                                mass_kg=body.mass_kg, size_m=body.size_m, wall_thickness_m=body.wall_thickness_m,
                                friction_coefficient=body.friction_coefficient)
         self.pulses[e.number] = result
-        hist = result.history
         shear = result.base_shear
-        return {"peak_force_N": result.peak_force_N,
-                "time_of_peak_s": float(hist.time_s[int(np.argmax(hist.force_N))]) if len(hist.time_s) else math.nan,
-                "duration_s": result.duration_s, "impulse_Ns": result.impulse_Ns,
-                "peak_base_shear_N": abs(shear.peak_N) if shear is not None else math.nan,
-                "restitution": result.restitution}
+        return {**_loads(result), "peak_base_shear_N": abs(shear.peak_N) if shear is not None else math.nan}
+
+    def _body(self, index: int, state: tuple, velocity: np.ndarray) -> Body:
+        """An analytical impact body from a transport body's state at the event."""
+        body = self.bodies[index]
+        centre, rot, omega = state
+        return Body(body.mass_kg, inverse_inertia_tensor(body.inertia_kg_m2, rot), centre, velocity, omega)
+
+    def _wall_pulse(self, e: _Event) -> dict:
+        """:func:`analytical.impact.impact` on a rigid wall with the body's own law and friction (the
+        coupled path's wall strikes)."""
+        body = self.bodies[e.body]
+        try:
+            result = impact(self._body(e.body, e.state, e.v_in), e.point, e.normal, RigidWall(),
+                            friction_coefficient=body.friction_coefficient, **body.contact.options())
+        except InputError:  # the contact point is not approaching the wall (a spinning body's glance)
+            return {}
+        self.pulses[e.number] = result
+        return _loads(result)
+
+    def _pair_pulse(self, e: _Event) -> dict:
+        """:func:`analytical.impact.pair_impact`: the two bodies' springs in series, their mean
+        friction (the coupled path's body-body strikes)."""
+        a, b = self.bodies[e.body], self.bodies[e.other]
+        law = pair_contact_law(a.contact, b.contact)
+        try:
+            result = pair_impact(self._body(e.body, e.state, e.v_in), self._body(e.other, e.other_state, e.v_other_in),
+                                 e.point, e.normal, friction_coefficient=0.5 * (a.friction_coefficient +
+                                                                                b.friction_coefficient),
+                                 **law.options())
+        except InputError:
+            return {}
+        return _loads(result)
+
+
+def _loads(result) -> dict:
+    """Peak force, time of peak, duration and impulse of an analytical impact."""
+    hist = result.history
+    return {"peak_force_N": result.peak_force_N,
+            "time_of_peak_s": float(hist.time_s[int(np.argmax(hist.force_N))]) if len(hist.time_s) else math.nan,
+            "duration_s": result.duration_s, "impulse_Ns": result.impulse_Ns, "restitution": result.restitution}
