@@ -214,7 +214,9 @@ class EventBook:
             if e.kind == "body":
                 pairs.append(self._pair_row(e))
             else:
-                impacts.append(self._impact_row(e, pulse=not (self.first_pulse_only and e.body in struck)))
+                # first_pulse_only: a pulse for each body's first column strike only
+                pulse = not self.first_pulse_only or (e.kind == "column" and e.body not in struck)
+                impacts.append(self._impact_row(e, pulse=pulse))
                 if e.kind == "column":
                     struck.add(e.body)
         self.pulse_wall_s = time.perf_counter() - start
@@ -243,12 +245,7 @@ class EventBook:
         tangential = float(np.linalg.norm(v + vn * n))
         obliquity = math.degrees(math.atan2(tangential, vn)) if vn > 0 else math.nan
         height = float(e.point[2]) - self.bed_z_m
-        if not pulse:
-            loads = {}
-        elif e.kind == "column":
-            loads = self._pulse(e, height)
-        else:
-            loads = {} if self.first_pulse_only else self._wall_pulse(e)
+        loads = {} if not pulse else self._pulse(e, height) if e.kind == "column" else self._wall_pulse(e)
         v_out = e.v_out if e.v_out is not None else np.full(3, math.nan)
         rebound = float(v_out @ n)
         return {

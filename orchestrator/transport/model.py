@@ -59,6 +59,7 @@ from analytical.column import Column
 from analytical.contact_law import CONTAINER, ContactLaw, box_inertia
 from analytical.errors import InputError, require_positive
 from analytical.impact import DEFAULT_FRICTION_COEFFICIENT
+from orchestrator.run.impact_resolution import pair_contact_law
 from orchestrator.scene.geometry import body_rotation
 
 __all__ = [
@@ -74,7 +75,6 @@ __all__ = [
     "build_model",
     "contact_period_s",
     "contact_solref",
-    "pair_law",
 ]
 
 CONTACT_IMPEDANCE = 0.99
@@ -223,13 +223,6 @@ def contact_solref(law: ContactLaw, mass_kg) -> np.ndarray:
     return np.stack([-k, -2.0 * law.damping_ratio * np.sqrt(k)], axis=-1)
 
 
-def pair_law(a: ContactLaw, b: ContactLaw) -> ContactLaw:
-    """Two bodies' springs in series with their mean damping ratio (the coupled path's rule)."""
-    k = 1.0 / (1.0 / a.stiffness_N_m + 1.0 / b.stiffness_N_m)
-    name = a.name if a.name == b.name else f"{a.name} + {b.name}"
-    return ContactLaw(k, 0.5 * (a.damping_ratio + b.damping_ratio), f"{name}, body-body")
-
-
 def contact_period_s(law: ContactLaw, mass_kg: float) -> float:
     return 2.0 * math.pi * math.sqrt(mass_kg / law.stiffness_N_m)
 
@@ -254,7 +247,7 @@ def build_model(bodies, flume: FlumeBounds, column: PlacedColumn | None = None, 
     for i in range(len(bodies)):
         for j in range(i + 1, len(bodies)):
             a, b = bodies[i], bodies[j]
-            periods.append(contact_period_s(pair_law(a.contact, b.contact), a.mass_kg * b.mass_kg / (a.mass_kg + b.mass_kg)))
+            periods.append(contact_period_s(pair_contact_law(a.contact, b.contact), a.mass_kg * b.mass_kg / (a.mass_kg + b.mass_kg)))
     dt = min(min(periods) / steps_per_contact_period, max_timestep_s, dt_bound)
     imp = f"{CONTACT_IMPEDANCE} {CONTACT_IMPEDANCE} 0.001 0.5 2"
     fric_ref = f"0 {-FRICTION_DEMAND * gravity_m_s2 / STICK_SPEED_M_S!r}"  # at rest; rescaled in the run
@@ -303,7 +296,7 @@ def build_model(bodies, flume: FlumeBounds, column: PlacedColumn | None = None, 
     for i in range(len(bodies)):
         for j in range(i + 1, len(bodies)):
             a, b = bodies[i], bodies[j]
-            add_pair(i, j, f"{b.name}_box", pair_law(a.contact, b.contact),
+            add_pair(i, j, f"{b.name}_box", pair_contact_law(a.contact, b.contact),
                      0.5 * (a.friction_coefficient + b.friction_coefficient), a.mass_kg * b.mass_kg / (a.mass_kg + b.mass_kg))
     xml = (f'<mujoco model="transport"><option timestep="{dt!r}" gravity="0 0 {-gravity_m_s2!r}" '
            f'density="0" viscosity="0" cone="elliptic" solver="Newton" integrator="Euler"/>'
