@@ -107,8 +107,9 @@ speed-error: venv openfoam
 	-$(NICE) $(VENV)/bin/debrisfoam sweep cases/sweeps/mesh-study-hand.yaml
 	$(VENV)/bin/debrisfoam report speed-error runs/sweeps/mesh-study --baseline runs/sweeps/mesh-study-hand -o docs/results/speed-error --force
 
-# The mesh study with one container (to its first impact on the column), then its report in
-# runs/sweeps/debris-mesh-study/report/ (about 1 h of solver time on 2 cores: 19, 17 and 25 min measured).
+# The mesh study with one container (past its first impact on the column), then its report in
+# docs/results/speed-error-debris/ (about 2.7 h of solver CPU time on 2 cores: 33, 61 and 68 min measured
+# at 4, 3.5 and 3 cm; run again to resume).
 speed-error-debris: venv openfoam
 	-$(NICE) $(VENV)/bin/debrisfoam sweep cases/sweeps/debris-mesh-study.yaml
 	$(VENV)/bin/debrisfoam report speed-error runs/sweeps/debris-mesh-study -o docs/results/speed-error-debris --force

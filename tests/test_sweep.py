@@ -172,6 +172,23 @@ def test_store_round_trip(tmp_path):
         load_store(tmp_path / "nowhere")
 
 
+def test_a_resumed_members_wall_time_counts_its_earlier_attempts(tmp_path):
+    """A killed attempt never writes its wall time; run.json keeps every step and segment it ran,
+    each with its start, and the member's wall adds those that began before this attempt."""
+    from orchestrator.studies.sweep.member import earlier_attempts_wall_s
+    run = {"steps": [{"name": "blockMesh", "start": "2026-01-01T10:00:00+00:00", "wall_s": 2.0},
+                     {"name": "blockMesh", "start": "2026-01-01T12:00:05+00:00", "wall_s": 0.1}],
+           "segments": [{"start": "2026-01-01T10:00:03+00:00", "wall_s": 600.0},
+                        {"start": "2026-01-01T11:59:00+00:00", "wall_s": 30.0},
+                        {"start": "2026-01-01T12:00:06+00:00", "wall_s": 900.0}]}
+    (tmp_path / "run.json").write_text(json.dumps(run))
+    assert earlier_attempts_wall_s(tmp_path, "2026-01-01T12:00:00+00:00") == pytest.approx(632.0)
+    assert earlier_attempts_wall_s(tmp_path, "2026-01-01T09:00:00+00:00") == 0.0
+    # the same instant in another offset
+    assert earlier_attempts_wall_s(tmp_path, "2026-01-01T13:00:00+01:00") == pytest.approx(632.0)
+    assert earlier_attempts_wall_s(tmp_path / "nowhere", "2026-01-01T12:00:00+00:00") == 0.0
+
+
 # --------------------------------------------------------------------------- real runs
 
 
@@ -345,7 +362,10 @@ def test_a_stopped_sweep_stops_cleanly_and_a_rerun_resumes(tmp_path, openfoam, h
     assert proc.returncode == 0, proc.stderr[-3000:]
     assert f"{first.id} mesh.cell_size_m=0.04, run.end_time_s=2.0: resumed" in proc.stdout
     assert (out / first.id / "log.interFoam.1").is_file()  # the first segment's log, kept: resumed, not redone
-    assert (load_store(out)["status"] == "finished").all()
+    store = load_store(out).set_index("member_id")
+    assert (store["status"] == "finished").all()
+    # the resumed member's wall time covers both attempts: never less than its solver's
+    assert store.loc[first.id, "wall_time_s"] >= store.loc[first.id, "solver_wall_s"] > 0
 
 
 def test_a_late_scene_key_changes_no_id_until_it_is_set():

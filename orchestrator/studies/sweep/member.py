@@ -9,6 +9,7 @@ that fails never raises, so it never stops the others. It writes member.json (st
 from __future__ import annotations
 
 import asyncio
+import datetime as _dt
 import os
 import socket
 import threading
@@ -17,6 +18,7 @@ from pathlib import Path
 from typing import Any, Callable
 
 from analytical.errors import DebrisfoamError
+from orchestrator.case.folder import CaseFolder
 from orchestrator.pipeline import prepare_case, run_full_case
 from orchestrator.run.runner import RunInterrupted
 from orchestrator.studies.sweep.store import member_metrics, timestamp, write_member_record
@@ -70,6 +72,21 @@ def _run(task: dict[str, Any], case: Path, flag: threading.Event, record: dict[s
     return status, error, ours
 
 
+def earlier_attempts_wall_s(case: str | Path, started: str) -> float:
+    """Wall seconds of the run's steps and solver segments (run.json) that began before
+    ``started`` (an ISO time with its offset): what earlier attempts of a resumed member ran."""
+    try:
+        begun = _dt.datetime.fromisoformat(started)
+        run = CaseFolder(case).run_record() or {}
+        total = 0.0
+        for item in [*(run.get("steps") or []), *(run.get("segments") or [])]:
+            if item.get("start") and _dt.datetime.fromisoformat(item["start"]) < begun:
+                total += float(item.get("wall_s") or 0.0)
+        return total
+    except (TypeError, ValueError):  # a record this version cannot read: count this attempt alone
+        return 0.0
+
+
 def run_member(task: dict[str, Any], stop: Any = None) -> dict[str, Any]:
     """Render (once), run (resuming) and post-process one member; never raises for a
     member that fails: returns its outcome (status, error, wall time, metrics).
@@ -88,8 +105,13 @@ def run_member(task: dict[str, Any], stop: Any = None) -> dict[str, Any]:
         record = {**task.get("record", {}), "id": task["id"], "status": "running", "started": timestamp(),
                   "host": base["host"], "pid": os.getpid(), "token": task.get("token")}
         status, error, ours = _run(task, case, flag, record)
-        wall = round(time.perf_counter() - t0, 2)
+        # a resumed member's wall time includes what its earlier attempts ran (a killed attempt
+        # never wrote its own): a member's wall is never less than its solver's
+        earlier = earlier_attempts_wall_s(case, record["started"]) if ours else 0.0
+        wall = round(time.perf_counter() - t0 + earlier, 2)
         record.update({"status": status, "error": error, "finished": timestamp(), "wall_time_s": wall})
+        if earlier:
+            record["earlier_attempts_wall_s"] = round(earlier, 2)
         metrics = {}
         if ours:  # never write into (or read) a folder that holds another case
             write_member_record(case, record)
