@@ -16,7 +16,7 @@ CASE_SET := $(if $(CELL),--set mesh.cell_size_m=$(CELL),) $(if $(COUPLING),--set
 
 help:
 	@echo "make venv                   the Python environment only (.venv, the package installed editable)"
-	@echo "make case-1debris [CELL=m] [COUPLING=two-way]  the study's 1-debris scene, end to end (one-way: about 4 min on 2 idle cores; two-way: about 60 min)"
+	@echo "make case-1debris [CELL=m] [COUPLING=two-way]  the study's 1-debris scene, end to end (one-way: about 4 min on 2 idle cores; two-way: about 45 min)"
 	@echo "make results-1debris        after it: its table, plots and summary to docs/results/case-1debris/"
 	@echo "make ensemble-1debris [N=100] the 1-debris flow once, N perturbed starts through it (runs/ensemble-1debris, docs/results/ensemble-1debris)"
 	@echo "make case-layouts           the study's four debris layouts one-way (about 25 min on 2 cores), then results-layouts"
@@ -121,7 +121,7 @@ speed-error-debris: venv openfoam
 # A finished run is reused (run it again to resume); runs/coupling/two-way is the 4 cm member of
 # make speed-error-debris, which a copy of that member serves. Another scene:
 #   make compare-coupling COMPARE_SCENE=cases/1debris.yaml COMPARE_SET= COMPARE_NAME=coupling-1debris
-# (the study's own layout, 3.5 s: about 60 min two-way).
+# (the study's own layout, 3.5 s: about 45 min two-way).
 COMPARE_SCENE ?= cases/hard/short-flume.yaml
 COMPARE_SET   ?= --set run.end_time_s=2.1
 COMPARE_NAME  ?= coupling

@@ -29,8 +29,8 @@ __all__ = [
 
 #: Wall time per cell per time step on 2 cores (s; docs/openfoam-notes.md, "Cost"): interFoam
 #: 2-5 us (mid value). overInterDyMFoam: whole coupled runs with the runner's restarts (contact,
-#: release, friction refresh: 26 segments each), 11.9 us on the study's 1-debris scene at 4 cm
-#: (140,749 cells, 2,145 steps to 3.5 s in 60 min) and 16.7 us on the short flume at 4 cm
+#: release, friction refresh: 19-31 segments each), 12.1 us on the study's 1-debris scene at 4 cm
+#: (140,749 cells, 1,478 steps to 3.5 s in 42 min) and 16.7 us on the short flume at 4 cm
 #: (95,548 cells, 1,431 steps to 2.1 s in 38 min): 14 us.
 US_PER_CELL_STEP = {"interFoam": 3.5e-6, "overInterDyMFoam": 14.0e-6}
 #: Cores at which US_PER_CELL_STEP was measured.
@@ -38,10 +38,11 @@ MEASURED_CORES = 2
 #: Measured time steps over the steps the Courant limit at Ritter's front speed predicts
 #: (run.max_courant x smallest horizontal cell / 2 sqrt(g h0)), where maxDeltaT does not bind.
 #: interFoam: 1.11 and 1.39 (the no-debris mesh study at 4 and 3 cm, README). overInterDyMFoam:
-#: 5.4 (the 1-debris scene at 4 cm), 6.0 and 8.2 (the debris mesh study's short flume at 4 and
-#: 3.5 cm): v1912 counts hole and fringe faces in its Courant number, the flow past a body is
-#: faster than the front, and each restart begins with short steps.
-STEP_FACTOR = {"interFoam": 1.25, "overInterDyMFoam": 6.0}
+#: 3.7 (the 1-debris scene at 4 cm), 6.0, 8.1 and 5.4 (the debris mesh study's short flume at 4,
+#: 3.5 and 3 cm), 5.5 their geometric mean: v1912 counts hole and fringe faces in its Courant
+#: number, the flow past a body is faster than the front, and each restart begins with short
+#: steps, so a run whose body strikes the column more often takes more (11 strikes at 3.5 cm).
+STEP_FACTOR = {"interFoam": 1.25, "overInterDyMFoam": 5.5}
 
 
 def max_delta_t_s(max_delta_t: float | None, write_interval_s: float) -> float:
