@@ -312,6 +312,24 @@ def test_impact_rows_agree_with_the_runners_event():
     assert row["rebound_u_m_s"] == pytest.approx(event["velocity_out_m_s"][0])
 
 
+
+def test_a_wall_strike_without_a_height_gets_its_row_and_no_column_pulse(tmp_path):
+    """A one-way wall strike is written with a null height (JSON's NaN: the height above the bed is
+    the column's figure); post-processing keeps its row and applies no pulse to the column."""
+    case = tmp_path / "case"
+    shutil.copytree(DATA / "tiny-1debris", case)
+    events = json.loads((case / "contacts.json").read_text())
+    wall = {**events[0], "event": len(events) + 1, "time_s": events[0]["time_s"] + 0.01, "other": "wall_y0",
+            "kind": "wall", "height_m": None, "face_water_level_m": None, "force_history": ""}
+    (case / "contacts.json").write_text(json.dumps([*events, wall]))
+    results = tables(case)
+    rows = results.impacts.set_index("kind")
+    assert list(results.impacts["kind"]) == ["column", "wall"]
+    assert math.isnan(rows.loc["wall", "height_m"]) and rows.loc["wall", "peak_force_N"] == pytest.approx(
+        wall["peak_force_N"], rel=1e-3)
+    assert rows.loc["column", "height_m"] == pytest.approx(events[0]["height_m"])
+
+
 # --------------------------------------------------------------------------- whole cases
 
 

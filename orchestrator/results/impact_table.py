@@ -62,16 +62,22 @@ def _pulse(data: CaseData, e: dict, missing: list[str]) -> tuple[tuple[np.ndarra
     return None, PulseMetrics(peak, 0.0, 0.0, duration, duration, float(e.get("impulse_Ns", 0.0)))
 
 
+def _number(e: dict, key: str) -> float:
+    """An event's number, NaN where it is absent or null (JSON's NaN: a wall strike's height)."""
+    value = e.get(key)
+    return np.nan if value is None else float(value)
+
+
 def _impact_row(e: dict, n: np.ndarray, metrics: PulseMetrics, number: int) -> dict:
     """An impact's row of impacts.csv (the context columns left empty)."""
     point = np.asarray(e.get("point_m", (np.nan,) * 3), dtype=float)
     v_in = np.asarray(e.get("velocity_in_m_s", (np.nan,) * 3), dtype=float)
     v_out = np.asarray(e.get("velocity_out_m_s", (np.nan,) * 3), dtype=float)
-    vn_in = abs(float(e.get("normal_velocity_in_m_s", np.nan)))
-    obliquity = float(e.get("obliquity_deg", np.nan))
+    vn_in = abs(_number(e, "normal_velocity_in_m_s"))
+    obliquity = _number(e, "obliquity_deg")
     return {
         "event": int(e.get("event", number)), "time_s": float(e["time_s"]), "body": e.get("body"),
-        "other": e.get("other"), "kind": e.get("kind"), "height_m": float(e.get("height_m", np.nan)),
+        "other": e.get("other"), "kind": e.get("kind"), "height_m": _number(e, "height_m"),
         "face_water_level_m": np.nan, "body_clearance_m": np.nan, "afloat": None,
         "point_x_m": point[0], "point_y_m": point[1], "point_z_m": point[2],
         "normal_x": n[0], "normal_y": n[1], "normal_z": n[2],
@@ -80,9 +86,9 @@ def _impact_row(e: dict, n: np.ndarray, metrics: PulseMetrics, number: int) -> d
         "tangential_velocity_in_m_s": vn_in * math.tan(math.radians(obliquity)) if obliquity < 90 else np.nan,
         "obliquity_deg": obliquity, "peak_force_N": metrics.peak_N, "time_of_peak_s": metrics.time_of_peak_s,
         "duration_s": metrics.duration_s, "impulse_Ns": metrics.impulse_Ns,
-        "rebound_normal_velocity_m_s": float(e.get("normal_velocity_out_m_s", np.nan)),
+        "rebound_normal_velocity_m_s": _number(e, "normal_velocity_out_m_s"),
         "rebound_u_m_s": v_out[0], "rebound_v_m_s": v_out[1], "rebound_w_m_s": v_out[2],
-        "rebound_speed_m_s": float(np.linalg.norm(v_out)), "restitution": float(e.get("restitution", np.nan)),
+        "rebound_speed_m_s": float(np.linalg.norm(v_out)), "restitution": _number(e, "restitution"),
         "force_history": e.get("force_history", ""),
     }
 
