@@ -312,7 +312,6 @@ def test_impact_rows_agree_with_the_runners_event():
     assert row["rebound_u_m_s"] == pytest.approx(event["velocity_out_m_s"][0])
 
 
-
 def test_a_wall_strike_without_a_height_gets_its_row_and_no_column_pulse(tmp_path):
     """A one-way wall strike is written with a null height (JSON's NaN: the height above the bed is
     the column's figure); post-processing keeps its row and applies no pulse to the column."""
