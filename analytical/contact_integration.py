@@ -31,18 +31,19 @@ import dataclasses
 import math
 
 import numpy as np
-from scipy import linalg
+from scipy.linalg import blas, lapack
 from scipy.optimize import brentq
 
-from analytical.banded import upper_band
+from analytical.banded import BANDWIDTH, banded_solve, cholesky_band, upper_band
 from analytical.column import Column
 from analytical.column_fem import column_model
 from analytical.impact_bodies import ColumnTarget
 from analytical.impact_results import ImpactHistory
-from analytical.newmark import phase_limited_step
 from analytical.pulses import Tabulated
 
 __all__ = ["ColumnBlock", "NormalIntegrator", "column_blocks"]
+
+_dsbmv, _dpbtrs = blas.dsbmv, lapack.dpbtrs
 
 
 class ColumnBlock:
@@ -65,28 +66,64 @@ class ColumnBlock:
         self.k_band = upper_band(self.k)
         self.m_band = upper_band(self.m)
         self.c_band = upper_band(self.c)
-        self.m_chol = linalg.cholesky_banded(self.m_band)
-        k_chol = linalg.cholesky_banded(self.k_band)
-        self.compliance = float(self.b @ linalg.cho_solve_banded((k_chol, False), self.b))
-        self.dt_limit = phase_limited_step(model)
+        self.m_chol = cholesky_band(self.m_band)
+        self.compliance = float(self.b @ banded_solve(cholesky_band(self.k_band), self.b))
         self.size = len(self.b)
 
     def effective_chol(self, dt: float) -> np.ndarray:
-        return linalg.cholesky_banded(self.k_band + (2.0 / dt) * self.c_band + (4.0 / dt**2) * self.m_band)
+        return cholesky_band(self.k_band + (2.0 / dt) * self.c_band + (4.0 / dt**2) * self.m_band)
+
+    def times_m(self, x: np.ndarray) -> np.ndarray:
+        """``M x`` (BLAS dsbmv on the band)."""
+        return _dsbmv(BANDWIDTH, 1.0, self.m_band, x)
+
+    def times_c(self, x: np.ndarray) -> np.ndarray:
+        """``C x``."""
+        return _dsbmv(BANDWIDTH, 1.0, self.c_band, x)
+
+    def times_k(self, x: np.ndarray) -> np.ndarray:
+        """``K x``."""
+        return _dsbmv(BANDWIDTH, 1.0, self.k_band, x)
 
     def energy(self, u, v) -> float:
-        return 0.5 * float(v @ (self.m @ v) + u @ (self.k @ u))
+        return 0.5 * float(v @ self.times_m(v) + u @ self.times_k(u))
 
 
-def column_blocks(target: ColumnTarget, n: np.ndarray) -> tuple[ColumnBlock | None, ...]:
-    blocks = []
-    for axis in (0, 1):
-        gain = -float(n[axis])
-        if abs(gain) > 1e-12:
-            blocks.append(ColumnBlock(target.axis_column(axis), target.height_m, gain))
+def column_blocks(target: ColumnTarget, n: np.ndarray) -> tuple[tuple[ColumnBlock, float] | None, ...]:
+    """Per horizontal axis, the column block that axis loads and its share of the block's base
+    shear, or None where ``-n`` has no part along the axis.
+
+    A column that bends alike both ways (a square or circular section) is one model loaded
+    by ``g_x f`` and ``g_y f`` from rest, so ``u_y = (g_y / g_x) u_x``: one block with the
+    combined gain ``hypot(g_x, g_y)`` carries both exactly, at half the cost, and each axis
+    takes the share ``g_i / hypot(g_x, g_y)`` of its base shear.
+    """
+    gains = [-float(n[axis]) for axis in (0, 1)]
+    loaded = [abs(g) > 1e-12 for g in gains]
+    if all(loaded) and target.axis_column(0) == target.axis_column(1):
+        gain = math.hypot(*gains)
+        block = ColumnBlock(target.axis_column(0), target.height_m, gain)
+        return tuple((block, g / gain) for g in gains)
+    return tuple(
+        (ColumnBlock(target.axis_column(axis), target.height_m, g), 1.0) if ok else None
+        for axis, (g, ok) in enumerate(zip(gains, loaded))
+    )
+
+
+class _State:
+    """The stacked column DOFs (``u, v, a``) and the body's (``s, vs, as_``) at one time, with
+    the compression ``delta = s - b . u`` and its rate."""
+
+    __slots__ = ("u", "v", "a", "s", "vs", "as_", "delta", "delta_rate")
+
+    def __init__(self, u, v, a, s, vs, as_, b):
+        self.u, self.v, self.a = u, v, a
+        self.s, self.vs, self.as_ = s, vs, as_
+        if b.size:
+            self.delta = s - float(b @ u)
+            self.delta_rate = vs - float(b @ v)
         else:
-            blocks.append(None)
-    return tuple(blocks)
+            self.delta, self.delta_rate = s, vs
 
 
 class NormalIntegrator:
@@ -97,130 +134,151 @@ class NormalIntegrator:
     1)``; contact force ``F = k delta + c delta'`` while in contact (F >= 0).
     """
 
-    def __init__(self, m_eff, k, c, blocks):
+    def __init__(self, m_eff, k, c, slots):
         self.m = m_eff
         self.k = k
         self.c = c
-        self.slots = blocks  # per axis: ColumnBlock or None
-        self.blocks = [b for b in blocks if b is not None]
+        blocks = []  # the distinct column blocks
+        self.slots = []  # per axis: (index into blocks, share of its base shear) or None
+        for slot in slots:
+            if slot is None:
+                self.slots.append(None)
+                continue
+            block, share = slot
+            index = next((i for i, b in enumerate(blocks) if b is block), None)
+            if index is None:
+                index = len(blocks)
+                blocks.append(block)
+            self.slots.append((index, share))
+        self.blocks = blocks
+        # The blocks side by side as one block-diagonal band system (each block's band
+        # storage is zero above its first columns, so the bands simply concatenate).
+        self.size = sum(b.size for b in blocks)
+        ends = np.cumsum([0] + [b.size for b in blocks])
+        self.segments = [(int(lo), int(hi)) for lo, hi in zip(ends[:-1], ends[1:])]
+        if blocks:
+            self.b = np.concatenate([b.b for b in blocks])
+            self.k_band = np.hstack([b.k_band for b in blocks])
+            self.m_band = np.hstack([b.m_band for b in blocks])
+            self.c_band = np.hstack([b.c_band for b in blocks])
+            self.m_chol = cholesky_band(self.m_band)
+            self.compliance = sum(b.compliance for b in blocks)
+        else:
+            self.b = np.zeros(0)
+            self.compliance = 0.0
         self._factors = {}
 
-    # -- linear algebra for one dt
+    # -- linear algebra on the stacked column DOFs
+    def _times(self, band, x):
+        return _dsbmv(BANDWIDTH, 1.0, band, x)
+
     def _factor(self, dt):
         key = float(dt)
         fac = self._factors.get(key)
         if fac is None:
-            chols = [b.effective_chol(dt) for b in self.blocks]
-            z_blocks = [-linalg.cho_solve_banded((ch, False), b.b) for ch, b in zip(chols, self.blocks)]
             z_s = 1.0 / (4.0 * self.m / dt**2)
-            w_dw = sum(float(-b.b @ z) for b, z in zip(self.blocks, z_blocks)) + z_s
-            fac = (chols, z_blocks, z_s, w_dw)
+            if self.size:
+                chol = cholesky_band(self.k_band + (2.0 / dt) * self.c_band + (4.0 / dt**2) * self.m_band)
+                z = -banded_solve(chol, self.b)
+                w_dw = float(-self.b @ z) + z_s
+            else:
+                chol, z, w_dw = None, np.zeros(0), z_s
+            fac = (chol, z, z_s, w_dw)
             if len(self._factors) < 4:
                 self._factors[key] = fac
         return fac
 
-    def _step(self, state, dt, contact):
-        """One Newmark step of length dt from ``state`` (a dict) in the given contact mode."""
-        chols, z_blocks, z_s, w_dw = self._factor(dt)
+    def _step(self, st, dt, contact):
+        """One Newmark step of length dt from the state ``st`` in the given contact mode."""
+        chol, z, z_s, w_dw = self._factor(dt)
         c44, c4, c2 = 4.0 / dt**2, 4.0 / dt, 2.0 / dt
-        rhs = []
-        for blk, u, v, a in zip(self.blocks, state["u"], state["v"], state["a"]):
-            rhs.append(blk.m @ (c44 * u + c4 * v + a) + blk.c @ (c2 * u + v))
-        rhs_s = self.m * (c44 * state["s"] + c4 * state["vs"] + state["as"])
-        if contact and self.c > 0.0:
-            wq = c2 * state["s"] + state["vs"] - sum(
-                float(b.b @ (c2 * u + v)) for b, u, v in zip(self.blocks, state["u"], state["v"])
-            )
-            for i, blk in enumerate(self.blocks):
-                rhs[i] = rhs[i] - self.c * wq * blk.b
-            rhs_s += self.c * wq
-        y = [linalg.cho_solve_banded((ch, False), r) for ch, r in zip(chols, rhs)]
+        u, v, a = st.u, st.v, st.a
+        rhs_s = self.m * (c44 * st.s + c4 * st.vs + st.as_)
+        if self.size:
+            uv = c2 * u + v
+            rhs = self._times(self.m_band, c44 * u + c4 * v + a)
+            rhs = _dsbmv(BANDWIDTH, 1.0, self.c_band, uv, beta=1.0, y=rhs, overwrite_y=1)
+            if contact and self.c > 0.0:
+                wq = c2 * st.s + st.vs - float(self.b @ uv)
+                rhs -= (self.c * wq) * self.b
+                rhs_s += self.c * wq
+            y = _dpbtrs(chol, rhs, overwrite_b=1)[0]
+        else:
+            y = u
+            if contact and self.c > 0.0:
+                rhs_s += self.c * (c2 * st.s + st.vs)
         y_s = z_s * rhs_s
         if contact:
             alpha = self.k + c2 * self.c
-            w_y = y_s - sum(float(b.b @ yy) for b, yy in zip(self.blocks, y))
+            w_y = y_s - (float(self.b @ y) if self.size else 0.0)
             scale = alpha * w_y / (1.0 + alpha * w_dw)
-            y = [yy - scale * z for yy, z in zip(y, z_blocks)]
+            if self.size:
+                y = y - scale * z
             y_s = y_s - scale * z_s
-        new = {"u": [], "v": [], "a": []}
-        for u, v, a, un in zip(state["u"], state["v"], state["a"], y):
-            du = un - u
-            new["u"].append(un)
-            new["v"].append(c2 * du - v)
-            new["a"].append(c44 * du - c4 * v - a)
-        ds = y_s - state["s"]
-        new["s"] = y_s
-        new["vs"] = c2 * ds - state["vs"]
-        new["as"] = c44 * ds - c4 * state["vs"] - state["as"]
-        return new
+        du = y - u
+        ds = y_s - st.s
+        return _State(
+            y, c2 * du - v, c44 * du - c4 * v - a, y_s, c2 * ds - st.vs, c44 * ds - c4 * st.vs - st.as_, self.b
+        )
 
     def _delta(self, st):
-        return st["s"] - sum(float(b.b @ u) for b, u in zip(self.blocks, st["u"]))
+        return st.delta
 
     def _delta_rate(self, st):
-        return st["vs"] - sum(float(b.b @ v) for b, v in zip(self.blocks, st["v"]))
+        return st.delta_rate
 
     def _force(self, st, contact):
         if not contact:
             return 0.0
-        return self.k * self._delta(st) + self.c * self._delta_rate(st)
+        return self.k * st.delta + self.c * st.delta_rate
 
     def _equilibrate(self, st, contact):
         """Accelerations from the equations of motion (after a switch of the contact mode)."""
         f = self._force(st, contact)
-        st["a"] = [
-            linalg.cho_solve_banded((b.m_chol, False), b.b * f - b.c @ v - b.k @ u)
-            for b, u, v in zip(self.blocks, st["u"], st["v"])
-        ]
-        st["as"] = -f / self.m
+        if self.size:
+            st.a = banded_solve(self.m_chol, self.b * f - self._times(self.c_band, st.v) - self._times(self.k_band, st.u))
+        st.as_ = -f / self.m
         return f
 
     def _column_energy(self, st):
-        return sum(b.energy(u, v) for b, u, v in zip(self.blocks, st["u"], st["v"]))
+        if not self.size:
+            return 0.0
+        return 0.5 * float(st.v @ self._times(self.m_band, st.v) + st.u @ self._times(self.k_band, st.u))
 
     def _damping_work(self, old, new, dt, contact):
         col = 0.0
-        for b, v0, v1 in zip(self.blocks, old["v"], new["v"]):
-            va = 0.5 * (v0 + v1)
-            col += dt * float(va @ (b.c @ va))
+        if self.size:
+            va = 0.5 * (old.v + new.v)
+            col = dt * float(va @ self._times(self.c_band, va))
         con = 0.0
         if contact and self.c > 0.0:
-            rate = 0.5 * (self._delta_rate(old) + self._delta_rate(new))
+            rate = 0.5 * (old.delta_rate + new.delta_rate)
             con = dt * self.c * rate * rate
         return col, con
 
     def _base_shear(self, st, f):
-        out = []
-        it = iter(zip(self.blocks, st["u"], st["v"], st["a"]))
-        for slot in self.slots:
-            if slot is None:
-                out.append(0.0)
-                continue
-            b, _, v, a = next(it)
-            out.append(b.gain * f - float(b.inertia @ (a + b.a0 * v)))
+        shears = [
+            b.gain * f - float(b.inertia @ (st.a[lo:hi] + b.a0 * st.v[lo:hi]))
+            for b, (lo, hi) in zip(self.blocks, self.segments)
+        ]
+        out = [0.0 if slot is None else slot[1] * shears[slot[0]] for slot in self.slots]
         while len(out) < 2:
             out.append(0.0)
         return out
 
     def _first_contact(self, approach_speed):
         """The state at first contact: column at rest, body moving into the obstacle."""
-        return {
-            "u": [np.zeros(b.size) for b in self.blocks],
-            "v": [np.zeros(b.size) for b in self.blocks],
-            "a": [np.zeros(b.size) for b in self.blocks],
-            "s": 0.0,
-            "vs": float(approach_speed),
-            "as": 0.0,
-        }
+        zero = np.zeros(self.size)
+        return _State(zero, zero, zero, 0.0, float(approach_speed), 0.0, self.b)
 
     def _record(self, rec, time, state, force):
         """Append one sample of the history."""
         rec["t"].append(time)
         rec["f"].append(force)
-        d = self._delta(state)
+        d = state.delta
         rec["d"].append(d)
-        rec["s"].append(state["s"])
-        rec["o"].append(state["s"] - d)
+        rec["s"].append(state.s)
+        rec["o"].append(state.s - d)
         vx, vy = self._base_shear(state, force)
         rec["vx"].append(vx)
         rec["vy"].append(vy)
@@ -243,7 +301,7 @@ class NormalIntegrator:
         contacts = 1
         last_separation = None
         settled = False
-        compliance = sum(b.compliance for b in self.blocks)
+        compliance = self.compliance
         rigid = not self.blocks
         scale_f = max(self.k * approach_speed * math.sqrt(self.m / self.k), 1e-300)
         scale_d = approach_speed * math.sqrt(self.m / self.k)
@@ -307,7 +365,7 @@ class NormalIntegrator:
                     break
                 # The column's contact point can never move further than `reach`.
                 reach = math.sqrt(2.0 * max(self._column_energy(st), 0.0) * compliance)
-                if st["s"] < -reach and st["vs"] <= 0.0:
+                if st.s < -reach and st.vs <= 0.0:
                     settled = True
                     break
         duration = last_separation if (last_separation is not None and not contact) else t
@@ -335,7 +393,7 @@ class NormalIntegrator:
         return dict(
             pulse=pulse,
             history=hist,
-            body_velocity=st["vs"],
+            body_velocity=st.vs,
             column_energy=column_energy,
             column_damping=col_damp,
             contact_damping=con_damp,

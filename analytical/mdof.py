@@ -57,7 +57,8 @@ from analytical.column import Column
 from analytical.column_fem import ColumnModel, column_model, lateral_stiffness, modes, static_deflection
 from analytical.errors import InputError
 from analytical.newmark import newmark_history, pulse_start
-from analytical.oscillator import oscillator_response
+from analytical.oscillator import oscillator_response, piecewise_linear_response
+from analytical.pulses import Tabulated
 from analytical.sdof import ForceResponse, load_direction
 
 __all__ = [
@@ -160,9 +161,10 @@ def _modal_weights(model: ColumnModel, height_m: float) -> np.ndarray:
 def _modal_block(model: ColumnModel, pulse, times: np.ndarray, weights: np.ndarray, idx: np.ndarray, end) -> np.ndarray:
     """``sum_n c_n (q''_n + a0 q'_n)`` over the modes ``idx`` at ``times`` (increasing), N.
 
-    Underdamped modes (zeta < 1) use :func:`analytical.sdof.oscillator_response`; the
-    overdamped ones that Rayleigh damping gives the high modes use
-    :func:`_overdamped_response`. Once the pulse has ended (``end``, s) a mode only rings
+    A sampled pulse (:class:`~analytical.pulses.Tabulated`) uses the recurrence of
+    :func:`analytical.oscillator.piecewise_linear_response` for all modes. Other pulses:
+    underdamped modes (zeta < 1) use :func:`analytical.oscillator.oscillator_response`, the
+    overdamped ones that Rayleigh damping gives the high modes :func:`_overdamped_response`. Once the pulse has ended (``end``, s) a mode only rings
     down, as ``exp(-s tau)`` with ``s`` its slowest decay rate, so each mode is evaluated
     only up to ``end + 25 / s`` (a decay to 1e-11): the many short-lived high modes cost
     little.
@@ -178,9 +180,18 @@ def _modal_block(model: ColumnModel, pulse, times: np.ndarray, weights: np.ndarr
         counts = np.full(idx.size, times.size)
     else:
         counts = np.searchsorted(times, end + _RING_DOWN / rate, side="right")
+    a0 = model.rayleigh_a0_1_s
+    if isinstance(pulse, Tabulated):
+        # A sampled load: one exact recurrence over the samples serves every mode, under- or
+        # overdamped. Its cost is per sample, so the block is one call, evaluated up to the
+        # longest ring-down in it.
+        n = int(counts.max())
+        if n:
+            _, qd, qdd = piecewise_linear_response(pulse.time_s, pulse.force_N, times[:n], omega, zeta)
+            out[:n] = weights[idx] @ (qdd + a0 * qd)
+        return out
     # Group the modes by kind and by the (rounded up to a power of 2) number of samples.
     bins = np.ceil(np.log2(np.maximum(counts, 1))).astype(int)
-    a0 = model.rayleigh_a0_1_s
     atoms = None
     for kind in (False, True):
         for b in np.unique(bins[over == kind]):

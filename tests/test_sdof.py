@@ -16,7 +16,7 @@ from scipy.integrate import solve_ivp
 from scipy.signal import lsim
 
 from analytical.errors import InputError
-from analytical.oscillator import oscillator_response
+from analytical.oscillator import oscillator_response, piecewise_linear_response
 from analytical.pulses import Atom, HalfSine, Rectangular, Tabulated, Triangular, make_pulse
 from analytical.sdof import (
     SDOF,
@@ -449,3 +449,68 @@ def test_undamped_sdof_matches_the_undamped_closed_form(duration_s):
     r = sdof_response(HalfSine(236.93, duration_s), SDOF(4.685e5, 70.0, 0.0), t)
     ref = half_sine_closed_form(t, 236.93, duration_s, 70.0, 0.0)
     assert np.max(np.abs(r.response_N - ref)) < 1e-6 * np.max(np.abs(ref))
+
+
+# ------------------------------------------------------------------ sampled loads: the recurrence
+def _random_samples(seed: int, n: int = 300):
+    rng = np.random.default_rng(seed)
+    times = 2e-3 + np.cumsum(rng.uniform(1e-5, 3e-5, n))
+    forces = rng.uniform(-5.0, 5.0, n)  # non-zero ends: jumps from and to zero
+    return times, forces
+
+
+def test_piecewise_linear_recurrence_matches_the_closed_form_superposition():
+    # Two independent exact methods: the recurrence over the samples, and Duhamel's integral
+    # in closed form over one switched-on ramp per sample (oscillator_response).
+    times, forces = _random_samples(1)
+    t = np.sort(np.concatenate([np.linspace(0.0, times[-1] + 0.02, 1500), times]))
+    omega = 2 * np.pi * np.array([88.0, 700.0, 3000.0, 9000.0])
+    zeta = np.array([0.01, 0.045, 0.3, 0.9])
+    got = piecewise_linear_response(times, forces, t, omega, zeta)
+    want = oscillator_response(Tabulated(times, forces), t, omega, zeta, derivatives=True)
+    for g, w in zip(got, want):
+        scale = np.abs(w).max(axis=1, keepdims=True)
+        assert np.all(scale > 0)
+        assert np.all(np.abs(g - w) <= 1e-9 * scale)
+    assert np.all(got[0][:, t < times[0]] == 0.0)  # at rest before the load
+    # Undamped: oscillator_response evaluates zeta = 0 as 1e-9, a relative change of about
+    # zeta omega t (1e-8 here); the recurrence takes zeta = 0 as it is.
+    q0 = piecewise_linear_response(times, forces, t, omega[:1], [0.0])[0]
+    w0 = oscillator_response(Tabulated(times, forces), t, omega[0], 0.0)
+    assert np.abs(q0[0] - w0).max() <= 1e-7 * np.abs(w0).max()
+
+
+def test_piecewise_linear_recurrence_overdamped_against_numerical_integration():
+    times, forces = _random_samples(2, n=60)
+    t = np.linspace(times[0], times[-1] + 4e-4, 200)
+    omega, zeta = np.array([3e4, 8e4]), np.array([1.0, 4.0])  # critical (moved to 1 + 1e-9) and overdamped
+    q, qd, qdd = piecewise_linear_response(times, forces, t, omega, zeta)
+    pulse = Tabulated(times, forces)
+    for k in range(2):
+        w, z = omega[k], zeta[k]
+
+        def rhs(s, y):
+            return [y[1], float(pulse.force(s)) - 2 * z * w * y[1] - w * w * y[0]]
+
+        sol = solve_ivp(rhs, (t[0], t[-1]), [0, 0], t_eval=t, method="Radau", rtol=1e-10, atol=1e-16,
+                        max_step=2e-6)
+        np.testing.assert_allclose(q[k], sol.y[0], atol=1e-6 * np.abs(sol.y[0]).max())
+        np.testing.assert_allclose(qd[k], sol.y[1], atol=1e-6 * np.abs(sol.y[1]).max())
+        # the equation of motion holds at every output time
+        residual = qdd[k] + 2 * z * w * qd[k] + w * w * q[k] - pulse.force(t)
+        assert np.abs(residual).max() < 1e-6 * np.abs(forces).max()
+
+
+def test_piecewise_linear_recurrence_long_step_reaches_the_static_response():
+    # A load held for 1 s (two samples) on a damped 20 Hz oscillator: q -> F / omega^2.
+    omega = np.array([2 * np.pi * 20.0])
+    q, qd, _ = piecewise_linear_response([0.0, 1.0], [3.0, 3.0], [0.999], omega, [0.3])
+    assert q[0, 0] == pytest.approx(3.0 / omega[0] ** 2, rel=1e-9)
+    assert abs(qd[0, 0]) < 1e-9
+
+
+def test_piecewise_linear_recurrence_rejects_bad_samples():
+    with pytest.raises(InputError, match="time_s"):
+        piecewise_linear_response([0.0, 0.0], [1.0, 1.0], [0.0], [1.0], [0.1])
+    with pytest.raises(InputError, match="omega"):
+        piecewise_linear_response([0.0, 1.0], [1.0, 1.0], [0.0], [-1.0], [0.1])
