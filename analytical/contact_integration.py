@@ -236,7 +236,8 @@ class NormalIntegrator:
         """Accelerations from the equations of motion (after a switch of the contact mode)."""
         f = self._force(st, contact)
         if self.size:
-            st.a = banded_solve(self.m_chol, self.b * f - self._times(self.c_band, st.v) - self._times(self.k_band, st.u))
+            load = self.b * f - self._times(self.c_band, st.v) - self._times(self.k_band, st.u)
+            st.a = banded_solve(self.m_chol, load)
         st.as_ = -f / self.m
         return f
 

@@ -36,8 +36,12 @@ Time integration
 ``method="modal"``: modal superposition, exact per mode: underdamped modes with
 :func:`analytical.oscillator.oscillator_response`, the overdamped high modes that Rayleigh
 damping produces (``zeta_n = a0 / (2 omega_n) + a1 omega_n / 2`` exceeds 1 above about 10 kHz
-for the seed's column) with the real-root closed form of :func:`_overdamped_response`; the
-number of modes is chosen adaptively (see :func:`mdof_response`). ``method="newmark"``:
+for the seed's column) with the real-root closed form of :func:`_overdamped_response`; a sampled
+pulse (:class:`~analytical.pulses.Tabulated`, as the impact integration gives) has every mode
+carried over its samples by the exact recurrence of
+:func:`analytical.oscillator.piecewise_linear_response`, whose cost grows as (samples + times)
+x modes rather than samples x times x modes. The number of modes is chosen adaptively (see
+:func:`mdof_response`). ``method="newmark"``:
 direct integration of the full equations with Newmark's constant average acceleration
 (:func:`analytical.newmark.newmark_history`), the output interpolated linearly onto the
 requested times.
@@ -164,10 +168,10 @@ def _modal_block(model: ColumnModel, pulse, times: np.ndarray, weights: np.ndarr
     A sampled pulse (:class:`~analytical.pulses.Tabulated`) uses the recurrence of
     :func:`analytical.oscillator.piecewise_linear_response` for all modes. Other pulses:
     underdamped modes (zeta < 1) use :func:`analytical.oscillator.oscillator_response`, the
-    overdamped ones that Rayleigh damping gives the high modes :func:`_overdamped_response`. Once the pulse has ended (``end``, s) a mode only rings
-    down, as ``exp(-s tau)`` with ``s`` its slowest decay rate, so each mode is evaluated
-    only up to ``end + 25 / s`` (a decay to 1e-11): the many short-lived high modes cost
-    little.
+    overdamped ones that Rayleigh damping gives the high modes :func:`_overdamped_response`.
+    Once the pulse has ended (``end``, s) a mode only rings down, as ``exp(-s tau)`` with ``s``
+    its slowest decay rate, so each mode is evaluated only up to ``end + 25 / s`` (a decay to
+    1e-11): the many short-lived high modes cost little.
     """
     out = np.zeros(times.size)
     if idx.size == 0:

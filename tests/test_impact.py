@@ -233,7 +233,8 @@ def test_merged_bending_directions_equal_two_separate_models():
     assert one["pulse"].peak_N > 100.0
     np.testing.assert_allclose(one["history"].force_N, two["history"].force_N, rtol=0, atol=1e-9 * 300)
     for axis in ("base_shear_x_N", "base_shear_y_N"):
-        np.testing.assert_allclose(getattr(one["history"], axis), getattr(two["history"], axis), rtol=0, atol=1e-9 * 300)
+        np.testing.assert_allclose(getattr(one["history"], axis), getattr(two["history"], axis),
+                                   rtol=0, atol=1e-9 * 300)
     assert one["column_energy"] == pytest.approx(two["column_energy"], rel=1e-9)
 
 
