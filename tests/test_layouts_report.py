@@ -183,7 +183,7 @@ def test_the_page_states_the_figures_and_links_every_figure_it_draws(tmp_path):
     for name in ("flow.png", "impact_summary.png", "two-a-tracks.png", "two-b-impacts.png"):
         assert (out / name).is_file() and f"]({name})" in text, name
     assert "never edited by hand" in text and "the solver's on 2 cores" in text
-    assert "| two-a | 2 | 1,000 | 5.0 min (CPU 4.0 min) | 2 s | 3.5 s (1.5 stepping + 2.0 pulses) | " \
+    assert "| two-a | 2 | 1,000 | 5.0 min (CPU 4.0 min) | 2 s | 3.5 s (1.5 stepping + 2.00 pulses) | " \
         "3 (debris1:2 debris2:1) | debris1, 0.100 s, 0.90 m/s, 90 N" in text
     assert "2 contacts between two bodies, from 0.050 s to 0.120 s" in text
     assert "0.10-0.30 m/s" in text

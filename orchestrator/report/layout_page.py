@@ -44,7 +44,7 @@ def _transport(row: dict) -> str:
     total = figure_text(row.get("transport_wall_s"), ".1f", " s")
     if row.get("transport_stepping_s") is None or row.get("transport_pulses_s") is None:
         return total
-    return f"{total} ({figure_text(row['transport_stepping_s'], '.1f')} stepping + {figure_text(row['transport_pulses_s'], '.1f')} pulses)"
+    return f"{total} ({figure_text(row['transport_stepping_s'], '.1f')} stepping + {figure_text(row['transport_pulses_s'], '.2f')} pulses)"
 
 
 def _runs_table(layouts: list, table: pd.DataFrame) -> list[str]:
