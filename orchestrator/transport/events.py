@@ -28,8 +28,8 @@ same model the coupled path resolves its strikes with, so a one-way and a two-wa
 the same velocity give the same load. MuJoCo's own contact (the same spring and dashpot
 against a rigid column) sets the rebound the body carries on with; its restitution is the
 law's rigid-wall restitution. The pulses are computed at the end of the run
-(:meth:`EventBook.finish`), so their cost is reported apart from the stepping. Each costs about
-0.5 s, more than a body's stepping to its strike; with ``first_pulse_only`` a body's later
+(:meth:`EventBook.finish`), so their cost is reported apart from the stepping (about 20 ms for
+a column strike, benchmarks/analytical.md). With ``first_pulse_only`` a body's later
 column strikes (its rebound sequence) are tabled with their velocities, heights and
 obliquities but without a pulse (NaN loads), which is all an ensemble of starts reads.
 
