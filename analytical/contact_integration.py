@@ -57,36 +57,14 @@ class ColumnBlock:
     def __init__(self, column: Column, height_m: float, gain: float):
         model = column_model(column)
         self.gain = gain
-        self.k = model.stiffness
-        self.m = model.mass
-        self.c = model.damping
         self.a0 = model.rayleigh_a0_1_s
         self.inertia = np.asarray(model.inertia_vector)
         self.b = gain * model.load_vector(height_m)[model.free_dofs]
-        self.k_band = upper_band(self.k)
-        self.m_band = upper_band(self.m)
-        self.c_band = upper_band(self.c)
-        self.m_chol = cholesky_band(self.m_band)
+        self.k_band = upper_band(model.stiffness)
+        self.m_band = upper_band(model.mass)
+        self.c_band = upper_band(model.damping)
         self.compliance = float(self.b @ banded_solve(cholesky_band(self.k_band), self.b))
         self.size = len(self.b)
-
-    def effective_chol(self, dt: float) -> np.ndarray:
-        return cholesky_band(self.k_band + (2.0 / dt) * self.c_band + (4.0 / dt**2) * self.m_band)
-
-    def times_m(self, x: np.ndarray) -> np.ndarray:
-        """``M x`` (BLAS dsbmv on the band)."""
-        return _dsbmv(BANDWIDTH, 1.0, self.m_band, x)
-
-    def times_c(self, x: np.ndarray) -> np.ndarray:
-        """``C x``."""
-        return _dsbmv(BANDWIDTH, 1.0, self.c_band, x)
-
-    def times_k(self, x: np.ndarray) -> np.ndarray:
-        """``K x``."""
-        return _dsbmv(BANDWIDTH, 1.0, self.k_band, x)
-
-    def energy(self, u, v) -> float:
-        return 0.5 * float(v @ self.times_m(v) + u @ self.times_k(u))
 
 
 def column_blocks(target: ColumnTarget, n: np.ndarray) -> tuple[tuple[ColumnBlock, float] | None, ...]:
