@@ -199,12 +199,6 @@ class NormalIntegrator:
             y, c2 * du - v, c44 * du - c4 * v - a, y_s, c2 * ds - st.vs, c44 * ds - c4 * st.vs - st.as_, self.b
         )
 
-    def _delta(self, st):
-        return st.delta
-
-    def _delta_rate(self, st):
-        return st.delta_rate
-
     def _force(self, st, contact):
         if not contact:
             return 0.0
@@ -299,7 +293,7 @@ class NormalIntegrator:
             if contact:
                 switch = self._force(trial, True) < 0.0
             else:
-                switch = self._delta(trial) - rest(t + dt) > 0.0
+                switch = trial.delta - rest(t + dt) > 0.0
             h = dt
             if switch:
                 theta = self._crossing(st, t, dt, contact, rest, scale_f if contact else scale_d)
@@ -315,7 +309,7 @@ class NormalIntegrator:
             t += h
             if switch:
                 if contact:  # the contact opens: F = 0 here
-                    delta = self._delta(st)
+                    delta = st.delta
                     # (Undamped, the force is k delta = 0 here: delta is zero to rounding.)
                     sep_delta, sep_time = (max(delta, 0.0) if self.c > 0.0 else 0.0), t
                     # The spring energy left is dissipated by the free dashpot (returned
@@ -388,7 +382,7 @@ class NormalIntegrator:
             trial = self._step(st, theta * dt, contact)
             if contact:
                 return self._force(trial, True)
-            return self._delta(trial) - rest(t + theta * dt)
+            return trial.delta - rest(t + theta * dt)
 
         lo = 1e-9
         g_lo = g(lo)

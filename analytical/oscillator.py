@@ -469,11 +469,10 @@ def oscillator_response(pulse, t, omega_rad_s, zeta, derivatives: bool = False):
     return (q, qd, qdd) if derivatives else q
 
 
-
-
 # --------------------------------------------------------------------------------------------
 # Sampled loads: a recurrence over the samples
 # --------------------------------------------------------------------------------------------
+
 
 def piecewise_linear_response(time_s, force_N, t, omega_rad_s, zeta) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Exact response of unit-mass oscillators to a load linear between samples, any damping.
@@ -520,15 +519,8 @@ def piecewise_linear_response(time_s, force_N, t, omega_rad_s, zeta) -> tuple[np
     if w.ndim != 1 or w.shape != z.shape or np.any(w <= 0.0) or np.any(z < 0.0):
         raise InputError("omega_rad_s/zeta", "must be 1-D arrays of equal length with omega > 0, zeta >= 0")
     z = np.where(np.abs(z - 1.0) < 1e-9, 1.0 + 1e-9, z)
-    h = np.diff(ts)
-    slope = np.diff(fs) / h
-    k = np.searchsorted(ts, tt, side="right") - 1
-    inside = (k >= 0) & (k < h.size)
-    ki = k[inside]
-    tau = tt[inside] - ts[ki]
-    load = np.zeros(tt.size)
-    load[inside] = fs[ki] + slope[ki] * tau
-    carry = _Carry(ts, fs, h, slope, tt, k, inside, ki, tau)
+    carry = _Carry(ts, fs, tt)
+    load = carry.load
     q = np.empty((w.size, tt.size))
     qd = np.empty_like(q)
     qdd = np.empty_like(q)
@@ -557,22 +549,26 @@ def piecewise_linear_response(time_s, force_N, t, omega_rad_s, zeta) -> tuple[np
 
 class _Carry:
     """``y' = r y + p`` for the sampled load ``p``, one row per root ``r`` (real or complex):
-    carried exactly over the samples, then evaluated at the output times."""
+    carried exactly over the samples, then evaluated at the output times ``tt``."""
 
-    def __init__(self, ts, fs, h, slope, tt, k, inside, ki, tau):
-        self.ts, self.fs, self.h, self.slope = ts, fs, h, slope
-        self.k, self.inside, self.ki, self.tau = k, inside, ki, tau
-        self.after = k >= h.size
+    def __init__(self, ts, fs, tt):
+        self.ts, self.fs = ts, fs
+        self.h = np.diff(ts)
+        self.slope = np.diff(fs) / self.h
+        k = np.searchsorted(ts, tt, side="right") - 1  # the interval holding each output time
+        self.inside = (k >= 0) & (k < self.h.size)
+        self.ki = k[self.inside]
+        self.tau = tt[self.inside] - ts[self.ki]
+        self.after = k >= self.h.size
         self.since_end = tt[self.after] - ts[-1]
         self.size = tt.size
+        #: The load at the output times (zero before the first sample and from the last on).
+        self.load = np.zeros(tt.size)
+        self.load[self.inside] = fs[self.ki] + self.slope[self.ki] * self.tau
 
     def __call__(self, r: np.ndarray) -> np.ndarray:
-        fs, slope = self.fs, self.slope
-        x = r * self.h
-        decay = np.exp(x)
-        em1 = decay - 1.0
-        drive = (fs[:-1] * em1 + slope * ((em1 - x) / r)) / r
         # The recurrence over the samples, one contiguous row per step; y_0 = 0 (at rest).
+        decay, drive = _interval(r, self.h, self.fs[:-1], self.slope)
         decay_t, drive_t = decay.T.copy(), drive.T.copy()
         states = np.zeros((self.ts.size, r.shape[0]), dtype=decay.dtype)
         for j in range(self.h.size):
@@ -582,10 +578,17 @@ class _Carry:
         out = np.zeros((r.shape[0], self.size), dtype=decay.dtype)
         if self.ki.size:
             ki = self.ki
-            xo = r * self.tau
-            eo = np.exp(xo)
-            em1 = eo - 1.0
-            out[:, self.inside] = eo * states[:, ki] + (fs[ki] * em1 + slope[ki] * ((em1 - xo) / r)) / r
+            decay, drive = _interval(r, self.tau, self.fs[ki], self.slope[ki])
+            out[:, self.inside] = decay * states[:, ki] + drive
         if self.since_end.size:
             out[:, self.after] = np.exp(r * self.since_end) * states[:, -1:]
         return out
+
+
+def _interval(r: np.ndarray, tau: np.ndarray, level: np.ndarray, slope: np.ndarray):
+    """``e^{r tau}`` and the load's part of ``y(t_k + tau)`` for ``p = level + slope tau``:
+    ``level (e^{r tau} - 1) / r + slope (e^{r tau} - 1 - r tau) / r^2``."""
+    x = r * tau
+    decay = np.exp(x)
+    em1 = decay - 1.0
+    return decay, (level * em1 + slope * ((em1 - x) / r)) / r
