@@ -186,3 +186,49 @@ def test_a_run_longer_than_the_record_is_refused():
     body = TransportBody("plate", centre_m=(0.0, 0.0, 0.1), **PLATE)
     with pytest.raises(FlowCoverageError, match=r"flow\.t"):
         run_transport([body], FLUME, 12.0, _still())
+
+
+def _afloat(name, x, y=0.0, u=0.0, v=0.0):
+    """The flat test box afloat at its draft in 0.1 m of still water, moving at (u, v)."""
+    return TransportBody(name, centre_m=(x, y, 0.1 - 0.01 + 0.01), velocity_m_s=(u, v, 0.0), friction_coefficient=0.0,
+                         **PLATE)
+
+
+@pytest.mark.parametrize("kind", ["column", "wall", "body"])
+def test_a_strike_takes_from_body_and_water_the_momentum_the_other_side_receives(kind):
+    """Afloat (its water carried with it as added mass), drag off so nothing but the strike
+    changes the motion along the normal: across a column, an end-wall and a body-body strike,
+    the impulse the other side receives (the pulse's integral) equals the change of the
+    normal momentum of the body and its added mass, (m + m_a,n) dv_n, within 2 %; for two
+    bodies, each one's change, with opposite signs."""
+    settings = TransportSettings(hydro=HydroCoefficients(drag_coefficient=0.0), output_interval_s=0.002)
+    column = None
+    if kind == "column":
+        bodies = [_afloat("box", 0.4, u=1.2)]
+        column = PlacedColumn(1.0, 0.0)
+    elif kind == "wall":
+        bodies = [_afloat("box", 2.6, u=1.2)]
+    else:
+        bodies = [_afloat("a", 0.0, u=1.2), _afloat("b", 0.5, u=-0.3)]
+    run = run_transport(bodies, FLUME, 0.6, _still(), column=column, settings=settings)
+    if kind == "body":
+        assert len(run.body_contacts) == 1
+        event = run.body_contacts.iloc[0]
+        ta, tb = run.track("a"), run.track("b")
+        t = event["time_s"]
+        before = [tr[tr["time_s"] <= t].iloc[-1]["u_m_s"] for tr in (ta, tb)]
+        after = [tr[tr["time_s"] > t + 0.01].iloc[0]["u_m_s"] for tr in (ta, tb)]
+        # afloat, each plate displaces its own mass: with C_a = 1 it carries 0.4 kg of water
+        m_t = 0.4 + 0.4
+        assert m_t * (before[0] - after[0]) == pytest.approx(event["impulse_Ns"], rel=0.02)
+        assert m_t * (after[1] - before[1]) == pytest.approx(event["impulse_Ns"], rel=0.02)
+        return
+    hits = run.impacts[run.impacts["kind"] == kind]
+    hit = hits.iloc[0]
+    assert hit["added_mass_along_normal_kg"] == pytest.approx(0.4, rel=0.02)  # afloat: rho V_sub = m
+    m_t = 0.4 + hit["added_mass_along_normal_kg"]
+    n = np.array([hit["normal_x"], hit["normal_y"], hit["normal_z"]])
+    v_in = -hit["normal_velocity_in_m_s"]
+    v_out = np.array([hit["rebound_u_m_s"], hit["rebound_v_m_s"], hit["rebound_w_m_s"]]) @ n
+    assert m_t * (v_out - v_in) == pytest.approx(hit["impulse_Ns"], rel=0.02)
+    assert hit["effective_mass_kg"] == pytest.approx(m_t, rel=0.02)

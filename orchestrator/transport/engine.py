@@ -46,6 +46,8 @@ import pandas as pd
 
 from analytical.errors import InputError, require_positive
 from analytical.hydrodynamics import HydroCoefficients, hydro_loads, sub_volumes, submerged_fraction
+from analytical.impact_bodies import Body
+from orchestrator.run.impact_resolution import pair_contact_law, resolve_bodies
 from orchestrator.transport.events import EventBook
 from orchestrator.transport.flow import FlowCoverageError, FlowField
 from orchestrator.transport.model import (
@@ -186,6 +188,11 @@ def run_transport(bodies, flume: FlumeBounds, t_end_s: float, flow: FlowField | 
                      flume.bed_z_m, settings.separation_s, surface, settings.min_impact_velocity_m_s,
                      settings.first_pulse_only)
     mass = np.array([b.mass_kg for b in bodies])
+    inertia = np.array([b.inertia_kg_m2 for b in bodies])
+    # the water each body carries (body axes): translation (kg) and rotation (kg m^2), as the
+    # forcing last set it; dry, none
+    added_mass = np.zeros((len(bodies), 3))
+    added_inertia = np.zeros((len(bodies), 3))
     lin = built.dof_adr[:, None] + np.arange(3)[None, :]
     ang = built.dof_adr[:, None] + np.arange(3, 6)[None, :]
     rows: list[np.ndarray] = []
@@ -215,11 +222,52 @@ def run_transport(bodies, flume: FlumeBounds, t_end_s: float, flow: FlowField | 
         d.xfrc_applied[built.body_ids, :3] = loads.force_N
         d.xfrc_applied[built.body_ids, 3:] = loads.moment_Nm
         total = mass + loads.added_mass_kg
+        added_mass[:] = loads.added_mass_kg[:, None]
         m.dof_armature[lin] = loads.added_mass_kg[:, None]
         # MuJoCo keeps a free body's diagonal mass in dof_M0, fixed at compile time: the armature
         # changed at run time only counts once dof_M0 carries it as well (MuJoCo 4.0).
         m.dof_M0[lin] = total[:, None]
         m.pair_solref[:] = built.pair_solref(total)
+
+    def impact_body(i: int) -> Body:
+        com, rot, vel, omega = (x[i] for x in state())
+        return Body.box(mass[i], inertia[i], rot, com, vel, omega, added_mass[i], added_inertia[i])
+
+    def resolve(event) -> None:
+        """Resolve a strike found in the step just undone, from the state before it, and set
+        the bodies' velocities to its rebound (module notes of events.py)."""
+        i = event.body
+        other = event.other if event.kind == "body" else None
+        body, b = bodies[i], impact_body(i)
+        event.added_mass_normal_kg = b.translational_mass_along(event.normal) - mass[i]
+        if other is None:
+            result, moves = resolve_bodies(event.kind, event.point, event.normal, event.depth_m, b, body.contact,
+                                           body.friction_coefficient, column=column.column if column else None,
+                                           bed_z_m=flume.bed_z_m, base_shear=False)
+        else:
+            result, moves = resolve_bodies("body", event.point, event.normal, event.depth_m, b,
+                                           pair_law(i, other), pair_friction(i, other), other=impact_body(other),
+                                           base_shear=False)
+        book.strike(event, result)
+        for index, move, res in ((i, moves[0], result), (other, moves[1] if other is not None else None, result)):
+            if index is None:
+                continue
+            q, v = built.qpos_adr[index], built.dof_adr[index]
+            d.qpos[q:q + 3] += move
+            if res is None:
+                continue
+            first = index == i
+            vel = res.velocity_out_m_s if first else res.other_velocity_out_m_s
+            omega = res.angular_velocity_out_rad_s if first else res.other_angular_velocity_out_rad_s
+            rot = d.xmat[built.body_ids[index]].reshape(3, 3)
+            d.qvel[v:v + 3] = vel
+            d.qvel[v + 3:v + 6] = rot.T @ omega  # free joint: body-frame rates
+
+    def pair_law(i: int, j: int):
+        return pair_contact_law(bodies[i].contact, bodies[j].contact)
+
+    def pair_friction(i: int, j: int) -> float:
+        return 0.5 * (bodies[i].friction_coefficient + bodies[j].friction_coefficient)
 
     start = time.perf_counter()
     for k in range(steps):
@@ -229,11 +277,23 @@ def run_transport(bodies, flume: FlumeBounds, t_end_s: float, flow: FlowField | 
                 apply_forcing()
         if k % n_out == 0:
             record()
+        qpos_before = d.qpos.copy()
         before = d.qvel.copy()
         t_before = d.time
         mujoco.mj_step(m, d)
         if d.ncon or book.touching:
-            book.observe(t_before, d, before, d.xmat[built.body_ids])
+            strikes = book.observe(t_before, d, before, d.xmat[built.body_ids])
+            for _ in range(3):  # a strike resolved; the step taken again may find another
+                if not strikes:
+                    break
+                d.qpos[:], d.qvel[:], d.time = qpos_before, before, t_before
+                mujoco.mj_forward(m, d)
+                for event in strikes:
+                    resolve(event)
+                mujoco.mj_forward(m, d)
+                qpos_before, before = d.qpos.copy(), d.qvel.copy()
+                mujoco.mj_step(m, d)
+                strikes = book.observe(t_before, d, before, d.xmat[built.body_ids])
     record()
     wall = time.perf_counter() - start
     impacts, body_contacts = book.finish()
