@@ -12,7 +12,7 @@ import pandas as pd
 import pytest
 
 from analytical.contact_law import column_impact
-from orchestrator.run.impact_resolution import body_contact_law
+from orchestrator.contact.resolution import body_contact_law
 from orchestrator.scene.schema import column_for_analysis
 from orchestrator.scene.scenefile import load_scene
 from tests.conftest import run_cli

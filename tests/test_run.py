@@ -149,7 +149,7 @@ def _state(name, centre, velocity=(0.0, 0.0, 0.0), yaw_deg=0.0, omega=(0.0, 0.0,
 
 
 def test_contacts_carry_closing_speeds(body_case):
-    """The runner's view of orchestrator.run.contact: distances, normals and closing speeds."""
+    """The runner's view of orchestrator.contact.geometry: distances, normals and closing speeds."""
     geometry = Geometry(load_case_info(body_case))
     # nose 4 mm from the column's upstream face (x = 1.15), closing at 0.5 m/s
     body = _state("debris1", (1.15 - 0.075 - 0.004, 0.0, 0.1), (0.5, 0.0, 0.0))

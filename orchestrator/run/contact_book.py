@@ -2,8 +2,8 @@
 
 The runner (`orchestrator.run.runner`) drives the solver; after every batch of log lines and
 at every restart it asks a `ContactBook` about the bodies' states. Geometry and impacts
-are `orchestrator.run.contact`'s (the scene's column, walls and bed, exact box-box
-distances, `clamp_to_bed`) and `orchestrator.run.impact_resolution`'s (`resolve`: the MDOF
+are `orchestrator.contact.geometry`'s (the scene's column, walls and bed, exact box-box
+distances, `clamp_to_bed`) and `orchestrator.contact.resolution`'s (`resolve`: the MDOF
 column, rigid walls, two-body impacts, from `analytical.impact`), seen through
 `orchestrator.run.contact_geometry` (`Geometry`: the case's obstacles and bodies, and each
 contact's closing speed, `Contact`). This module adds what the runner needs on top:
@@ -14,7 +14,7 @@ contact's closing speed, `Contact`). This module adds what the runner needs on t
   slow (resting) contact at a quarter of the gap, the bed once a body has sunk the bed
   tolerance into it;
 - at a restart (`ContactBook.resolve_contacts`): every contact that would stop the
-  solver at once is resolved: impacts by `orchestrator.run.impact_resolution.resolve`, slow contacts
+  solver at once is resolved: impacts by `orchestrator.contact.resolution.resolve`, slow contacts
   (closing slower than `min_impact_speed_m_s`) by a plastic impulse (`resting_contact`),
   a body the flow keeps pressing against an obstacle (more than `max_events` contacts
   within `window_s`) is pinned there (`bodystate.pin_bodies`); bodies are lifted out
@@ -45,11 +45,11 @@ from typing import Any, Callable, Sequence
 from orchestrator.case import bodystate
 from orchestrator.case.bodystate import BodyState
 from orchestrator.case.folder import EPS_T
+from orchestrator.contact.events import IMPACTS_CSV, read_events, write_events, write_pulse_files
+from orchestrator.contact.settings import ContactSettings
 from orchestrator.run.case_info import CaseInfo
 from orchestrator.run.contact_geometry import Contact, Geometry, resting_contact
-from orchestrator.run.contact_settings import ContactSettings
 from orchestrator.run.errors import ContactError
-from orchestrator.run.event_files import IMPACTS_CSV, read_events, write_events, write_pulse_files
 from orchestrator.run.monitor import StepRecord
 
 __all__ = ["ContactBook"]
@@ -147,7 +147,7 @@ class ContactBook:
     def resolve_contacts(self, time_name: str, states: list[BodyState],
                          horizon_s: float) -> tuple[int, list[BodyState]]:
         """At a restart: resolve every contact that would stop the solver at once (impacts
-        with orchestrator.run.contact.resolve, slow ones as resting contacts, pins), lift bodies
+        with orchestrator.contact.resolution.resolve, slow ones as resting contacts, pins), lift bodies
         out of the bed, and move any body still overlapping an obstacle out of it. Records
         the events; returns (impacts, the states to restart with). `horizon_s`: how far the
         solver ran on after a stop request (the last deltaT times the stop latency)."""

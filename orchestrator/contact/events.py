@@ -40,9 +40,12 @@ IMPACT_COLUMNS = [
 
 
 def read_events(case: str | Path) -> list[dict]:
-    """The case's contact events, [] when it has none."""
+    """The case's contact events, [] when it has none (no contacts.json, or one that holds no list)."""
     path = Path(case) / CONTACTS_JSON
-    return json.loads(path.read_text()) if path.is_file() else []
+    if not path.is_file():
+        return []
+    events = json.loads(path.read_text())
+    return events if isinstance(events, list) else []
 
 
 def write_events(case: str | Path, events: list[dict[str, Any]]) -> None:
