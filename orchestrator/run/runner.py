@@ -60,8 +60,8 @@ Files the runner writes in the case: `run.json`; `log.<step>` (and `log.<solver>
 for earlier segments); `bodies.csv` (every body's state at every time step: time_s,
 body, x_m.., u_m_s.., omega_*_rad_s, the orientation q_xx..q_zz); `bodystate.json`
 (the states every restart used, and their source); through the contact book,
-`contacts.json` (every event: impacts, resting contacts and pins), `impacts.csv` (one
-row per impact: time, bodies, point, normal, velocities in and out, obliquity, height,
+`contacts.json` (every event: impacts, resting contacts and pins), `impact_events.csv`
+(one row per impact: time, bodies, point, normal, velocities in and out, obliquity, height,
 peak force, duration, impulse, force history file) and `contacts/event<n>-force.csv`
 (and `-base-shear.csv` for the column).
 The function objects write `postProcessing/<name>/<start time>/`: one folder per
