@@ -38,7 +38,7 @@ Wall and body-body strikes: as on the coupled path, a wall strike is
 :func:`analytical.impact.pair_impact` (the two springs in series, the mean friction), each body
 at its centre, orientation, velocity and angular velocity before the step that found the
 contact, struck at the contact point along the contact normal. A wall strike's pulse is in
-impacts.csv and its files; a body-body strike's peak force, duration and impulse are in the
+results/impacts.csv and its files; a body-body strike's peak force, duration and impulse are in the
 body events table. Neither is computed with ``first_pulse_only``.
 """
 
@@ -55,13 +55,13 @@ from analytical.contact_law import column_impact
 from analytical.errors import InputError
 from analytical.impact import impact, pair_impact
 from analytical.impact_bodies import Body, RigidWall, inverse_inertia_tensor
-from orchestrator.run.impact_resolution import pair_contact_law
-from orchestrator.run.event_files import IMPACT_COLUMNS as RESULTS_IMPACT_COLUMNS
+from orchestrator.contact.events import IMPACT_COLUMNS as RESULTS_IMPACT_COLUMNS
+from orchestrator.contact.resolution import pair_contact_law
 
 __all__ = ["AFLOAT_CLEARANCE_M", "BODY_EVENT_COLUMNS", "IMPACT_COLUMNS", "EventBook"]
 
 IMPACT_COLUMNS = RESULTS_IMPACT_COLUMNS + ["peak_base_shear_N", "pulse_restitution"]
-"""impacts.csv's columns (orchestrator.run.event_files.IMPACT_COLUMNS) and two more: the
+"""results/impacts.csv's columns (orchestrator.contact.events.IMPACT_COLUMNS) and two more: the
 column model's peak base shear and its restitution (the column's vibration takes energy a rigid
 MuJoCo column does not)."""
 
