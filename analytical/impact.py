@@ -1,6 +1,6 @@
 """Impact of a rigid debris body on the column, a rigid wall or another body, over milliseconds.
 
-The runner stops the CFD when a body reaches an obstacle (orchestrator/run/contact.py); this module
+The runner stops the CFD when a body reaches an obstacle (orchestrator/contact/geometry.py); this module
 resolves the contact: the force history, the rebound and the column's response. It is pure:
 numbers and arrays in, frozen results out.
 

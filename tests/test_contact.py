@@ -1,4 +1,4 @@
-"""Contact geometry, event detection and resolution (orchestrator.run.contact).
+"""Contact geometry, event detection and resolution (orchestrator.contact.geometry).
 
 Distances, points and normals against hand values for face, edge and vertex configurations;
 exactness against brute-force surface sampling and consistency with the scene's
@@ -16,8 +16,8 @@ import pytest
 from scipy.spatial import cKDTree
 
 from analytical.errors import InputError
-from orchestrator.run.boxes import box_box_proximity, box_plane_proximity
-from orchestrator.run.contact import (
+from orchestrator.contact.boxes import box_box_proximity, box_plane_proximity
+from orchestrator.contact.geometry import (
     BoxObstacle,
     BoxState,
     Obstacles,
@@ -28,7 +28,7 @@ from orchestrator.run.contact import (
     scene_obstacles,
     time_to_contact,
 )
-from orchestrator.run.impact_resolution import resolve
+from orchestrator.contact.resolution import resolve
 from orchestrator.plan.planner import plan_case
 from orchestrator.scene.geometry import body_rotation, boxes_overlap
 from orchestrator.scene.scenefile import load_scene
@@ -426,7 +426,7 @@ def test_resolve_uses_each_bodys_contact_law_from_the_scene():
     rigid law gives a pulse about five times stronger and shorter; body pairs put the two
     bodies' springs in series."""
     from analytical.contact_law import ASCE7_KD, CONTAINER
-    from orchestrator.run.impact_resolution import pair_contact_law
+    from orchestrator.contact.resolution import pair_contact_law
 
     base = load_scene(ROOT / "cases" / "1debris.yaml")
     rigid = load_scene(ROOT / "cases" / "1debris.yaml", ["debris.0.contact.law=asce7_kd"])

@@ -1,6 +1,6 @@
 """The one-way path end to end with real OpenFOAM: `debrisfoam case` on a tiny one-way scene runs
 interFoam without the body, records the flow, carries the container through the record on
-MuJoCo, and leaves the results a coupled run leaves (contacts.json, pulses, impacts.csv,
+MuJoCo, and leaves the results a coupled run leaves (contacts.json, pulses, results/impacts.csv,
 bodies.csv, report), so post-processing reads both paths alike."""
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ import pandas as pd
 import pytest
 
 from analytical.contact_law import column_impact
-from orchestrator.run.impact_resolution import body_contact_law
+from orchestrator.contact.resolution import body_contact_law
 from orchestrator.scene.schema import column_for_analysis
 from orchestrator.scene.scenefile import load_scene
 from tests.conftest import run_cli

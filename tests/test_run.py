@@ -149,7 +149,7 @@ def _state(name, centre, velocity=(0.0, 0.0, 0.0), yaw_deg=0.0, omega=(0.0, 0.0,
 
 
 def test_contacts_carry_closing_speeds(body_case):
-    """The runner's view of orchestrator.run.contact: distances, normals and closing speeds."""
+    """The runner's view of orchestrator.contact.geometry: distances, normals and closing speeds."""
     geometry = Geometry(load_case_info(body_case))
     # nose 4 mm from the column's upstream face (x = 1.15), closing at 0.5 m/s
     body = _state("debris1", (1.15 - 0.075 - 0.004, 0.0, 0.1), (0.5, 0.0, 0.0))
@@ -659,7 +659,7 @@ def test_body_driven_into_the_column_rebounds(tmp_path, openfoam):
     assert impact["velocity_out_m_s"][0] < 0 < impact["velocity_in_m_s"][0]
     assert impact["peak_force_N"] > 0 and impact["impulse_Ns"] > 0 and 0 < impact["height_m"] < 0.3
     assert (case / impact["force_history"]).is_file()
-    header = (case / "impacts.csv").read_text().splitlines()[0]
+    header = (case / "impact_events.csv").read_text().splitlines()[0]
     for column in ("time_s", "body", "other", "point_x_m", "normal_x", "u_in_m_s", "u_out_m_s", "obliquity_deg",
                    "height_m", "peak_force_N", "duration_s", "impulse_Ns", "force_history"):
         assert column in header.split(",")

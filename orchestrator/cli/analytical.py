@@ -97,7 +97,7 @@ def impact_inputs(args: argparse.Namespace):
 
 def _scene_impact_inputs(args: argparse.Namespace):
     """impact_inputs from --scene: its column and its first (or --body) debris body."""
-    from orchestrator.run.impact_resolution import body_contact_law
+    from orchestrator.contact.resolution import body_contact_law
     from orchestrator.scene.scenefile import load_scene
     from orchestrator.scene.schema import column_for_analysis
 
@@ -122,7 +122,7 @@ def _study_impact_inputs(args: argparse.Namespace):
 
     from analytical.column import Column
 
-    from orchestrator.run.impact_resolution import body_contact_law
+    from orchestrator.contact.resolution import body_contact_law
     from orchestrator.scene.overrides import parse_override
     from orchestrator.scene.schema import DebrisContact
 

@@ -43,10 +43,10 @@ import pandas as pd
 
 from analytical.errors import InputError
 from orchestrator.case.folder import CaseFolder
+from orchestrator.contact.events import read_events
 from orchestrator.core.files import write_text_atomic
 from orchestrator.report import layout_plots
 from orchestrator.report.layout_page import markdown
-from orchestrator.results.readers import read_contact_events
 from orchestrator.results.compare import SPREADING_ANGLES_DEG, spreading_area
 from orchestrator.results.tables import write_table
 from orchestrator.scene.scenefile import load_scene
@@ -239,7 +239,7 @@ def load_layout(case_dir: str | Path) -> Layout:
     layout.bodies = _csv(results / "bodies.csv")
     layout.strikes = impact_table(layout)
     layout.body_contacts = _csv(folder.path / TRANSPORT_DIR / "body_contacts.csv")
-    for e in read_contact_events(folder.path):
+    for e in read_events(folder.path):
         if e.get("kind") != "wall":  # an impact with its pulse, or a contact without one
             continue
         if str(e.get("other", "")).startswith(END_WALLS):

@@ -13,8 +13,9 @@ from typing import Any
 import numpy as np
 
 from orchestrator.case.outputs import water_balance_summary
+from orchestrator.contact.events import read_events
 from orchestrator.core.numbers import finite_or_none
-from orchestrator.results.readers import CaseData, read_contact_events
+from orchestrator.results.readers import CaseData
 from orchestrator.results.tables import Results
 
 __all__ = ["headline"]
@@ -57,7 +58,7 @@ def headline(results: Results) -> dict[str, Any]:
         out["hydro_force"] = {"peak_x_N": finite_or_none(cf.loc[i, "hydro_force_x_N"]),
                               "time_of_peak_s": finite_or_none(cf.loc[i, "time_s"])}
     out["impacts"] = _impact_figures(results)
-    out["impacts"].update(_contact_figures(read_contact_events(data.case)))
+    out["impacts"].update(_contact_figures(read_events(data.case)))
     cr = results.column_response
     if "base_shear_x_N" in cr and len(cr):
         out["column_response"] = _response_figures(results)

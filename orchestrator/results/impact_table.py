@@ -16,9 +16,9 @@ import math
 import numpy as np
 import pandas as pd
 
+from orchestrator.contact.events import IMPACT_COLUMNS
 from orchestrator.results.metrics import PulseMetrics, impact_metrics
 from orchestrator.results.readers import CaseData, read_force_history
-from orchestrator.run.event_files import IMPACT_COLUMNS
 
 __all__ = ["AFLOAT_CLEARANCE_M", "FACE_GAUGE_REACH_M", "IMPACT_COLUMNS", "impact_context", "impact_rows"]
 

@@ -1,11 +1,12 @@
-"""Reading a case for post-processing: its records, gauge samples, body tracks and contacts.
+"""Reading a case for post-processing: its records, gauge samples, body tracks and impact pulses.
 
 :func:`load_case` gathers what the tool wrote beside the OpenFOAM case (plan.json,
 scene.yaml, run.json) into a :class:`CaseData`; every part is optional, so a run stopped
 early or rendered by hand is still read as far as it goes. The readers below turn the raw
 outputs into arrays and frames: the ``sets`` samples of the gauges, the bodies' six-DoF
-reports in the solver logs, the runner's contact events and their force histories. The
-function objects' forces and water balance are read by :mod:`orchestrator.case.outputs`.
+reports in the solver logs, the contact events' force histories. The contact events themselves
+are read by :mod:`orchestrator.contact.events`, the function objects' forces and water balance
+by :mod:`orchestrator.case.outputs`.
 
 Restarts: function objects start a new ``postProcessing/<name>/<start time>/`` folder at
 every restart; the pieces are joined in time order and a later piece replaces anything an
@@ -15,7 +16,6 @@ earlier one wrote after its start. The solver logs (``log.<solver>.<k>``, then
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -28,7 +28,6 @@ from analytical.errors import DebrisfoamError, InputError
 from orchestrator.case.bodystate import read_body_properties
 from orchestrator.case.folder import EPS_T, CaseFolder
 from orchestrator.case.outputs import numeric_dirs
-from orchestrator.run.event_files import CONTACTS_JSON
 from orchestrator.run.monitor import parse_log
 from orchestrator.scene.scenefile import load_scene
 from orchestrator.scene.schema import column_for_analysis
@@ -38,7 +37,6 @@ __all__ = [
     "CaseData",
     "load_case",
     "read_body_tracks",
-    "read_contact_events",
     "read_force_history",
     "read_gauge_samples",
 ]
@@ -260,15 +258,6 @@ def _tracks_from_runner(track: Path) -> pd.DataFrame:
                               (d["omega_x_rad_s"], d["omega_y_rad_s"], d["omega_z_rad_s"]), q))
     frame = pd.DataFrame(rows, columns=BODY_COLUMNS)
     return frame.sort_values(["body", "time_s"], kind="stable").reset_index(drop=True)
-
-
-def read_contact_events(case_dir: str | Path) -> list[dict]:
-    """The runner's contact events (contacts.json), [] when there are none."""
-    path = Path(case_dir) / CONTACTS_JSON
-    if not path.is_file():
-        return []
-    events = json.loads(path.read_text())
-    return events if isinstance(events, list) else []
 
 
 def read_force_history(path: Path) -> tuple[np.ndarray, np.ndarray] | None:

@@ -28,12 +28,13 @@ from orchestrator.case.outputs import (
     read_water_balance,
     water_balance_summary,
 )
+from orchestrator.contact.events import read_events
 from orchestrator.core.files import write_text_atomic
 from orchestrator.results.fringe import fringe_table
 from orchestrator.results.gauge_table import gauge_tables
 from orchestrator.results.impact_table import impact_context, impact_rows
 from orchestrator.results.metrics import column_response, pulse_sum
-from orchestrator.results.readers import BODY_COLUMNS, CaseData, load_case, read_body_tracks, read_contact_events
+from orchestrator.results.readers import BODY_COLUMNS, CaseData, load_case, read_body_tracks
 
 __all__ = ["Results", "atmosphere_warning", "tables", "write_table"]
 
@@ -75,7 +76,7 @@ def tables(case_dir: str | Path, arrival_threshold_m: float | None = None) -> Re
         missing.append(note)
     if hydro is None and (data.scene is None or data.scene.column is not None):
         missing.append("no column force output (postProcessing/columnForces)")
-    events = read_contact_events(data.case)
+    events = read_events(data.case)
     impacts, pulses = impact_rows(data, events, missing)
     forces = _column_forces(hydro, pulses)
     names = data.body_names

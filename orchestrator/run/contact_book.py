@@ -2,8 +2,8 @@
 
 The runner (`orchestrator.run.runner`) drives the solver; after every batch of log lines and
 at every restart it asks a `ContactBook` about the bodies' states. Geometry and impacts
-are `orchestrator.run.contact`'s (the scene's column, walls and bed, exact box-box
-distances, `clamp_to_bed`) and `orchestrator.run.impact_resolution`'s (`resolve`: the MDOF
+are `orchestrator.contact.geometry`'s (the scene's column, walls and bed, exact box-box
+distances, `clamp_to_bed`) and `orchestrator.contact.resolution`'s (`resolve`: the MDOF
 column, rigid walls, two-body impacts, from `analytical.impact`), seen through
 `orchestrator.run.contact_geometry` (`Geometry`: the case's obstacles and bodies, and each
 contact's closing speed, `Contact`). This module adds what the runner needs on top:
@@ -14,14 +14,15 @@ contact's closing speed, `Contact`). This module adds what the runner needs on t
   slow (resting) contact at a quarter of the gap, the bed once a body has sunk the bed
   tolerance into it;
 - at a restart (`ContactBook.resolve_contacts`): every contact that would stop the
-  solver at once is resolved: impacts by `orchestrator.run.impact_resolution.resolve`, slow contacts
+  solver at once is resolved: impacts by `orchestrator.contact.resolution.resolve`, slow contacts
   (closing slower than `min_impact_speed_m_s`) by a plastic impulse (`resting_contact`),
   a body the flow keeps pressing against an obstacle (more than `max_events` contacts
   within `window_s`) is pinned there (`bodystate.pin_bodies`); bodies are lifted out
   of the bed and any overlap left is removed along the contact normal;
 - the record: `contacts.json` (every event: impacts, resting contacts, pins),
-  `impacts.csv` (one row per impact) and `contacts/event<n>-force.csv` (and
-  `-base-shear.csv` for the column), in the case; counts in run.json's data
+  `impact_events.csv` (one row per impact) and `contacts/event<n>-force.csv` (and
+  `-base-shear.csv` for the column), in the case, written through
+  `orchestrator.contact.events`; counts in run.json's data
   (`resting_contacts`, `bed_clamps`, `pinned`), which the runner saves. Events later
   than a restart's time are forgotten (`forget_events_after`): that stretch is
   computed again.
@@ -36,20 +37,24 @@ Units: seconds, metres, kg, N.
 
 from __future__ import annotations
 
-import csv
 import dataclasses
 import math
-from pathlib import Path
 from typing import Any, Callable, Sequence
 
 from orchestrator.case import bodystate
 from orchestrator.case.bodystate import BodyState
 from orchestrator.case.folder import EPS_T
+from orchestrator.contact.events import (
+    append_impact_event,
+    forget_impact_events_after,
+    read_events,
+    write_events,
+    write_pulse_files,
+)
+from orchestrator.contact.settings import ContactSettings
 from orchestrator.run.case_info import CaseInfo
 from orchestrator.run.contact_geometry import Contact, Geometry, resting_contact
-from orchestrator.run.contact_settings import ContactSettings
 from orchestrator.run.errors import ContactError
-from orchestrator.run.event_files import IMPACTS_CSV, read_events, write_events, write_pulse_files
 from orchestrator.run.monitor import StepRecord
 
 __all__ = ["ContactBook"]
@@ -147,7 +152,7 @@ class ContactBook:
     def resolve_contacts(self, time_name: str, states: list[BodyState],
                          horizon_s: float) -> tuple[int, list[BodyState]]:
         """At a restart: resolve every contact that would stop the solver at once (impacts
-        with orchestrator.run.contact.resolve, slow ones as resting contacts, pins), lift bodies
+        with orchestrator.contact.resolution.resolve, slow ones as resting contacts, pins), lift bodies
         out of the bed, and move any body still overlapping an obstacle out of it. Records
         the events; returns (impacts, the states to restart with). `horizon_s`: how far the
         solver ran on after a stop request (the last deltaT times the stop latency)."""
@@ -306,13 +311,7 @@ class ContactBook:
         if len(keep) == len(events):
             return
         self._write_events(keep)
-        impacts = self.case / IMPACTS_CSV
-        if impacts.is_file():
-            with open(impacts, newline="") as fh:
-                rows = [r for r in csv.reader(fh)]
-            kept = [rows[0]] + [r for r in rows[1:] if float(r[1]) <= time_s + EPS_T]
-            with open(impacts, "w", newline="") as fh:
-                csv.writer(fh).writerows(kept)
+        forget_impact_events_after(self.case, time_s + EPS_T)
 
     def _read_events(self) -> list[dict]:
         return read_events(self.case)
@@ -354,28 +353,8 @@ class ContactBook:
             event["other_velocity_in_m_s"] = list(before[c.other].velocity_m_s)
             event["other_velocity_out_m_s"] = list(after[c.other].velocity_m_s)
         self._write_events(events + [event])
-        _append_impact_row(self.case / IMPACTS_CSV, event)
+        append_impact_event(self.case, event)
         self.say(f"contact event {number}: {c.body} hit {c.other} at t = {float(time_name):.6g} s, "
                  f"{abs(result.normal_velocity_in_m_s):.3g} m/s in, {result.normal_velocity_out_m_s:.3g} m/s out, "
                  f"peak {result.peak_force_N:.4g} N")
 
-
-_IMPACT_COLUMNS = [
-    "event", "time_s", "body", "other", "kind", "point_x_m", "point_y_m", "point_z_m", "normal_x", "normal_y",
-    "normal_z", "u_in_m_s", "v_in_m_s", "w_in_m_s", "u_out_m_s", "v_out_m_s", "w_out_m_s", "normal_velocity_in_m_s",
-    "normal_velocity_out_m_s", "restitution", "obliquity_deg", "height_m", "peak_force_N", "duration_s",
-    "impulse_Ns", "force_history",
-]
-
-
-def _append_impact_row(path: Path, e: dict[str, Any]) -> None:
-    row = [e["event"], e["time_s"], e["body"], e["other"], e["kind"], *e["point_m"], *e["normal"],
-           *e["velocity_in_m_s"], *e["velocity_out_m_s"], e["normal_velocity_in_m_s"], e["normal_velocity_out_m_s"],
-           e["restitution"], e["obliquity_deg"], e["height_m"], e["peak_force_N"], e["duration_s"], e["impulse_Ns"],
-           e["force_history"]]
-    new = not path.is_file()
-    with open(path, "a", newline="") as fh:
-        w = csv.writer(fh)
-        if new:
-            w.writerow(_IMPACT_COLUMNS)
-        w.writerow(row)

@@ -1,6 +1,6 @@
 """The runner's view of contact geometry: its body states against the case's obstacles.
 
-`orchestrator.run.contact` works on its own `BoxState` (numpy arrays, sizes, masses);
+`orchestrator.contact.geometry` works on its own `BoxState` (numpy arrays, sizes, masses);
 the runner's states are `bodystate.BodyState` (what the solver reports). `Geometry`
 translates between the two for one case: it builds the scene's obstacles for the modelled
 domain, finds every contact within a reach (the bed too) with the closing speed of the
@@ -21,10 +21,10 @@ import numpy as np
 from orchestrator.case import bodystate
 from orchestrator.case.bodystate import BodyState
 from orchestrator.case.folder import CaseFolder
-from orchestrator.run import contact as geo
+from orchestrator.contact import geometry as geo
+from orchestrator.contact.resolution import resolve
+from orchestrator.contact.settings import ContactSettings
 from orchestrator.run.case_info import CaseInfo
-from orchestrator.run.contact_settings import ContactSettings
-from orchestrator.run.impact_resolution import resolve
 from orchestrator.scene.scenefile import load_scene
 
 __all__ = ["Contact", "Geometry", "resting_contact"]
@@ -35,7 +35,7 @@ class Contact:
     """A body near an obstacle, another body or the bed: signed `distance_m` (< 0:
     overlapping), the contact point, the unit `normal` from the other thing into the body,
     and the closing speed of the contact point along it (> 0: approaching). `source` is
-    orchestrator.run.contact's BoxContact (None for the bed)."""
+    orchestrator.contact.geometry's BoxContact (None for the bed)."""
 
     body: str
     other: str
@@ -48,7 +48,7 @@ class Contact:
 
 
 class Geometry:
-    """The case's obstacles (from scene.yaml and plan.json) and its bodies, for orchestrator.run.contact."""
+    """The case's obstacles (from scene.yaml and plan.json) and its bodies, for orchestrator.contact.geometry."""
 
     def __init__(self, info: CaseInfo):
         self.scene = load_scene(CaseFolder(info.case).scene_path)
@@ -69,7 +69,7 @@ class Geometry:
 
     @staticmethod
     def back(new, old: BodyState) -> BodyState:
-        """orchestrator.run.contact's state as the runner's (velocities changed: acceleration unknown)."""
+        """orchestrator.contact.geometry's state as the runner's (velocities changed: acceleration unknown)."""
         moved = not np.allclose(new.velocity_m_s, old.velocity_m_s, rtol=0, atol=1e-15) or not np.allclose(
             new.angular_velocity_rad_s, old.angular_velocity_rad_s, rtol=0, atol=1e-15)
         return old.with_changes(
@@ -104,7 +104,7 @@ class Geometry:
         return out
 
     def resolve(self, contact: Contact, states: dict[str, BodyState], settings: ContactSettings):
-        """The impact of `contact` (orchestrator.run.contact.resolve): (result or None, new states by body)."""
+        """The impact of `contact` (orchestrator.contact.resolution.resolve): (result or None, new states by body)."""
         cs = [self.state(s) for s in states.values()]
         result, new = resolve(contact.source, cs, self.scene,
                               added_mass_coefficient=settings.added_mass_coefficient, **settings.impact)

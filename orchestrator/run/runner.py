@@ -49,7 +49,7 @@ batch of log lines the runner asks the book which bodies will be within
 bed, before the solver can stop (their closing speeds times the stop latency, a few
 time steps, which the runner measures; it polls faster near an obstacle), and
 schedules the stop or requests `writeNow`. From the written state the book resolves
-the contacts and records them: impacts (`orchestrator.run.impact_resolution.resolve`: the MDOF
+the contacts and records them: impacts (`orchestrator.contact.resolution.resolve`: the MDOF
 column, rigid walls, two-body impacts), slow "resting" contacts (a plastic impulse),
 bodies the flow keeps pressing against an obstacle (pinned there), bodies sunk into
 the bed (lifted back), overlaps (removed along the contact normal). The runner then
@@ -60,8 +60,8 @@ Files the runner writes in the case: `run.json`; `log.<step>` (and `log.<solver>
 for earlier segments); `bodies.csv` (every body's state at every time step: time_s,
 body, x_m.., u_m_s.., omega_*_rad_s, the orientation q_xx..q_zz); `bodystate.json`
 (the states every restart used, and their source); through the contact book,
-`contacts.json` (every event: impacts, resting contacts and pins), `impacts.csv` (one
-row per impact: time, bodies, point, normal, velocities in and out, obliquity, height,
+`contacts.json` (every event: impacts, resting contacts and pins), `impact_events.csv`
+(one row per impact: time, bodies, point, normal, velocities in and out, obliquity, height,
 peak force, duration, impulse, force history file) and `contacts/event<n>-force.csv`
 (and `-base-shear.csv` for the column).
 The function objects write `postProcessing/<name>/<start time>/`: one folder per
@@ -99,10 +99,10 @@ from typing import Any, Callable
 from analytical.errors import DebrisfoamError
 from orchestrator.case import bodystate, foam
 from orchestrator.case.folder import EPS_T, PLAN_JSON, SCENE_YAML, CaseFolder, processor_dirs
+from orchestrator.contact.settings import ContactSettings
 from orchestrator.run.bedwatch import BedWatch
 from orchestrator.run.case_info import CaseInfo, load_case_info
 from orchestrator.run.contact_geometry import Contact
-from orchestrator.run.contact_settings import ContactSettings
 from orchestrator.run.control import set_control
 from orchestrator.run.errors import ContactError, DivergenceError, RunError, RunInterrupted
 from orchestrator.run.monitor import Diagnosis, DivergenceLimits, Progress, StepRecord

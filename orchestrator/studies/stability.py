@@ -36,9 +36,9 @@ from orchestrator.case.outputs import (
     read_water_balance,
     water_balance_summary,
 )
+from orchestrator.contact.events import read_events
+from orchestrator.contact.geometry import BoxState, ModelledDomain, find_contacts, scene_obstacles
 from orchestrator.core.numbers import finite_or_none
-from orchestrator.results.readers import read_contact_events
-from orchestrator.run.contact import BoxState, ModelledDomain, find_contacts, scene_obstacles
 from orchestrator.scene.scenefile import load_scene
 from orchestrator.studies.sweep.store import load_store, read_member_record
 
@@ -116,7 +116,7 @@ def _forces_finite(case: Path) -> bool | None:
     checks = []
     if frame is not None and not frame.empty:
         checks.append(bool(np.isfinite(frame.drop(columns="time").to_numpy(float)).all()))
-    for e in read_contact_events(case):
+    for e in read_events(case):
         if e.get("type") == "impact":
             checks.append(finite_or_none(e.get("peak_force_N")) is not None)
     return bool(all(checks)) if checks else None
@@ -160,7 +160,7 @@ def assess(case_dir: str | Path, member: dict | None = None) -> Assessment:
     reached = finite_or_none(segments[-1].get("end_time")) if segments else None
     balance = water_balance_summary(read_water_balance(case))
     deepest, what, sink, clearance = _clearances(case, plan, scene)
-    events = read_contact_events(case)
+    events = read_events(case)
     summary = folder.summary() or {}
     wall = (member or {}).get("wall_time_s") or (summary.get("wall_time_s") or {}).get("total_s")
     a = Assessment(

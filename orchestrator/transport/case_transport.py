@@ -32,9 +32,9 @@ from typing import Any, Callable
 
 from analytical.errors import InputError
 from orchestrator.case.folder import CaseFolder
+from orchestrator.contact.events import write_events, write_pulse_files
+from orchestrator.contact.resolution import body_contact_law
 from orchestrator.core.files import write_text_atomic
-from orchestrator.run.event_files import write_events, write_pulse_files
-from orchestrator.run.impact_resolution import body_contact_law
 from orchestrator.scene.schema import Scene, column_for_analysis
 from orchestrator.scene.scenefile import load_scene
 from orchestrator.transport.engine import TransportResult, TransportSettings, run_transport

@@ -47,7 +47,7 @@ import pandas as pd
 from analytical.errors import InputError, require_positive
 from analytical.hydrodynamics import HydroCoefficients, hydro_loads, sub_volumes, submerged_fraction
 from analytical.impact_bodies import Body
-from orchestrator.run.impact_resolution import pair_contact_law, resolve_bodies
+from orchestrator.contact.resolution import pair_contact_law, resolve_bodies
 from orchestrator.transport.events import EventBook
 from orchestrator.transport.flow import FlowCoverageError, FlowField
 from orchestrator.transport.model import (

@@ -49,13 +49,13 @@ import pandas as pd
 
 from analytical.errors import InputError
 from analytical.impact import ColumnTarget, with_base_shear
-from orchestrator.run.event_files import IMPACT_COLUMNS as RESULTS_IMPACT_COLUMNS
+from orchestrator.contact.events import IMPACT_COLUMNS as RESULTS_IMPACT_COLUMNS
 
 __all__ = ["AFLOAT_CLEARANCE_M", "BODY_EVENT_COLUMNS", "IMPACT_COLUMNS", "EventBook"]
 
 IMPACT_COLUMNS = RESULTS_IMPACT_COLUMNS + ["peak_base_shear_N", "pulse_restitution", "effective_mass_kg",
                                            "added_mass_along_normal_kg"]
-"""impacts.csv's columns (orchestrator.run.event_files.IMPACT_COLUMNS) and four more: the
+"""results/impacts.csv's columns (orchestrator.contact.events.IMPACT_COLUMNS) and four more: the
 column model's peak base shear, the strike's restitution, the body's effective mass at the
 contact point along the normal (its mass, the water it carries and its rotation) and the added
 mass of that water along the normal."""

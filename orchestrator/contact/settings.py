@@ -22,7 +22,7 @@ class ContactSettings:
     gap_m: a body closer than this to the column, a wall or another body is in contact.
     min_impact_speed_m_s: slower closing speeds are resting contacts: the closing motion
         is stopped (a plastic impulse, no force history), not resolved as an impact.
-    bed: watch the bed too. Touching the bed is not an impact (orchestrator.run.contact), but
+    bed: watch the bed too. Touching the bed is not an impact (orchestrator.contact.geometry), but
         v1912 lets a body sink through it: a body that sinks more than `bed_tolerance_m`
         (default half the gap) into it is stopped, lifted back onto it and its velocity
         into it removed (`contact.clamp_to_bed`).

@@ -1,6 +1,6 @@
 """Oriented boxes: exact distance, contact point and normal between boxes, and to a plane.
 
-The contact watch (`orchestrator.run.contact`) models every body and the column as an
+The contact watch (`orchestrator.contact.geometry`) models every body and the column as an
 oriented box and the walls and bed as planes; this module is their geometry.
 
 Box-box geometry. Overlap is decided by the separating-axis test over the 15 axes (the

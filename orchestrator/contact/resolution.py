@@ -1,6 +1,6 @@
 """Resolving a contact as an impact: the column's MDOF model, a rigid wall, or two bodies.
 
-The contact watch (`orchestrator.run.contact`) finds a body within the gap of an obstacle;
+The contact watch (`orchestrator.contact.geometry`) finds a body within the gap of an obstacle;
 `resolve` turns that contact into an impact with `analytical.impact` and gives the bodies'
 rebound states. The contact law and friction are the scene bodies' own (`body_contact_law`;
 two bodies: their springs in series, `pair_contact_law`).
@@ -20,7 +20,7 @@ from analytical.errors import InputError
 from analytical.impact import DEFAULT_FRICTION_COEFFICIENT, impact, pair_impact
 from analytical.impact_bodies import DEFAULT_ADDED_MASS_COEFFICIENT, Body, ColumnTarget, RigidWall
 from analytical.impact_results import ImpactResult
-from orchestrator.run.contact import BoxContact, BoxState
+from orchestrator.contact.geometry import BoxContact, BoxState
 from orchestrator.scene.schema import Scene, column_for_analysis
 
 __all__ = ["body_contact_law", "pair_contact_law", "resolve", "resolve_bodies"]

@@ -14,8 +14,8 @@ solver's per-step report and uses this module to
   contact point and the unit normal, when the distance is below a gap;
 * decide how closely to watch (:func:`time_to_contact`).
 
-The box geometry (exact box-box and box-plane distances) is `orchestrator.run.boxes`'s;
-resolving a contact as an impact is `orchestrator.run.impact_resolution`'s.
+The box geometry (exact box-box and box-plane distances) is `orchestrator.contact.boxes`'s;
+resolving a contact as an impact is `orchestrator.contact.resolution`'s.
 
 Units: m, s, kg, rad. Normals point from the obstacle (or the other body) into the body.
 """
@@ -32,7 +32,7 @@ import numpy as np
 
 from analytical.errors import InputError
 from analytical.impact_bodies import inverse_inertia_tensor
-from orchestrator.run.boxes import Box, box_box, box_plane, freeze, sat_axes, sat_lower_bound, vec3
+from orchestrator.contact.boxes import Box, box_box, box_plane, freeze, sat_axes, sat_lower_bound, vec3
 from orchestrator.scene.geometry import flume_extent
 from orchestrator.scene.schema import Scene
 
