@@ -18,7 +18,8 @@ from analytical.column import Column
 from analytical.contact_law import CONTAINER, ContactLaw, contact_law
 from analytical.errors import InputError
 from analytical.impact import DEFAULT_FRICTION_COEFFICIENT, impact, pair_impact
-from analytical.impact_bodies import DEFAULT_ADDED_MASS_COEFFICIENT, Body, ColumnTarget, RigidWall
+from analytical.added_mass import box_added_mass
+from analytical.impact_bodies import Body, ColumnTarget, RigidWall
 from analytical.impact_results import ImpactResult
 from orchestrator.contact.geometry import BoxContact, BoxState
 from orchestrator.scene.schema import Scene, column_for_analysis
@@ -31,7 +32,7 @@ def resolve(
     states: Sequence[BoxState],
     scene: Scene,
     *,
-    added_mass_coefficient: float = DEFAULT_ADDED_MASS_COEFFICIENT,
+    added_mass_coefficient: float | None = None,
     **impact_options,
 ) -> tuple[ImpactResult | None, tuple[BoxState, ...]]:
     """Resolve ``contact`` with :mod:`analytical.impact`; return the impact and the new states.
@@ -45,6 +46,11 @@ def resolve(
     springs in series, :func:`pair_contact_law`); ``impact_options`` go to
     :func:`~analytical.impact.impact` / :func:`~analytical.impact.pair_impact` on top of
     them (stiffness, friction, damping, ...).
+
+    The water a body carries: None (the default) gives each body its own added mass along and
+    about its axes at its floating draft (:func:`analytical.added_mass.box_added_mass`; the
+    coupled path's bodies strike afloat), the same the one-way transport gives a body afloat at
+    its draft; a number ``C_a`` gives ``m C_a`` on every axis (0: none).
 
     Returns ``(result, new_states)``: ``new_states`` holds the bodies involved (``contact.body``,
     then ``contact.other`` for body pairs) with their post-impact velocities. A body that
@@ -69,8 +75,8 @@ def resolve(
     friction = options.pop("friction_coefficient", DEFAULT_FRICTION_COEFFICIENT)
     result, (move, other_move) = resolve_bodies(
         contact.kind, contact.point, contact.normal, max(-float(contact.distance_m), 0.0),
-        _impact_body(body, added_mass_coefficient), law, friction,
-        other=_impact_body(other, added_mass_coefficient) if other is not None else None,
+        _impact_body(body, added_mass_coefficient, scene), law, friction,
+        other=_impact_body(other, added_mass_coefficient, scene) if other is not None else None,
         column=column_for_analysis(scene) if contact.kind == "column" else None, **options)
     moved = body.replace(centre_of_mass_m=body.centre_of_mass_m + move)
     if other is None:
@@ -165,7 +171,12 @@ def _scene_options(scene: Scene, name: str, other: str | None = None) -> dict:
     return {**law.options(), "friction_coefficient": friction}
 
 
-def _impact_body(state: BoxState, added_mass_coefficient: float) -> Body:
+def _impact_body(state: BoxState, added_mass_coefficient: float | None, scene: Scene) -> Body:
+    if added_mass_coefficient is None:
+        own = box_added_mass(tuple(state.size_m), state.mass_kg, scene.fluids.water_density_kg_m3)
+        masses, inertias = own.masses_kg, own.inertias_kg_m2
+    else:
+        masses, inertias = np.full(3, state.mass_kg * added_mass_coefficient), np.zeros(3)
     return Body.box(state.mass_kg, state.inertia_kg_m2, state.orientation, state.centre_of_mass_m,
-                    state.velocity_m_s, state.angular_velocity_rad_s,
-                    added_mass_kg=np.full(3, state.mass_kg * added_mass_coefficient))
+                    state.velocity_m_s, state.angular_velocity_rad_s, added_mass_kg=masses,
+                    added_inertia_kg_m2=inertias)

@@ -31,7 +31,9 @@ The step
 
 Output: :class:`TransportResult`: ``tracks`` (bodies.csv's columns, every
 ``output_interval_s``), ``impacts`` (column and wall strikes), ``body_contacts`` (body-body
-onsets), ``wall_s`` (the stepping) and ``pulse_wall_s`` (the column pulses after it).
+onsets), ``wall_s`` (the stepping), ``pulse_wall_s`` (the column pulses after it), the
+resolved impacts by event number (``pulses``) and each strike's state before it
+(``strike_states``: the body's centre, rotation, velocity and angular velocity, world frame).
 """
 
 from __future__ import annotations
@@ -45,7 +47,13 @@ import numpy as np
 import pandas as pd
 
 from analytical.errors import InputError, require_positive
-from analytical.hydrodynamics import HydroCoefficients, hydro_loads, sub_volumes, submerged_fraction
+from analytical.hydrodynamics import (
+    HydroCoefficients,
+    added_mass_table,
+    hydro_loads,
+    sub_volumes,
+    submerged_fraction,
+)
 from analytical.impact_bodies import Body
 from orchestrator.contact.resolution import pair_contact_law, resolve_bodies
 from orchestrator.transport.events import EventBook
@@ -104,6 +112,7 @@ class TransportResult:
     hydro_interval_s: float
     output_interval_s: float
     pulses: dict = field(default_factory=dict, repr=False)
+    strike_states: dict = field(default_factory=dict, repr=False)
 
     def track(self, body: str) -> pd.DataFrame:
         """One body's rows, in time order."""
@@ -120,6 +129,9 @@ class _Forcing:
         self.local = np.stack([sub_volumes(b.size_m, coefficients.sub_volumes).centres_m for b in bodies])
         self.cell = self.size / np.asarray(coefficients.sub_volumes, float)
         self.names = [b.name for b in bodies]
+        self.tables = None
+        if coefficients.added_mass_coefficient is None:
+            self.tables = np.stack([added_mass_table(b.size_m, coefficients.water_density_kg_m3) for b in bodies])
 
     def __call__(self, t_flow: float, com, rot, vel, omega):
         pts = com[:, None, :] + np.einsum("bij,bnj->bni", rot, self.local)
@@ -137,7 +149,7 @@ class _Forcing:
             sample = self.flow.sample(pts[wet], t_flow, eta_m=eta[wet])
             u[wet] = sample.velocity_m_s
             a[wet] = sample.material_acceleration_m_s2
-        return hydro_loads(com, rot, vel, omega, self.size, pts, eta, u, a, self.coeffs)
+        return hydro_loads(com, rot, vel, omega, self.size, pts, eta, u, a, self.coeffs, self.tables)
 
     def _inside(self, pts) -> bool:
         (x0, x1), (y0, y1), _ = self.flow.extent_m
@@ -221,13 +233,18 @@ def run_transport(bodies, flume: FlumeBounds, t_end_s: float, flow: FlowField | 
         loads = forcing(t0 + d.time, com, rot, vel, omega)
         d.xfrc_applied[built.body_ids, :3] = loads.force_N
         d.xfrc_applied[built.body_ids, 3:] = loads.moment_Nm
-        total = mass + loads.added_mass_kg
-        added_mass[:] = loads.added_mass_kg[:, None]
-        m.dof_armature[lin] = loads.added_mass_kg[:, None]
+        added_mass[:] = loads.added_mass_kg
+        added_inertia[:] = loads.added_inertia_kg_m2
+        # translations are along the world axes: the world-diagonal of R diag(M_a) R^T
+        # (analytical.hydrodynamics); rotations about the body's: exact
+        world = np.einsum("bik,bk->bi", rot * rot, loads.added_mass_kg)
+        m.dof_armature[lin] = world
+        m.dof_armature[ang] = loads.added_inertia_kg_m2
         # MuJoCo keeps a free body's diagonal mass in dof_M0, fixed at compile time: the armature
         # changed at run time only counts once dof_M0 carries it as well (MuJoCo 4.0).
-        m.dof_M0[lin] = total[:, None]
-        m.pair_solref[:] = built.pair_solref(total)
+        m.dof_M0[lin] = mass[:, None] + world
+        m.dof_M0[ang] = inertia + loads.added_inertia_kg_m2
+        m.pair_solref[:] = built.pair_solref(mass + world.mean(axis=1))
 
     def impact_body(i: int) -> Body:
         com, rot, vel, omega = (x[i] for x in state())
@@ -298,7 +315,8 @@ def run_transport(bodies, flume: FlumeBounds, t_end_s: float, flow: FlowField | 
     wall = time.perf_counter() - start
     impacts, body_contacts = book.finish()
     return TransportResult(_tracks(bodies, np.array(times), rows), impacts, body_contacts, wall, book.pulse_wall_s,
-                           dt, steps, n_hydro * dt, n_out * dt, dict(book.pulses))
+                           dt, steps, n_hydro * dt, n_out * dt, dict(book.pulses),
+                           book.strike_states())
 
 
 def _tracks(bodies, times: np.ndarray, rows: list[np.ndarray]) -> pd.DataFrame:

@@ -251,6 +251,11 @@ class EventBook:
                 "peak_force_N": loads.get("peak_force_N", math.nan), "duration_s": loads.get("duration_s", math.nan),
                 "impulse_Ns": loads.get("impulse_Ns", math.nan)}
 
+    def strike_states(self) -> dict:
+        """Each strike's body state before it, by event number: (centre, rotation, velocity,
+        angular velocity), world frame (the inputs its resolution took)."""
+        return {e.number: (e.state[0], e.state[1], e.v_in, e.state[2]) for e in self.events if e.state is not None}
+
     def _impact_row(self, e: _Event, pulse: bool = True) -> dict:
         n = e.normal
         v = e.v_in
