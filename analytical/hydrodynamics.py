@@ -19,16 +19,26 @@ Per sub-volume (:func:`hydro_loads`):
   ``p_i``. Only its vertical part: the horizontal pressure gradient of the flow comes from the
   next term, which already contains it (in a hydrostatic flow ``Du/Dt = -g grad(eta)``);
   taking it from the slope of ``eta`` as well would count it twice.
-* **Froude-Krylov and the fluid part of added mass** ``(1 + C_a) rho f_i dV Du/Dt_i``: the
+* **Froude-Krylov and the fluid part of added mass** ``rho f_i dV (I + R C R^T) Du/Dt_i``: the
   pressure gradient that accelerates the water (``-grad p = rho (Du/Dt + g z)``) acting on
-  the displaced volume, plus ``C_a`` times it for the water the body must accelerate with it.
-* **Body-acceleration part of added mass** ``-C_a rho V_sub a_body``: not evaluated here. An
-  explicit (lagged) force of this form is unstable once ``C_a rho V_sub`` exceeds the body's
-  mass, and a floating 1:40 container displaces its own mass, so it sits at that limit. It is
-  instead an extra inertia: :attr:`HydroLoads.added_mass_kg` (``C_a rho V_sub``) is added to
-  the body's translational mass in the integrator (MuJoCo's per-degree-of-freedom armature,
-  refreshed as ``V_sub`` changes), which is implicit and unconditionally stable. The
-  rotational added inertia is left out.
+  the displaced volume, plus the water the body must accelerate with it, ``C`` the added-mass
+  coefficients along the body's own axes (surge, sway, heave) relative to the displaced
+  volume. By default they are the box's own at its current draft (:func:`added_mass_table`,
+  from :mod:`analytical.added_mass`: the 1:40 container afloat carries 0.28 of its displaced
+  water lengthwise, 0.84 sideways, 1.04 vertically); ``added_mass_coefficient`` set to a number
+  makes them that one value on every axis.
+* **Body-acceleration part of added mass** ``-M_a a_body``: not evaluated here. An explicit
+  (lagged) force of this form is unstable once the added mass exceeds the body's mass, and a
+  floating 1:40 container's heave added mass is about its own mass. It is instead an extra
+  inertia: :attr:`HydroLoads.added_mass_kg` (along the body axes) and
+  :attr:`HydroLoads.added_inertia_kg_m2` (about them) are added to the body's inertia in the
+  integrator (MuJoCo's per-degree-of-freedom armature, refreshed as ``V_sub`` changes), which is
+  implicit and unconditionally stable. A free joint's translations are along the world axes,
+  so the armature holds the world-diagonal of ``R diag(M_a) R^T``: exact for a body whose axes
+  are along the world's, and for a container yawed by ``psi`` it leaves out the sway-surge
+  coupling ``(A_y - A_x) sin psi cos psi`` (0.066 kg at 45 degrees against 0.37 kg of inertia
+  along either axis). The rotations are about the body's axes: exact. A strike uses the full
+  tensor (:meth:`analytical.impact_bodies.Body.box`).
 * **Drag** ``0.5 rho C_d (A_k / N) f_i |w_i| w_ik`` along each body axis ``k``, with ``w_i =
   u_i - v_body(p_i)`` the relative velocity at the sub-volume (the body's rotation included,
   so rotation is damped too), ``A_k`` the body's projected area normal to axis ``k`` and ``N``
@@ -55,6 +65,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from analytical.added_mass import box_added_mass
 from analytical.errors import InputError, require_finite, require_positive
 
 __all__ = [
@@ -64,6 +75,7 @@ __all__ = [
     "HydroCoefficients",
     "HydroLoads",
     "SubVolumes",
+    "added_mass_table",
     "archimedes_draft",
     "drag_time_constant",
     "heave_period",
@@ -84,9 +96,13 @@ container fills about half of the bore's depth, and the water piles up against i
 value (:data:`FREE_STREAM_BOX_DRAG_COEFFICIENT`) leaves it 0.38 m behind the coupled one at its
 strike."""
 
-DEFAULT_ADDED_MASS_COEFFICIENT = 1.0
-"""Isotropic added-mass coefficient of a box: between DNV-RP-C205's 2-D square section
-(1.51, flow across a side) and its cube (0.68); the one value used on all three axes."""
+DEFAULT_ADDED_MASS_COEFFICIENT = None
+"""None: each box's own added mass along and about its axes at its current draft
+(:func:`added_mass_table`, :mod:`analytical.added_mass`), not one value on every axis."""
+
+ADDED_MASS_TABLE_POINTS = 41
+"""Submerged fractions (0 to 1 of the box's volume) at which :func:`added_mass_table` tabulates
+a box's added mass; the forcing interpolates linearly between them."""
 
 
 @dataclass(frozen=True)
@@ -94,13 +110,15 @@ class HydroCoefficients:
     """Fluid and coefficients of the forcing (module notes).
 
     ``sub_volumes`` is the grid (length, width, height) the body is split into; 0 for
-    ``drag_coefficient`` or ``added_mass_coefficient`` switches that term off.
+    ``drag_coefficient`` or ``added_mass_coefficient`` switches that term off; None for
+    ``added_mass_coefficient`` (the default) takes each box's own per axis
+    (:func:`added_mass_table`).
     """
 
     water_density_kg_m3: float = 998.0
     gravity_m_s2: float = 9.81
     drag_coefficient: float = DEFAULT_DRAG_COEFFICIENT
-    added_mass_coefficient: float = DEFAULT_ADDED_MASS_COEFFICIENT
+    added_mass_coefficient: float | None = DEFAULT_ADDED_MASS_COEFFICIENT
     sub_volumes: tuple[int, int, int] = (5, 3, 3)
 
     def __post_init__(self):
@@ -108,6 +126,8 @@ class HydroCoefficients:
                            require_positive("hydro.water_density_kg_m3", self.water_density_kg_m3))
         object.__setattr__(self, "gravity_m_s2", require_positive("hydro.gravity_m_s2", self.gravity_m_s2))
         for name in ("drag_coefficient", "added_mass_coefficient"):
+            if name == "added_mass_coefficient" and self.added_mass_coefficient is None:
+                continue
             value = require_finite(f"hydro.{name}", getattr(self, name))
             if value < 0.0:
                 raise InputError(f"hydro.{name}", f"must be >= 0, got {value}")
@@ -128,7 +148,8 @@ class SubVolumes(NamedTuple):
 
 class HydroLoads(NamedTuple):
     """Forcing of B bodies: ``force_N`` and ``moment_Nm`` (B, 3; moment about the centre of
-    mass, world frame), ``submerged_volume_m3`` (B,), ``added_mass_kg`` (B,) and the
+    mass, world frame), ``submerged_volume_m3`` (B,), the added mass along the body axes
+    ``added_mass_kg`` (B, 3) and about them ``added_inertia_kg_m2`` (B, 3), and the
     sub-volumes' submerged fractions ``fraction`` (B, N)."""
 
     force_N: np.ndarray
@@ -136,6 +157,33 @@ class HydroLoads(NamedTuple):
     submerged_volume_m3: np.ndarray
     added_mass_kg: np.ndarray
     fraction: np.ndarray
+    added_inertia_kg_m2: np.ndarray
+
+
+def added_mass_table(size_m, water_density_kg_m3: float = 998.0,
+                     points: int = ADDED_MASS_TABLE_POINTS) -> np.ndarray:
+    """A box's added masses (surge, sway, heave; kg) and inertias (roll, pitch, yaw; kg m^2)
+    at ``points`` submerged fractions from 0 to 1 of its volume: (points, 6). Each row is
+    :func:`analytical.added_mass.box_added_mass` of the box floating at that draft (the
+    impulsive limit, its sources there); none at 0."""
+    size = tuple(require_positive("size_m", s) for s in size_m)
+    rho = require_positive("water_density_kg_m3", water_density_kg_m3)
+    volume = size[0] * size[1] * size[2]
+    table = np.zeros((int(points), 6))
+    for k, f in enumerate(np.linspace(0.0, 1.0, int(points))):
+        if f > 0.0:
+            table[k] = box_added_mass(size, rho * volume * f, rho).diagonal
+    return table
+
+
+def _interpolate_table(tables: np.ndarray, fraction: np.ndarray) -> np.ndarray:
+    """(B, 6) rows of ``tables`` (B, K, 6) at each body's submerged ``fraction`` (B,)."""
+    k = tables.shape[1] - 1
+    x = np.clip(fraction, 0.0, 1.0) * k
+    lo = np.minimum(np.floor(x).astype(int), k - 1)
+    w = (x - lo)[:, None]
+    rows = np.arange(tables.shape[0])
+    return (1.0 - w) * tables[rows, lo] + w * tables[rows, lo + 1]
 
 
 def archimedes_draft(mass_kg: float, footprint_m2: float, water_density_kg_m3: float = 998.0) -> float:
@@ -175,6 +223,7 @@ def hydro_loads(
     water_velocity_m_s,
     water_acceleration_m_s2,
     coefficients: HydroCoefficients,
+    added_mass_tables: np.ndarray | None = None,
 ) -> HydroLoads:
     """Force and moment on B boxes from the water at their N sub-volume centres.
 
@@ -182,8 +231,10 @@ def hydro_loads(
     (B, 3); ``orientation`` (B, 3, 3), body to world; ``points_m`` (B, N, 3) the sub-volume
     centres in the world (from :func:`sub_volumes` with ``coefficients.sub_volumes``);
     ``eta_m`` (B, N) the surface above each; ``water_velocity_m_s`` and
-    ``water_acceleration_m_s2`` (B, N, 3) there (read only where submerged). Returns
-    :class:`HydroLoads`; see the module notes for each term.
+    ``water_acceleration_m_s2`` (B, N, 3) there (read only where submerged);
+    ``added_mass_tables`` (B, K, 6) each box's :func:`added_mass_table` (made here when not
+    given and ``coefficients.added_mass_coefficient`` is None). Returns :class:`HydroLoads`;
+    see the module notes for each term.
     """
     c = coefficients
     com = np.asarray(centre_of_mass_m, float).reshape(-1, 3)
@@ -200,12 +251,28 @@ def hydro_loads(
     wet_volume = frac * dv[:, None]  # (B, N)
     rho = c.water_density_kg_m3
 
+    sub = wet_volume.sum(axis=1)
+    if c.added_mass_coefficient is None:
+        if added_mass_tables is None:
+            added_mass_tables = np.stack([added_mass_table(s, rho) for s in size])
+        added = _interpolate_table(np.asarray(added_mass_tables, float), sub / np.prod(size, axis=1))
+        added_mass, added_inertia = added[:, :3], added[:, 3:]
+        # per unit displaced mass along each body axis
+        ratio = np.divide(added_mass, (rho * sub)[:, None], out=np.zeros_like(added_mass), where=sub[:, None] > 0)
+    else:
+        added_mass = np.repeat((c.added_mass_coefficient * rho * sub)[:, None], 3, axis=1)
+        added_inertia = np.zeros_like(added_mass)
+        ratio = np.full_like(added_mass, c.added_mass_coefficient)
+
     force = np.zeros_like(pts)
     force[:, :, 2] = rho * c.gravity_m_s2 * wet_volume
     wet = frac > 0.0
     if np.any(wet):
         accel = np.where(wet[..., None], np.asarray(water_acceleration_m_s2, float), 0.0)
-        force += ((1.0 + c.added_mass_coefficient) * rho) * wet_volume[..., None] * accel
+        # (I + R diag(C) R^T) Du/Dt: the water's inertia and the added mass's, along the body axes
+        along = np.einsum("bji,bnj->bni", rot, accel) * ratio[:, None, :]
+        total = accel + np.einsum("bij,bnj->bni", rot, along)
+        force += rho * wet_volume[..., None] * total
         if c.drag_coefficient > 0.0:
             arm = pts - com[:, None, :]
             point_velocity = vel[:, None, :] + _cross(omega[:, None, :], arm)
@@ -218,8 +285,7 @@ def hydro_loads(
                 (frac * speed)[..., None] * rel_body
             force += np.einsum("bij,bnj->bni", rot, drag_body)
     moment = _cross(pts - com[:, None, :], force).sum(axis=1)
-    sub = wet_volume.sum(axis=1)
-    return HydroLoads(force.sum(axis=1), moment, sub, c.added_mass_coefficient * rho * sub, frac)
+    return HydroLoads(force.sum(axis=1), moment, sub, added_mass, frac, added_inertia)
 
 
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:

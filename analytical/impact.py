@@ -108,6 +108,7 @@ Kane, T.R. & Levinson, D.A. (1985). Dynamics: Theory and Applications. McGraw-Hi
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -140,6 +141,7 @@ __all__ = [
     "inverse_inertia_tensor",
     "impact",
     "pair_impact",
+    "with_base_shear",
 ]
 
 DEFAULT_FRICTION_COEFFICIENT = 0.3
@@ -167,6 +169,7 @@ def impact(
     dt_s: float | None = None,
     max_watch_s: float = 0.5,
     response_s: float = 0.05,
+    base_shear: bool = True,
 ) -> ImpactResult:
     """Resolve the impact of ``body`` on a fixed obstacle (a rigid wall or the column).
 
@@ -200,6 +203,10 @@ def impact(
         Longest time (s) integrated after the first contact while re-contact is possible.
     response_s:
         How long (s) after the pulse the base shear is reported.
+    base_shear:
+        False: leave the column's base shear out (``base_shear`` None); the pulse, rebound and
+        impulse are the same. :func:`with_base_shear` adds it later (a transport run resolves
+        every strike while it steps, and computes the base shear only of the strikes it reports).
 
     Raises
     ------
@@ -219,14 +226,24 @@ def impact(
         n, compliance, u0, blocks, stiffness_N_m, friction_coefficient, damping_ratio, dt_s, max_watch_s
     )
     j = res["impulse"]
-    v_out = body.velocity_m_s + j / body.translational_mass_kg
+    v_out = body.velocity_m_s + body.inverse_translational_mass @ j
     w_out = body.angular_velocity_rad_s + body.inverse_inertia @ np.cross(point - body.centre_of_mass_m, j)
     shear_x = shear_y = None
     height = None
     if isinstance(target, ColumnTarget):
         height = target.height_m
-        shear_x, shear_y = _base_shears(target, n, res["force"], response_s)
+        if base_shear:
+            shear_x, shear_y = _base_shears(target, n, res["force"], response_s)
     return _result(target.kind, point, n, height, res, v_out, w_out, None, None, shear_x, shear_y)
+
+
+def with_base_shear(result: ImpactResult, target: ColumnTarget, response_s: float = 0.05) -> ImpactResult:
+    """``result`` (an :func:`impact` on ``target``) with the column's base shear: the same as
+    :func:`impact` with ``base_shear=True``."""
+    if not isinstance(target, ColumnTarget) or result.target != "column":
+        raise InputError("target", "the base shear needs a column strike and its ColumnTarget")
+    shear_x, shear_y = _base_shears(target, result.normal, result.force, response_s)
+    return dataclasses.replace(result, base_shear=shear_x, base_shear_y=shear_y)
 
 
 def pair_impact(
@@ -257,9 +274,9 @@ def pair_impact(
     u0 = body.point_velocity(point) - other.point_velocity(point)
     res = _resolve(n, compliance, u0, (), stiffness_N_m, friction_coefficient, damping_ratio, dt_s, 1.0)
     j = res["impulse"]
-    v_a = body.velocity_m_s + j / body.translational_mass_kg
+    v_a = body.velocity_m_s + body.inverse_translational_mass @ j
     w_a = body.angular_velocity_rad_s + body.inverse_inertia @ np.cross(point - body.centre_of_mass_m, j)
-    v_b = other.velocity_m_s - j / other.translational_mass_kg
+    v_b = other.velocity_m_s - other.inverse_translational_mass @ j
     w_b = other.angular_velocity_rad_s - other.inverse_inertia @ np.cross(point - other.centre_of_mass_m, j)
     return _result("body", point, n, None, res, v_a, w_a, v_b, w_b, None, None)
 

@@ -5,9 +5,10 @@ global frame, velocity and spin, and an added-mass coefficient on its translatio
 contact point it has a *contact compliance* ``K = I3 / m_t + [r]x^T I^-1 [r]x`` (the velocity
 change of the point per unit impulse there) and along a normal ``n`` an **effective mass**
 
-    1 / m_eff = 1 / m_t + (r x n) . I^-1 (r x n),     m_t = m (1 + C_a)
+    1 / m_eff = n . M_t^-1 n + (r x n) . I^-1 (r x n),     M_t = m I3 + M_a
 
-(Stronge 2018). The obstacle is a :class:`RigidWall` or the column (:class:`ColumnTarget`);
+(Stronge 2018), ``M_a`` the added-mass tensor of the water the body carries (isotropic
+``m C_a`` or anisotropic, :mod:`analytical.added_mass`). The obstacle is a :class:`RigidWall` or the column (:class:`ColumnTarget`);
 a body-body impact has another :class:`Body` as its obstacle. :mod:`analytical.impact`
 resolves the impact; the reasons for the default coefficients are given there.
 
@@ -81,7 +82,14 @@ class Body:
     angular_velocity_rad_s:
         Angular velocity (rad/s).
     added_mass_coefficient:
-        ``C_a`` (>= 0): the translational mass is ``m (1 + C_a)``.
+        ``C_a`` (>= 0): the translational mass is ``m (1 + C_a)`` on every axis. Ignored when
+        ``added_mass_kg`` is given.
+    added_mass_kg:
+        The added-mass tensor on translation, global frame, kg (3x3, symmetric, positive
+        semi-definite), or None for the isotropic ``m C_a``. An afloat box carries far less
+        water lengthwise than broadside (:mod:`analytical.added_mass`), so a strike's
+        effective mass depends on the direction of the normal in the body's axes. A rotational
+        added inertia belongs in ``inverse_inertia`` (``(I + I_a)^-1``).
     """
 
     mass_kg: float
@@ -90,6 +98,7 @@ class Body:
     velocity_m_s: np.ndarray
     angular_velocity_rad_s: np.ndarray = (0.0, 0.0, 0.0)
     added_mass_coefficient: float = DEFAULT_ADDED_MASS_COEFFICIENT
+    added_mass_kg: np.ndarray | None = None
 
     def __post_init__(self):
         object.__setattr__(self, "mass_kg", require_positive("mass_kg", self.mass_kg))
@@ -105,6 +114,32 @@ class Body:
         if ca < 0.0:
             raise InputError("added_mass_coefficient", f"must be >= 0, got {self.added_mass_coefficient!r}")
         object.__setattr__(self, "added_mass_coefficient", ca)
+        if self.added_mass_kg is not None:
+            ma = _matrix("added_mass_kg", self.added_mass_kg)
+            scale = max(1.0, float(np.abs(ma).max()))
+            if not np.allclose(ma, ma.T, rtol=1e-9, atol=1e-12 * scale):
+                raise InputError("added_mass_kg", "must be symmetric")
+            if np.linalg.eigvalsh(0.5 * (ma + ma.T)).min() < -1e-9 * scale:
+                raise InputError("added_mass_kg", "must be positive semi-definite")
+            _freeze(self, "added_mass_kg", 0.5 * (ma + ma.T))
+
+    @classmethod
+    def box(cls, mass_kg: float, principal_inertia_kg_m2, orientation, centre_of_mass_m, velocity_m_s,
+            angular_velocity_rad_s=(0.0, 0.0, 0.0), added_mass_kg=(0.0, 0.0, 0.0),
+            added_inertia_kg_m2=(0.0, 0.0, 0.0)) -> "Body":
+        """A rigid body given in its own axes: principal moments, the added masses along its
+        axes and the added moments of inertia about them (:mod:`analytical.added_mass`), all
+        turned into the global frame by ``orientation`` (body to global, columns = body axes):
+        ``M_a = R diag(m_a) R^T`` and ``I^-1 = R diag(1 / (I + I_a)) R^T``."""
+        rot = _rotation("orientation", orientation)
+        moments = vector3("principal_inertia_kg_m2", principal_inertia_kg_m2)
+        added = vector3("added_mass_kg", added_mass_kg)
+        added_inertia = vector3("added_inertia_kg_m2", added_inertia_kg_m2)
+        if np.any(added < 0.0) or np.any(added_inertia < 0.0):
+            raise InputError("added_mass_kg", f"added masses and inertias must be >= 0, got {added.tolist()}, "
+                                              f"{added_inertia.tolist()}")
+        return cls(mass_kg, inverse_inertia_tensor(moments + added_inertia, rot), centre_of_mass_m, velocity_m_s,
+                   angular_velocity_rad_s, added_mass_kg=rot @ np.diag(added) @ rot.T)
 
     @classmethod
     def particle(cls, mass_kg: float, velocity_m_s, centre_of_mass_m=(0.0, 0.0, 0.0), **kw) -> "Body":
@@ -112,9 +147,25 @@ class Body:
         return cls(mass_kg, np.zeros((3, 3)), centre_of_mass_m, velocity_m_s, **kw)
 
     @property
-    def translational_mass_kg(self) -> float:
-        """``m (1 + C_a)`` (kg)."""
-        return self.mass_kg * (1.0 + self.added_mass_coefficient)
+    def translational_mass_tensor(self) -> np.ndarray:
+        """Mass on translation, kg (3x3, global): ``m I3 + M_a`` (``M_a = m C_a I3`` without a tensor)."""
+        if self.added_mass_kg is None:
+            return np.eye(3) * self.mass_kg * (1.0 + self.added_mass_coefficient)
+        return np.eye(3) * self.mass_kg + self.added_mass_kg
+
+    @property
+    def inverse_translational_mass(self) -> np.ndarray:
+        """``(m I3 + M_a)^-1`` (1/kg, 3x3): the centre's velocity change per unit impulse."""
+        return np.linalg.inv(self.translational_mass_tensor)
+
+    def translational_mass_along(self, direction) -> float:
+        """``n . (m I3 + M_a) n`` (kg) along the unit vector ``direction``."""
+        n = unit_vector("direction", direction)
+        return float(n @ self.translational_mass_tensor @ n)
+
+    def momentum(self) -> np.ndarray:
+        """Linear momentum of the body and the water it carries, ``(m I3 + M_a) v`` (N s)."""
+        return self.translational_mass_tensor @ self.velocity_m_s
 
     def point_velocity(self, point_m) -> np.ndarray:
         """Velocity (m/s) of the body point at ``point_m``: ``v + omega x r``."""
@@ -124,17 +175,17 @@ class Body:
     def compliance(self, point_m) -> np.ndarray:
         """Contact compliance (1/kg, 3x3): velocity change of the point per unit impulse there.
 
-        ``K = I3 / m_t + [r]x^T I^-1 [r]x`` (``[r]x a = r x a``).
+        ``K = (m I3 + M_a)^-1 + [r]x^T I^-1 [r]x`` (``[r]x a = r x a``).
         """
         r = np.asarray(point_m, float) - self.centre_of_mass_m
         rx = _skew(r)
-        return np.eye(3) / self.translational_mass_kg + rx.T @ self.inverse_inertia @ rx
+        return self.inverse_translational_mass + rx.T @ self.inverse_inertia @ rx
 
 
 def effective_mass(body: Body, contact_point_m, normal) -> float:
     """Effective mass (kg) of ``body`` along ``normal`` at ``contact_point_m``.
 
-    ``1 / m_eff = 1 / m_t + (r x n) . I^-1 (r x n)``.
+    ``1 / m_eff = n . M_t^-1 n + (r x n) . I^-1 (r x n)``.
     """
     n = unit_vector("normal", normal)
     return 1.0 / float(n @ body.compliance(vector3("contact_point_m", contact_point_m)) @ n)

@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 
+from analytical.added_mass import box_added_mass
 from analytical.errors import InputError
 from analytical.hydrodynamics import (
     HydroCoefficients,
@@ -50,7 +51,26 @@ def test_level_box_in_a_level_surface_displaces_footprint_times_depth():
         assert out.submerged_volume_m3[0] == pytest.approx(wet, rel=1e-12)
         np.testing.assert_allclose(out.force_N[0], [0.0, 0.0, RHO * G * wet], atol=1e-12)
         np.testing.assert_allclose(out.moment_Nm[0], 0.0, atol=1e-12)
-        assert out.added_mass_kg[0] == pytest.approx(1.0 * RHO * wet)
+        # the box's own added mass at that draft (tabulated at 41 drafts, interpolated)
+        own = box_added_mass(tuple(SIZE), RHO * wet, RHO)
+        np.testing.assert_allclose(out.added_mass_kg[0], own.masses_kg, rtol=0.03)
+        np.testing.assert_allclose(out.added_inertia_kg_m2[0], own.inertias_kg_m2, rtol=0.05, atol=2e-7)
+        iso = _loads(centre, np.eye(3), depth, coeffs=HydroCoefficients(added_mass_coefficient=1.0))
+        np.testing.assert_allclose(iso.added_mass_kg[0], RHO * wet, rtol=1e-12)
+
+
+@pytest.mark.parametrize("yaw_deg, axis", [(0.0, 0), (90.0, 1)])
+def test_accelerating_water_pushes_with_the_added_mass_along_the_body_axis_it_meets(yaw_deg, axis):
+    """Fully submerged and held, in water accelerating at 1 m/s^2 along x: F_x = rho V (1 + C)
+    a, with C the box's lengthwise coefficient end-on and its sideways one turned 90 degrees;
+    no force across."""
+    a = math.radians(yaw_deg)
+    rot = np.array([[math.cos(a), -math.sin(a), 0.0], [math.sin(a), math.cos(a), 0.0], [0.0, 0.0, 1.0]])
+    out = _loads((0.0, 0.0, 0.03), rot, 1.0, a=(1.0, 0.0, 0.0), coeffs=HydroCoefficients(drag_coefficient=0.0))
+    volume = float(np.prod(SIZE))
+    own = box_added_mass(tuple(SIZE), RHO * volume, RHO)
+    assert out.force_N[0][0] == pytest.approx(RHO * volume + own.masses_kg[axis], rel=0.01)
+    assert abs(out.force_N[0][1]) < 1e-9
 
 
 def test_drag_of_a_submerged_box_in_a_stream_is_half_rho_cd_a_u_squared():

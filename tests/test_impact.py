@@ -30,6 +30,7 @@ from analytical.impact import (
     impact,
     inverse_inertia_tensor,
     pair_impact,
+    with_base_shear,
 )
 from analytical.impact_bodies import effective_mass
 from analytical.mdof import mdof_response
@@ -115,6 +116,41 @@ def test_added_mass_scales_the_translational_mass():
     assert r1.duration_s / r0.duration_s == pytest.approx(math.sqrt(1.5), rel=2e-4)
     # the body's own velocity change is J / (m (1 + C_a)): it still rebounds at -V
     np.testing.assert_allclose(r1.velocity_out_m_s, [-V, 0, 0], atol=1e-9)
+
+
+def test_anisotropic_added_mass_acts_along_the_normal_in_body_axes():
+    """A box carrying 0.02 kg of water lengthwise and 0.3 kg broadside: struck end-on its
+    effective mass is m + 0.02 kg, turned 90 degrees (struck on its side) m + 0.3 kg; the
+    momentum of body and water, (m I + M_a) v, changes by exactly the impulse."""
+    added = (0.02, 0.3, 0.4)
+    end_on = Body.box(M, I_BOX, np.eye(3), (0, 0, 0), (V, 0, 0), added_mass_kg=added)
+    side_on = Body.box(M, I_BOX, rz(90.0), (0, 0, 0), (V, 0, 0), added_mass_kg=added)
+    r_end = impact(end_on, (0, 0, 0), (-1, 0, 0), RigidWall(), friction_coefficient=0.0)
+    r_side = impact(side_on, (0, 0, 0), (-1, 0, 0), RigidWall(), friction_coefficient=0.0)
+    assert r_end.effective_mass_kg == pytest.approx(M + 0.02, rel=1e-12)
+    assert r_side.effective_mass_kg == pytest.approx(M + 0.3, rel=1e-12)
+    # an eccentric, oblique strike with friction: linear momentum balance of body + water
+    body = Body.box(M, I_BOX, rz(30.0), (0, 0.02, 0), (V, 0.4, 0), (0, 0, 2.0), added_mass_kg=added)
+    r = impact(body, (0.075, 0.03, 0.01), (-1, 0, 0), RigidWall())
+    after = dataclasses.replace(body, velocity_m_s=r.velocity_out_m_s)
+    np.testing.assert_allclose(after.momentum() - body.momentum(), r.impulse_vector_Ns, atol=1e-12)
+    # the added moment of inertia slows the spin change of an eccentric strike
+    heavy = Body.box(M, I_BOX, np.eye(3), (0, 0, 0), (V, 0, 0), added_inertia_kg_m2=(0, 0, 5e-4))
+    light = Body.box(M, I_BOX, np.eye(3), (0, 0, 0), (V, 0, 0))
+    w_heavy = impact(heavy, (0.075, 0.02, 0), (-1, 0, 0), RigidWall()).angular_velocity_out_rad_s[2]
+    w_light = impact(light, (0.075, 0.02, 0), (-1, 0, 0), RigidWall()).angular_velocity_out_rad_s[2]
+    assert 0.0 < abs(w_heavy) < abs(w_light)
+
+
+def test_base_shear_added_later_equals_the_base_shear_computed_at_once(seed_rigid):
+    target = ColumnTarget(Column(), 0.4)
+    bare = impact(Body.particle(M, (V, 0, 0)), (0, 0, 0.4), (-1, 0, 0), target, friction_coefficient=0,
+                  base_shear=False)
+    assert bare.base_shear is None and bare.peak_force_N == seed_rigid.peak_force_N
+    later = with_base_shear(bare, target)
+    np.testing.assert_array_equal(later.base_shear.response_N, seed_rigid.base_shear.response_N)
+    with pytest.raises(InputError):
+        with_base_shear(bare, RigidWall())
 
 
 @pytest.mark.parametrize("zeta", [0.05, 0.2, 0.5])

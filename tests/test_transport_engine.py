@@ -12,6 +12,7 @@ import math
 import numpy as np
 import pytest
 
+from analytical.added_mass import box_added_mass
 from analytical.contact_law import CONTAINER, column_impact, contact_law
 from analytical.hydrodynamics import HydroCoefficients, archimedes_draft, drag_time_constant, heave_period
 from orchestrator.transport.engine import BODY_COLUMNS, TransportSettings, run_transport
@@ -40,18 +41,23 @@ def test_a_box_in_still_water_floats_level_at_archimedes_draft():
     assert late["pitch_deg"].abs().max() < 0.01 and late["roll_deg"].abs().max() < 0.01
 
 
-def test_heave_period_with_the_added_mass_of_the_displaced_water():
-    """Expected 2 pi sqrt((m + m_a) / (rho g A)) with m_a = C_a rho V_sub = 1.0 x m (the model's
-    added mass: C_a times the displaced water, which afloat equals the body's mass): 0.284 s
-    within 10 % (without the added mass it would be 0.201 s)."""
-    run = run_transport([TransportBody("plate", centre_m=(0.0, 0.0, 0.103), **PLATE)], FLUME, 2.0, _still())
+@pytest.mark.parametrize("coefficient", [None, 1.0], ids=["own", "isotropic_1"])
+def test_heave_period_with_the_added_mass_of_the_displaced_water(coefficient):
+    """Expected 2 pi sqrt((m + m_a) / (rho g A)) within 10 %, m_a the model's heave added mass:
+    the plate's own (analytical.added_mass, 2.21 kg: a thin plate carries 5.5 times the water it
+    displaces; 0.513 s) or C_a rho V_sub with C_a = 1 (0.4 kg; 0.284 s). Without added mass it
+    would be 0.201 s."""
+    settings = TransportSettings(hydro=HydroCoefficients(added_mass_coefficient=coefficient))
+    run = run_transport([TransportBody("plate", centre_m=(0.0, 0.0, 0.103), **PLATE)], FLUME, 2.0, _still(),
+                        settings=settings)
     track = run.track("plate")
     z = track["z_m"].to_numpy() - 0.1
     t = track["time_s"].to_numpy()
     up = np.nonzero((z[:-1] < 0) & (z[1:] >= 0))[0]
     crossings = t[up] - z[up] * (t[up + 1] - t[up]) / (z[up + 1] - z[up])
     assert len(crossings) >= 4
-    assert np.diff(crossings).mean() == pytest.approx(heave_period(0.4, 0.4, 0.04, RHO, G), rel=0.10)
+    m_a = 0.4 if coefficient else box_added_mass((0.2, 0.2, 0.02), 0.4, RHO).masses_kg[2]
+    assert np.diff(crossings).mean() == pytest.approx(heave_period(0.4, m_a, 0.04, RHO, G), rel=0.10)
 
 
 def test_on_a_sloped_surface_a_thin_box_tilts_with_it():
@@ -73,14 +79,15 @@ def test_on_a_sloped_surface_a_thin_box_tilts_with_it():
 
 def test_in_a_uniform_current_a_floating_box_drifts_up_to_the_current_speed():
     """(m + m_a) dv/dt = 0.5 rho C_d A (U - v)^2 from rest: v = U (t/tau) / (1 + t/tau), tau =
-    (m + m_a) / (0.5 rho C_d A U) (A = width x draft; 0.53 s at the default C_d = 3). Expected
-    v(tau) = U/2 and v(2 tau) = 2U/3 within 5 %."""
+    (m + m_a) / (0.5 rho C_d A U) (A = width x draft, m_a the plate's own surge added mass,
+    0.05 kg; 0.30 s at the default C_d = 3). Expected v(tau) = U/2 and v(2 tau) = 2U/3 within 5 %."""
     U = 0.5
     flow = FlowField.uniform_current(0.1, U, x_m=(-1.0, 3.0), y_m=(-0.5, 0.5), t_s=(0.0, 10.0))
     run = run_transport([TransportBody("plate", centre_m=(-0.8, 0.0, 0.1), **PLATE)], FLUME, 3.2, flow)
     track = run.track("plate")
     area = 0.2 * archimedes_draft(0.4, 0.04, RHO)
-    tau = drag_time_constant(0.8, HydroCoefficients().drag_coefficient, area, U, RHO)
+    m_a = box_added_mass((0.2, 0.2, 0.02), 0.4, RHO).masses_kg[0]
+    tau = drag_time_constant(0.4 + m_a, HydroCoefficients().drag_coefficient, area, U, RHO)
     assert np.interp(tau, track["time_s"], track["u_m_s"]) == pytest.approx(U / 2, rel=0.05)
     assert np.interp(2 * tau, track["time_s"], track["u_m_s"]) == pytest.approx(2 * U / 3, rel=0.05)
 
@@ -186,3 +193,51 @@ def test_a_run_longer_than_the_record_is_refused():
     body = TransportBody("plate", centre_m=(0.0, 0.0, 0.1), **PLATE)
     with pytest.raises(FlowCoverageError, match=r"flow\.t"):
         run_transport([body], FLUME, 12.0, _still())
+
+
+def _afloat(name, x, y=0.0, u=0.0, v=0.0):
+    """The flat test box afloat at its draft in 0.1 m of still water, moving at (u, v)."""
+    return TransportBody(name, centre_m=(x, y, 0.1 - 0.01 + 0.01), velocity_m_s=(u, v, 0.0), friction_coefficient=0.0,
+                         **PLATE)
+
+
+@pytest.mark.parametrize("kind", ["column", "wall", "body"])
+def test_a_strike_takes_from_body_and_water_the_momentum_the_other_side_receives(kind):
+    """Afloat (its water carried with it as added mass), drag off so nothing but the strike
+    changes the motion along the normal: across a column, an end-wall and a body-body strike,
+    the impulse the other side receives (the pulse's integral) equals the change of the
+    normal momentum of the body and its added mass, (m + m_a,n) dv_n, within 2 %; for two
+    bodies, each one's change, with opposite signs."""
+    settings = TransportSettings(hydro=HydroCoefficients(drag_coefficient=0.0), output_interval_s=0.002)
+    column = None
+    if kind == "column":
+        bodies = [_afloat("box", 0.4, u=1.2)]
+        column = PlacedColumn(1.0, 0.0)
+    elif kind == "wall":
+        bodies = [_afloat("box", 2.6, u=1.2)]
+    else:
+        bodies = [_afloat("a", 0.0, u=1.2), _afloat("b", 0.5, u=-0.3)]
+    run = run_transport(bodies, FLUME, 0.6, _still(), column=column, settings=settings)
+    if kind == "body":
+        assert len(run.body_contacts) == 1
+        event = run.body_contacts.iloc[0]
+        ta, tb = run.track("a"), run.track("b")
+        t = event["time_s"]
+        before = [tr[tr["time_s"] <= t].iloc[-1]["u_m_s"] for tr in (ta, tb)]
+        after = [tr[tr["time_s"] > t + 0.01].iloc[0]["u_m_s"] for tr in (ta, tb)]
+        # afloat, each plate carries its own surge added mass (analytical.added_mass)
+        m_t = 0.4 + box_added_mass((0.2, 0.2, 0.02), 0.4, RHO).masses_kg[0]
+        assert m_t * (before[0] - after[0]) == pytest.approx(event["impulse_Ns"], rel=0.02)
+        assert m_t * (after[1] - before[1]) == pytest.approx(event["impulse_Ns"], rel=0.02)
+        return
+    hits = run.impacts[run.impacts["kind"] == kind]
+    hit = hits.iloc[0]
+    # afloat: the plate's own added mass along the normal (x for the column and the end wall)
+    assert hit["added_mass_along_normal_kg"] == pytest.approx(box_added_mass((0.2, 0.2, 0.02), 0.4, RHO).masses_kg[0],
+                                                             rel=0.03)
+    m_t = 0.4 + hit["added_mass_along_normal_kg"]
+    n = np.array([hit["normal_x"], hit["normal_y"], hit["normal_z"]])
+    v_in = -hit["normal_velocity_in_m_s"]
+    v_out = np.array([hit["rebound_u_m_s"], hit["rebound_v_m_s"], hit["rebound_w_m_s"]]) @ n
+    assert m_t * (v_out - v_in) == pytest.approx(hit["impulse_Ns"], rel=0.02)
+    assert hit["effective_mass_kg"] == pytest.approx(m_t, rel=0.02)

@@ -14,15 +14,17 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from analytical.contact_law import ContactLaw, contact_law
+from analytical.column import Column
+from analytical.contact_law import CONTAINER, ContactLaw, contact_law
 from analytical.errors import InputError
-from analytical.impact import impact, pair_impact
-from analytical.impact_bodies import DEFAULT_ADDED_MASS_COEFFICIENT, Body, ColumnTarget, RigidWall
+from analytical.impact import DEFAULT_FRICTION_COEFFICIENT, impact, pair_impact
+from analytical.added_mass import box_added_mass
+from analytical.impact_bodies import Body, ColumnTarget, RigidWall
 from analytical.impact_results import ImpactResult
 from orchestrator.contact.geometry import BoxContact, BoxState
 from orchestrator.scene.schema import Scene, column_for_analysis
 
-__all__ = ["body_contact_law", "pair_contact_law", "resolve"]
+__all__ = ["body_contact_law", "pair_contact_law", "resolve", "resolve_bodies"]
 
 
 def resolve(
@@ -30,7 +32,7 @@ def resolve(
     states: Sequence[BoxState],
     scene: Scene,
     *,
-    added_mass_coefficient: float = DEFAULT_ADDED_MASS_COEFFICIENT,
+    added_mass_coefficient: float | None = None,
     **impact_options,
 ) -> tuple[ImpactResult | None, tuple[BoxState, ...]]:
     """Resolve ``contact`` with :mod:`analytical.impact`; return the impact and the new states.
@@ -45,6 +47,11 @@ def resolve(
     :func:`~analytical.impact.impact` / :func:`~analytical.impact.pair_impact` on top of
     them (stiffness, friction, damping, ...).
 
+    The water a body carries: None (the default) gives each body its own added mass along and
+    about its axes at its floating draft (:func:`analytical.added_mass.box_added_mass`; the
+    coupled path's bodies strike afloat), the same the one-way transport gives a body afloat at
+    its draft; a number ``C_a`` gives ``m C_a`` on every axis (0: none).
+
     Returns ``(result, new_states)``: ``new_states`` holds the bodies involved (``contact.body``,
     then ``contact.other`` for body pairs) with their post-impact velocities. A body that
     penetrates is first moved out along the normal to touching (a pair shares the move in
@@ -56,53 +63,84 @@ def resolve(
     body = by_name.get(contact.body)
     if body is None:
         raise InputError("contact.body", f"no state for body {contact.body!r}")
-    n = np.asarray(contact.normal, float)
-    point = np.asarray(contact.point, float)
-    depth = max(-float(contact.distance_m), 0.0)
-
+    other = None
     if contact.kind == "body":
         other = by_name.get(contact.other)
         if other is None:
             raise InputError("contact.other", f"no state for body {contact.other!r}")
-        share = other.mass_kg / (body.mass_kg + other.mass_kg)
-        moved_body = body.replace(centre_of_mass_m=body.centre_of_mass_m + share * depth * n)
-        moved_other = other.replace(centre_of_mass_m=other.centre_of_mass_m - (1.0 - share) * depth * n)
-        u_rel = body.point_velocity(contact.point) - other.point_velocity(contact.point)
-        if not float(n @ u_rel) < 0.0:
-            return None, (moved_body, moved_other)
-        result = pair_impact(
-            _impact_body(body, added_mass_coefficient),
-            _impact_body(other, added_mass_coefficient),
-            contact.point,
-            n,
-            **{**_scene_options(scene, body.name, other.name), **impact_options},
-        )
-        return result, (
-            moved_body.replace(
-                velocity_m_s=result.velocity_out_m_s, angular_velocity_rad_s=result.angular_velocity_out_rad_s
-            ),
-            moved_other.replace(
-                velocity_m_s=result.other_velocity_out_m_s,
-                angular_velocity_rad_s=result.other_angular_velocity_out_rad_s,
-            ),
-        )
-
-    moved = body.replace(centre_of_mass_m=body.centre_of_mass_m + depth * n)
-    if not float(n @ body.point_velocity(contact.point)) < 0.0:
-        return None, (moved,)
-    if contact.kind == "column":
-        column = column_for_analysis(scene)
-        height = min(max(float(point[2]), 1e-6 * column.height_m), column.height_m)
-        target: RigidWall | ColumnTarget = ColumnTarget(column, height)
-    elif contact.kind == "wall":
-        target = RigidWall()
-    else:
+    elif contact.kind not in ("column", "wall"):
         raise InputError("contact.kind", f"must be 'column', 'wall' or 'body', got {contact.kind!r}")
-    result = impact(_impact_body(body, added_mass_coefficient), contact.point, n, target,
-                    **{**_scene_options(scene, body.name), **impact_options})
+    options = {**_scene_options(scene, body.name, other.name if other is not None else None), **impact_options}
+    law = ContactLaw(options.pop("stiffness_N_m", CONTAINER.stiffness_N_m), options.pop("damping_ratio", 0.0))
+    friction = options.pop("friction_coefficient", DEFAULT_FRICTION_COEFFICIENT)
+    result, (move, other_move) = resolve_bodies(
+        contact.kind, contact.point, contact.normal, max(-float(contact.distance_m), 0.0),
+        _impact_body(body, added_mass_coefficient, scene), law, friction,
+        other=_impact_body(other, added_mass_coefficient, scene) if other is not None else None,
+        column=column_for_analysis(scene) if contact.kind == "column" else None, **options)
+    moved = body.replace(centre_of_mass_m=body.centre_of_mass_m + move)
+    if other is None:
+        if result is None:
+            return None, (moved,)
+        return result, (moved.replace(velocity_m_s=result.velocity_out_m_s,
+                                      angular_velocity_rad_s=result.angular_velocity_out_rad_s),)
+    moved_other = other.replace(centre_of_mass_m=other.centre_of_mass_m + other_move)
+    if result is None:
+        return None, (moved, moved_other)
     return result, (
         moved.replace(velocity_m_s=result.velocity_out_m_s, angular_velocity_rad_s=result.angular_velocity_out_rad_s),
+        moved_other.replace(velocity_m_s=result.other_velocity_out_m_s,
+                            angular_velocity_rad_s=result.other_angular_velocity_out_rad_s),
     )
+
+
+def resolve_bodies(kind: str, point_m, normal, depth_m: float, body: Body, law: ContactLaw,
+                   friction_coefficient: float, *, other: Body | None = None, column: Column | None = None,
+                   bed_z_m: float = 0.0, **impact_options) -> tuple[ImpactResult | None, tuple]:
+    """One strike from the bodies' state: the resolution both coupling paths share.
+
+    ``kind`` is ``"column"`` (``column`` struck at the contact point's height above
+    ``bed_z_m``), ``"wall"`` (rigid) or ``"body"`` (``other``, the two springs of ``law``
+    already in series: :func:`pair_contact_law`); ``normal`` points from the obstacle (or
+    ``other``) into ``body``; ``depth_m`` >= 0 is the penetration found. Each body is an
+    :class:`analytical.impact_bodies.Body` with its mass, rotational inertia and the added
+    mass of the water it carries (anisotropic, :meth:`~analytical.impact_bodies.Body.box`), so
+    the effective mass at the contact point along the normal is the body's own.
+
+    Returns ``(result, (move, other_move))``: the impact (None when the contact point is not
+    approaching) and the shift (m, 3-vectors) that takes each body out of the penetration
+    (a pair shares it in inverse proportion to mass; ``other_move`` None without ``other``).
+    ``impact_options`` go to :func:`analytical.impact.impact` / ``pair_impact``
+    (``base_shear=False`` leaves the column's base shear for later).
+    """
+    n = np.asarray(normal, float)
+    depth = max(float(depth_m), 0.0)
+    if kind == "body":
+        if other is None:
+            raise InputError("other", "a body-body strike needs the other body")
+        share = other.mass_kg / (body.mass_kg + other.mass_kg)
+        moves = (share * depth * n, -(1.0 - share) * depth * n)
+        u_rel = body.point_velocity(point_m) - other.point_velocity(point_m)
+        if not float(n @ u_rel) < 0.0:
+            return None, moves
+        impact_options.pop("base_shear", None)
+        return pair_impact(body, other, point_m, n, friction_coefficient=friction_coefficient, **law.options(),
+                           **impact_options), moves
+    moves = (depth * n, None)
+    if not float(n @ body.point_velocity(point_m)) < 0.0:
+        return None, moves
+    if kind == "column":
+        if column is None:
+            raise InputError("column", "a column strike needs the column")
+        height = min(max(float(point_m[2]) - bed_z_m, 1e-6 * column.height_m), column.height_m)
+        target: RigidWall | ColumnTarget = ColumnTarget(column, height)
+    elif kind == "wall":
+        target = RigidWall()
+        impact_options.pop("base_shear", None)
+    else:
+        raise InputError("contact.kind", f"must be 'column', 'wall' or 'body', got {kind!r}")
+    return impact(body, point_m, n, target, friction_coefficient=friction_coefficient, **law.options(),
+                  **impact_options), moves
 
 
 def body_contact_law(contact) -> ContactLaw:
@@ -133,12 +171,12 @@ def _scene_options(scene: Scene, name: str, other: str | None = None) -> dict:
     return {**law.options(), "friction_coefficient": friction}
 
 
-def _impact_body(state: BoxState, added_mass_coefficient: float) -> Body:
-    return Body(
-        mass_kg=state.mass_kg,
-        inverse_inertia=state.inverse_inertia(),
-        centre_of_mass_m=state.centre_of_mass_m,
-        velocity_m_s=state.velocity_m_s,
-        angular_velocity_rad_s=state.angular_velocity_rad_s,
-        added_mass_coefficient=added_mass_coefficient,
-    )
+def _impact_body(state: BoxState, added_mass_coefficient: float | None, scene: Scene) -> Body:
+    if added_mass_coefficient is None:
+        own = box_added_mass(tuple(state.size_m), state.mass_kg, scene.fluids.water_density_kg_m3)
+        masses, inertias = own.masses_kg, own.inertias_kg_m2
+    else:
+        masses, inertias = np.full(3, state.mass_kg * added_mass_coefficient), np.zeros(3)
+    return Body.box(state.mass_kg, state.inertia_kg_m2, state.orientation, state.centre_of_mass_m,
+                    state.velocity_m_s, state.angular_velocity_rad_s, added_mass_kg=masses,
+                    added_inertia_kg_m2=inertias)

@@ -38,7 +38,10 @@ class ContactSettings:
         the body down harder, the speeds went 0.5, 0.8, 2.0, 6.9 m/s to a blow-up.
     impact: keyword arguments for `analytical.impact.impact` / `pair_impact`
         (stiffness_N_m, friction_coefficient, damping_ratio, ...).
-    added_mass_coefficient: C_a of the debris for the impact model.
+    added_mass_coefficient: the water a body carries into a strike: None (the default) its own
+        added mass along and about its axes afloat at its draft (analytical.added_mass: the
+        1:40 container carries 0.28 of its displaced water lengthwise, 0.84 sideways), the
+        same as a one-way strike afloat; a number C_a gives m C_a on every axis (0: none).
     float_margin_m: a body the runner keeps on the bed (the planner's hold, `rest_on_bed`) is
         freed once the water depth measured around it exceeds the height of its underside plus
         its draft plus this margin (`orchestrator.run.bedwatch`). 5 mm: the depth reading's own spread
@@ -61,7 +64,7 @@ class ContactSettings:
     max_events: int = 6
     window_s: float = 0.05
     bed_runaway_m_s: float = 1.0
-    added_mass_coefficient: float = 0.0
+    added_mass_coefficient: float | None = None
     adjust_phi_when_pinned: bool = True
     float_margin_m: float = 0.005
     bed_friction: bool = True

@@ -347,6 +347,7 @@ class ContactBook:
             "peak_force_N": float(result.peak_force_N),
             "duration_s": float(result.duration_s),
             "impulse_Ns": float(result.impulse_Ns),
+            "effective_mass_kg": float(result.effective_mass_kg),
             "force_history": str(history),
         }
         if c.kind == "body":

@@ -336,10 +336,11 @@ class Transport(SceneSection):
         "body axis; 0 switches drag off. The default is calibrated so that one-way transport reproduces the coupled "
         "run of the study's container in its bore (docs/one-way.md); in unbounded flow a box face-on has about 1.05 "
         "(a cube) to 1.0-1.2 (blocks), Hoerner 1965")
-    added_mass_coefficient: float = Field(
-        DEFAULT_ADDED_MASS_COEFFICIENT, ge=0, le=5, description="C_a of the submerged volume, added to the water's "
-        "inertia force and to the body's translational inertia; 0 switches it off (DNV-RP-C205: 0.68 for a cube, "
-        "1.51 for a long square section)")
+    added_mass_coefficient: float | None = Field(
+        DEFAULT_ADDED_MASS_COEFFICIENT, ge=0, le=5, description="C_a of the submerged volume on every body axis, "
+        "added to the water's inertia force and to the body's inertia; null (the default): each box's own along "
+        "and about its axes at its current draft (the container afloat: 0.28 lengthwise, 0.84 sideways, 1.04 "
+        "vertically; DNV-RP-H103 4.6.3.3 and Lamb's ellipsoid, analytical/added_mass.py); 0 switches it off")
     sub_volumes: tuple[int, int, int] = Field(
         (5, 3, 3), description="sub-volumes along the body's length, width and height over which the water is "
         "sampled, so that heave, pitch and roll answer the surface across the body")

@@ -130,6 +130,8 @@ def _write_events(folder: CaseFolder, result: TransportResult) -> tuple[int, int
         event = _event(row, number, "impact")
         event.update(peak_force_N=float(pulse.peak_force_N), duration_s=float(pulse.duration_s),
                      impulse_Ns=float(pulse.impulse_Ns), pulse_restitution=float(pulse.restitution),
+                     effective_mass_kg=float(pulse.effective_mass_kg),
+                     added_mass_along_normal_kg=float(row["added_mass_along_normal_kg"]),
                      force_history=str(write_pulse_files(folder.path, number, pulse)))
         events.append(event)
         strikes += 1

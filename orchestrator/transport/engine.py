@@ -31,7 +31,9 @@ The step
 
 Output: :class:`TransportResult`: ``tracks`` (bodies.csv's columns, every
 ``output_interval_s``), ``impacts`` (column and wall strikes), ``body_contacts`` (body-body
-onsets), ``wall_s`` (the stepping) and ``pulse_wall_s`` (the column pulses after it).
+onsets), ``wall_s`` (the stepping), ``pulse_wall_s`` (the column pulses after it), the
+resolved impacts by event number (``pulses``) and each strike's state before it
+(``strike_states``: the body's centre, rotation, velocity and angular velocity, world frame).
 """
 
 from __future__ import annotations
@@ -45,7 +47,15 @@ import numpy as np
 import pandas as pd
 
 from analytical.errors import InputError, require_positive
-from analytical.hydrodynamics import HydroCoefficients, hydro_loads, sub_volumes, submerged_fraction
+from analytical.hydrodynamics import (
+    HydroCoefficients,
+    added_mass_table,
+    hydro_loads,
+    sub_volumes,
+    submerged_fraction,
+)
+from analytical.impact_bodies import Body
+from orchestrator.contact.resolution import pair_contact_law, resolve_bodies
 from orchestrator.transport.events import EventBook
 from orchestrator.transport.flow import FlowCoverageError, FlowField
 from orchestrator.transport.model import (
@@ -102,6 +112,7 @@ class TransportResult:
     hydro_interval_s: float
     output_interval_s: float
     pulses: dict = field(default_factory=dict, repr=False)
+    strike_states: dict = field(default_factory=dict, repr=False)
 
     def track(self, body: str) -> pd.DataFrame:
         """One body's rows, in time order."""
@@ -118,6 +129,9 @@ class _Forcing:
         self.local = np.stack([sub_volumes(b.size_m, coefficients.sub_volumes).centres_m for b in bodies])
         self.cell = self.size / np.asarray(coefficients.sub_volumes, float)
         self.names = [b.name for b in bodies]
+        self.tables = None
+        if coefficients.added_mass_coefficient is None:
+            self.tables = np.stack([added_mass_table(b.size_m, coefficients.water_density_kg_m3) for b in bodies])
 
     def __call__(self, t_flow: float, com, rot, vel, omega):
         pts = com[:, None, :] + np.einsum("bij,bnj->bni", rot, self.local)
@@ -135,7 +149,7 @@ class _Forcing:
             sample = self.flow.sample(pts[wet], t_flow, eta_m=eta[wet])
             u[wet] = sample.velocity_m_s
             a[wet] = sample.material_acceleration_m_s2
-        return hydro_loads(com, rot, vel, omega, self.size, pts, eta, u, a, self.coeffs)
+        return hydro_loads(com, rot, vel, omega, self.size, pts, eta, u, a, self.coeffs, self.tables)
 
     def _inside(self, pts) -> bool:
         (x0, x1), (y0, y1), _ = self.flow.extent_m
@@ -186,6 +200,11 @@ def run_transport(bodies, flume: FlumeBounds, t_end_s: float, flow: FlowField | 
                      flume.bed_z_m, settings.separation_s, surface, settings.min_impact_velocity_m_s,
                      settings.first_pulse_only)
     mass = np.array([b.mass_kg for b in bodies])
+    inertia = np.array([b.inertia_kg_m2 for b in bodies])
+    # the water each body carries (body axes): translation (kg) and rotation (kg m^2), as the
+    # forcing last set it; dry, none
+    added_mass = np.zeros((len(bodies), 3))
+    added_inertia = np.zeros((len(bodies), 3))
     lin = built.dof_adr[:, None] + np.arange(3)[None, :]
     ang = built.dof_adr[:, None] + np.arange(3, 6)[None, :]
     rows: list[np.ndarray] = []
@@ -214,12 +233,58 @@ def run_transport(bodies, flume: FlumeBounds, t_end_s: float, flow: FlowField | 
         loads = forcing(t0 + d.time, com, rot, vel, omega)
         d.xfrc_applied[built.body_ids, :3] = loads.force_N
         d.xfrc_applied[built.body_ids, 3:] = loads.moment_Nm
-        total = mass + loads.added_mass_kg
-        m.dof_armature[lin] = loads.added_mass_kg[:, None]
+        added_mass[:] = loads.added_mass_kg
+        added_inertia[:] = loads.added_inertia_kg_m2
+        # translations are along the world axes: the world-diagonal of R diag(M_a) R^T
+        # (analytical.hydrodynamics); rotations about the body's: exact
+        world = np.einsum("bik,bk->bi", rot * rot, loads.added_mass_kg)
+        m.dof_armature[lin] = world
+        m.dof_armature[ang] = loads.added_inertia_kg_m2
         # MuJoCo keeps a free body's diagonal mass in dof_M0, fixed at compile time: the armature
         # changed at run time only counts once dof_M0 carries it as well (MuJoCo 4.0).
-        m.dof_M0[lin] = total[:, None]
-        m.pair_solref[:] = built.pair_solref(total)
+        m.dof_M0[lin] = mass[:, None] + world
+        m.dof_M0[ang] = inertia + loads.added_inertia_kg_m2
+        m.pair_solref[:] = built.pair_solref(mass + world.mean(axis=1))
+
+    def impact_body(i: int) -> Body:
+        com, rot, vel, omega = (x[i] for x in state())
+        return Body.box(mass[i], inertia[i], rot, com, vel, omega, added_mass[i], added_inertia[i])
+
+    def resolve(event) -> None:
+        """Resolve a strike found in the step just undone, from the state before it, and set
+        the bodies' velocities to its rebound (module notes of events.py)."""
+        i = event.body
+        other = event.other if event.kind == "body" else None
+        body, b = bodies[i], impact_body(i)
+        event.added_mass_normal_kg = b.translational_mass_along(event.normal) - mass[i]
+        if other is None:
+            result, moves = resolve_bodies(event.kind, event.point, event.normal, event.depth_m, b, body.contact,
+                                           body.friction_coefficient, column=column.column if column else None,
+                                           bed_z_m=flume.bed_z_m, base_shear=False)
+        else:
+            result, moves = resolve_bodies("body", event.point, event.normal, event.depth_m, b,
+                                           pair_law(i, other), pair_friction(i, other), other=impact_body(other),
+                                           base_shear=False)
+        book.strike(event, result)
+        for index, move, res in ((i, moves[0], result), (other, moves[1] if other is not None else None, result)):
+            if index is None:
+                continue
+            q, v = built.qpos_adr[index], built.dof_adr[index]
+            d.qpos[q:q + 3] += move
+            if res is None:
+                continue
+            first = index == i
+            vel = res.velocity_out_m_s if first else res.other_velocity_out_m_s
+            omega = res.angular_velocity_out_rad_s if first else res.other_angular_velocity_out_rad_s
+            rot = d.xmat[built.body_ids[index]].reshape(3, 3)
+            d.qvel[v:v + 3] = vel
+            d.qvel[v + 3:v + 6] = rot.T @ omega  # free joint: body-frame rates
+
+    def pair_law(i: int, j: int):
+        return pair_contact_law(bodies[i].contact, bodies[j].contact)
+
+    def pair_friction(i: int, j: int) -> float:
+        return 0.5 * (bodies[i].friction_coefficient + bodies[j].friction_coefficient)
 
     start = time.perf_counter()
     for k in range(steps):
@@ -229,16 +294,29 @@ def run_transport(bodies, flume: FlumeBounds, t_end_s: float, flow: FlowField | 
                 apply_forcing()
         if k % n_out == 0:
             record()
+        qpos_before = d.qpos.copy()
         before = d.qvel.copy()
         t_before = d.time
         mujoco.mj_step(m, d)
         if d.ncon or book.touching:
-            book.observe(t_before, d, before, d.xmat[built.body_ids])
+            strikes = book.observe(t_before, d, before, d.xmat[built.body_ids])
+            for _ in range(3):  # a strike resolved; the step taken again may find another
+                if not strikes:
+                    break
+                d.qpos[:], d.qvel[:], d.time = qpos_before, before, t_before
+                mujoco.mj_forward(m, d)
+                for event in strikes:
+                    resolve(event)
+                mujoco.mj_forward(m, d)
+                qpos_before, before = d.qpos.copy(), d.qvel.copy()
+                mujoco.mj_step(m, d)
+                strikes = book.observe(t_before, d, before, d.xmat[built.body_ids])
     record()
     wall = time.perf_counter() - start
     impacts, body_contacts = book.finish()
     return TransportResult(_tracks(bodies, np.array(times), rows), impacts, body_contacts, wall, book.pulse_wall_s,
-                           dt, steps, n_hydro * dt, n_out * dt, dict(book.pulses))
+                           dt, steps, n_hydro * dt, n_out * dt, dict(book.pulses),
+                           book.strike_states())
 
 
 def _tracks(bodies, times: np.ndarray, rows: list[np.ndarray]) -> pd.DataFrame:

@@ -20,26 +20,22 @@ Velocities are the centre of mass's: ``impact_velocity_m_s = normal_velocity_in_
 normal)``; the rebound's normal velocity ``v_out . n`` and ``restitution = (v_out . n) /
 impact_velocity`` (for a body pair, of the relative velocity ``v_body - v_other``).
 
-Column strikes: the pulse (peak force, time of peak, duration, impulse) and the peak base
-shear come from :func:`analytical.contact_law.column_impact` with the body's contact law,
-mass, size, wall thickness and friction, at the horizontal speed of its centre, the
-obliquity of that velocity from the face's normal and the contact height above the bed: the
-same model the coupled path resolves its strikes with, so a one-way and a two-way strike at
-the same velocity give the same load. MuJoCo's own contact (the same spring and dashpot
-against a rigid column) sets the rebound the body carries on with; its restitution is the
-law's rigid-wall restitution. The pulses are computed at the end of the run
-(:meth:`EventBook.finish`), so their cost is reported apart from the stepping (about 20 ms for
-a column strike, benchmarks/analytical.md). With ``first_pulse_only`` a body's later
-column strikes (its rebound sequence) are tabled with their velocities, heights and
-obliquities but without a pulse (NaN loads), which is all an ensemble of starts reads.
-
-Wall and body-body strikes: as on the coupled path, a wall strike is
-:func:`analytical.impact.impact` on a rigid wall and a body-body strike
-:func:`analytical.impact.pair_impact` (the two springs in series, the mean friction), each body
-at its centre, orientation, velocity and angular velocity before the step that found the
-contact, struck at the contact point along the contact normal. A wall strike's pulse is in
-results/impacts.csv and its files; a body-body strike's peak force, duration and impulse are in the
-body events table. Neither is computed with ``first_pulse_only``.
+Strikes (column, wall and body-body onsets at ``min_impact_velocity_m_s`` or faster) are
+resolved by the engine the moment they are found, from the bodies' own state before the step:
+centre, orientation, velocity and spin, mass and rotational inertia, and the added mass of the
+water each carries along the contact normal (anisotropic: a container struck end-on carries
+far less water than one struck broadside, :mod:`analytical.added_mass`). The resolution is the
+coupled path's (:func:`orchestrator.contact.resolution.resolve_bodies`): a column strike is
+:func:`analytical.impact.impact` on the column's MDOF model at the contact point's height, a
+wall strike the same on a rigid wall, a body-body strike :func:`analytical.impact.pair_impact`
+(the two springs in series, the mean friction). The engine then sets the bodies' velocities to
+the resolved rebound, so the impulse the column (wall, other body) takes is exactly the
+momentum the body and its water lose: one law on one effective mass. :meth:`EventBook.strike`
+keeps each result; the column's base shear (about 15 ms a strike) is computed at the end
+(:meth:`EventBook.finish`) for the strikes that are reported, so its cost is counted apart from
+the stepping. With ``first_pulse_only`` a body's later column strikes (its rebound sequence)
+and the wall and body-body strikes are tabled without loads (NaN), which is all an ensemble of
+starts reads; they are resolved all the same.
 """
 
 from __future__ import annotations
@@ -51,19 +47,18 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from analytical.contact_law import column_impact
 from analytical.errors import InputError
-from analytical.impact import impact, pair_impact
-from analytical.impact_bodies import Body, RigidWall, inverse_inertia_tensor
+from analytical.impact import ColumnTarget, with_base_shear
 from orchestrator.contact.events import IMPACT_COLUMNS as RESULTS_IMPACT_COLUMNS
-from orchestrator.contact.resolution import pair_contact_law
 
 __all__ = ["AFLOAT_CLEARANCE_M", "BODY_EVENT_COLUMNS", "IMPACT_COLUMNS", "EventBook"]
 
-IMPACT_COLUMNS = RESULTS_IMPACT_COLUMNS + ["peak_base_shear_N", "pulse_restitution"]
-"""results/impacts.csv's columns (orchestrator.contact.events.IMPACT_COLUMNS) and two more: the
-column model's peak base shear and its restitution (the column's vibration takes energy a rigid
-MuJoCo column does not)."""
+IMPACT_COLUMNS = RESULTS_IMPACT_COLUMNS + ["peak_base_shear_N", "pulse_restitution", "effective_mass_kg",
+                                           "added_mass_along_normal_kg"]
+"""results/impacts.csv's columns (orchestrator.contact.events.IMPACT_COLUMNS) and four more: the
+column model's peak base shear, the strike's restitution, the body's effective mass at the
+contact point along the normal (its mass, the water it carries and its rotation) and the added
+mass of that water along the normal."""
 
 BODY_EVENT_COLUMNS = [
     "event", "time_s", "body", "other", "point_x_m", "point_y_m", "point_z_m", "normal_x", "normal_y", "normal_z",
@@ -88,12 +83,15 @@ class _Event:
     v_other_in: np.ndarray | None
     clearance_m: float
     face_water_level_m: float
+    depth_m: float = 0.0  # penetration found at the onset (m)
+    added_mass_normal_kg: float = math.nan  # the body's added mass along the normal at the strike
     v_out: np.ndarray | None = None
     v_other_out: np.ndarray | None = None
     # each body's centre, body-to-world rotation and world angular velocity before the step
     # (a wall or body-body pulse's inputs; the other's are None for a wall)
     state: tuple | None = None
     other_state: tuple | None = None
+    result: object = None  # the resolved analytical.impact.ImpactResult (None: not approaching)
 
 
 class EventBook:
@@ -128,8 +126,9 @@ class EventBook:
         self.pulses: dict = {}
 
     # ------------------------------------------------------------------ stepping
-    def observe(self, time_s: float, data, qvel_before: np.ndarray, xmat: np.ndarray) -> None:
-        """Read the contacts MuJoCo found at ``time_s`` (the state before the step)."""
+    def observe(self, time_s: float, data, qvel_before: np.ndarray, xmat: np.ndarray) -> list["_Event"]:
+        """Read the contacts MuJoCo found at ``time_s`` (the state before the step); return the
+        strikes that begin in it (for the engine to resolve, :meth:`strike`)."""
         n = data.ncon
         current: dict[tuple, list[int]] = {}
         if n:
@@ -145,10 +144,13 @@ class EventBook:
                 else:
                     key = (int(b), self.geom_names[geoms[r, 0]])
                 current.setdefault(key, []).append(int(r))
+        opened = []
         for key, rows in current.items():
             last = self.last_seen.get(key)
             if last is None or time_s - last > self.separation_s:
-                self._open(key, rows, time_s, data, qvel_before, xmat)
+                event = self._open(key, rows, time_s, data, qvel_before, xmat)
+                if event is not None:
+                    opened.append(event)
             self.last_seen[key] = time_s
         for key in self.touching - current.keys():  # separated during this step
             event = self.open.get(key)
@@ -157,6 +159,15 @@ class EventBook:
                 if isinstance(key[1], int):
                     event.v_other_out = self._velocity(data.qvel, key[1])
         self.touching = set(current)
+        return opened
+
+    def strike(self, event: "_Event", result) -> None:
+        """Keep the resolved impact of ``event`` (None: its contact point was not approaching)."""
+        event.result = result
+        if result is not None:
+            event.v_out = np.array(result.velocity_out_m_s, dtype=float)
+            if event.kind == "body" and result.other_velocity_out_m_s is not None:
+                event.v_other_out = np.array(result.other_velocity_out_m_s, dtype=float)
 
     def _velocity(self, qvel, body: int) -> np.ndarray:
         adr = self.dof_adr[body]
@@ -169,7 +180,7 @@ class EventBook:
         return (np.array(data.xpos[self.body_ids[body]], dtype=float), rot,
                 rot @ np.asarray(qvel[adr + 3:adr + 6], dtype=float))
 
-    def _open(self, key, rows, time_s, data, qvel_before, xmat) -> None:
+    def _open(self, key, rows, time_s, data, qvel_before, xmat) -> "_Event | None":
         body, other = key
         geom1_owner = self.owner[data.contact.geom[rows[0], 0]]
         normal = np.array(data.contact.frame[rows[0], :3], dtype=float)  # from geom1 into geom2
@@ -185,7 +196,7 @@ class EventBook:
         v_in = np.array(qvel_before[adr:adr + 3], dtype=float)
         if -float((v_in - (v_other if v_other is not None else 0.0)) @ normal) < self.min_impact_velocity_m_s:
             self.open.pop(key, None)  # the earlier strike's rebound is final
-            return  # a touch, not a strike: a body pressed against the column by the flow
+            return None  # a touch, not a strike: a body pressed against the column by the flow
         rot = xmat[body].reshape(3, 3)
         half = np.asarray(self.bodies[body].size_m) / 2.0
         centre_z = float(data.xpos[self.body_ids[body]][2])
@@ -200,8 +211,10 @@ class EventBook:
         event = _Event(len(self.events) + 1, time_s, body, other, kind, point, normal, v_in, v_other, clearance,
                        level, state=self._state(data, qvel_before, xmat, body),
                        other_state=self._state(data, qvel_before, xmat, other) if kind == "body" else None)
+        event.depth_m = max(0.0, -float(np.min(data.contact.dist[rows])))
         self.events.append(event)
         self.open[key] = event
+        return event
 
     # ------------------------------------------------------------------ tables
     def finish(self) -> tuple[pd.DataFrame, pd.DataFrame]:
@@ -238,6 +251,11 @@ class EventBook:
                 "peak_force_N": loads.get("peak_force_N", math.nan), "duration_s": loads.get("duration_s", math.nan),
                 "impulse_Ns": loads.get("impulse_Ns", math.nan)}
 
+    def strike_states(self) -> dict:
+        """Each strike's body state before it, by event number: (centre, rotation, velocity,
+        angular velocity), world frame (the inputs its resolution took)."""
+        return {e.number: (e.state[0], e.state[1], e.v_in, e.state[2]) for e in self.events if e.state is not None}
+
     def _impact_row(self, e: _Event, pulse: bool = True) -> dict:
         n = e.normal
         v = e.v_in
@@ -263,60 +281,31 @@ class EventBook:
             "restitution": rebound / vn if vn > 0 else math.nan, "force_history": "",
             "peak_base_shear_N": loads.get("peak_base_shear_N", math.nan),
             "pulse_restitution": loads.get("restitution", math.nan),
+            "effective_mass_kg": e.result.effective_mass_kg if e.result is not None else math.nan,
+            "added_mass_along_normal_kg": e.added_mass_normal_kg,
         }
 
     def _pulse(self, e: _Event, height_m: float) -> dict:
-        """column_impact at the horizontal speed of the centre and its obliquity from the face normal."""
-        body = self.bodies[e.body]
+        """The resolved column strike's pulse with the column's base shear at the load cell."""
+        if e.result is None:
+            return {}
         col = self.column.column
-        n_h = np.array([e.normal[0], e.normal[1], 0.0])
-        v_h = np.array([e.v_in[0], e.v_in[1], 0.0])
-        speed = float(np.linalg.norm(v_h))
-        if speed <= 0.0 or np.linalg.norm(n_h) == 0.0:
-            return {}
-        n_h /= np.linalg.norm(n_h)
-        obliquity = math.degrees(math.acos(max(-1.0, min(1.0, float(-(v_h @ n_h)) / speed))))
-        if obliquity >= 89.0:
-            return {}
         height = min(max(height_m, 1e-6 * col.height_m), col.height_m)
-        result = column_impact(body.contact, speed, height, column=col, obliquity_deg=obliquity,
-                               mass_kg=body.mass_kg, size_m=body.size_m, wall_thickness_m=body.wall_thickness_m,
-                               friction_coefficient=body.friction_coefficient)
+        result = with_base_shear(e.result, ColumnTarget(col, height))
         self.pulses[e.number] = result
         shear = result.base_shear
         return {**_loads(result), "peak_base_shear_N": abs(shear.peak_N) if shear is not None else math.nan}
 
-    def _body(self, index: int, state: tuple, velocity: np.ndarray) -> Body:
-        """An analytical impact body from a transport body's state at the event."""
-        body = self.bodies[index]
-        centre, rot, omega = state
-        return Body(body.mass_kg, inverse_inertia_tensor(body.inertia_kg_m2, rot), centre, velocity, omega)
-
     def _wall_pulse(self, e: _Event) -> dict:
-        """:func:`analytical.impact.impact` on a rigid wall with the body's own law and friction (the
-        coupled path's wall strikes)."""
-        body = self.bodies[e.body]
-        try:
-            result = impact(self._body(e.body, e.state, e.v_in), e.point, e.normal, RigidWall(),
-                            friction_coefficient=body.friction_coefficient, **body.contact.options())
-        except InputError:  # the contact point is not approaching the wall (a spinning body's glance)
+        """The resolved wall strike's pulse (a rigid wall)."""
+        if e.result is None:
             return {}
-        self.pulses[e.number] = result
-        return _loads(result)
+        self.pulses[e.number] = e.result
+        return _loads(e.result)
 
     def _pair_pulse(self, e: _Event) -> dict:
-        """:func:`analytical.impact.pair_impact`: the two bodies' springs in series, their mean
-        friction (the coupled path's body-body strikes)."""
-        a, b = self.bodies[e.body], self.bodies[e.other]
-        law = pair_contact_law(a.contact, b.contact)
-        try:
-            result = pair_impact(self._body(e.body, e.state, e.v_in), self._body(e.other, e.other_state, e.v_other_in),
-                                 e.point, e.normal, friction_coefficient=0.5 * (a.friction_coefficient +
-                                                                                b.friction_coefficient),
-                                 **law.options())
-        except InputError:
-            return {}
-        return _loads(result)
+        """The resolved body-body strike's pulse."""
+        return {} if e.result is None else _loads(e.result)
 
 
 def _loads(result) -> dict:
