@@ -32,10 +32,10 @@ import numpy as np
 import pandas as pd
 
 from analytical.errors import InputError
-from analytical.study_comparison import fit_like_the_study, strike_component
+from analytical.study_comparison import StudyComparison, compare_table, fit_like_the_study, strike_component
 
-__all__ = ["HEIGHT_SOURCES", "STUDY_FIT_COLUMNS", "add_study_fits", "base_shear_path", "centre_speed",
-           "read_base_shear", "study_fit_figures"]
+__all__ = ["COMPARISON_ROWS", "HEIGHT_SOURCES", "STUDY_FIT_COLUMNS", "add_study_fits", "base_shear_path",
+           "centre_speed", "compare_strikes", "read_base_shear", "study_fit_figures"]
 
 STUDY_FIT_COLUMNS = [
     "impact_speed_m_s", "study_fit_peak_N", "study_fit_duration_s", "study_fit_impulse_Ns", "study_fit_start_s",
@@ -43,6 +43,17 @@ STUDY_FIT_COLUMNS = [
 ]
 """Columns post-processing adds to impacts.csv after the law's (module notes); NaN and an empty
 source where a strike has no fit, and the reason in ``study_fit_note``."""
+
+COMPARISON_ROWS = [
+    ("impact_speed_m_s", "speed_m_s", "speed of the centre (m/s)"),
+    ("impact_velocity_m_s", "normal_speed_m_s", "its part along the contact normal (m/s)"),
+    ("study_fit_peak_N", "peak_force_N", "study-fit peak force (N)"),
+    ("study_fit_duration_s", "duration_s", "study-fit duration (s)"),
+    ("study_fit_impulse_Ns", "impulse_Ns", "study-fit impulse (N s)"),
+]
+"""The like-for-like comparison's rows: (column of impacts.csv and ensemble.csv, quantity of
+:data:`analytical.study_comparison.STUDY_FIGURES`, label). The speeds are set against the
+study's measured speed (1.60 +- 0.13 m/s), the study-fit pulse against Table 2's MDOF row."""
 
 #: Where a fit's load height came from, best first.
 HEIGHT_SOURCES = ("face gauge", "flow at the face", "contact height")
@@ -137,3 +148,12 @@ def add_study_fits(data, impacts: pd.DataFrame, events: list[dict], missing: lis
         if not math.isfinite(out.at[i, "study_fit_peak_N"]):
             missing.append(f"impact event {row.event}: {out.at[i, 'study_fit_note']}")
     return out
+
+
+def compare_strikes(frame: pd.DataFrame) -> dict[str, StudyComparison]:
+    """The :data:`COMPARISON_ROWS` of a table of strikes (one strike a row) against the study's
+    figures (:func:`analytical.study_comparison.compare_with_study`), by column name."""
+    samples = {quantity: pd.to_numeric(frame[column], errors="coerce").to_numpy(float) if column in frame
+               else np.array([]) for column, quantity, _ in COMPARISON_ROWS}
+    table = compare_table(samples)
+    return {column: table[quantity] for column, quantity, _ in COMPARISON_ROWS}
