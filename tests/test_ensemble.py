@@ -140,7 +140,12 @@ def test_the_table_holds_each_bodys_first_strike_and_its_pulse(current):
     struck = table[table["struck"]]
     assert len(struck) >= 1
     assert struck[["impact_time_s", "impact_velocity_m_s", "peak_force_N", "duration_s", "impulse_Ns",
-                   "peak_base_shear_N"]].notna().all().all()
+                   "peak_base_shear_N", "study_fit_peak_N", "study_fit_duration_s", "study_fit_impulse_Ns"]
+                  ].notna().all().all()
+    # the study's fit loads the column at the flow's level at the face (the current's 0.1 m), not at the contact
+    assert (struck["study_fit_height_source"] == "flow at the face").all()
+    assert struck["study_fit_height_m"].to_numpy() == pytest.approx(0.1)
+    assert (struck["impact_speed_m_s"] >= struck["impact_velocity_m_s"] - 1e-12).all()
     assert (struck["strikes"] >= 1).all() and (table.loc[~table["struck"], "strikes"] == 0).all()
     # the same realisation run alone: the same first strike, and later strikes without a pulse
     r = int(struck.iloc[0]["realisation"])
@@ -152,7 +157,8 @@ def test_the_table_holds_each_bodys_first_strike_and_its_pulse(current):
     # a process pool gives the same table as this process
     pooled = run_ensemble(starts, FLUME, COLUMN, 1.3, flow, npz, "local", workers=2)
     pooled_table = pd.DataFrame([row for r in pooled for row in r.rows], columns=TABLE_COLUMNS)
-    pd.testing.assert_frame_equal(pooled_table.drop(columns="wall_time_s"), table.drop(columns="wall_time_s"))
+    timings = ["wall_time_s", "study_fit_wall_s"]
+    pd.testing.assert_frame_equal(pooled_table.drop(columns=timings), table.drop(columns=timings))
 
 
 def _table(struck_velocities, misses: int) -> pd.DataFrame:
@@ -164,7 +170,9 @@ def _table(struck_velocities, misses: int) -> pd.DataFrame:
                      "impact_height_m": 0.02 if hit else math.nan, "obliquity_deg": 0.0 if hit else math.nan,
                      "peak_force_N": 100 * v, "duration_s": 0.0047 if hit else math.nan,
                      "impulse_Ns": 0.3 * v, "peak_base_shear_N": 110 * v, "strikes": 2 if hit else 0,
-                     "wall_time_s": 1.5})
+                     "wall_time_s": 1.5, "impact_speed_m_s": v + 0.1 if hit else math.nan,
+                     "study_fit_peak_N": 90 * v, "study_fit_duration_s": 0.0045 + 0.0002 * v if hit else math.nan,
+                     "study_fit_impulse_Ns": 0.25 * v, "study_fit_wall_s": 0.2 if hit else 0.0})
     return pd.DataFrame(rows, columns=TABLE_COLUMNS)
 
 
@@ -187,6 +195,32 @@ def test_the_summary_counts_strikes_and_states_sample_statistics():
     json.dumps(none, allow_nan=False)  # no NaN in ensemble.json
 
 
+def test_the_summary_compares_like_with_like_by_welch():
+    from scipy import stats
+
+    from orchestrator.results.study_fit import COMPARISON_ROWS
+
+    s = summarise(_table([1.5, 1.6, 1.7], misses=1), 4, 1.0)
+    comparison = s["comparison"]
+    assert list(comparison) == [column for column, _, _ in COMPARISON_ROWS]
+    assert set(comparison["study_fit_peak_N"]) >= {"n", "mean", "standard_error", "median", "q05", "q95", "study_mean",
+                                                   "study_std", "study_n", "welch_t", "welch_dof", "p_value", "verdict"}
+    peak = comparison["study_fit_peak_N"]  # 135, 144, 153 N against 171.07 +- 62.91 N (22)
+    ref = stats.ttest_ind_from_stats(144.0, 9.0, 3, 171.07, 62.91, 22, equal_var=False)
+    assert peak["n"] == 3 and peak["mean"] == pytest.approx(144.0) and peak["study_n"] == 22
+    assert peak["welch_t"] == pytest.approx(ref.statistic) and peak["p_value"] == pytest.approx(ref.pvalue)
+    assert comparison["impact_speed_m_s"]["mean"] == pytest.approx(1.7)  # the total speed
+    assert comparison["impact_velocity_m_s"]["mean"] == pytest.approx(1.6)  # its normal part
+    assert comparison["study_fit_duration_s"]["study_mean"] == 0.0047
+    # 4.82 +- 0.02 ms against 4.7 +- 0.5 ms: the study's mean is known to 0.5 / sqrt(22) = 0.11 ms
+    assert comparison["study_fit_duration_s"]["welch_t"] == pytest.approx(
+        0.12e-3 / math.sqrt(0.02e-3**2 / 3 + 0.5e-3**2 / 22), rel=1e-6)
+    assert comparison["study_fit_duration_s"]["verdict"].startswith("agrees")
+    one = summarise(_table([1.4], misses=1), 2, 1.0)["comparison"]["study_fit_peak_N"]
+    assert one["n"] == 1 and one["welch_t"] is None and one["z"] == pytest.approx((126.0 - 171.07) / 62.91)
+    json.dumps(s, allow_nan=False)
+
+
 def test_the_report_draws_the_histograms_and_the_envelope(tmp_path):
     table = _table([1.5, 1.6, 1.7], misses=1)
     t = np.linspace(0.0, 2.0, 21)
@@ -202,8 +236,12 @@ def test_the_report_draws_the_histograms_and_the_envelope(tmp_path):
     files = write_report(tmp_path, result, scene, [container(x=3.2)], column)
     assert {p.name for p in files.values()} == {"histograms.png", "envelope.png", "report.md"}
     text = (tmp_path / "report.md").read_text()
-    assert "Impact probability: 75 %" in text and "| impact velocity (m/s) | 1.6 +- 0.1 (3) | 1.6 +- 0.13 |" in text
-    assert "| peak force (N) | 160 +- 10 (3) | 171 +- 62.9 |" in text
+    assert "Impact probability: 75 %" in text
+    assert "| the contact law's peak force (N) | 160 +- 10 (3) | 171 +- 62.9 |" in text
+    peak = summary["comparison"]["study_fit_peak_N"]
+    assert (f"| study-fit peak force (N) | 3 | 144 | 5.2 | 144 | 136-152 | 171 | 62.9 | 22 | {peak['welch_t']:+.2f} | "
+            f"{peak['welch_dof']:.0f} | {peak['p_value']:.2g} | {peak['verdict']} |") in text
+    assert "| study-fit duration (ms) | 3 | 4.82 |" in text and "Welch's unequal-variance t test" in text
 
 
 # --------------------------------------------------------------------------- the verb
@@ -259,6 +297,6 @@ def test_the_verb_runs_the_flow_once_and_realisations_on_both_executors(tmp_path
     assert json.loads(proc.stdout)["realisations"] == 2
     assert (out / "flow" / "run.json").read_text() == run_json
     on_dask = pd.read_csv(out / "ensemble.csv")
-    pd.testing.assert_frame_equal(on_dask.drop(columns="wall_time_s"),
-                                  local.iloc[:2].drop(columns="wall_time_s"))
+    timings = ["wall_time_s", "study_fit_wall_s"]  # wall-clock costs differ from run to run
+    pd.testing.assert_frame_equal(on_dask.drop(columns=timings), local.iloc[:2].drop(columns=timings))
     assert json.loads((out / "ensemble.json").read_text())["executor"] == "dask"

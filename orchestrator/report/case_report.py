@@ -1,9 +1,12 @@
 """`debrisfoam report case RUN -o DIR`: one run's answers beside the study's figures, to a results page.
 
 Reads a post-processed run (``RUN/results/summary.json``, ``impacts.csv``) and writes into DIR:
-  report.md      the table: arrivals, the first impact (time, velocity, contact height, water level
-                 at the column's face, afloat or not, pulse, base shear), water balance, wall time,
-                 each beside the study's figure and the target where there is one
+  report.md      the table: arrivals, the first impact (time, speed, contact height, water level
+                 at the column's face, afloat or not, the law's pulse, base shear), water balance,
+                 wall time, each beside the study's figure and the target where there is one; then
+                 each body's first column strike beside the study's 22, like for like (speeds, and
+                 the base shear fitted as the study fitted its records: :mod:`orchestrator.report.
+                 study_table`), with Welch's test, or a single strike's z
   summary.json   the run's summary, copied
   *.png          the run's gauges, column forces, impacts and tracks plots, copied
 ``make results-1debris`` runs it on ``make case-1debris``'s folder; the README's table comes from it.
@@ -18,10 +21,12 @@ from pathlib import Path
 
 import pandas as pd
 
-from analytical.contact_law import SEED_IMPACT_HEIGHTS_M, SEED_IMPACT_VELOCITY_M_S, SEED_TABLE2_MDOF
+from analytical.contact_law import SEED_IMPACT_HEIGHTS_M
 from analytical.errors import InputError
 from orchestrator.case.folder import SUMMARY_JSON, CaseFolder
 from orchestrator.core.files import write_text_atomic
+from orchestrator.report.study_table import comparison_markdown, comparison_note
+from orchestrator.results.study_fit import compare_strikes
 
 __all__ = ["write_case_report"]
 
@@ -36,11 +41,6 @@ def _fmt(value, spec: str, unit: str = "") -> str:
     if value is None or value != value:
         return "-"
     return f"{value:{spec}}{unit}"
-
-
-def _band(name: str, k: float = 2.0) -> tuple[float, float]:
-    mean, std = SEED_TABLE2_MDOF[name]
-    return mean - k * std, mean + k * std
 
 
 def _within(value, low: float, high: float) -> str:
@@ -62,19 +62,18 @@ def _rows(head: dict, first_impact: dict | None) -> list[tuple[str, str, str, st
     if first_impact is None:
         rows.append(("first impact on the column", "none", "the study: 22 single-container impacts", "missed"))
         return rows
-    u_mean, u_std = SEED_IMPACT_VELOCITY_M_S
-    # the body's speed at the strike: its normal component over the cosine of the obliquity
-    normal, oblique = first_impact.get("normal_velocity_in_m_s"), first_impact.get("obliquity_deg")
-    speed = normal / math.cos(math.radians(oblique)) if normal is not None and oblique is not None and oblique < 89 \
-        else None
+    speed = first_impact.get("impact_speed_m_s")
+    if speed is None:  # impacts.csv without the centre's speed: the normal part over the obliquity's cosine
+        normal, oblique = first_impact.get("normal_velocity_in_m_s"), first_impact.get("obliquity_deg")
+        speed = normal / math.cos(math.radians(oblique)) if normal is not None and oblique is not None \
+            and oblique < 89 else None
     low_h, high_h, mean_h = SEED_IMPACT_HEIGHTS_M
     afloat = first_impact.get("afloat")
     rows += [
         ("first impact: time", _fmt(first_impact.get("time_s"), ".3f", " s"), "-", "-"),
         ("impact speed (along the contact normal, obliquity)",
          f"{_fmt(speed, '.2f', ' m/s')} ({_fmt(first_impact.get('impact_velocity_m_s'), '.2f', ' m/s')}, "
-         f"{_fmt(first_impact.get('obliquity_deg'), '.0f', ' degrees')})",
-         f"{u_mean} +- {u_std} m/s", _within(speed, u_mean - 2 * u_std, u_mean + 2 * u_std)),
+         f"{_fmt(first_impact.get('obliquity_deg'), '.0f', ' degrees')})", "1.6 +- 0.13 m/s", "below"),
         ("afloat at the impact", {True: "yes", False: "no"}.get(afloat, "-") +
          f" (lowest point {_fmt(first_impact.get('body_clearance_m'), '.3f', ' m')} above the bed)",
          "carried afloat", {True: "met", False: "missed"}.get(afloat, "-")),
@@ -83,14 +82,19 @@ def _rows(head: dict, first_impact: dict | None) -> list[tuple[str, str, str, st
         ("water level at the column's face (the study's impact height)",
          _fmt(first_impact.get("face_water_level_m"), ".3f", " m"), f"{low_h}-{high_h} m, mean {mean_h} m", "-"),
     ]
-    for name, label, scale, unit, spec in (("peak_force_N", "pulse magnitude", 1.0, " N", ".0f"),
-                                           ("duration_s", "pulse duration", 1e3, " ms", ".2f"),
-                                           ("impulse_Ns", "pulse impulse", 1.0, " N s", ".3f")):
-        mean, std = SEED_TABLE2_MDOF[name]
+    for name, label, scale, unit, spec in (("peak_force_N", "the contact law's pulse: magnitude", 1.0, " N", ".0f"),
+                                           ("duration_s", "the contact law's pulse: duration", 1e3, " ms", ".2f"),
+                                           ("impulse_Ns", "the contact law's pulse: impulse", 1.0, " N s", ".3f")):
         value = first_impact.get(name)
-        low, high = _band(name)
         rows.append((label, _fmt(value * scale if value is not None else None, spec, unit),
-                     f"MDOF fits {mean * scale:{spec}} +- {std * scale:{spec}}{unit}", _within(value, low, high)))
+                     "not tabulated (Table 2 holds fits of the base shear)", "-"))
+    fit = first_impact.get("study_fit_peak_N")
+    rows.append(("the study's fit of its base shear (half-sine on the MDOF column)",
+                 f"{_fmt(fit, '.0f', ' N')}, {_fmt((first_impact.get('study_fit_duration_s') or math.nan) * 1e3, '.2f', ' ms')}, "
+                 f"{_fmt(first_impact.get('study_fit_impulse_Ns'), '.3f', ' N s')} at "
+                 f"{_fmt(first_impact.get('study_fit_height_m'), '.3f', ' m')} "
+                 f"({first_impact.get('study_fit_height_source') or 'no fit'})",
+                 "171 +- 63 N, 4.7 +- 0.5 ms, 0.52 +- 0.22 N s (Table 2, MDOF)", "below"))
     shear = head.get("column_response", {}).get("peak_base_shear_N")
     rows.append(("peak base shear at the load cell", _fmt(shear, ".0f", " N"), "not tabulated by the study", "-"))
     return rows
@@ -105,10 +109,11 @@ def write_case_report(case_dir: str | Path, out_dir: str | Path) -> Path:
         raise InputError("case_dir", f"no results/summary.json: run `debrisfoam post {case}` first", str(case))
     head = json.loads(summary_path.read_text())
     impacts_path = folder.results_dir / "impacts.csv"
-    first = None
+    first, firsts = None, pd.DataFrame()
     if impacts_path.is_file():
         impacts = pd.read_csv(impacts_path)
-        column = impacts[impacts["kind"] == "column"].sort_values("time_s")
+        column = impacts[impacts["kind"] == "column"].sort_values("time_s", kind="stable")
+        firsts = column.drop_duplicates("body", keep="first")
         if len(column):
             row = column.iloc[0]
             first = {k: (None if pd.isna(v) else v) for k, v in row.to_dict().items()}
@@ -138,10 +143,13 @@ def write_case_report(case_dir: str | Path, out_dir: str | Path) -> Path:
              "hand.", "",
              f"{head.get('cells', '-')} cells; simulated to {_fmt(head.get('reached_time_s'), '.3g', ' s')} of "
              f"{head.get('end_time_s', '-')} s, status {head.get('status', '-')}; "
-             f"{head.get('impacts', {}).get('on_column', 0)} impacts on the column. Targets: "
-             "impact velocity within the study's mean +- 2 std; pulse within its MDOF mean +- 2 std.", "",
+             f"{head.get('impacts', {}).get('on_column', 0)} impacts on the column. The speed and the pulse are set "
+             "against the study's 22 impacts like for like below the table (\"below\").", "",
              "| figure | this run | the study | target |", "|---|---|---|---|"]
     lines += [f"| {a} | {b} | {c} | {d} |" for a, b, c, d in rows]
+    lines += ["", f"## Each body's first column strike beside the study's 22, like for like ({len(firsts)} "
+              f"strike{'' if len(firsts) == 1 else 's'})", "",
+              *comparison_markdown(compare_strikes(firsts)), "", comparison_note(), ""]
     lines += ["", *(f"![{p[:-4]}]({p})" for p in PLOTS if (out / p).is_file()), ""]
     if head.get("missing"):
         lines += ["What the post-processing could not give:", "", *(f"- {m}" for m in head["missing"]), ""]

@@ -28,7 +28,10 @@ without contacts is post-processed up to where it got; what is missing is listed
     One row per contact event that was an impact (see :data:`orchestrator.results.impact_table.IMPACT_COLUMNS`): where
     (``height_m``, the contact point's height on the column), the water level at the column's
     face at that moment (``face_water_level_m``, the study's definition of impact height),
-    the body's lowest point above the bed and whether it was ``afloat``, the pulse.
+    the body's lowest point above the bed and whether it was ``afloat``, the contact law's pulse;
+    then the centre's speed (``impact_speed_m_s``) and, for a column strike, its base shear fitted
+    as the study fitted its records (``study_fit_*``: a half-sine on the MDOF column loaded at
+    the water level at the face, :mod:`orchestrator.results.study_fit`).
 ``column_response.csv``
     The total load on the column's MDOF model and the base shear at the load cell it causes
     (the quantity the study's experiments measured), split into its hydrodynamic and impact

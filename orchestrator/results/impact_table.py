@@ -130,8 +130,8 @@ def impact_context(data: CaseData, impacts: pd.DataFrame, gauges: pd.DataFrame, 
         if len(g):
             out["face_water_level_m"] = np.interp(out["time_s"].to_numpy(float), g["time_s"], g[column])
     elif data.scene is not None and data.scene.column is not None:
-        missing.append("no gauge at the column's upstream face: impacts.csv has no water level there "
-                       "(add one with `at: column_upstream_face`)")
+        missing.append("no gauge at the column's upstream face: impacts.csv's water level there is the one-way "
+                       "flow record's where there is one, else none (add a gauge with `at: column_upstream_face`)")
     sizes = {b["name"]: np.asarray(b["size_m"], float) for b in (data.plan or {}).get("bodies", [])}
     if not sizes and data.scene is not None:  # one-way: the bodies are the scene's
         sizes = {b.name: np.asarray(b.size_m, float) for b in data.scene.debris}

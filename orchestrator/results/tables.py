@@ -5,7 +5,8 @@ The tables (see :mod:`orchestrator.report.postprocess` for the files): the gauge
 elevations and summary (:mod:`orchestrator.results.gauge_table`), the forces on the column
 (hydrodynamic, from the ``forces`` function object, plus the impact pulses, on one time axis:
 the solver's steps and every sample of every pulse), the bodies' tracks, the impacts
-(:mod:`orchestrator.results.impact_table`), the column's response
+(:mod:`orchestrator.results.impact_table`, each column strike's base shear fitted as the study
+fitted its records: :mod:`orchestrator.results.study_fit`), the column's response
 (:func:`orchestrator.results.metrics.column_response`), the water balance and, for overset
 runs, the flux into the fringe (:mod:`orchestrator.results.fringe`). Whatever a case lacks (a
 run stopped early, no debris, no contacts) becomes a line of ``Results.missing``, never an
@@ -35,6 +36,7 @@ from orchestrator.results.gauge_table import gauge_tables
 from orchestrator.results.impact_table import impact_context, impact_rows
 from orchestrator.results.metrics import column_response, pulse_sum
 from orchestrator.results.readers import BODY_COLUMNS, CaseData, load_case, read_body_tracks
+from orchestrator.results.study_fit import add_study_fits
 
 __all__ = ["Results", "atmosphere_warning", "tables", "write_table"]
 
@@ -85,6 +87,7 @@ def tables(case_dir: str | Path, arrival_threshold_m: float | None = None) -> Re
     if names and bodies.empty:
         missing.append("no body reports in the solver logs (and no bodies.csv from the runner)")
     impacts = impact_context(data, impacts, gauges, bodies, missing)
+    impacts = add_study_fits(data, impacts, events, missing)
     if names and not events:
         missing.append("no contact events (contacts.json): no impact pulses")
     response, heights = pd.DataFrame(columns=["time_s"]), {}
