@@ -60,6 +60,9 @@ def test_sdof_fit_of_table1_mdof_response_starts_within_the_record():
         assert fit.peak_measured_N == np.max(record)
         assert fit.baseline_N == pytest.approx(0.0, abs=1e-9)
         assert 1e-3 < fit.duration_s < 0.0047  # shorter than the MDOF pulse, not at the 0.2 ms search limit
+        # a record with a quiet stretch before the impact (as the case pages fit): not before the impact
+        late = fit_sdof(t, np.interp(t - 0.0123, t, record, left=0.0), column=column, identifiability=False)
+        assert late.start_s >= 0.0123
 
 
 def test_peak_measured_is_the_records_own_maximum():
