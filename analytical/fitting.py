@@ -23,6 +23,17 @@ over duration followed by `scipy.optimize.least_squares` with bounds. The impact
 start is a fitted parameter, so a record may start well before the impact; the
 offset absorbs a load-cell zero error; the grid start keeps the fit out of the
 local minima that ringing responses have.
+
+The SDOF pulse may not start before the record, nor while the record still sits at
+its baseline: its start is bounded below by the last sample before the impact onset
+that lies within one noise standard deviation of the baseline (`_Prepared.quiet_s`).
+Without that bound an SDOF fitted to a column with higher modes starts a long, weak
+pulse milliseconds before the impact (its slow rise stays hidden in the quiet part)
+and trades its duration against its magnitude. Even with it, the duration of a pulse
+shorter than the oscillator's period is only weakly fixed by the record (the response
+depends mainly on the pulse's Fourier amplitude at the natural frequency): `fit_sdof`
+measures this (`DurationIdentifiability`: the objective profiled over duration, the
+Jacobian's condition number) and reports it with the fit.
 """
 
 from __future__ import annotations
@@ -32,6 +43,7 @@ from typing import Callable
 
 import numpy as np
 from scipy.optimize import least_squares
+from scipy.stats import f as f_distribution
 
 from analytical.column import Column
 from analytical.errors import InputError, require_positive
@@ -55,8 +67,11 @@ class PulseFit:
 
     Forces in N, times in s. `time_s`/`model_N`/`measured_N` cover the fit window;
     `measured_N` has the fitted offset (`offset_N`) removed. `peak_measured_N` is the
-    record's peak above its own baseline (the quiet stretch before the impact), the same
-    whichever model is fitted.
+    record's own maximum, as recorded (no baseline or offset removed), the same whichever
+    model is fitted; `baseline_N` is the record's level before the impact (its first
+    sample when the record starts at the impact). `earliest_start_s` is the lower bound
+    the fit put on the pulse's start; `duration_identifiability` (SDOF fits) says how
+    well the record fixes the duration apart from the magnitude.
     """
 
     model: str
@@ -76,11 +91,53 @@ class PulseFit:
     time_s: np.ndarray
     model_N: np.ndarray
     measured_N: np.ndarray
+    baseline_N: float = 0.0
+    earliest_start_s: float = -np.inf
+    duration_identifiability: "DurationIdentifiability | None" = None
 
     @property
     def pulse(self):
         """The fitted pulse (a `analytical.pulses` object)."""
         return make_pulse(self.shape, self.magnitude_N, self.duration_s, self.start_s)
+
+
+@dataclass(frozen=True, eq=False)
+class DurationIdentifiability:
+    """How well a record fixes a fitted pulse's duration apart from its magnitude.
+
+    For a pulse much shorter than the oscillator's period the response depends on the
+    impulse (more exactly, the pulse's Fourier amplitude at the natural frequency)
+    only, so magnitude and duration trade off. Measured two ways:
+
+    * the objective profiled over duration: at each of `durations_s` (s) the duration
+      is held and every other parameter re-fitted (`magnitude_N`, `impulse_Ns`: its
+      pulse); `excess_cost` is that fit's sum of squared residuals less the best fit's,
+      over sigma^2 = the larger of the best fit's residual variance and
+      (RESOLUTION_PEAK_FRACTION x the record's peak)^2. `interval_s` is the 95 % profile
+      interval, the durations whose excess stays below `threshold` = F(0.95; 1, n - p)
+      (n samples, p = 6 parameters with the offset). For a model that cannot match the
+      record (an SDOF on a column with higher modes) the residual is not noise and the
+      interval says how far the duration moves before the misfit grows, not a sampling
+      interval. An end at a searched limit (`DURATION_BOUNDS_S`) means it is open.
+    * `condition_number`: of the Jacobian of the modelled record with respect to
+      (magnitude, duration, start, damping, frequency, offset) at the fit, its columns
+      scaled to unit length; `magnitude_duration_correlation` from its inverse normal
+      matrix (-1 or +1: the two cannot be told apart).
+
+    `identifiable` is True when the interval is closed on both sides and no wider than
+    half the fitted duration (about +-25 %).
+    """
+
+    duration_s: float
+    durations_s: np.ndarray
+    excess_cost: np.ndarray
+    magnitude_N: np.ndarray
+    impulse_Ns: np.ndarray
+    threshold: float
+    interval_s: tuple[float, float]
+    condition_number: float
+    magnitude_duration_correlation: float
+    identifiable: bool
 
 
 @dataclass(frozen=True)
@@ -91,6 +148,15 @@ class _Prepared:
     baseline_N: float
     noise_N: float
     peak_N: float  # peak of (record - baseline) in the window
+    record_peak_N: float  # the record's own maximum, as recorded
+    quiet_s: float  # last sample before the onset within one noise std of the baseline (or the first sample)
+
+
+def _baseline_and_noise(y: np.ndarray) -> tuple[float, float]:
+    """Median and noise std (from the spread of successive differences) of a quiet stretch."""
+    d = np.diff(y)
+    noise = float(1.4826 * np.median(np.abs(d - np.median(d))) / np.sqrt(2.0)) if d.size else 0.0
+    return float(np.median(y)), noise
 
 
 def prepare_record(time_s, force_N, window_s: float = 0.04, pre_s: float = 0.01) -> _Prepared:
@@ -98,7 +164,11 @@ def prepare_record(time_s, force_N, window_s: float = 0.04, pre_s: float = 0.01)
 
     The baseline and noise come from the quietest stretch before the largest
     excursion; the impact onset is the first sample that leaves the baseline by
-    more than 6 noise standard deviations and 5 % of the excursion.
+    more than 6 noise standard deviations and 5 % of the excursion. When the onset
+    falls inside the stretch the baseline came from (a record that starts at or just
+    before the impact), the baseline is re-estimated from the samples before the
+    onset, or is the first sample when there are fewer than six of them (its noise
+    then comes from the second differences of the record's last fifth).
     """
     t = np.asarray(time_s, dtype=float)
     y = np.asarray(force_N, dtype=float)
@@ -116,22 +186,39 @@ def prepare_record(time_s, force_N, window_s: float = 0.04, pre_s: float = 0.01)
     quiet = y[: max(i_peak, 1)]
     if quiet.size < 5:  # peak right at the start: take the tail as the quiet part
         quiet = y[-max(5, y.size // 5):]
-    baseline = float(np.median(quiet[: max(5, quiet.size // 2)]))
-    d = np.diff(quiet[: max(6, quiet.size // 2)])
-    noise = float(1.4826 * np.median(np.abs(d - np.median(d))) / np.sqrt(2.0)) if d.size else 0.0
-    excursion = float(np.max(np.abs(y - baseline)))
-    threshold = max(6.0 * noise, 0.05 * excursion)
-    if excursion <= 0.0 or excursion < 8.0 * noise:
-        raise InputError("force_N", f"no impact found: the largest excursion ({excursion:.3g} N) is within the "
-                                    f"noise ({noise:.3g} N rms)")
-    above = np.flatnonzero(np.abs(y - baseline) > threshold)
-    onset = float(t[above[0]])
+    n_base = max(5, quiet.size // 2)
+    baseline = float(np.median(quiet[:n_base]))
+    noise = _baseline_and_noise(quiet[: max(6, quiet.size // 2)])[1]
+    for _ in range(3):
+        excursion = float(np.max(np.abs(y - baseline)))
+        threshold = max(6.0 * noise, 0.05 * excursion)
+        if excursion <= 0.0 or excursion < 8.0 * noise:
+            raise InputError("force_N", f"no impact found: the largest excursion ({excursion:.3g} N) is within the "
+                                        f"noise ({noise:.3g} N rms)")
+        i_on = int(np.flatnonzero(np.abs(y - baseline) > threshold)[0])
+        if i_on >= n_base or i_peak < 5:  # a record peaking at once took its baseline from its tail
+            break
+        # the baseline stretch reaches into the impact: re-estimate it from before the onset
+        n_base = i_on
+        if i_on >= 6:
+            baseline, noise = _baseline_and_noise(y[:i_on])
+        else:
+            tail = y[-max(6, y.size // 5):]
+            d2 = np.diff(tail, 2)
+            baseline = float(y[0])
+            noise = float(1.4826 * np.median(np.abs(d2 - np.median(d2))) / np.sqrt(6.0))
+    onset = float(t[i_on])
+    tol = max(noise, 1e-9 * excursion)
+    i_quiet = i_on
+    while i_quiet > 0 and abs(y[i_quiet] - baseline) > tol:
+        i_quiet -= 1
     if t[-1] - onset < 5e-3:
         raise InputError("time_s", f"the record ends {1e3 * (t[-1] - onset):.1f} ms after the impact onset; "
                                    "at least 5 ms of response are needed")
     keep = (t >= onset - pre_s) & (t <= onset + window_s)
     tw, yw = t[keep], y[keep]
-    return _Prepared(tw, yw, onset, baseline, noise, float(np.max(yw - baseline)))
+    return _Prepared(tw, yw, onset, baseline, noise, float(np.max(yw - baseline)), float(np.max(y)),
+                     float(t[i_quiet]))
 
 
 def _project(r: np.ndarray, y: np.ndarray) -> tuple[float, float, np.ndarray]:
@@ -141,21 +228,36 @@ def _project(r: np.ndarray, y: np.ndarray) -> tuple[float, float, np.ndarray]:
     return float(a), float(b), a * r + b - y
 
 
+def _residual(prep: _Prepared, unit_response):
+    """Residual of the variable-projection fit and the magnitude, as a function of
+    (duration, start, extra)."""
+    t, y = prep.t, prep.y
+
+    def residual(duration: float, start: float, extra) -> tuple[np.ndarray, float]:
+        a, _, res = _project(unit_response(t, duration, start, extra), y)
+        return res, a
+
+    return residual
+
+
 def _fit(
     prep: _Prepared,
     unit_response: Callable[[np.ndarray, float, float, np.ndarray], np.ndarray],
     extra_x0: list[float],
     extra_bounds: list[tuple[float, float]],
     duration_grid: np.ndarray,
+    start_bounds: tuple[float, float] | None = None,
 ) -> tuple[np.ndarray, float, float, np.ndarray]:
-    """Variable-projection least squares; returns (x, magnitude, offset, model)."""
+    """Variable-projection least squares; returns (x, magnitude, offset, model).
+
+    The start is searched within `start_bounds` (s), by default from 10 ms before the
+    onset to two samples after it."""
     t, y = prep.t, prep.y
-    dt_med = float(np.median(np.diff(t)))
-    start_lo, start_hi = prep.onset_s - 0.01, prep.onset_s + 2 * dt_med
+    start_lo, start_hi = start_bounds or _start_bounds(prep, None)
+    full = _residual(prep, unit_response)
 
     def residual(x: np.ndarray) -> np.ndarray:
-        r = unit_response(t, x[0], x[1], x[2:])
-        return _project(r, y)[2]
+        return full(x[0], x[1], x[2:])[0]
 
     # coarse grid over duration (and start just before the onset) to avoid the
     # local minima of an oscillating response
@@ -176,6 +278,14 @@ def _fit(
     return sol.x, a, b, a * r + b
 
 
+def _start_bounds(prep: _Prepared, earliest_s: float | None) -> tuple[float, float]:
+    """(earliest, latest) pulse start, s: from `earliest_s` (default 10 ms before the onset)
+    to two samples after the onset."""
+    dt_med = float(np.median(np.diff(prep.t)))
+    lo = prep.onset_s - 0.01 if earliest_s is None else float(earliest_s)
+    return lo, prep.onset_s + 2 * dt_med
+
+
 def _result(model, shape, prep, x, a, b, fitted, **structural) -> PulseFit:
     if a <= 0:
         raise InputError("force_N", "the best-fitting pulse has a non-positive magnitude: the record does not look "
@@ -191,18 +301,20 @@ def _result(model, shape, prep, x, a, b, fitted, **structural) -> PulseFit:
         start_s=float(x[1]),
         impulse_Ns=float(pulse.impulse_Ns),
         rmse_N=float(np.sqrt(np.mean((fitted - prep.y) ** 2))),
-        peak_measured_N=float(np.max(prep.y) - prep.baseline_N),  # above the record's own baseline: one value per record
+        peak_measured_N=prep.record_peak_N,
         peak_model_N=float(np.max(model_n)),
         offset_N=float(b),
         time_s=prep.t,
         model_N=model_n,
         measured_N=measured,
+        baseline_N=prep.baseline_N,
         **structural,
     )
 
 
 def fit_sdof(time_s, force_N, column=None, shape: str = "half-sine", window_s: float = 0.04,
-             mass_kg: float | None = None) -> PulseFit:
+             mass_kg: float | None = None, earliest_start_s: float | None = None,
+             identifiability: bool = True) -> PulseFit:
     """Fit a pulse with the SDOF model R = k u (seed eq. [6]) to a force record.
 
     Varies magnitude (N), duration (s), start (s), damping ratio and natural
@@ -210,9 +322,20 @@ def fit_sdof(time_s, force_N, column=None, shape: str = "half-sine", window_s: f
     (module constants); the stiffness is the column's (it does not change R, see
     the module docstring).
 
+    No pulse acts before the record, nor while the record still sits at its baseline:
+    the start may not precede the record's first sample, nor `earliest_start_s` (s;
+    default: the last sample before the impact onset within one noise standard
+    deviation of the baseline, `_Prepared.quiet_s`; exact on a noise-free record). On a
+    noisy record that bound lags the true start by the time the response takes to rise
+    out of the noise, and the fit then shortens the pulse to keep the phase of the
+    ringing (docs/fitting.md gives the figures); pass `earliest_start_s` to move it.
+
     `mass_kg` (default None: m = k / omega^2, a consistent oscillator) holds the mass
     fixed while the frequency is fitted, as a literal reading of the seed's eq. [6]
     with k, m_s and omega as separate inputs does: then R = (k / m_s) q.
+
+    `identifiability` (default True) adds `duration_identifiability` to the result
+    (about 20 more fits of three parameters each).
     """
     prep = prepare_record(time_s, force_N, window_s=window_s)
     stiffness = float(getattr(column, "stiffness_N_m", 4.685e5))
@@ -220,6 +343,12 @@ def fit_sdof(time_s, force_N, column=None, shape: str = "half-sine", window_s: f
     zeta0 = float(getattr(column, "damping_ratio", 0.045))
     f_lo, f_hi = freq0 - SDOF_FREQUENCY_TOL_HZ, freq0 + SDOF_FREQUENCY_TOL_HZ
     z_lo, z_hi = max(1e-4, zeta0 - SDOF_DAMPING_TOL), min(0.99, zeta0 + SDOF_DAMPING_TOL)
+    t_first = float(np.asarray(time_s, dtype=float)[0])
+    earliest = max(t_first, prep.quiet_s if earliest_start_s is None else float(earliest_start_s))
+    if earliest > prep.onset_s:
+        raise InputError("earliest_start_s", f"must not be after the impact onset found in the record "
+                                             f"({prep.onset_s:.6g} s), got {earliest_start_s}")
+    start_bounds = _start_bounds(prep, earliest)
 
     fixed_gain = None if mass_kg is None else stiffness / require_positive("mass_kg", mass_kg)
 
@@ -230,9 +359,13 @@ def fit_sdof(time_s, force_N, column=None, shape: str = "half-sine", window_s: f
         return (omega**2 if fixed_gain is None else fixed_gain) * q
 
     grid = np.geomspace(5e-4, 1.2e-2, 10)
-    x, a, b, fitted = _fit(prep, unit, [zeta0, freq0], [(z_lo, z_hi), (f_lo, f_hi)], grid)
+    extra_bounds = [(z_lo, z_hi), (f_lo, f_hi)]
+    x, a, b, fitted = _fit(prep, unit, [zeta0, freq0], extra_bounds, grid, start_bounds)
+    ident = (duration_identifiability(prep, unit, shape, x, [start_bounds, *extra_bounds])
+             if identifiability else None)
     return _result("sdof", shape, prep, x, a, b, fitted, natural_frequency_Hz=float(x[3]),
-                   damping_ratio=float(x[2]), stiffness_N_m=stiffness, height_m=None)
+                   damping_ratio=float(x[2]), stiffness_N_m=stiffness, height_m=None,
+                   earliest_start_s=start_bounds[0], duration_identifiability=ident)
 
 
 def fit_mdof(time_s, force_N, column=None, height_m: float = 0.40, shape: str = "half-sine",
@@ -253,4 +386,83 @@ def fit_mdof(time_s, force_N, column=None, height_m: float = 0.40, shape: str = 
     grid = np.geomspace(5e-4, 1.2e-2, 10)
     x, a, b, fitted = _fit(prep, unit, [], [], grid)
     return _result("mdof", shape, prep, x, a, b, fitted, natural_frequency_Hz=None, damping_ratio=None,
-                   stiffness_N_m=None, height_m=float(height_m))
+                   stiffness_N_m=None, height_m=float(height_m), earliest_start_s=_start_bounds(prep, None)[0])
+
+
+#: The reading resolution of a record, as a fraction of its peak: the smallest noise level
+#: `duration_identifiability` assumes, so that a noise-free record does not make every
+#: parameter look exactly fixed.
+RESOLUTION_PEAK_FRACTION = 0.01
+#: Durations at which `duration_identifiability` profiles the objective, s.
+PROFILE_DURATIONS_S = np.geomspace(DURATION_BOUNDS_S[0], DURATION_BOUNDS_S[1], 21)
+
+
+def duration_identifiability(prep: _Prepared, unit_response, shape: str, x: np.ndarray,
+                             bounds: list[tuple[float, float]]) -> DurationIdentifiability:
+    """Profile the fit's objective over duration and condition its Jacobian (see
+    `DurationIdentifiability`). `x` = (duration, start, *extra) is the fit; `bounds` the
+    (low, high) of start and of each extra parameter."""
+    t, y = prep.t, prep.y
+    lo, hi = [b[0] for b in bounds], [b[1] for b in bounds]
+    scale = np.array([1e-3] + [max(abs(v), 1e-3) for v in x[2:]])
+    full = _residual(prep, unit_response)
+
+    def solve(duration: float, x0: np.ndarray):
+        sol = least_squares(lambda z: full(duration, z[0], z[1:])[0], np.clip(x0, lo, hi), bounds=(lo, hi),
+                            x_scale=scale, xtol=1e-10, ftol=1e-10, max_nfev=100)
+        res, a = full(duration, sol.x[0], sol.x[1:])
+        if a <= 0.0:  # an impact pushes: the best admissible magnitude is then zero
+            return float(np.sum((y - np.mean(y)) ** 2)), 0.0
+        return float(np.sum(res**2)), a
+
+    best_cost, best_a = solve(float(x[0]), x[1:])
+    durations = np.union1d(PROFILE_DURATIONS_S, [x[0]])
+    costs, mags = np.empty(durations.size), np.empty(durations.size)
+    for i, d in enumerate(durations):
+        # start each from the fit with the pulse's centre kept (what the record fixes best)
+        costs[i], mags[i] = solve(float(d), np.concatenate([[x[1] + 0.5 * (x[0] - d)], x[2:]]))
+    n, p = t.size, 4 + len(x[2:])
+    best_cost = min(best_cost, float(costs.min()))
+    sigma2 = max(best_cost / (n - p), (RESOLUTION_PEAK_FRACTION * prep.peak_N) ** 2)
+    excess = (costs - best_cost) / sigma2
+    threshold = float(f_distribution.ppf(0.95, 1, n - p))
+    interval = _interval(np.log(durations), excess, int(np.argmin(np.abs(durations - x[0]))), threshold)
+    impulses = np.array([make_pulse(shape, m, d).impulse_Ns for m, d in zip(mags, durations)])
+
+    # Jacobian of a * r(d, s, extra) + b in (a, d, s, *extra, b), central differences
+    a = best_a
+    cols = [unit_response(t, x[0], x[1], x[2:])]
+    for k, step in enumerate([1e-6 * x[0], 1e-7] + [1e-6 * max(abs(v), 1e-3) for v in x[2:]]):
+        up, down = x.copy(), x.copy()
+        up[k] += step
+        down[k] -= step
+        cols.append(a * (unit_response(t, up[0], up[1], up[2:]) - unit_response(t, down[0], down[1], down[2:]))
+                    / (2 * step))
+    cols.append(np.ones_like(t))
+    J = np.column_stack(cols)
+    norms = np.linalg.norm(J, axis=0)
+    cond = float(np.linalg.cond(J / np.where(norms > 0, norms, 1.0)))
+    cov = np.linalg.pinv(J.T @ J)
+    corr = float(cov[0, 1] / np.sqrt(cov[0, 0] * cov[1, 1])) if cov[0, 0] > 0 and cov[1, 1] > 0 else float("nan")
+    closed = interval[0] > durations[0] and interval[1] < durations[-1]
+    return DurationIdentifiability(
+        duration_s=float(x[0]), durations_s=durations, excess_cost=excess, magnitude_N=mags, impulse_Ns=impulses,
+        threshold=threshold, interval_s=interval, condition_number=cond, magnitude_duration_correlation=corr,
+        identifiable=bool(closed and interval[1] - interval[0] <= 0.5 * x[0]))
+
+
+def _interval(log_d: np.ndarray, ratio: np.ndarray, i0: int, threshold: float) -> tuple[float, float]:
+    """The durations (s) around grid point `i0` where `ratio` stays below `threshold`,
+    the crossings interpolated in log duration; a grid end if it never crosses."""
+    ends = []
+    for step in (-1, 1):
+        i, end = i0, log_d[0 if step < 0 else -1]
+        while 0 <= i + step < log_d.size:
+            j = i + step
+            if ratio[j] > threshold:
+                w = (threshold - ratio[i]) / (ratio[j] - ratio[i]) if ratio[j] != ratio[i] else 0.0
+                end = log_d[i] + np.clip(w, 0.0, 1.0) * (log_d[j] - log_d[i])
+                break
+            i = j
+        ends.append(float(np.exp(end)))
+    return ends[0], ends[1]

@@ -254,17 +254,33 @@ def cmd_fit(args: argparse.Namespace) -> int:
         "peak_measured_N": fit.peak_measured_N,
         "peak_model_N": fit.peak_model_N,
         "offset_removed_N": fit.offset_N,
+        "baseline_N": fit.baseline_N,
         "start_s": fit.start_s,
+        "earliest_start_s": fit.earliest_start_s,
         "natural_frequency_Hz": fit.natural_frequency_Hz,
         "damping_ratio": fit.damping_ratio,
         "stiffness_N_m": fit.stiffness_N_m,
         "height_m": fit.height_m,
     }
+    ident = fit.duration_identifiability
+    if ident is not None:
+        result["duration_identifiable"] = ident.identifiable
+        result["duration_interval_95_s"] = list(ident.interval_s)
+        result["jacobian_condition_number"] = ident.condition_number
     emit({k: v for k, v in result.items() if v is not None}, args.json)
-    if fit.rmse_N > POOR_FIT_RMSE_FRACTION * fit.peak_measured_N:
-        warn([f"poor fit: RMSE {fit.rmse_N:.3g} N is {100 * fit.rmse_N / fit.peak_measured_N:.0f} % of the measured "
-              f"peak {fit.peak_measured_N:.4g} N (over {100 * POOR_FIT_RMSE_FRACTION:.0f} %): the {args.model} model "
+    peak = fit.peak_measured_N - fit.offset_N  # the record's peak above the fitted offset
+    if fit.rmse_N > POOR_FIT_RMSE_FRACTION * peak:
+        warn([f"poor fit: RMSE {fit.rmse_N:.3g} N is {100 * fit.rmse_N / peak:.0f} % of the record's peak above the "
+              f"fitted offset, {peak:.4g} N (over {100 * POOR_FIT_RMSE_FRACTION:.0f} %): the {args.model} model "
               "does not describe this record well"])
+    if ident is not None and not ident.identifiable:
+        lo, hi = ident.interval_s
+        from analytical.fitting import DURATION_BOUNDS_S
+
+        ends = [f"{1e3 * v:.3g} ms" + (" (the search limit)" if v in (lo, hi) and abs(v - b) < 1e-12 * b + 1e-9 else "")
+                for v, b in ((lo, DURATION_BOUNDS_S[0]), (hi, DURATION_BOUNDS_S[1]))]
+        warn([f"the duration is not fixed by this record: durations from {ends[0]} to {ends[1]} fit within the 95 % "
+              "profile interval (the record fixes the impulse; magnitude and duration only together)"])
     return EXIT_OK
 
 

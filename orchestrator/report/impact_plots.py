@@ -73,8 +73,9 @@ def _missing_pulses(rec, comp, event: int) -> list[str]:
 
 
 def _pulse_axes(ax, pulses: dict, t0: float, extra_end_s: float = 0.0) -> np.ndarray:
-    """Time axis (s) on which every pulse in ``pulses`` shows whole, with the x limits set:
-    a fit may start before the contact and last ten times longer."""
+    """Time axis (s) on which every pulse in ``pulses`` shows whole, with the x limits set.
+    A fitted SDOF pulse starts no earlier than where the base shear leaves zero, after the
+    contact (`analytical.fitting.fit_sdof`); a fitted pulse may last longer than the contact."""
     starts = [t0] + [p.start_s for p in pulses.values() if np.isfinite(p.start_s)]
     ends = [t0 + extra_end_s] + [p.end_s for p in pulses.values() if np.isfinite(p.end_s)]
     lo, hi = min(starts), max(ends)

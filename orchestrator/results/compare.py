@@ -74,7 +74,7 @@ from analytical.dambreak import dam_break
 from analytical.errors import DebrisfoamError
 from analytical.fitting import fit_mdof, fit_sdof
 from analytical.formulas import haehnel_daly, hertz_effective_modulus, ikeno, matsutomi
-from analytical.mdof import mdof_response
+from analytical.mdof import column_model, mdof_response
 from analytical.pulses import Tabulated
 from orchestrator.results.tables import write_table
 
@@ -313,6 +313,9 @@ def _seed_procedure(results, column, notes: list[str]):
         notes.append(f"the study's fits were made for the {MAX_FITTED_IMPACTS} largest of {len(on_column)} column "
                      f"impacts")
         on_column = on_column.nlargest(MAX_FITTED_IMPACTS, "peak_force_N")
+    # the simulated base shear rings at the MDOF column's first frequency: the SDOF's frequency
+    # bounds centre on it, as on a measured column they centre on the measured frequency
+    sdof_column = replace(column, natural_frequency_Hz=float(column_model(column).frequencies_Hz[0]))
     height_of = {int(r.event): float(r.height_m) for r in on_column.itertuples()}
     height_of.update({int(r.event): float(r.height_m) for r in impacts.itertuples() if r.kind == "column"})
     for r in on_column.sort_values("time_s").itertuples():
@@ -335,7 +338,7 @@ def _seed_procedure(results, column, notes: list[str]):
             pulses["ASCE 7-22, k_d"] = asce7_impact(u, mass[0], SEED_DEBRIS_STIFFNESS_N_M).pulse.shifted(times[0])
             pulses["ASCE 7-22, k_s"] = asce7_impact(u, mass[0], column.stiffness_N_m).pulse.shifted(times[0])
         fits = {}
-        for name, fitter in (("SDOF fit", lambda: fit_sdof(t, record, column=column)),
+        for name, fitter in (("SDOF fit", lambda: fit_sdof(t, record, column=sdof_column)),
                              ("MDOF fit", lambda: fit_mdof(t, record, column=column, height_m=height))):
             try:
                 fits[name] = fitter()

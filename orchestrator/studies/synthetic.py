@@ -32,6 +32,8 @@ from analytical.synthetic import (
     make_records,
     pulse_statistics,
     ratio_statistics,
+    sdof_start_rules,
+    table1_sdof_check,
 )
 from orchestrator.core.files import write_json_atomic
 
@@ -189,7 +191,7 @@ def figure7(results: dict[str, list[RecordAnalysis]]):
         ax.plot([0, 1.05 * top], [0, 1.05 * top], "k--", lw=1, label="1:1")
         ax.set_xlim(0, 1.05 * top)
         ax.set_ylim(0, 1.05 * top)
-        ax.set_xlabel("max measured base shear (N)")
+        ax.set_xlabel("max base shear of the synthetic record (N)")
         make_base, fit_base = VARIANTS[variant]
         ax.set_title(f"records: {make_base} base\nfits: {fit_base} base", fontsize=10)
         ax.grid(alpha=0.3)
@@ -197,7 +199,8 @@ def figure7(results: dict[str, list[RecordAnalysis]]):
     handles, labels = axes[0, 0].get_legend_handles_labels()
     fig.legend(handles, labels, loc="outside lower center", ncol=len(labels), fontsize=_SMALL)
     n = len(next(iter(results.values())))
-    fig.suptitle(f"Synthetic Fig. 7: peak modelled vs peak measured response ({n} records)", fontsize=11)
+    fig.suptitle(f"Synthetic Fig. 7: peak modelled vs peak synthetic-record response ({n} synthetic records)",
+                 fontsize=11)
     return fig
 
 
@@ -208,8 +211,8 @@ def plot_figure7(results: dict[str, list[RecordAnalysis]], path: Path) -> None:
 def figure4(analysis: RecordAnalysis, record_t: np.ndarray, column: Column):
     """One record with its fits (left) and every method's pulse against the true one (right).
 
-    The right panel spans every pulse whole: a fitted SDOF pulse may start well before the
-    true impact and last longer than it. The fits are dashed over the true pulse (solid,
+    The right panel spans every pulse whole: a fitted SDOF pulse starts where the record
+    leaves its baseline, after the true impact, and is shorter than the true pulse. The fits are dashed over the true pulse (solid,
     grey): on a synthetic record the truth is known, so a fit on it is a check of the fit.
     """
     plt = _pyplot()
@@ -217,7 +220,7 @@ def figure4(analysis: RecordAnalysis, record_t: np.ndarray, column: Column):
     grid = fig.add_gridspec(2, 2, height_ratios=[3.8, 1.0])
     ax1, ax2 = fig.add_subplot(grid[0, 0]), fig.add_subplot(grid[0, 1])
     mdof_fit, sdof_fit = analysis.fits["mdof"], analysis.fits["sdof"]
-    ax1.plot(mdof_fit.time_s * 1e3, mdof_fit.measured_N, color="0.6", lw=1, label="record (offset removed)")
+    ax1.plot(mdof_fit.time_s * 1e3, mdof_fit.measured_N, color="0.6", lw=1, label="synthetic record (offset removed)")
     ax1.plot(sdof_fit.time_s * 1e3, sdof_fit.model_N, ls="--", color=_COLOURS["sdof"],
              label=f"SDOF fit (rmse {sdof_fit.rmse_N:.1f} N)")
     ax1.plot(mdof_fit.time_s * 1e3, mdof_fit.model_N, ls="--", color=_COLOURS["mdof"],
@@ -228,7 +231,7 @@ def figure4(analysis: RecordAnalysis, record_t: np.ndarray, column: Column):
         ax1.plot(t * 1e3, r.response_N, lw=0.9, ls=":", color=_COLOURS[method], label=f"{LABELS[method]} pulse on the MDOF column")
     ax1.set_xlabel("time (ms)")
     ax1.set_ylabel("base shear (N)")
-    ax1.set_title(f"record {analysis.index}: fits (cf. the study's Fig. 4a / 5)", fontsize=10)
+    ax1.set_title(f"synthetic record {analysis.index}: fits (cf. the study's Fig. 4a / 5)", fontsize=10)
     ax1.grid(alpha=0.3)
     t0 = analysis.true_pulse.start_s
     pulses = {method: analysis.pulses[method] for method in METHODS + ("true",)}
@@ -286,6 +289,21 @@ def run_synthetic_study(out_dir: Path, seed: int = 2019, n_records: int = 22, co
     plot_figure4(primary[0], primary[0].fits["mdof"].time_s, variant_columns(column_base)[0],
                  out_dir / "figure4.png")
     agreement = {v: _agreement(r) for v, r in ratios.items()}
+    explained = [v for v in (column_base, "calibrated") if v in results]
+    explained = list(dict.fromkeys(explained))
+    rules, table1 = {}, {}
+    for v in explained:
+        column, fit_column = variant_columns(v)
+        rules[v] = sdof_start_rules(make_records(n_records, seed=seed, column=column), column, fit_column)
+        table1[v] = table1_sdof_check(column, fit_column)
+    idents = [a.fits["sdof"].duration_identifiability for a in primary]
+    ident_summary = {
+        "identifiable": sum(i.identifiable for i in idents),
+        "records": len(idents),
+        "median_interval_width_ms": float(np.median([1e3 * (i.interval_s[1] - i.interval_s[0]) for i in idents])),
+        "median_condition_number": float(np.median([i.condition_number for i in idents])),
+        "median_magnitude_duration_correlation": float(np.median([i.magnitude_duration_correlation for i in idents])),
+    }
     summary = {
         "records": n_records,
         "seed": seed,
@@ -293,6 +311,9 @@ def run_synthetic_study(out_dir: Path, seed: int = 2019, n_records: int = 22, co
         "ratios_min_max_mean": {v: {m: list(r[m]) for m in r} for v, r in ratios.items()},
         "agreement": agreement,
         "wall_time_s": {v: round(t, 2) for v, t in timings.items()},
+        "sdof_start_rules": {v: [r.__dict__ for r in rows] for v, rows in rules.items()},
+        "table1_sdof_fit": table1,
+        "sdof_duration_identifiability": ident_summary,
     }
     write_json_atomic(out_dir / "summary.json", summary)
     lines = ["# Synthetic reproduction of the study's section 3.3", "",
@@ -306,5 +327,76 @@ def run_synthetic_study(out_dir: Path, seed: int = 2019, n_records: int = 22, co
         lo, hi, mean = ratios[v]["true"]
         lines.append(f"- true pulse on the same column: ratio {lo:.2f}-{hi:.2f} (mean {mean:.2f}; 1 up to noise)")
         lines.append("")
+    lines += sdof_explanation(rules, table1, ident_summary, column_base)
     (out_dir / "study.md").write_text("\n".join(lines))
     return {"out_dir": str(out_dir), "wall_time_s": summary["wall_time_s"], "agreement": agreement[column_base]}
+
+
+def sdof_explanation(rules: dict, table1: dict, ident: dict, primary: str) -> list[str]:
+    """The page's section on why the SDOF row differs from the study's, in numbers."""
+    seed_mag, seed_dur, seed_imp = (SEED_TABLE2["sdof"][k] for k in ("magnitude_N", "duration_s", "impulse_Ns"))
+    lines = ["## Why the SDOF row differs from the study's", "",
+             "The records here are synthetic: the MDOF column's base shear (all its modes, sampled at 10 kHz) to a "
+             "known half-sine, with 2.5 % white noise and an offset; the study's were measured. An SDOF has no "
+             "higher modes and no shear-wave transit from the load point to the base, so what it fits is the "
+             "first mode's ringing: that fixes the pulse's Fourier amplitude at the natural frequency (about its "
+             "impulse) and its phase (about start + duration / 2), not the split into magnitude and duration. "
+             "The split then follows from where the pulse may start (docs/fitting.md):", "",
+             "| column (records and fits) | SDOF start rule, gain | magnitude (N) | duration (ms) | impulse (N s) "
+             "| Fig. 7 ratio min-max (mean) | start - true start, mean (min) (ms) | rmse (N) |",
+             "|---|---|---|---|---|---|---|---|"]
+    for v, rows in rules.items():
+        for r in rows:
+            lines.append(f"| {VARIANTS[v][0]} | {r.rule} | {r.magnitude_N[0]:.0f} +- {r.magnitude_N[1]:.0f} | "
+                         f"{1e3 * r.duration_s[0]:.2f} +- {1e3 * r.duration_s[1]:.2f} | "
+                         f"{r.impulse_Ns[0]:.3f} +- {r.impulse_Ns[1]:.3f} | {r.ratio[0]:.2f}-{r.ratio[1]:.2f} "
+                         f"({r.ratio[2]:.2f}) | {1e3 * r.start_minus_true_s[0]:+.2f} ({1e3 * r.start_minus_true_s[1]:+.2f}) | "
+                         f"{r.rmse_N:.1f} |")
+    lines.append(f"| the study (measured) | - | {seed_mag[0]:.0f} +- {seed_mag[1]:.0f} | {1e3 * seed_dur[0]:.1f} +- "
+                 f"{1e3 * seed_dur[1]:.1f} | {seed_imp[0]:.2f} +- {seed_imp[1]:.2f} | "
+                 f"{SEED_FIG7_RATIOS['sdof'][0]}-{SEED_FIG7_RATIOS['sdof'][1]} ({SEED_FIG7_RATIOS['sdof'][2]}) | - | - |")
+    lines += ["", "- Free to start up to 10 ms before the onset, the SDOF puts a long, weak pulse milliseconds before "
+              "the impact (its slow rise hides in the quiet stretch): twice the true duration, a third of the "
+              "magnitude, a Fig. 7 ratio below 1. That is not the study's fit, whose pulses were short.",
+              "- Held to start where the record leaves its baseline (the default), the pulse starts late by the "
+              "time the base shear takes to rise out of the noise (the shear wave's transit from the load to the "
+              "base, then the rise), and keeps the ringing's phase with a shorter pulse: about 2.4-2.6 ms, the "
+              "study's duration. Its short, strong pulse excites the column's higher modes, so on the MDOF column "
+              "it over-predicts the peak (ratio above 1), as the study found.",
+              "- The impulse follows the gain: with m = k / omega^2 the SDOF sees only the first mode's share of "
+              "the base shear and its impulse is below the true one; with m_s = the column's mass (the study's "
+              "eq. [6] read with k, m_s and omega as separate inputs) the same fit scales up by m_s omega^2 / k. "
+              "On the 70 Hz column that reading with the departure rule gives magnitude, duration and impulse "
+              "within the study's SDOF row (above), and a Fig. 7 ratio whose range overlaps the study's.", ""]
+    lines += ["### The SDOF fit of the MDOF response to Table 1's MDOF pulse", "",
+              "Table 1's MDOF pulse (236.93 N, 4.7 ms) on the MDOF column 0.40 m up, a noise-free record starting "
+              "at the impact (t = 0), fitted by the SDOF with its frequency bounds centred on the column's first "
+              "frequency (the study: SDOF 471.49 N, 3.0 ms, 0.91 N s):", "",
+              "| column | gain | magnitude (N) | duration (ms) | impulse (N s) | start (ms) | f (Hz) | rmse (N) | "
+              "Fig. 7 ratio | duration 95 % interval (ms) | Jacobian condition | corr(magnitude, duration) |",
+              "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for v, c in table1.items():
+        for name, gain in (("sdof", "m = k / omega^2"), ("sdof_column_mass", "m_s = column mass")):
+            f = c[name]
+            lo, hi = f["duration_interval_s"]
+            lines.append(f"| {VARIANTS[v][0]} | {gain} | {f['magnitude_N']:.1f} | {1e3 * f['duration_s']:.2f} | "
+                         f"{f['impulse_Ns']:.3f} | {1e3 * f['start_s']:.2f} | {f['natural_frequency_Hz']:.1f} | "
+                         f"{f['rmse_N']:.1f} | {f['fig7_ratio']:.2f} | {1e3 * lo:.2f}-{1e3 * hi:.2f} | "
+                         f"{f['jacobian_condition_number']:.0f} | {f['magnitude_duration_correlation']:.3f} |")
+    first = next(iter(table1.values()))["sdof"]
+    prof = first["profile"]
+    half = min(range(len(prof["duration_s"])), key=lambda i: abs(prof["duration_s"][i] - first["duration_s"] / 4))
+    lines += ["", "Every fit starts at or after the record's first sample (the start is bounded by the last sample "
+              "at the baseline: the base shear stays at zero while the shear wave travels from 0.40 m to the base). "
+              "The duration is fixed within the interval above only because the start is bounded: profiled over "
+              f"duration, a pulse of {1e3 * prof['duration_s'][half]:.2f} ms fits with impulse "
+              f"{prof['impulse_Ns'][half]:.3f} N s (the fit's {first['impulse_Ns']:.3f}) and an excess misfit of "
+              f"{prof['excess_cost'][half]:.0f} (threshold {prof['threshold']:.2f}, in units of the residual "
+              "variance, which here is model error, not noise); magnitude and duration correlate at "
+              f"{first['magnitude_duration_correlation']:.3f}.", "",
+              f"On the {ident['records']} synthetic records ({primary} base) the SDOF duration's 95 % profile "
+              f"interval is closed and within +-25 % for {ident['identifiable']} of them; median width "
+              f"{ident['median_interval_width_ms']:.2f} ms, median Jacobian condition "
+              f"{ident['median_condition_number']:.0f}, median magnitude-duration correlation "
+              f"{ident['median_magnitude_duration_correlation']:.3f}.", ""]
+    return lines
