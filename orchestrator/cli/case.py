@@ -19,6 +19,7 @@ from orchestrator.cli.common import (
     emit,
     missing_feature,
     output_path,
+    plan_scene,
     warn,
     writable_folder,
 )
@@ -31,11 +32,12 @@ YES_HELP = ("go ahead when the plan is over a soft resource limit (memory over h
 
 
 def cmd_render(args: argparse.Namespace) -> int:
+    out = writable_folder(args.out, "-o/--out")  # only checked: render makes it when the scene is valid
+    plan_scene(args.scene, args.set)
     try:
         from orchestrator.pipeline import render_from_file
     except ImportError:
         return missing_feature("`render` (scene schema, planner and templates)", 3)
-    out = writable_folder(args.out, "-o/--out")  # only checked: render makes it when the scene is valid
     summary = confirm_large(lambda yes: render_from_file(args.scene, out, list(args.set or []), force=args.force,
                                                          mesh=args.mesh, confirmed=yes), args.yes)
     emit({k: v for k, v in summary.items() if args.json or k != "warnings"}, args.json)
@@ -154,6 +156,7 @@ def _post_lines(summary) -> dict[str, Any]:
 
 
 def cmd_case(args: argparse.Namespace) -> int:
+    plan_scene(args.scene, args.set)
     from orchestrator.pipeline import run_full_case
     from orchestrator.run.runner import RunInterrupted
 

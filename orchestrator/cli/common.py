@@ -31,6 +31,7 @@ __all__ = [
     "emit",
     "missing_feature",
     "output_path",
+    "plan_scene",
     "warn",
     "writable_folder",
 ]
@@ -112,6 +113,16 @@ def output_path(path: str | Path, flag: str, force: bool, folder: bool) -> Path:
         raise InputError(flag, f"{out} exists: give --force to overwrite it, or another name")
     writable_folder(out.parent, flag, named=out)
     return out
+
+
+def plan_scene(scene_path: str | Path, sets: list[str] | None):
+    """The scene's plan, loaded and planned with the light modules only: a verb refuses a bad scene
+    or an impossible mesh (the planner's label limit) before it loads the stages that render and
+    run (a second or more of imports) and before it writes anything."""
+    from orchestrator.plan.planner import plan_case
+    from orchestrator.scene.scenefile import load_scene
+
+    return plan_case(load_scene(scene_path, list(sets or [])), str(scene_path))
 
 
 _T = TypeVar("_T")

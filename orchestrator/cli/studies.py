@@ -25,6 +25,7 @@ from orchestrator.cli.common import (
     confirm_large,
     emit,
     output_path,
+    plan_scene,
     warn,
     writable_folder,
 )
@@ -96,10 +97,12 @@ def _sweep_resources(sweep, scheduler: str | None, confirmed: bool) -> list[str]
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:
-    from orchestrator.studies.sweep import dry_run, load_sweep, run_sweep
+    from orchestrator.studies.sweep.spec import default_sweep_dir, load_sweep
 
-    sweep = load_sweep(args.sweep)
+    sweep = load_sweep(args.sweep)  # every member planned: bad input, or an impossible mesh, is refused here
     if args.dry_run:
+        from orchestrator.studies.sweep.run import dry_run
+
         warn(_sweep_resources(sweep, args.scheduler, confirmed=True))  # a dry run runs nothing: warnings only
         plan = dry_run(sweep, args.out, executor=args.executor, scheduler=args.scheduler, workers=args.workers)
         if args.json:
@@ -115,12 +118,9 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         print(f"debrisfoam: {line}", file=progress_stream, flush=True)
 
     warn(confirm_large(lambda yes: _sweep_resources(sweep, args.scheduler, yes), args.yes))
-    if args.out is not None:
-        writable_folder(args.out, "-o/--out")
-    else:
-        from orchestrator.studies.sweep.run import default_sweep_dir
+    writable_folder(args.out if args.out is not None else default_sweep_dir(sweep), "-o/--out")
+    from orchestrator.studies.sweep.run import run_sweep
 
-        writable_folder(default_sweep_dir(sweep), "-o/--out")
     result = run_sweep(sweep, args.out, executor=args.executor, scheduler=args.scheduler, workers=args.workers,
                        retry_failed=args.retry_failed, progress=progress)
     if args.json:
@@ -169,6 +169,7 @@ def cmd_ensemble(args: argparse.Namespace) -> int:
     if args.workers is not None and args.workers <= 0:
         raise InputError("--workers", f"must be > 0, got {args.workers}")
     out = _ensemble_out(args.out, args.force)
+    plan_scene(args.scene, args.set)
     from orchestrator.studies.ensemble import Perturbation, ensemble
 
     with Flags(position_sigma_fraction="--position-sigma", yaw_sigma_deg="--yaw-sigma"):
