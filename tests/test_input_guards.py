@@ -11,6 +11,7 @@ output is measured, as a separate process where the terminal or the pipe matters
 
 from __future__ import annotations
 
+import json
 import os
 import shutil
 import subprocess
@@ -124,6 +125,30 @@ def test_a_long_run_warns_in_validate_and_is_refused_without_yes(tmp_path):
                            long_run, "--yes"], capture_output=True, text=True, cwd=ROOT, stdin=subprocess.DEVNULL)
     assert proc.returncode == 0, proc.stderr
     assert (out / "plan.json").is_file() and "over 6 h" in proc.stderr
+
+
+def test_a_sweep_over_a_soft_limit_warns_in_its_dry_run_and_needs_yes_to_run(tmp_path):
+    sweep = tmp_path / "long.yaml"
+    sweep.write_text(f"name: long\nbase: {TINY}\nset:\n  run.end_time_s: 5000\nmode: grid\naxes:\n"
+                     "  mesh.cell_size_m: [0.025]\n")
+    out = tmp_path / "out"
+    proc = run_cli("sweep", str(sweep), "-o", str(out), "--dry-run")
+    assert proc.returncode == 0 and "member 1 (mesh.cell_size_m=0.025): 10,032 planned cells" in proc.stderr
+    proc = subprocess.run([sys.executable, "-m", "orchestrator.cli", "sweep", str(sweep), "-o", str(out)],
+                          capture_output=True, text=True, cwd=ROOT, stdin=subprocess.DEVNULL)
+    assert proc.returncode == 2 and str(sweep) in proc.stderr and "--yes" in proc.stderr and "over 6 h" in proc.stderr
+    assert not out.exists()
+
+
+def test_run_of_a_case_planned_over_a_soft_limit_needs_yes(tmp_path):
+    plan = json.loads((TINY_CASE / "plan.json").read_text())
+    plan["estimated_wall_time_s"] = 7 * 3600.0  # as a case rendered with --yes records it
+    (tmp_path / "plan.json").write_text(json.dumps(plan))
+    proc = subprocess.run([sys.executable, "-m", "orchestrator.cli", "run", str(tmp_path)], capture_output=True,
+                          text=True, cwd=ROOT, stdin=subprocess.DEVNULL)
+    assert proc.returncode == 2 and "estimated solver time about" in proc.stderr and "--yes" in proc.stderr
+    assert str(tmp_path / "plan.json") in proc.stderr
+    assert [p.name for p in tmp_path.iterdir()] == ["plan.json"]
 
 
 @pytest.mark.parametrize("argv, field, size", [

@@ -143,7 +143,8 @@ def confirm_large(call: Callable[[bool], _T], yes: bool) -> _T:
         if not sys.stdin.isatty():
             raise
         warn(exc.messages, f"{exc.source}: " if exc.source else "")
-        answer = input("debrisfoam: go ahead anyway? [y/N] ").strip().lower()
+        print("debrisfoam: go ahead anyway? [y/N] ", end="", file=sys.stderr, flush=True)  # stdout may be JSON
+        answer = sys.stdin.readline().strip().lower()
         if answer not in ("y", "yes"):
             raise InputError(exc.field, "not confirmed: " + "; ".join(exc.messages), exc.source) from None
         return call(True)

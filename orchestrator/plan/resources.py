@@ -110,6 +110,7 @@ class Demand:
     def of_plan_json(cls, data: dict, cores: int | None = None) -> "Demand":
         """The demand of a case's plan.json (as a dict), run on ``cores`` ranks (default: its own)."""
         n = data.get("decomposition") or (1, 1, 1)
+        n = n.get("n", (1, 1, 1)) if isinstance(n, dict) else n  # plan.json: {"method": ..., "n": [nx, ny, nz]}
         planned = max(1, int(n[0]) * int(n[1]) * int(n[2]))
         wall = float(data.get("estimated_wall_time_s") or 0.0)
         ranks = int(cores or planned)
