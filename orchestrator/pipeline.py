@@ -21,6 +21,7 @@ from orchestrator.case import foam
 from orchestrator.case.folder import CaseFolder
 from orchestrator.case.render import render_case
 from orchestrator.plan.planner import plan_case
+from orchestrator.plan.resources import Demand, check_resources
 from orchestrator.report.postprocess import post_case
 from orchestrator.report.preview import preview_scene
 from orchestrator.run.runner import run_case
@@ -75,11 +76,13 @@ def _plan_warnings(case: Path) -> list[str]:
     return list((CaseFolder(case).plan() or {}).get("warnings", []))
 
 
-def prepare_case(scene_path: str | Path, out_dir: str | Path, sets: Sequence[str] = ()) -> tuple[Path, bool]:
+def prepare_case(scene_path: str | Path, out_dir: str | Path, sets: Sequence[str] = (),
+                 confirmed: bool = False) -> tuple[Path, bool]:
     """Render the scene into out_dir unless that folder already holds this very case.
 
     Returns (case folder, rendered now?). Raises InputError when out_dir holds
-    something else.
+    something else, and the resource guard's errors when rendering (``confirmed``: see
+    :func:`render_from_file`); a case already rendered is resumed without asking again.
     """
     out = Path(out_dir)
     scene = load_scene(scene_path, list(sets))
@@ -91,20 +94,21 @@ def prepare_case(scene_path: str | Path, out_dir: str | Path, sets: Sequence[str
             f"{out} already holds a different case (its scene.yaml differs from {scene_path} with these "
             "overrides); choose another folder, or remove it to start again",
         )
-    render_from_file(scene_path, out, list(sets))
+    render_from_file(scene_path, out, list(sets), confirmed=confirmed)
     return out, True
 
 
 def run_full_case(scene_path: str | Path, out_dir: str | Path | None = None, sets: Sequence[str] = (),
                   np: int | None = None, quiet: bool = False,
-                  stop_event: threading.Event | None = None) -> dict[str, Any]:
+                  stop_event: threading.Event | None = None, confirmed: bool = False) -> dict[str, Any]:
     """Render (if needed), run (resuming), post-process; returns the final summary.
 
     stop_event: set it (from another thread) to stop the run as Ctrl-C would; the run
-    raises RunInterrupted and resumes when called again.
+    raises RunInterrupted and resumes when called again. confirmed: go ahead over the
+    resource guard's soft limits (:func:`render_from_file`).
     """
     t0 = time.perf_counter()
-    case, rendered = prepare_case(scene_path, out_dir or default_case_dir(scene_path), sets)
+    case, rendered = prepare_case(scene_path, out_dir or default_case_dir(scene_path), sets, confirmed=confirmed)
     if not quiet:
         print(f"debrisfoam: {'rendered' if rendered else 'resuming'} {case}", flush=True)
     for message in _plan_warnings(case):  # before anything runs, on every start
@@ -178,17 +182,21 @@ def final_summary(headline: dict[str, Any]) -> dict[str, Any]:
 
 
 def render_from_file(scene_path: str | Path, out_dir: Path, sets: Sequence[str] = (), force: bool = False,
-                     mesh: bool = False) -> dict[str, Any]:
-    """The `debrisfoam render` verb: load and plan the scene, render, optionally mesh.
+                     mesh: bool = False, confirmed: bool = False) -> dict[str, Any]:
+    """The `debrisfoam render` verb: load and plan the scene, check the plan against this
+    machine, render, optionally mesh.
 
     Returns a summary for the CLI: case path, solver, planned cell count and, with
-    `mesh`, checkMesh's verdict, cell count and quality figures.
+    `mesh`, checkMesh's verdict, cell count and quality figures. Before anything is written:
+    InputError over a hard resource limit, LargeRunError over a soft one unless ``confirmed``
+    (:mod:`orchestrator.plan.resources`); confirmed, the soft limits join the warnings.
     """
     scene = load_scene(scene_path, list(sets))
-    plan = plan_case(scene)
+    plan = plan_case(scene, str(scene_path))
+    large = check_resources(Demand.of_plan(plan), str(scene_path), confirmed=confirmed)
     case = render_case(scene, plan, out_dir, force=force, overrides=sets)
     summary: dict[str, Any] = {"case": str(case), "solver": plan.solver, "planned_cells": int(plan.cell_count),
-                               "warnings": list(plan.warnings)}
+                               "warnings": list(plan.warnings) + large}
     if scene.outputs.preview:
         try:
             summary["preview"] = str(preview_scene(scene, plan, case / "preview.png"))

@@ -389,9 +389,10 @@ def test_partly_finished_run_is_post_processed_up_to_where_it_got(tmp_path):
 
 
 def test_a_case_without_outputs_is_reported_not_crashed_on(tmp_path):
-    case = tmp_path / "bare"
+    case = tmp_path / "bare"  # it ran (run.json) but wrote none of its outputs
     case.mkdir()
     shutil.copy(DATA / "tiny-1debris/plan.json", case)
+    shutil.copy(DATA / "tiny-1debris/run.json", case)
     summary = post_case(case)
     missing = " ".join(summary.missing)
     assert "no gauge output" in missing and "no column force output" in missing

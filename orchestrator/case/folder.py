@@ -100,6 +100,13 @@ class CaseFolder:
         """A folder the tool rendered, or at least an OpenFOAM case."""
         return self.plan_path.is_file() or (self.path / "system" / "controlDict").is_file()
 
+    def has_run(self) -> bool:
+        """Whether a solver has run here at all: run.json, postProcessing/, or a time written
+        after 0 (in the case or in a processor folder)."""
+        if self.run_path.is_file() or (self.path / "postProcessing").is_dir():
+            return True
+        return any(t > EPS_T for base in (self.path, *self.processor_dirs()) for t, _ in time_names(base))
+
     # ------------------------------------------------------------------ time folders
     def times(self) -> list[tuple[float, str]]:
         """The case's own (reconstructed) time folders, earliest first."""

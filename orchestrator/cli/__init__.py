@@ -16,6 +16,7 @@ the analytical verbs start without loading OpenFOAM's stages.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from collections.abc import Sequence
 
@@ -58,7 +59,15 @@ def main(argv: Sequence[str] | None = None) -> int:
         argv = ["--debug", *(a for a in argv if a != "--debug")]
     try:
         args = build_parser().parse_args(argv)
-        return int(args.func(args) or EXIT_OK)
+        code = int(args.func(args) or EXIT_OK)
+        sys.stdout.flush()  # here, not at exit, so that a closed pipe is met below
+        return code
+    except BrokenPipeError:
+        # the reader went away (`debrisfoam scenes --json | head -1`): say nothing more, and point
+        # stdout at /dev/null so that Python's flush at exit does not fail again
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return EXIT_FAILURE
     except InputError as exc:
         if debug:
             raise
@@ -69,6 +78,11 @@ def main(argv: Sequence[str] | None = None) -> int:
             raise
         print(f"debrisfoam: error: {exc}", file=sys.stderr)
         return EXIT_FAILURE
+    except PermissionError as exc:  # a file or folder the user named that cannot be written (or read)
+        if debug:
+            raise
+        print(f"debrisfoam: bad input: {exc.filename or 'a file'}: {exc.strerror or exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT
     except KeyboardInterrupt:
         print("debrisfoam: interrupted", file=sys.stderr)
         return 130

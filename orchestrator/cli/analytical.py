@@ -20,6 +20,9 @@ __all__ = ["POOR_FIT_RMSE_FRACTION", "add_analytical_parser", "column_from_args"
 
 #: A fit whose RMSE exceeds this fraction of the measured peak is reported as poor.
 POOR_FIT_RMSE_FRACTION = 0.20
+#: Peak memory per sample of a `response` record (bytes), SDOF and MDOF alike: measured here with
+#: /usr/bin/time -v between --t-end 2 and 8 s at 1e-5 s steps (23 MB more for 600,000 samples).
+BYTES_PER_SAMPLE = 40
 
 
 def column_from_args(args: argparse.Namespace):
@@ -52,9 +55,18 @@ def column_from_args(args: argparse.Namespace):
 
 
 def _time_axis(t_end: float, dt: float):
+    """The record's times, 0..t_end every dt; InputError on --t-end when the record would take over
+    half the memory available now (:data:`BYTES_PER_SAMPLE`)."""
     import numpy as np
 
+    from orchestrator.plan.resources import SOFT_MEMORY_FRACTION, Machine
+
     n = int(round(t_end / dt))
+    limit = int(SOFT_MEMORY_FRACTION * Machine.here().available_memory_B / BYTES_PER_SAMPLE)
+    if n + 1 > limit:
+        raise InputError("--t-end", f"{t_end:g} s at {dt:.3g} s steps is {n + 1:,} samples (about "
+                                    f"{(n + 1) * BYTES_PER_SAMPLE / 1e9:.3g} GB): over the limit of {limit:,} samples, "
+                                    "half the memory available now; give a shorter --t-end")
     return np.linspace(0.0, n * dt, n + 1)
 
 def cmd_asce7(args: argparse.Namespace) -> int:
@@ -191,6 +203,8 @@ def cmd_contact_law(args: argparse.Namespace) -> int:
 def cmd_modes(args: argparse.Namespace) -> int:
     from analytical.mdof import column_model
 
+    if args.count < 1:
+        raise InputError("--count", f"must be a whole number >= 1 of frequencies, got {args.count}")
     column = column_from_args(args)
     model = column_model(column)
     result: dict[str, Any] = {"frequencies_Hz": [float(f) for f in model.frequencies_Hz[: args.count]]}
@@ -208,6 +222,7 @@ def cmd_response(args: argparse.Namespace) -> int:
     magnitude = require_positive("--magnitude", args.magnitude)
     duration = require_positive("--duration", args.duration)
     t_end = require_positive("--t-end", args.t_end)
+    out = output_path(args.out, "--out", args.force, folder=False) if args.out else None
     column = column_from_args(args)
     pulse = make_pulse(args.pulse, magnitude, duration)
     t = _time_axis(t_end, min(1e-5, duration / 50))
@@ -223,10 +238,10 @@ def cmd_response(args: argparse.Namespace) -> int:
         if height > column.height_m:
             raise InputError("--height", f"must be <= the column height {column.height_m} m, got {height}")
         response = mdof_response(pulse, column, height, t)
-    if args.out:
+    if out is not None:
         import pandas as pd
 
-        out = output_path(args.out, "--out", args.force, folder=False)
+        out.parent.mkdir(parents=True, exist_ok=True)
         pd.DataFrame({"time_s": response.time_s, "response_N": response.response_N}).to_csv(out, index=False)
     emit({"peak_N": float(response.peak_N), "time_of_peak_s": float(response.time_of_peak_s)}, args.json)
     return EXIT_OK
@@ -289,6 +304,9 @@ def cmd_dambreak(args: argparse.Namespace) -> int:
 
     from analytical.dambreak import dam_break
 
+    if args.points < 2:
+        raise InputError("--points", f"must be >= 2 (a profile needs two points at least), got {args.points}")
+    out = output_path(args.out, "--out", args.force, folder=False) if args.out and args.arrival is None else None
     solution = dam_break(args.model, args.h0, hr_m=args.hr, friction=args.friction)
     if args.arrival is not None:
         if not args.arrival > 0:
@@ -296,7 +314,7 @@ def cmd_dambreak(args: argparse.Namespace) -> int:
                                           f"{args.arrival}")
         emit({"arrival_s": float(solution.arrival_time_s(args.arrival))}, args.json)
         return EXIT_OK
-    if args.profile is None or not args.out:
+    if args.profile is None or out is None:
         raise InputError("--arrival/--profile", "give --arrival X, or --profile T with --out CSV")
     t = args.profile
     x_front = float(solution.front_position_m(t))
@@ -305,7 +323,7 @@ def cmd_dambreak(args: argparse.Namespace) -> int:
     depth, velocity = solution.profile(x, t)
     import pandas as pd
 
-    out = output_path(args.out, "--out", args.force, folder=False)
+    out.parent.mkdir(parents=True, exist_ok=True)
     pd.DataFrame({"x_m": x, "depth_m": depth, "velocity_m_s": velocity}).to_csv(out, index=False)
     emit({"front_position_m": x_front, "csv": str(out)}, args.json)
     return EXIT_OK

@@ -13,21 +13,33 @@ from pathlib import Path
 from typing import Any
 
 from analytical.errors import InputError
-from orchestrator.cli.common import EXIT_OK, emit, missing_feature, output_path, warn
+from orchestrator.cli.common import (
+    EXIT_OK,
+    confirm_large,
+    emit,
+    missing_feature,
+    output_path,
+    plan_scene,
+    warn,
+    writable_folder,
+)
 
-__all__ = ["add_case_parsers", "cmd_case", "cmd_post", "cmd_preview", "cmd_render", "cmd_run"]
+__all__ = ["YES_HELP", "add_case_parsers", "cmd_case", "cmd_post", "cmd_preview", "cmd_render", "cmd_run"]
+
+#: The help of every verb's --yes (the resource guard's soft limits, docs/architecture.md).
+YES_HELP = ("go ahead when the plan is over a soft resource limit (memory over half of what is free, or an "
+            "estimated solver time over 6 h); without it a terminal is asked, and anything else refused (exit 2)")
 
 
 def cmd_render(args: argparse.Namespace) -> int:
+    out = writable_folder(args.out, "-o/--out")  # only checked: render makes it when the scene is valid
+    plan_scene(args.scene, args.set)
     try:
         from orchestrator.pipeline import render_from_file
     except ImportError:
         return missing_feature("`render` (scene schema, planner and templates)", 3)
-    out = Path(args.out)
-    if not out.exists():
-        output_path(out, "-o/--out", False, folder=True)
-        out.rmdir()  # only checked: render makes it when the scene is valid
-    summary = render_from_file(args.scene, out, list(args.set or []), force=args.force, mesh=args.mesh)
+    summary = confirm_large(lambda yes: render_from_file(args.scene, out, list(args.set or []), force=args.force,
+                                                         mesh=args.mesh, confirmed=yes), args.yes)
     emit({k: v for k, v in summary.items() if args.json or k != "warnings"}, args.json)
     warn(summary["warnings"])
     return EXIT_OK
@@ -40,7 +52,7 @@ def cmd_preview(args: argparse.Namespace) -> int:
         return missing_feature("`preview`", 3)
     if Path(args.out).suffix.lower() != ".png":
         raise InputError("-o/--out", f"must name a .png file (the preview is a PNG image), got {args.out}")
-    out = output_path(args.out, "-o/--out", args.force, folder=False)
+    out = output_path(args.out, "-o/--out", args.force, folder=False)  # checked; made once the scene is valid
     warnings = preview_scene_file(args.scene, out, list(args.set or []), warnings=True)
     if args.json:
         emit({"preview": str(out), "warnings": warnings}, True)
@@ -51,15 +63,29 @@ def cmd_preview(args: argparse.Namespace) -> int:
 
 
 def cmd_run(args: argparse.Namespace) -> int:
-    from orchestrator.run.monitor import DivergenceLimits
+    from orchestrator.case.folder import CaseFolder
     from orchestrator.pipeline import carry_debris
+    from orchestrator.plan.resources import Demand, check_resources
+    from orchestrator.run.monitor import DivergenceLimits
     from orchestrator.run.runner import RunInterrupted, run_case
 
     if args.stall_limit is not None and not args.stall_limit > 0:
         raise InputError("--stall-limit", f"must be > 0 seconds, got {args.stall_limit}")
-    if not Path(args.case_dir).is_dir():
+    if args.np is not None and args.np < 1:
+        raise InputError("--np", f"must be a whole number >= 1 of MPI ranks, got {args.np}")
+    folder = CaseFolder(args.case_dir)
+    if not folder.path.is_dir():
         raise InputError("case_dir", "no such folder: render a case into it first (debrisfoam render SCENE -o DIR)",
                          str(args.case_dir))
+    if not folder.is_case():
+        raise InputError("case_dir", "not a debrisfoam case: it has neither plan.json nor system/controlDict "
+                                     "(render one with `debrisfoam render SCENE -o DIR`)", str(args.case_dir))
+    writable_folder(folder.path, "case_dir")
+    plan = folder.plan()
+    if plan and (folder.run_record() or {}).get("status") != "finished":
+        large = confirm_large(lambda yes: check_resources(Demand.of_plan_json(plan, args.np),
+                                                          str(folder.plan_path), confirmed=yes), args.yes)
+        warn(large)
 
     try:
         limits = DivergenceLimits(stall_s=args.stall_limit) if args.stall_limit is not None else None
@@ -81,8 +107,12 @@ def cmd_run(args: argparse.Namespace) -> int:
 
 
 def cmd_post(args: argparse.Namespace) -> int:
+    from orchestrator.case.folder import CaseFolder
     from orchestrator.report.postprocess import post_case
 
+    folder = CaseFolder(args.case_dir)
+    if folder.path.is_dir() and folder.is_case():
+        writable_folder(folder.results_dir, "case_dir")
     summary = post_case(args.case_dir, comparisons=not args.tables_only, snapshot=not args.no_snapshot,
                         arrival_threshold_m=args.arrival_threshold)
     if args.json:
@@ -126,11 +156,15 @@ def _post_lines(summary) -> dict[str, Any]:
 
 
 def cmd_case(args: argparse.Namespace) -> int:
+    plan_scene(args.scene, args.set)
     from orchestrator.pipeline import run_full_case
     from orchestrator.run.runner import RunInterrupted
 
+    if args.out is not None:
+        writable_folder(args.out, "-o/--out")
     try:
-        summary = run_full_case(args.scene, args.out, list(args.set or []), np=args.np, quiet=args.quiet)
+        summary = confirm_large(lambda yes: run_full_case(args.scene, args.out, list(args.set or []), np=args.np,
+                                                          quiet=args.quiet, confirmed=yes), args.yes)
     except RunInterrupted as exc:  # resumable: the same command continues the run
         if args.debug:
             raise
@@ -151,6 +185,7 @@ def add_case_parsers(verbs) -> None:
                    help="override a dotted scene key, value as YAML (repeatable), e.g. mesh.cell_size_m=0.03")
     p.add_argument("--force", action="store_true", help="overwrite a non-empty output folder")
     p.add_argument("--mesh", action="store_true", help="also build the mesh and print checkMesh's verdict")
+    p.add_argument("--yes", action="store_true", help=YES_HELP)
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_render)
 
@@ -172,6 +207,7 @@ def add_case_parsers(verbs) -> None:
     p.add_argument("--stall-limit", type=float, default=None, metavar="S",
                    help="stop the run as stalled after S wall seconds without solver output (default: the "
                         "scene's run.stall_limit_s, else 600 s)")
+    p.add_argument("--yes", action="store_true", help=YES_HELP)
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_run)
 
@@ -193,5 +229,6 @@ def add_case_parsers(verbs) -> None:
                    help="override a dotted scene key, value as YAML (repeatable), e.g. mesh.cell_size_m=0.03")
     p.add_argument("--np", type=int, default=None, help="MPI ranks (default: the scene's run.cores)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--yes", action="store_true", help=YES_HELP)
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_case)

@@ -11,8 +11,10 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import tempfile
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 from analytical.errors import InputError
 from orchestrator.core.errors import MissingFeatureError
@@ -25,10 +27,13 @@ __all__ = [
     "ArgParser",
     "Flags",
     "HelpFormatter",
+    "confirm_large",
     "emit",
     "missing_feature",
     "output_path",
+    "plan_scene",
     "warn",
+    "writable_folder",
 ]
 
 EXIT_OK, EXIT_FAILURE, EXIT_BAD_INPUT = 0, 1, 2
@@ -55,14 +60,46 @@ class ArgParser(argparse.ArgumentParser):
         raise InputError("arguments", f"{message} (see `{self.prog} --help`)")
 
 
+def _existing_ancestor(path: Path) -> Path:
+    """``path`` itself or its nearest ancestor that exists."""
+    path = Path(path).absolute()
+    while not path.exists() and path != path.parent:
+        path = path.parent
+    return path
+
+
+def writable_folder(path: str | Path, flag: str, named: str | Path | None = None) -> Path:
+    """Check that a folder can be written (made, if it is not there yet) without making it.
+
+    A write is tried in the folder, or in its nearest existing ancestor (a temporary file, removed
+    at once): the only test that tells a read-only file system, an immutable folder or missing
+    permissions apart for every user, root included. InputError naming ``flag`` and the path
+    (``named``, when the folder is checked for a file in it).
+    """
+    out = Path(path)
+    if out.exists() and not out.is_dir():
+        raise InputError(flag, f"{out} is a file, not a folder")
+    base = _existing_ancestor(out)
+    if not base.is_dir():
+        raise InputError(flag, f"cannot make {out}: {base} is a file, not a folder")
+    try:
+        with tempfile.TemporaryFile(dir=base):
+            pass
+    except OSError as exc:
+        raise InputError(flag, f"cannot write in {base}: {exc.strerror or exc}", str(named or out)) from None
+    return out
+
+
 def output_path(path: str | Path, flag: str, force: bool, folder: bool) -> Path:
     """Check an output path before anything is computed: a folder that can be made and holds
-    nothing yet (or `--force`), or a file whose folder exists and which is not there yet (or
-    `--force`). Bad paths are bad input naming the flag: nothing already computed is touched."""
+    nothing yet (or `--force`), or a file whose folder can be written and which is not there yet
+    (or `--force`). Bad paths are bad input naming the flag: nothing already computed is touched.
+
+    A folder output is made here; a file's missing folders are not (the writer makes them once
+    there is something to write), so a refused input leaves no empty folders behind."""
     out = Path(path)
     if folder:
-        if out.exists() and not out.is_dir():
-            raise InputError(flag, f"{out} is a file, not a folder")
+        writable_folder(out, flag)
         if out.is_dir() and any(out.iterdir()) and not force:
             raise InputError(flag, f"{out} holds files already: give --force to overwrite them, or another folder")
         try:
@@ -74,12 +111,43 @@ def output_path(path: str | Path, flag: str, force: bool, folder: bool) -> Path:
         raise InputError(flag, f"{out} is a folder; give a file name")
     if out.exists() and not force:
         raise InputError(flag, f"{out} exists: give --force to overwrite it, or another name")
-    if not out.parent.is_dir():
-        try:
-            out.parent.mkdir(parents=True, exist_ok=True)
-        except OSError as exc:
-            raise InputError(flag, f"cannot create the folder {out.parent}: {exc.strerror}") from None
+    writable_folder(out.parent, flag, named=out)
     return out
+
+
+def plan_scene(scene_path: str | Path, sets: list[str] | None):
+    """The scene's plan, loaded and planned with the light modules only: a verb refuses a bad scene
+    or an impossible mesh (the planner's label limit) before it loads the stages that render and
+    run (a second or more of imports) and before it writes anything."""
+    from orchestrator.plan.planner import plan_case
+    from orchestrator.scene.scenefile import load_scene
+
+    return plan_case(load_scene(scene_path, list(sets or [])), str(scene_path))
+
+
+_T = TypeVar("_T")
+
+
+def confirm_large(call: Callable[[bool], _T], yes: bool) -> _T:
+    """``call(confirmed)``, asking first when the plan is over a soft resource limit.
+
+    ``call`` raises :class:`~orchestrator.plan.resources.LargeRunError` before writing anything
+    when the plan is over a soft limit and ``confirmed`` is False. With ``--yes`` (``yes``) it is
+    called confirmed; otherwise a terminal is asked, and without one the refusal stands (exit 2).
+    """
+    from orchestrator.plan.resources import LargeRunError
+
+    try:
+        return call(yes)
+    except LargeRunError as exc:
+        if not sys.stdin.isatty():
+            raise
+        warn(exc.messages, f"{exc.source}: " if exc.source else "")
+        print("debrisfoam: go ahead anyway? [y/N] ", end="", file=sys.stderr, flush=True)  # stdout may be JSON
+        answer = sys.stdin.readline().strip().lower()
+        if answer not in ("y", "yes"):
+            raise InputError(exc.field, "not confirmed: " + "; ".join(exc.messages), exc.source) from None
+        return call(True)
 
 
 class Flags:

@@ -27,14 +27,17 @@ def cmd_scenes(args: argparse.Namespace) -> int:
 
 def cmd_validate(args: argparse.Namespace) -> int:
     from orchestrator.plan.planner import plan_case
+    from orchestrator.plan.resources import Demand, check_resources
     from orchestrator.scene.scenefile import load_scene
 
     scene = load_scene(args.scene, list(args.set or []))
-    plan = plan_case(scene)
+    plan = plan_case(scene, args.scene)
+    # validate runs nothing: a hard resource limit is bad input, a soft one a warning
+    warnings = list(plan.warnings) + check_resources(Demand.of_plan(plan), args.scene, confirmed=True)
     result = {"scene": args.scene, "valid": True, "name": scene.name, "bodies": len(scene.debris),
-              "solver": plan.solver, "planned_cells": int(plan.cell_count), "warnings": list(plan.warnings)}
+              "solver": plan.solver, "planned_cells": int(plan.cell_count), "warnings": warnings}
     emit({k: v for k, v in result.items() if args.json or k != "warnings"}, args.json)
-    warn(plan.warnings)
+    warn(warnings)
     return EXIT_OK
 
 

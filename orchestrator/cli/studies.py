@@ -16,7 +16,19 @@ from pathlib import Path
 from typing import Any
 
 from analytical.errors import InputError
-from orchestrator.cli.common import EXIT_FAILURE, EXIT_OK, ArgParser, Flags, emit, output_path, warn
+from orchestrator.cli.case import YES_HELP
+from orchestrator.cli.common import (
+    EXIT_FAILURE,
+    EXIT_OK,
+    ArgParser,
+    Flags,
+    confirm_large,
+    emit,
+    output_path,
+    plan_scene,
+    warn,
+    writable_folder,
+)
 
 __all__ = [
     "add_study_parsers",
@@ -64,11 +76,35 @@ def _print_dry_run(plan: dict[str, Any], out=sys.stdout) -> None:
     out.write(f"({plan['note']})\n")
 
 
-def cmd_sweep(args: argparse.Namespace) -> int:
-    from orchestrator.studies.sweep import dry_run, run_sweep
+def _sweep_resources(sweep, scheduler: str | None, confirmed: bool) -> list[str]:
+    """Every member's plan against this machine (the resource guard), unless the members run on
+    another cluster (``--scheduler``): the soft limits' warnings, each naming its member."""
+    from orchestrator.plan.resources import Demand, LargeRunError, check_resources
 
+    if scheduler:
+        return []
+    large = []
+    for m in sweep.members:
+        where = f"member {m.index} ({', '.join(m.axis_overrides) or 'the base scene'})"
+        demand = Demand(int(m.plan.cell_count), m.plan.solver, sweep.member_cores(m), m.estimated_wall_time_s)
+        try:
+            large += [f"{where}: {w}" for w in check_resources(demand, str(sweep.path), confirmed=True)]
+        except InputError as err:
+            raise InputError(err.field, f"{where}: {err.rule}", str(sweep.path)) from None
+    if large and not confirmed:
+        raise LargeRunError(large, str(sweep.path))
+    return large
+
+
+def cmd_sweep(args: argparse.Namespace) -> int:
+    from orchestrator.studies.sweep.spec import default_sweep_dir, load_sweep
+
+    sweep = load_sweep(args.sweep)  # every member planned: bad input, or an impossible mesh, is refused here
     if args.dry_run:
-        plan = dry_run(args.sweep, args.out, executor=args.executor, scheduler=args.scheduler, workers=args.workers)
+        from orchestrator.studies.sweep.run import dry_run
+
+        warn(_sweep_resources(sweep, args.scheduler, confirmed=True))  # a dry run runs nothing: warnings only
+        plan = dry_run(sweep, args.out, executor=args.executor, scheduler=args.scheduler, workers=args.workers)
         if args.json:
             emit(plan, True)
         else:
@@ -81,7 +117,11 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     def progress(line: str) -> None:
         print(f"debrisfoam: {line}", file=progress_stream, flush=True)
 
-    result = run_sweep(args.sweep, args.out, executor=args.executor, scheduler=args.scheduler, workers=args.workers,
+    warn(confirm_large(lambda yes: _sweep_resources(sweep, args.scheduler, yes), args.yes))
+    writable_folder(args.out if args.out is not None else default_sweep_dir(sweep), "-o/--out")
+    from orchestrator.studies.sweep.run import run_sweep
+
+    result = run_sweep(sweep, args.out, executor=args.executor, scheduler=args.scheduler, workers=args.workers,
                        retry_failed=args.retry_failed, progress=progress)
     if args.json:
         emit(result.to_dict(), True)
@@ -114,9 +154,7 @@ def _print_failures(result) -> None:
 def _ensemble_out(path: str, force: bool) -> Path:
     """The ensemble's folder: new, or holding only its flow/ (reused), or anything with --force
     (the ensemble's files are replaced; flow/ is still reused when it holds this scene's case)."""
-    out = Path(path)
-    if out.exists() and not out.is_dir():
-        raise InputError("-o/--out", f"{out} is a file, not a folder")
+    out = writable_folder(path, "-o/--out")
     others = sorted(p.name for p in out.iterdir() if p.name != "flow") if out.is_dir() else []
     if others and not force:
         raise InputError("-o/--out", f"{out} holds files already ({', '.join(others[:4])}"
@@ -131,6 +169,7 @@ def cmd_ensemble(args: argparse.Namespace) -> int:
     if args.workers is not None and args.workers <= 0:
         raise InputError("--workers", f"must be > 0, got {args.workers}")
     out = _ensemble_out(args.out, args.force)
+    plan_scene(args.scene, args.set)
     from orchestrator.studies.ensemble import Perturbation, ensemble
 
     with Flags(position_sigma_fraction="--position-sigma", yaw_sigma_deg="--yaw-sigma"):
@@ -151,9 +190,10 @@ def cmd_ensemble(args: argparse.Namespace) -> int:
 
     say = (lambda _: None) if args.json else (lambda m: print(m, flush=True))
     try:
-        result = ensemble(args.scene, out, args.n, seed=args.seed, executor=args.executor, sets=list(args.set or []),
-                          workers=args.workers, perturbation=perturbation, progress=progress, quiet=args.json,
-                          say=say)
+        result = confirm_large(lambda yes: ensemble(
+            args.scene, out, args.n, seed=args.seed, executor=args.executor, sets=list(args.set or []),
+            workers=args.workers, perturbation=perturbation, progress=progress, quiet=args.json, say=say,
+            confirmed=yes), args.yes)
     finally:
         if bar:
             bar[0].close()
@@ -228,7 +268,9 @@ def cmd_report_stability(args: argparse.Namespace) -> int:
     table = stability_table(args.sweep_dir)
     text = markdown(table)
     if args.out:
-        output_path(args.out, "-o/--out", args.force, folder=False).write_text(text)
+        out = output_path(args.out, "-o/--out", args.force, folder=False)
+        out.parent.mkdir(parents=True, exist_ok=True)
+        out.write_text(text)
     if args.json:
         emit({"members": table.to_dict(orient="records")}, True)
         return EXIT_OK
@@ -260,6 +302,7 @@ def add_study_parsers(verbs) -> None:
     p.add_argument("--dry-run", action="store_true", help="list the members, cell counts and estimated wall times; "
                                                           "run nothing")
     p.add_argument("--retry-failed", action="store_true", help="run failed members again (they resume)")
+    p.add_argument("--yes", action="store_true", help=YES_HELP)
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_sweep)
 
@@ -282,6 +325,7 @@ def add_study_parsers(verbs) -> None:
                    help="standard deviation of the start's yaw offset (default 12)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="scene override (repeatable)")
     p.add_argument("--force", action="store_true", help="replace an ensemble already in DIR (its flow is reused)")
+    p.add_argument("--yes", action="store_true", help=YES_HELP)
     p.add_argument("--json", action="store_true", help="print JSON (no progress)")
     p.set_defaults(func=cmd_ensemble)
 

@@ -15,7 +15,6 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from analytical.contact_law import box_inertia
 from analytical.dambreak import dam_break
 from orchestrator.plan.grid import BoxGrid, Segment, graded_segment
 from orchestrator.plan.model import BodyPlan
@@ -87,6 +86,10 @@ def body_inertia(
 ) -> tuple[float, float, float]:
     """Principal moments of inertia (kg m^2) of a closed box about its body axes
     (:func:`analytical.contact_law.box_inertia`: uniform walls, or solid)."""
+    # imported here: the contact law's module loads scipy.stats, a second of start-up that
+    # planning a scene (validate, a sweep's dry run) otherwise never needs
+    from analytical.contact_law import box_inertia
+
     return box_inertia(size_m, mass_kg, wall_thickness_m)
 
 

@@ -27,6 +27,7 @@ from orchestrator.plan.decompose import decompose
 from orchestrator.plan.domain import SAFETY, Domain, column_spans_width, plan_domain
 from orchestrator.plan.grading import background_grid
 from orchestrator.plan.model import BodyPlan, GaugePlan, ModelPlan, WaterBox
+from orchestrator.plan.resources import require_labels
 from orchestrator.plan.timestep import (
     MEASURED_CORES,
     STEP_FACTOR,
@@ -37,6 +38,7 @@ from orchestrator.plan.timestep import (
     time_step_estimate_s,
 )
 from orchestrator.scene.schema import Scene
+from orchestrator.scene.validation import plausibility_warnings
 
 __all__ = [
     "BodyPlan",
@@ -77,10 +79,13 @@ REASON_KEYS = (
 )
 
 
-def plan_case(scene: Scene) -> ModelPlan:
+def plan_case(scene: Scene, source: str | None = None) -> ModelPlan:
     """What ``scene`` needs: solver, dimensions, extents, grids, bodies, water, gauges.
 
-    Pure: reads nothing, writes nothing.
+    Pure: reads nothing, writes nothing. Raises InputError on ``mesh.cell_size_m`` (attributed to
+    ``source``, the scene file) when the mesh needs more cells than OpenFOAM's labels can number
+    (:func:`~orchestrator.plan.resources.require_labels`): checked on the counts of the grids'
+    segments, before anything is built cell by cell, so even an absurd cell size is refused at once.
     """
     reasons: dict[str, str] = {}
     warnings: list[str] = []
@@ -89,6 +94,8 @@ def plan_case(scene: Scene) -> ModelPlan:
     layout = body_layout(scene)
     domain = plan_domain(scene, list(layout.boxes), reasons, warnings)
     background = background_grid(scene, domain, layout.gap, two_d, reasons, warnings, one_way=coupling == "one-way")
+    require_labels(background.cell_count(), source)
+    warnings += plausibility_warnings(scene)
     flow_record = None
     if coupling == "one-way":
         scene, layout, bodies, flow_record = _one_way(scene, layout, background, domain, reasons)
@@ -98,6 +105,7 @@ def plan_case(scene: Scene) -> ModelPlan:
     gauges = _gauges(scene, domain, reasons)
     dt = time_step_estimate_s(scene, solver, background, bodies, two_d, reasons)
     cells = background.cell_count() + sum(b.grid.cell_count() for b in bodies)
+    require_labels(cells, source)
     reasons["cell_count"] = (
         f"{cells} cells: background {background.cell_count()}"
         + (f" + bodies {', '.join(str(b.grid.cell_count()) for b in bodies)}" if bodies else "")

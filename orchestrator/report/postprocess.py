@@ -66,6 +66,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from analytical.errors import InputError
 from orchestrator.case.folder import CaseFolder
 from orchestrator.report import markdown, plots
 from orchestrator.results import compare
@@ -127,8 +128,12 @@ def post_case(case_dir: str | Path, *, comparisons: bool = True, snapshot: bool 
     arrival_threshold_m: rise above the initial level that marks the bore's arrival
     (default :data:`orchestrator.results.metrics.ARRIVAL_FRACTION` of the impoundment depth).
 
-    Raises InputError when ``case_dir`` is not a case.
+    Raises InputError when ``case_dir`` is not a case, or is one that has never run (nothing to
+    post-process: a report of it would be hollow).
     """
+    rendered = CaseFolder(case_dir)
+    if rendered.path.is_dir() and rendered.is_case() and not rendered.has_run():
+        raise InputError("case_dir", f"this case has not run: run `debrisfoam run {case_dir}` first", str(case_dir))
     results = tables(case_dir, arrival_threshold_m)
     data = results.data
     warning = atmosphere_warning(data, results.water_balance)

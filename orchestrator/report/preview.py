@@ -38,6 +38,7 @@ import numpy as np
 from analytical.errors import DebrisfoamError
 from orchestrator.core.files import write_bytes_atomic
 from orchestrator.plan.planner import ModelPlan, estimated_steps, plan_case
+from orchestrator.plan.resources import Demand, check_resources
 from orchestrator.scene.geometry import body_rotation, flume_extent
 from orchestrator.scene.scenefile import load_scene
 from orchestrator.scene.schema import Scene
@@ -90,13 +91,16 @@ def preview_scene_file(path: str | Path, out_png: str | Path, overrides: Sequenc
                        warnings: bool = False):
     """Load the scene in ``path`` (with ``key.path=value`` overrides), plan it, draw it to ``out_png``.
 
-    An :class:`~analytical.errors.InputError` from loading the scene passes through unchanged.
-    Returns the path of the PNG written, or with ``warnings`` the planner's warnings.
+    An :class:`~analytical.errors.InputError` from loading the scene passes through unchanged, as
+    does one from the resource guard's hard limits (:mod:`orchestrator.plan.resources`), before
+    anything is written. Returns the path of the PNG written, or with ``warnings`` the planner's
+    warnings and the guard's soft ones (a picture runs nothing: they are not asked about).
     """
     scene = load_scene(path, list(overrides))
-    plan = plan_case(scene)
+    plan = plan_case(scene, str(path))
+    large = check_resources(Demand.of_plan(plan), str(path), confirmed=True)
     written = preview_scene(scene, plan, out_png)
-    return list(plan.warnings) if warnings else written
+    return list(plan.warnings) + large if warnings else written
 
 
 def preview_scene(scene: Scene, plan: ModelPlan, out_png: str | Path) -> Path:

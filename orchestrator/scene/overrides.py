@@ -13,8 +13,6 @@ import copy
 from collections.abc import Iterable, Sequence
 from typing import Any
 
-import yaml
-
 from analytical.errors import InputError
 from orchestrator.scene.schema import (
     Bed,
@@ -32,6 +30,7 @@ from orchestrator.scene.schema import (
     Scene,
     SceneSection,
 )
+from orchestrator.scene.yamltext import load_yaml
 
 __all__ = ["apply_overrides", "parse_override"]
 
@@ -57,9 +56,9 @@ def parse_override(text: str) -> tuple[list[str], Any]:
     if not key or any(not part for part in key.split(".")):
         raise InputError(key or text, "an override key must be a dotted path such as mesh.cell_size_m")
     try:
-        value = yaml.safe_load(raw) if raw.strip() else None
-    except yaml.YAMLError as err:
-        raise InputError(key, f"value {raw!r} is not a YAML value: {err}") from None
+        value = load_yaml(raw, key) if raw.strip() else None
+    except InputError as err:
+        raise InputError(key, f"value {raw!r} is not a YAML value: {err.rule}") from None
     return key.split("."), value
 
 

@@ -23,20 +23,20 @@ from analytical.errors import InputError
 from orchestrator.scene.overrides import apply_overrides
 from orchestrator.scene.resolve import scene_from_dict
 from orchestrator.scene.schema import Scene
+from orchestrator.scene.yamltext import decode_text, load_yaml
 
 __all__ = ["dump_scene_yaml", "load_scene", "read_yaml", "scene_to_dict"]
 
 
 def read_yaml(path: str | Path, field: str) -> Any:
-    """The YAML document in ``path``; InputError (``field``, the file) if unreadable or not YAML."""
+    """The YAML document in ``path``; InputError (``field`` or the key, the file) if unreadable,
+    not UTF-8 or UTF-16 with a byte-order mark, not YAML, or a key is given twice
+    (:mod:`orchestrator.scene.yamltext`). Every scene and sweep file is read here."""
     try:
-        text = Path(path).read_text()
+        raw = Path(path).read_bytes()
     except OSError as err:
         raise InputError(field, f"cannot read the file: {err.strerror or err}", str(path)) from None
-    try:
-        return yaml.safe_load(text)
-    except yaml.YAMLError as err:
-        raise InputError(field, f"not valid YAML: {err}", str(path)) from None
+    return load_yaml(decode_text(raw, field, str(path)), field, str(path))
 
 
 def load_scene(path: str | Path, overrides: Iterable[str] = ()) -> Scene:

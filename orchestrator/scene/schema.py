@@ -19,10 +19,12 @@ masses in kilograms, times in seconds, angles in degrees.
 from __future__ import annotations
 
 import dataclasses
-from typing import Annotated, Literal
+import typing
+from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator
+from pydantic import BaseModel, ConfigDict, Field, ValidationInfo, field_validator
 
+from analytical.column import MAX_ELEMENTS
 from analytical.column import Column as AnalysisColumn
 from analytical.errors import InputError
 from analytical.hydrodynamics import DEFAULT_ADDED_MASS_COEFFICIENT, DEFAULT_DRAG_COEFFICIENT
@@ -53,10 +55,25 @@ Pos = Annotated[float, Field(gt=0)]
 NonNeg = Annotated[float, Field(ge=0)]
 
 
+def _takes_bool(annotation: Any) -> bool:
+    """Whether a field's type admits a boolean (``bool``, ``bool | None``, ...)."""
+    return annotation is bool or any(_takes_bool(a) for a in typing.get_args(annotation))
+
+
 class SceneSection(BaseModel):
-    """Base of every scene section: unknown keys are errors, instances are immutable."""
+    """Base of every scene section: unknown keys are errors, instances are immutable, and a
+    boolean is refused where a number (or any other non-boolean) belongs: pydantic would read
+    ``end_time_s: true`` as 1.0."""
 
     model_config = ConfigDict(extra="forbid", frozen=True)
+
+    @field_validator("*", mode="before")
+    @classmethod
+    def _no_bool_for_numbers(cls, value: Any, info: ValidationInfo) -> Any:
+        items = value if isinstance(value, (list, tuple)) else (value,)
+        if any(isinstance(v, bool) for v in items) and not _takes_bool(cls.model_fields[info.field_name].annotation):
+            raise ValueError("must be a number (or the field's type), not a boolean (true/false)")
+        return value
 
 # ---------------------------------------------------------------------------- sections
 
@@ -118,7 +135,9 @@ class ColumnSection(SceneSection):
     base: Literal["rigid", "calibrated"] = Field(
         "rigid", description="rigid: the study's MDOF (geometry only, f1 88 Hz); calibrated: a base spring tuned "
         "to natural_frequency_Hz")
-    elements: int = Field(160, ge=1, description="Timoshenko elements of the MDOF model")
+    elements: int = Field(
+        160, ge=1, le=MAX_ELEMENTS, description="Timoshenko elements of the MDOF model (its modes are a dense "
+        "eigenproblem: time grows with the cube of the count)")
 
 
 class DebrisContact(SceneSection):

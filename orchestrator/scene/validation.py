@@ -19,9 +19,13 @@ from orchestrator.scene.geometry import body_rotation, box_corners, boxes_overla
 from orchestrator.scene.schema import DebrisBody, Scene
 
 __all__ = [
+    "DENSITY_PLAUSIBLE_KG_M3",
+    "DENSITY_POSSIBLE_KG_M3",
     "MIN_CELLS_ACROSS_COLUMN",
     "MIN_CELLS_ACROSS_DEBRIS",
     "MIN_CELLS_OVER_DEPTH",
+    "body_density_kg_m3",
+    "plausibility_warnings",
     "validate_scene",
 ]
 
@@ -33,6 +37,14 @@ MIN_CELLS_ACROSS_DEBRIS = 1.5
 MIN_CELLS_ACROSS_COLUMN = 2.0
 #: At least this many finest cells over the impoundment depth.
 MIN_CELLS_OVER_DEPTH = 4.0
+
+#: A body's bulk density (its mass over its outer box, hollow or not) outside this range cannot be
+#: a real object: above the densest element (osmium, 22,590 kg/m3; CRC Handbook of Chemistry and
+#: Physics) or below the air around it (1.2 kg/m3 at 20 C), which it would float in. Refused.
+DENSITY_POSSIBLE_KG_M3 = (1.0, 25_000.0)
+#: Outside this range a body is possible but unlike floating debris (the study's container is
+#: about 440 kg/m3; timber 400-800, steel 7,850): a warning, in case a mass or a size is mistyped.
+DENSITY_PLAUSIBLE_KG_M3 = (50.0, 3_000.0)
 
 _NAME_RE = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 
@@ -103,6 +115,13 @@ def _check_column(scene: Scene, source: str | None) -> None:
             f"flume ({y0:g}..{y1:g} m)",
             source,
         )
+    if col.x_m - col.size_x_m / 2 < -TOL:
+        raise InputError(
+            "column.x_m",
+            f"column spans x = {col.x_m - col.size_x_m / 2:g}..{col.x_m + col.size_x_m / 2:g} m: it must stand "
+            "downstream of the gate (x >= 0 m; the reservoir is x < 0), where the bore reaches it",
+            source,
+        )
     if 2 * col.wall_thickness_m > min(col.size_x_m, col.size_y_m) + TOL:
         raise InputError(
             "column.wall_thickness_m",
@@ -129,6 +148,7 @@ def _check_bodies(scene: Scene, origins: Sequence[dict], source: str | None) -> 
             )
         names[body.name] = i
         _check_body_shape(body, path, origins[i]["layout"], source)
+        _check_body_density(body, path, origins[i]["layout"], source)
         rot = body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg)
         _check_body_inside(scene, body, rot, f"{path}.centre_m", source)
         for j, (other, orot) in enumerate(placed):
@@ -168,6 +188,41 @@ def _check_body_shape(body: DebrisBody, path: str, from_layout: bool, source: st
             f"principal moments must be > 0, got {list(body.moment_of_inertia_kg_m2)}",
             source,
         )
+
+
+def body_density_kg_m3(body: DebrisBody) -> float:
+    """A body's bulk density: its mass over its outer box (kg/m3)."""
+    lx, ly, lz = body.size_m
+    return body.mass_kg / (lx * ly * lz)
+
+
+def _check_body_density(body: DebrisBody, path: str, from_layout: bool, source: str | None) -> None:
+    """The body's bulk density within :data:`DENSITY_POSSIBLE_KG_M3`."""
+    rho = body_density_kg_m3(body)
+    lo, hi = DENSITY_POSSIBLE_KG_M3
+    if not lo <= rho <= hi:
+        why = (f"denser than any material (osmium, the densest, is 22,590 kg/m3); at most {hi:,.0f}" if rho > hi
+               else f"lighter than air (1.2 kg/m3); at least {lo:g}")
+        raise InputError(
+            f"{path}.body.mass_kg" if from_layout else f"{path}.mass_kg",
+            f"body {body.name!r}: {body.mass_kg:g} kg in a {' x '.join(f'{s:g}' for s in body.size_m)} m box is a "
+            f"bulk density of {rho:.4g} kg/m3, {why}",
+            source,
+        )
+
+
+def plausibility_warnings(scene: Scene) -> list[str]:
+    """Possible but unlikely values, one sentence each: bodies' bulk densities outside
+    :data:`DENSITY_PLAUSIBLE_KG_M3` (against the water's density)."""
+    out = []
+    lo, hi = DENSITY_PLAUSIBLE_KG_M3
+    water = scene.fluids.water_density_kg_m3
+    for body in scene.debris:
+        rho = body_density_kg_m3(body)
+        if not lo <= rho <= hi:
+            out.append(f"debris {body.name!r}: bulk density {rho:.4g} kg/m3 ({rho / water:.3g} x the water's) is "
+                       f"outside {lo:g}-{hi:,.0f} kg/m3: check its mass_kg and size_m")
+    return out
 
 
 def _check_body_inside(scene: Scene, body: DebrisBody, rot: np.ndarray, pos_field: str, source: str | None) -> None:

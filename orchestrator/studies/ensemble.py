@@ -468,19 +468,20 @@ def summarise(table: pd.DataFrame, realisations: int, wall_time_s: float) -> dic
 
 # --------------------------------------------------------------------------- the verb
 def ensemble_flow(scene_path: str | Path, flow_dir: str | Path, sets: Sequence[str] = (), quiet: bool = False,
-                  stream=None, say: Callable[[str], None] = print) -> tuple[Scene, Path, FlowField, Path]:
+                  stream=None, say: Callable[[str], None] = print,
+                  confirmed: bool = False) -> tuple[Scene, Path, FlowField, Path]:
     """The scene's one-way flow in ``flow_dir``: rendered and run, or reused when finished
     (module notes); (scene, case folder, flow, its .npz). Raises InputError for a scene without
     debris (``debris``) or one that does not go one-way (``run.debris_coupling``)."""
     scene = load_scene(scene_path, list(sets))
     if not scene.debris:
         raise InputError("debris", "the scene has no debris: an ensemble perturbs the bodies' starts", str(scene_path))
-    coupling = plan_case(scene).debris_coupling
+    coupling = plan_case(scene, str(scene_path)).debris_coupling
     if coupling != "one-way":
         raise InputError("run.debris_coupling", f"the scene plans {coupling} (run.debris_coupling "
                                                 f"{scene.run.debris_coupling}): an ensemble carries its bodies through "
                                                 "one recorded flow; set run.debris_coupling=one-way", str(scene_path))
-    case, rendered = prepare_case(scene_path, flow_dir, sets)
+    case, rendered = prepare_case(scene_path, flow_dir, sets, confirmed=confirmed)
     say(f"debrisfoam: flow: {'rendered' if rendered else 'reusing'} {case}")
     run_case(case, quiet=quiet, stream=stream)
     flow, npz = case_flow(case, say=say)
@@ -490,9 +491,11 @@ def ensemble_flow(scene_path: str | Path, flow_dir: str | Path, sets: Sequence[s
 def ensemble(scene_path: str | Path, out_dir: str | Path, n: int, seed: int = 0, executor: str = "local",
              sets: Sequence[str] = (), workers: int | None = None, perturbation: Perturbation | None = None,
              settings: TransportSettings | None = None, progress: Callable[[int, int], None] | None = None,
-             quiet: bool = False, say: Callable[[str], None] = print) -> EnsembleResult:
+             quiet: bool = False, say: Callable[[str], None] = print, confirmed: bool = False) -> EnsembleResult:
     """``debrisfoam ensemble``: the flow into ``out_dir/flow`` (or reused), ``n`` realisations,
-    then ensemble.csv, tracks.csv, ensemble.json and report.md in ``out_dir`` (module notes)."""
+    then ensemble.csv, tracks.csv, ensemble.json and report.md in ``out_dir`` (module notes).
+    ``confirmed``: render the flow even over the resource guard's soft limits
+    (:func:`~orchestrator.pipeline.render_from_file`)."""
     from orchestrator.studies.ensemble_report import write_report
 
     if int(n) <= 0:
@@ -505,7 +508,7 @@ def ensemble(scene_path: str | Path, out_dir: str | Path, n: int, seed: int = 0,
     t0 = time.perf_counter()
     out = Path(out_dir)
     scene, case, flow, npz = ensemble_flow(scene_path, out / "flow", sets, quiet=quiet,
-                                           stream=sys.stderr if quiet else None, say=say)
+                                           stream=sys.stderr if quiet else None, say=say, confirmed=confirmed)
     flow_wall_s = time.perf_counter() - t0
     bodies, flume, column = transport_setup(scene, flow)
     t_end = float(scene.run.end_time_s)

@@ -12,17 +12,26 @@ The stages of a sweep, one module each:
 The format of a sweep file and the `debrisfoam sweep` command are documented in docs/sweeps.md.
 """
 
-from orchestrator.studies.sweep.member import run_member
-from orchestrator.studies.sweep.run import SweepResult, dry_run, run_sweep
-from orchestrator.studies.sweep.spec import Member, Sweep, SweepMemberError, default_sweep_dir, load_sweep, member_id
-from orchestrator.studies.sweep.store import (
-    MEMBER_JSON,
-    STORE_FILE,
-    STORE_TABLE,
-    load_store,
-    member_metrics,
-    member_state,
-)
+import importlib
+
+#: Where each public name lives. They are loaded when first asked for, so that reading a sweep
+#: file (:mod:`.spec`) does not load the stages that run its members: a sweep refused at once is
+#: refused in a fraction of a second.
+_HOMES = {
+    "run_member": "member",
+    "SweepResult": "run", "dry_run": "run", "run_sweep": "run",
+    "Member": "spec", "Sweep": "spec", "SweepMemberError": "spec", "default_sweep_dir": "spec",
+    "load_sweep": "spec", "member_id": "spec",
+    "MEMBER_JSON": "store", "STORE_FILE": "store", "STORE_TABLE": "store", "load_store": "store",
+    "member_metrics": "store", "member_state": "store",
+}
+
+
+def __getattr__(name: str):
+    if name not in _HOMES:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return getattr(importlib.import_module(f"{__name__}.{_HOMES[name]}"), name)
+
 
 __all__ = [
     "MEMBER_JSON",

@@ -58,7 +58,8 @@ def _run(task: dict[str, Any], case: Path, flag: threading.Event, record: dict[s
     ``ours`` is False when the folder holds another case: nothing may be written there."""
     error, ours = None, False
     try:
-        prepare_case(task["scene_file"], case)
+        # the sweep's soft resource limits were confirmed (or refused) for every member at its start
+        prepare_case(task["scene_file"], case, confirmed=True)
         write_member_record(case, record)
         ours = True
         run_full_case(task["scene_file"], case, (), np=task.get("np"), quiet=True, stop_event=flag)
