@@ -115,3 +115,18 @@ def test_the_scenes_transport_section_sets_the_forcing():
 def test_a_bad_transport_coefficient_is_refused_naming_the_field():
     proc = run_cli("validate", str(SCENE), "--set", "transport.drag_coefficient=-1")
     assert proc.returncode == 2 and "transport.drag_coefficient" in proc.stderr
+
+
+def test_the_record_ends_are_walls_only_where_the_flume_has_them():
+    """The study's scene: the record stops at 6.2 m of a flume that runs on to its free outfall
+    at 8.45 m: both ends open (the upstream one stops short of the reservoir's back wall). A record
+    reaching the closed back wall keeps it as a wall; a closed downstream end reached is a wall."""
+    from orchestrator.transport.case_transport import open_record_ends
+
+    scene = load_scene(ROOT / "cases" / "1debris.yaml")
+    back, end = -scene.reservoir.length_m, scene.flume.length_m - scene.reservoir.length_m
+    assert open_record_ends(scene, (-2.0, 6.2), 0.04) == (True, True)
+    assert open_record_ends(scene, (back + 0.02, end - 0.02), 0.04) == (False, True)  # outfall: open
+    closed = load_scene(ROOT / "cases" / "1debris.yaml", ["flume.downstream_end=closed"])
+    assert open_record_ends(closed, (back + 0.02, end - 0.02), 0.04) == (False, False)
+    assert open_record_ends(closed, (back + 0.02, 6.2), 0.04) == (False, True)

@@ -241,3 +241,25 @@ def test_a_strike_takes_from_body_and_water_the_momentum_the_other_side_receives
     v_out = np.array([hit["rebound_u_m_s"], hit["rebound_v_m_s"], hit["rebound_w_m_s"]]) @ n
     assert m_t * (v_out - v_in) == pytest.approx(hit["impulse_Ns"], rel=0.02)
     assert hit["effective_mass_kg"] == pytest.approx(m_t, rel=0.02)
+
+
+@pytest.mark.parametrize("open_end", [True, False], ids=["open", "closed"])
+def test_a_body_reaching_an_open_end_leaves_the_run_and_a_closed_end_is_a_wall(open_end):
+    """Dry and frictionless at 1.5 m/s towards the downstream end 1.4 m away: open, the body
+    leaves when its nose passes it (after (1.4 - 0.075) / 1.5 = 0.883 s, to one forcing interval),
+    at 1.5 m/s, its track ends there and nothing strikes; closed, it strikes the end wall."""
+    body = TransportBody("box", centre_m=(1.5, 0.0, 0.03), velocity_m_s=(1.5, 0.0, 0.0), friction_coefficient=0.0,
+                         **CONTAINER_BOX)
+    flume = FlumeBounds((-1.0, 2.9), (-0.5, 0.5), open_ends=(False, open_end))
+    run = run_transport([body], flume, 1.5)
+    if not open_end:
+        assert list(run.impacts["other"]) == ["wall_x1"]
+        assert run.departures.empty
+        return
+    assert run.impacts.empty
+    (gone,) = run.departures.to_dict("records")
+    assert (gone["body"], gone["end"]) == ("box", "downstream")
+    assert gone["time_s"] == pytest.approx((1.4 - 0.075) / 1.5, abs=2e-3)
+    assert gone["speed_m_s"] == pytest.approx(1.5, rel=1e-3)
+    track = run.track("box")
+    assert track["time_s"].max() <= gone["time_s"] and track["x_m"].max() < 2.9

@@ -82,12 +82,26 @@ def scene_settings(scene: Scene, settings: TransportSettings | None = None) -> T
     return dataclasses.replace(settings, hydro=hydro)
 
 
+def open_record_ends(scene: Scene, record_x_m: tuple[float, float], cell_m: float) -> tuple[bool, bool]:
+    """Which ends of the flow record are no walls for the bodies: an end short of the flume's
+    own (the model was trimmed to the region of interest; the real flume goes on) and a free
+    outfall (``flume.downstream_end: open``). An end within two record spacings ``cell_m`` of
+    the flume's closed end is its wall (the record's points are cell centres)."""
+    upstream_wall = -scene.reservoir.length_m
+    downstream_end = scene.flume.length_m - scene.reservoir.length_m
+    tolerance = 2.0 * max(float(cell_m), 1e-9)
+    upstream_open = record_x_m[0] > upstream_wall + tolerance
+    downstream_open = scene.flume.downstream_end == "open" or record_x_m[1] < downstream_end - tolerance
+    return upstream_open, downstream_open
+
+
 def transport_setup(scene: Scene, flow: FlowField) -> tuple[list[TransportBody], FlumeBounds, PlacedColumn | None]:
     """The scene's bodies, the flume the record bounds (the flume's side walls, end walls at the
     record's ends, the bed at the record's) and the column standing on the bed."""
     (x0, x1), (y0, y1), _ = flow.extent_m
     half = scene.flume.width_m / 2
-    flume = FlumeBounds(x_m=(x0, x1), y_m=(max(y0, -half), min(y1, half)), bed_z_m=flow.bed_z_m)
+    flume = FlumeBounds(x_m=(x0, x1), y_m=(max(y0, -half), min(y1, half)), bed_z_m=flow.bed_z_m,
+                        open_ends=open_record_ends(scene, (x0, x1), float(flow.x_m[1] - flow.x_m[0])))
     column = None
     if scene.column is not None:
         column = PlacedColumn(scene.column.x_m, scene.column.y_m, column_for_analysis(scene))
@@ -172,15 +186,25 @@ def transport_case(case_dir: str | Path, *, settings: TransportSettings | None =
                            settings=scene_settings(scene, settings))
     write_text_atomic(folder.path / "bodies.csv", result.tracks.to_csv(index=False, float_format="%.10g"))
     strikes, others = _write_events(folder, result)
+    departures = result.departures.to_dict("records")
+    if departures:
+        (folder.path / TRANSPORT_DIR).mkdir(exist_ok=True)
+        write_text_atomic(folder.path / TRANSPORT_DIR / "departures.csv",
+                          result.departures.to_csv(index=False, float_format="%.10g"))
     run = folder.run_record() or {}
     run["transport"] = {"engine": "mujoco", "bodies": len(scene.debris), "end_time_s": t_end,
                         "timestep_s": result.timestep_s, "steps": result.steps, "wall_s": round(result.wall_s, 3),
                         "pulse_wall_s": round(result.pulse_wall_s, 3), "column_impacts": strikes,
-                        "other_contacts": others, "flow_record": str(npz.relative_to(folder.path)),
+                        "other_contacts": others, "open_ends": list(flume.open_ends),
+                        "departures": [{k: (round(v, 6) if isinstance(v, float) else v) for k, v in d.items()}
+                                       for d in departures],
+                        "flow_record": str(npz.relative_to(folder.path)),
                         "flow_record_bytes": npz.stat().st_size}
     run["transport_wall_s"] = round(result.wall_s + result.pulse_wall_s, 3)
     folder.write_run_record(run)
     say(f"debrisfoam: transport: {len(scene.debris)} bod{'y' if len(scene.debris) == 1 else 'ies'} over "
         f"{t_end:g} s in {result.wall_s:.1f} s (+ {result.pulse_wall_s:.1f} s of column pulses): "
-        f"{strikes} column strike(s), {others} other contact(s)")
+        f"{strikes} column strike(s), {others} other contact(s)"
+        + "".join(f"; {d['body']} left the record's {d['end']} end at {d['time_s']:.3f} s, {d['speed_m_s']:.2f} m/s"
+                  for d in departures))
     return TransportSummary(result, strikes, others, npz, npz.stat().st_size, result.wall_s + result.pulse_wall_s)

@@ -66,13 +66,21 @@ from orchestrator.transport.model import (
     build_model,
 )
 
-__all__ = ["BODY_COLUMNS", "TransportResult", "TransportSettings", "run_transport"]
+__all__ = ["BODY_COLUMNS", "DEPARTURE_COLUMNS", "TransportResult", "TransportSettings", "run_transport"]
 
 BODY_COLUMNS = ["time_s", "body", "x_m", "y_m", "z_m", "u_m_s", "v_m_s", "w_m_s", "speed_m_s",
                 "omega_x_rad_s", "omega_y_rad_s", "omega_z_rad_s", "yaw_deg", "pitch_deg", "roll_deg"] + [
                    f"q_{a}{b}" for a in "xyz" for b in "xyz"]
 """bodies.csv's columns (the coupled path's, orchestrator.results.post): world frame, the
 angular velocity too; ``q_ab`` the body-to-world rotation."""
+
+DEPARTURE_COLUMNS = ["body", "time_s", "end", "x_m", "y_m", "z_m", "u_m_s", "v_m_s", "w_m_s", "speed_m_s"]
+"""A body that reached an open end of the flume (:class:`~orchestrator.transport.model.FlumeBounds`)
+and left the run: when, which end, where and how fast."""
+
+
+PARKING_HEIGHT_M = 1.0e3
+"""Where a body that left the run waits, above the flume (each 10 m above the last)."""
 
 
 @dataclass(frozen=True)
@@ -113,6 +121,7 @@ class TransportResult:
     output_interval_s: float
     pulses: dict = field(default_factory=dict, repr=False)
     strike_states: dict = field(default_factory=dict, repr=False)
+    departures: pd.DataFrame = field(default_factory=lambda: pd.DataFrame(columns=DEPARTURE_COLUMNS))
 
     def track(self, body: str) -> pd.DataFrame:
         """One body's rows, in time order."""
@@ -133,7 +142,15 @@ class _Forcing:
         if coefficients.added_mass_coefficient is None:
             self.tables = np.stack([added_mass_table(b.size_m, coefficients.water_density_kg_m3) for b in bodies])
 
-    def __call__(self, t_flow: float, com, rot, vel, omega):
+    def __call__(self, t_flow: float, com, rot, vel, omega, active=None):
+        """Loads on the bodies ``active`` (indices; all when None), in that order."""
+        if active is not None:
+            part = _Forcing.__new__(_Forcing)
+            part.flow, part.coeffs = self.flow, self.coeffs
+            part.size, part.local, part.cell = self.size[active], self.local[active], self.cell[active]
+            part.names = [self.names[i] for i in active]
+            part.tables = None if self.tables is None else self.tables[active]
+            return part(t_flow, com[active], rot[active], vel[active], omega[active])
         pts = com[:, None, :] + np.einsum("bij,bnj->bni", rot, self.local)
         flat = pts.reshape(-1, 3)
         try:
@@ -150,6 +167,11 @@ class _Forcing:
             u[wet] = sample.velocity_m_s
             a[wet] = sample.material_acceleration_m_s2
         return hydro_loads(com, rot, vel, omega, self.size, pts, eta, u, a, self.coeffs, self.tables)
+
+    def outside(self, com, rot, x_range) -> np.ndarray:
+        """Bodies (B,) with a sub-volume beyond ``x_range`` (the open ends' x; +-inf if closed)."""
+        pts = com[:, None, :] + np.einsum("bij,bnj->bni", rot, self.local)
+        return np.any((pts[:, :, 0] < x_range[0]) | (pts[:, :, 0] > x_range[1]), axis=1)
 
     def _inside(self, pts) -> bool:
         (x0, x1), (y0, y1), _ = self.flow.extent_m
@@ -228,22 +250,55 @@ def run_transport(bodies, flume: FlumeBounds, t_end_s: float, flow: FlowField | 
         other = np.where((pair_j >= 0)[:, None], vel[np.maximum(pair_j, 0)], 0.0)
         m.pair_solreffriction[:] = built.friction_solref(np.linalg.norm(vel[pair_i] - other, axis=1))
 
+    # the open ends: a body whose corner passes one leaves the run (FlumeBounds)
+    ends_x = (flume.x_m[0] if flume.open_ends[0] else -np.inf, flume.x_m[1] if flume.open_ends[1] else np.inf)
+    corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)], dtype=float)
+    half_sizes = np.array([b.size_m for b in bodies]) / 2.0
+    active = np.ones(len(bodies), dtype=bool)
+    departures: list[dict] = []
+    departed_at = np.full(len(bodies), np.inf)
+
+    def check_departures():
+        com, rot, vel, _ = state()
+        pts = com[:, None, :] + np.einsum("bij,bnj->bni", rot, corners[None, :, :] * half_sizes[:, None, :])
+        x = pts[:, :, 0]
+        gone = active & (np.any(x < ends_x[0], axis=1) | np.any(x > ends_x[1], axis=1))
+        for i in np.nonzero(gone)[0]:
+            departures.append({"body": bodies[i].name, "time_s": float(d.time),
+                               "end": "upstream" if x[i].min() < ends_x[0] else "downstream",
+                               "x_m": com[i, 0], "y_m": com[i, 1], "z_m": com[i, 2], "u_m_s": vel[i, 0],
+                               "v_m_s": vel[i, 1], "w_m_s": vel[i, 2], "speed_m_s": float(np.linalg.norm(vel[i]))})
+            departed_at[i] = d.time
+            active[i] = False
+            # parked far above the flume, held there against gravity and out of every contact
+            q, v = built.qpos_adr[i], built.dof_adr[i]
+            d.qpos[q:q + 3] = (com[i, 0], com[i, 1], flume.bed_z_m + PARKING_HEIGHT_M + 10.0 * i)
+            d.qvel[v:v + 6] = 0.0
+            d.xfrc_applied[built.body_ids[i], :] = 0.0
+            m.body_gravcomp[built.body_ids[i]] = 1.0
+        if np.any(gone):
+            mujoco.mj_forward(m, d)
+
     def apply_forcing():
         com, rot, vel, omega = state()
-        loads = forcing(t0 + d.time, com, rot, vel, omega)
-        d.xfrc_applied[built.body_ids, :3] = loads.force_N
-        d.xfrc_applied[built.body_ids, 3:] = loads.moment_Nm
-        added_mass[:] = loads.added_mass_kg
-        added_inertia[:] = loads.added_inertia_kg_m2
+        idx = np.nonzero(active)[0]
+        if not len(idx):
+            return
+        loads = forcing(t0 + d.time, com, rot, vel, omega, active=idx)
+        ids = built.body_ids[idx]
+        d.xfrc_applied[ids, :3] = loads.force_N
+        d.xfrc_applied[ids, 3:] = loads.moment_Nm
+        added_mass[idx] = loads.added_mass_kg
+        added_inertia[idx] = loads.added_inertia_kg_m2
         # translations are along the world axes: the world-diagonal of R diag(M_a) R^T
         # (analytical.hydrodynamics); rotations about the body's: exact
-        world = np.einsum("bik,bk->bi", rot * rot, loads.added_mass_kg)
+        world = np.einsum("bik,bk->bi", rot * rot, added_mass)
         m.dof_armature[lin] = world
-        m.dof_armature[ang] = loads.added_inertia_kg_m2
+        m.dof_armature[ang] = added_inertia
         # MuJoCo keeps a free body's diagonal mass in dof_M0, fixed at compile time: the armature
         # changed at run time only counts once dof_M0 carries it as well (MuJoCo 4.0).
         m.dof_M0[lin] = mass[:, None] + world
-        m.dof_M0[ang] = inertia + loads.added_inertia_kg_m2
+        m.dof_M0[ang] = inertia + added_inertia
         m.pair_solref[:] = built.pair_solref(mass + world.mean(axis=1))
 
     def impact_body(i: int) -> Body:
@@ -289,6 +344,8 @@ def run_transport(bodies, flume: FlumeBounds, t_end_s: float, flow: FlowField | 
     start = time.perf_counter()
     for k in range(steps):
         if k % n_hydro == 0:
+            if flume.open_ends[0] or flume.open_ends[1]:
+                check_departures()
             update_friction()
             if forcing is not None:
                 apply_forcing()
@@ -314,9 +371,13 @@ def run_transport(bodies, flume: FlumeBounds, t_end_s: float, flow: FlowField | 
     record()
     wall = time.perf_counter() - start
     impacts, body_contacts = book.finish()
-    return TransportResult(_tracks(bodies, np.array(times), rows), impacts, body_contacts, wall, book.pulse_wall_s,
+    tracks = _tracks(bodies, np.array(times), rows)
+    if departures:  # a body's track ends where it left
+        gone_at = tracks["body"].map({b.name: departed_at[i] for i, b in enumerate(bodies)})
+        tracks = tracks[tracks["time_s"] <= gone_at].reset_index(drop=True)
+    return TransportResult(tracks, impacts, body_contacts, wall, book.pulse_wall_s,
                            dt, steps, n_hydro * dt, n_out * dt, dict(book.pulses),
-                           book.strike_states())
+                           book.strike_states(), pd.DataFrame(departures, columns=DEPARTURE_COLUMNS))
 
 
 def _tracks(bodies, times: np.ndarray, rows: list[np.ndarray]) -> pd.DataFrame:

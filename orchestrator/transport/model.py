@@ -145,11 +145,17 @@ class TransportBody:
 
 @dataclass(frozen=True)
 class FlumeBounds:
-    """The flume: bed plane at ``bed_z_m``, side walls at ``y_m`` and end walls at ``x_m``."""
+    """The flume: bed plane at ``bed_z_m``, side walls at ``y_m`` and the ends at ``x_m``.
+
+    ``open_ends`` (upstream, downstream): an open end is no wall but where the bodies' world
+    ends (the flow record stops short of the flume's end, or the flume's end is a free
+    outfall): a body reaching it leaves the run (:class:`~orchestrator.transport.engine.TransportResult`
+    ``departures``). A closed end is a wall."""
 
     x_m: tuple[float, float]
     y_m: tuple[float, float]
     bed_z_m: float = 0.0
+    open_ends: tuple[bool, bool] = (False, False)
 
     def __post_init__(self):
         for name in ("x_m", "y_m"):
@@ -157,6 +163,10 @@ class FlumeBounds:
             if not (math.isfinite(lo) and math.isfinite(hi) and hi > lo):
                 raise InputError(f"flume.{name}", f"must be (low, high) with high > low, got {getattr(self, name)!r}")
             object.__setattr__(self, name, (lo, hi))
+        ends = tuple(self.open_ends)
+        if len(ends) != 2 or not all(isinstance(e, (bool, np.bool_)) for e in ends):
+            raise InputError("flume.open_ends", f"must be two booleans (upstream, downstream), got {self.open_ends!r}")
+        object.__setattr__(self, "open_ends", tuple(bool(e) for e in ends))
 
 
 @dataclass(frozen=True)
@@ -254,14 +264,16 @@ def build_model(bodies, flume: FlumeBounds, column: PlacedColumn | None = None, 
     bed = flume.bed_z_m
     (x0, x1), (y0, y1) = flume.x_m, flume.y_m
     off = 'contype="0" conaffinity="0"'
-    statics = ["bed", "wall_y0", "wall_y1", "wall_x0", "wall_x1"]
+    statics = ["bed", "wall_y0", "wall_y1"]
     world = [
         f'<geom name="bed" type="plane" pos="0 0 {bed}" size="0 0 1" {off}/>',
         f'<geom name="wall_y0" type="plane" pos="0 {y0} 0" zaxis="0 1 0" size="0 0 1" {off}/>',
         f'<geom name="wall_y1" type="plane" pos="0 {y1} 0" zaxis="0 -1 0" size="0 0 1" {off}/>',
-        f'<geom name="wall_x0" type="plane" pos="{x0} 0 0" zaxis="1 0 0" size="0 0 1" {off}/>',
-        f'<geom name="wall_x1" type="plane" pos="{x1} 0 0" zaxis="-1 0 0" size="0 0 1" {off}/>',
     ]
+    for end, (x, axis) in enumerate(((x0, 1), (x1, -1))):
+        if not flume.open_ends[end]:  # an open end has no wall: a body reaching it leaves the run
+            statics.append(f"wall_x{end}")
+            world.append(f'<geom name="wall_x{end}" type="plane" pos="{x} 0 0" zaxis="{axis} 0 0" size="0 0 1" {off}/>')
     if column is not None:
         c = column.column
         statics.append("column")
