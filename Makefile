@@ -12,7 +12,7 @@ COUPLING ?=
 OUT      ?= runs/1debris$(if $(COUPLING),-$(COUPLING),)
 CASE_SET := $(if $(CELL),--set mesh.cell_size_m=$(CELL),) $(if $(COUPLING),--set run.debris_coupling=$(COUPLING),)
 
-.PHONY: help venv openfoam test test-fast case-1debris case-layouts results-layouts compare-coupling sweep speed-error speed-error-debris stability synthetic-study contact-law results-1debris ensemble-1debris scene-doc bench bench-transport clean
+.PHONY: help venv openfoam test test-fast docs-check case-1debris case-layouts results-layouts compare-coupling sweep speed-error speed-error-debris stability synthetic-study contact-law results-1debris ensemble-1debris scene-doc bench bench-transport clean
 
 help:
 	@echo "make venv                   the Python environment only (.venv, the package installed editable)"
@@ -27,6 +27,7 @@ help:
 	@echo "make compare-coupling       the short flume to the first strike two-way and one-way on one mesh, side by side (about 30 min)"
 	@echo "make stability              the hard cases of cases/hard/ (about 2 h), then their stability table"
 	@echo "make test                   the test suite (installs the venv and OpenFOAM first)"
+	@echo "make docs-check             the docs: links resolve, no history, README at most 800 words, figures the planner gives"
 	@echo "make synthetic-study        the seed's SDOF/MDOF/ASCE analysis on 22 synthetic records"
 	@echo "make scene-doc              docs/scene.md, the scene reference, from the schema"
 	@echo "make contact-law            calibrate the contact law on Table 1, check it on Table 2 (docs/results/contact-law/)"
@@ -61,6 +62,12 @@ test: venv openfoam
 
 test-fast: venv
 	$(PY) -m pytest -q -m "not openfoam and not slow"
+
+# The docs checked like code (tests/test_docs.py, seconds, no OpenFOAM): every relative link
+# resolves, README and docs/*.md say what is true now (history is CHANGELOG.md's), the README
+# stays a two-minute read, and the figures the planner can recompute (cells, cost factors) agree.
+docs-check: venv
+	$(PY) -m pytest -q tests/test_docs.py
 
 case-1debris: venv openfoam
 	$(VENV)/bin/debrisfoam case cases/1debris.yaml -o $(OUT) $(CASE_SET)
