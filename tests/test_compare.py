@@ -85,7 +85,7 @@ def test_arrivals_against_chanson_and_the_seed():
 
 
 def test_gauge_models_start_from_the_still_water():
-    scene = load_scene(DATA / "tiny-nodebris.yaml")
+    scene = load_scene(ROOT / "cases" / "tiny-nodebris.yaml")
     summary = pd.DataFrame({"gauge": ["A", "B"], "x_m": [-0.05, 0.4], "y_m": [0.0, 0.0]})
     models = compare.gauge_models(scene, summary, 0.5, n=51)
     assert set(models["A"].columns) == {"time_s", "ritter_m", "chanson_m"}  # dry bed: no Stoker

@@ -33,6 +33,7 @@ from orchestrator.report.plots import PLOTS
 from tests.conftest import run_cli
 
 DATA = Path(__file__).parent / "data" / "post"
+ROOT = Path(__file__).resolve().parent.parent
 
 
 def _copy(name: str, tmp_path: Path) -> Path:
@@ -428,7 +429,7 @@ def test_a_real_tiny_run_post_processes_with_every_plot(tmp_path, openfoam):
     from orchestrator.run.runner import run_case
 
     case = tmp_path / "tiny"
-    render_from_file(DATA / "tiny-nodebris.yaml", case)
+    render_from_file(ROOT / "cases" / "tiny-nodebris.yaml", case)
     run_case(case, np=1, quiet=True)
     summary = post_case(case)
     assert summary.status == "finished"

@@ -30,7 +30,7 @@ from orchestrator.studies.sweep import (
 from orchestrator.studies.sweep.store import write_store as _write_store
 from tests.conftest import ROOT, run_cli
 
-TINY = ROOT / "tests" / "data" / "post" / "tiny-nodebris.yaml"
+TINY = ROOT / "cases" / "tiny-nodebris.yaml"
 TINY_SWEEP = ROOT / "cases" / "sweeps" / "tiny-mesh-study.yaml"
 SHORT = {"run.end_time_s": 0.3, "run.write_interval_s": 0.1}
 

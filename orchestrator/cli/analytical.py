@@ -15,6 +15,7 @@ from typing import Any
 
 from analytical.errors import InputError
 from orchestrator.cli.common import EXIT_OK, ArgParser, Flags, emit, output_path, warn
+from orchestrator.scene.shipped import resolve_scene
 
 __all__ = ["POOR_FIT_RMSE_FRACTION", "add_analytical_parser", "column_from_args", "impact_inputs"]
 
@@ -341,7 +342,8 @@ def cmd_study(args: argparse.Namespace) -> int:
 
 
 def _add_column_args(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--scene", help="scene YAML whose column to use (default: the study's column)")
+    p.add_argument("--scene", type=resolve_scene, help="scene YAML (or a shipped scene's name) whose column to use "
+                                                       "(default: the study's column)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a dotted scene key (repeatable)")
 
 
@@ -366,7 +368,8 @@ def add_analytical_parser(verbs) -> None:
                    help="contact height above the column's base, m (default 0.40, the study's mean)")
     p.add_argument("--obliquity", type=float, default=0.0,
                    help="angle of the body's velocity from the face's normal, degrees (default 0, head on)")
-    p.add_argument("--scene", help="scene YAML whose debris body and column to use (default: the study's "
+    p.add_argument("--scene", type=resolve_scene, help="scene YAML (or a shipped scene's name) whose debris body and "
+                                                       "column to use (default: the study's "
                                    "0.236 kg container and acrylic column)")
     p.add_argument("--body", help="which debris body of --scene (default: its first)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE",
