@@ -22,7 +22,8 @@ def test_asce7_json_keys_and_values():
     [
         (["--velocity", "1.5", "--mass", "-1", "--stiffness", "4e5"], "mass"),
         (["--velocity", "1.5", "--mass", "0.2", "--stiffness", "0"], "stiffness"),
-        (["--velocity", "1.5", "--mass", "0.2"], "--stiffness"),
+        (["--velocity", "1.5", "--mass", "0.2", "--structure-stiffness", "-1"], "--structure-stiffness"),
+        (["--mass", "0.2"], "--velocity"),
     ],
 )
 def test_asce7_bad_input_exits_2_naming_the_field(args, field):
