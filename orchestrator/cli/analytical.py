@@ -444,11 +444,13 @@ def add_analytical_parser(verbs) -> None:
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_response)
 
-    p = an_verbs.add_parser("fit", help="fit an impact pulse to a measured force-response record (CSV time_s,force_N)")
+    p = an_verbs.add_parser("fit", help="fit an impact pulse to a measured force-response record (CSV time_s,force_N "
+                                        "or time_s,response_N)")
     p.add_argument("--model", choices=["sdof", "mdof"], required=True,
                    help="sdof: fit magnitude, duration, damping, stiffness, frequency within the study's bounds; "
                         "mdof: magnitude and duration on the column model")
-    p.add_argument("record", help="CSV with columns time_s,force_N")
+    p.add_argument("record", help="CSV with columns time_s,force_N (or time_s,response_N, as response --out "
+                                  "writes)")
     p.add_argument("--pulse", choices=["half-sine", "rectangular", "triangular"], default="half-sine",
                    help="pulse shape fitted")
     p.add_argument("--height", type=float, default=0.40, help="impact height above the column base, m (mdof)")
