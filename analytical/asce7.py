@@ -41,7 +41,10 @@ __all__ = [
     "importance_factor",
     "effective_stiffness",
     "AsceImpact",
+    "AsceDesign",
     "asce7_impact",
+    "asce7_design",
+    "SIMPLIFIED_STATIC_LOAD_N",
     "dynamic_response_ratio",
     "SEED_STRUCTURE_STIFFNESS_N_M",
     "SEED_DEBRIS_MASS_KG",
@@ -283,3 +286,136 @@ Note: with u = 1.50 m/s exactly, the k_s row comes out 324.2 N, 0.43 % above the
 1.50 in the text). Durations (0.0014 s, 0.0006 s) and impulses (0.46 N s) agree to the printed
 digits either way.
 """
+
+
+SIMPLIFIED_STATIC_LOAD_N = 1.47e6
+"""The alternative simplified debris impact static load of ASCE 7-16/7-22 Section 6.11, before
+``C_o I_tsu``: ``F_i = 330 C_o I_tsu`` kips (``1,470 C_o I_tsu`` kN), the bound the detailed impact
+force of 6.11.2 need not exceed. A full-scale (prototype) force: see :class:`AsceDesign`.
+
+Source: ASCE/SEI 7-16 and 7-22, Chapter 6, Section 6.11 (the simplified static load's clause);
+the figure 330 kips / 1,470 kN is the standard's. The printed clause could not be retrieved
+while this was written: check its number and wording against the standard before citing it
+in a design.
+"""
+
+
+@dataclass(frozen=True)
+class AsceDesign:
+    """The design impact force of ASCE 7-22 6.11.2 from both stiffnesses: the lesser governs.
+
+    6.11.2 takes ``k`` as the lesser of the impacting debris' effective stiffness ``k_d`` and the
+    lateral stiffness ``k_s`` of the structural element the impact deforms. :attr:`design` is the
+    impact with the governing (lesser) stiffness: its ``force_N`` is THE design value. :attr:`other`
+    is the impact with the other stiffness, context only (the study tabulated both).
+
+    ``velocity_m_s`` is the standard's ``u_max``, the flow's maximum velocity at the site (where
+    the water is deep enough to float the debris); the study put each record's measured impact
+    speed there instead. Either is a number the caller chooses; the result says which it holds
+    (``velocity_basis``).
+
+    The simplified static load (:data:`SIMPLIFIED_STATIC_LOAD_N`, ``1,470 C_o I_tsu`` kN) bounds
+    the design force only at prototype scale (``prototype=True``). A laboratory model is not
+    capped by it: the bound is a full-scale force for full-scale containers and structures, so
+    in newtons it never binds a 1:40 model's hundreds of newtons, and Froude-scaled by the length
+    scale cubed (``1,470 C_o kN / 40^3 = 14.9 N`` at 1:40 with C_o = 0.65) it would cap every
+    laboratory impact, though the model column's stiffness (acrylic, 4.685e5 N/m) is no scaled
+    prototype stiffness, so a laboratory impact force is no scaled prototype force either.
+    """
+
+    velocity_m_s: float
+    mass_kg: float
+    debris_stiffness_N_m: float
+    structure_stiffness_N_m: float
+    importance: float = 1.0
+    orientation: float = ORIENTATION_CONTAINER
+    prototype: bool = False
+    velocity_basis: str = "u_max"
+
+    def __post_init__(self):
+        for name in ("debris_stiffness_N_m", "structure_stiffness_N_m"):
+            object.__setattr__(self, name, require_positive(name, getattr(self, name)))
+        self.design  # checks the remaining inputs (AsceImpact)
+
+    @property
+    def governing(self) -> str:
+        """``"k_s"`` (the structure's lateral stiffness) or ``"k_d"`` (the debris'): the lesser."""
+        return "k_s" if self.structure_stiffness_N_m <= self.debris_stiffness_N_m else "k_d"
+
+    def _impact(self, stiffness_N_m: float) -> AsceImpact:
+        return AsceImpact(self.velocity_m_s, self.mass_kg, stiffness_N_m, self.importance, self.orientation)
+
+    @property
+    def design(self) -> AsceImpact:
+        """The impact with the governing (lesser) stiffness."""
+        return self._impact(min(self.structure_stiffness_N_m, self.debris_stiffness_N_m))
+
+    @property
+    def other(self) -> AsceImpact:
+        """The impact with the other (greater) stiffness: context, not a design value."""
+        return self._impact(max(self.structure_stiffness_N_m, self.debris_stiffness_N_m))
+
+    @property
+    def cap_N(self) -> float:
+        """``1,470 C_o I_tsu`` kN in newtons (a prototype-scale force)."""
+        return SIMPLIFIED_STATIC_LOAD_N * self.orientation * self.importance
+
+    @property
+    def capped(self) -> bool:
+        """Whether the cap bounds the design force (only at prototype scale)."""
+        return self.prototype and self.design.force_N > self.cap_N
+
+    @property
+    def force_N(self) -> float:
+        """THE design impact force F_i, N: the governing stiffness's, bounded by the cap at prototype scale."""
+        return min(self.design.force_N, self.cap_N) if self.capped else self.design.force_N
+
+    def cap_note(self) -> str:
+        """One sentence: the cap, and whether and why it applies."""
+        cap = f"the simplified static load 1,470 C_o I_tsu kN = {self.cap_N / 1e3:,.1f} kN"
+        if self.prototype:
+            return f"prototype scale: {cap} bounds F_i ({'applied' if self.capped else 'not reached'})"
+        return (f"{cap} is a full-scale bound: not applied to these laboratory-scale inputs (neither in newtons, "
+                "where it never binds, nor Froude-scaled, where it would cap every model impact although the "
+                "model column's stiffness is not scaled)")
+
+    def to_dict(self) -> dict[str, float | str | bool]:
+        """The design value with its basis, and the other stiffness's force as context (keys with units)."""
+        d, o = self.design, self.other
+        return {
+            "force_N": self.force_N,
+            "governing_stiffness": self.governing,
+            "stiffness_N_m": d.stiffness_N_m,
+            "velocity_m_s": self.velocity_m_s,
+            "velocity_basis": self.velocity_basis,
+            "mass_kg": self.mass_kg,
+            "nominal_force_N": d.nominal_force_N,
+            "duration_s": d.duration_s,
+            "impulse_Ns": d.impulse_Ns,
+            "debris_stiffness_N_m": self.debris_stiffness_N_m,
+            "structure_stiffness_N_m": self.structure_stiffness_N_m,
+            "other_stiffness": "k_d" if self.governing == "k_s" else "k_s",
+            "other_force_N": o.force_N,
+            "other_duration_s": o.duration_s,
+            "importance_I_tsu": self.importance,
+            "orientation_C_o": self.orientation,
+            "cap_N": self.cap_N,
+            "capped": self.capped,
+            "prototype": self.prototype,
+        }
+
+
+def asce7_design(velocity_m_s: float, mass_kg: float, debris_stiffness_N_m: float = SEED_DEBRIS_STIFFNESS_N_M,
+                 structure_stiffness_N_m: float = SEED_STRUCTURE_STIFFNESS_N_M, importance: float = 1.0,
+                 orientation: float = ORIENTATION_CONTAINER, prototype: bool = False,
+                 velocity_basis: str = "u_max") -> AsceDesign:
+    """The ASCE 7-22 6.11.2 design impact force with the governing (lesser) stiffness (:class:`AsceDesign`).
+
+    Examples
+    --------
+    >>> d = asce7_design(1.50, 0.236)        # the study's container and column, Table 1's speed
+    >>> d.governing, round(d.force_N, 1), round(d.other.force_N, 1)
+    ('k_s', 324.2, 825.8)
+    """
+    return AsceDesign(velocity_m_s, mass_kg, debris_stiffness_N_m, structure_stiffness_N_m, importance, orientation,
+                      prototype, velocity_basis)

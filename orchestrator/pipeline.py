@@ -20,6 +20,7 @@ from analytical.errors import InputError
 from orchestrator.case import foam
 from orchestrator.case.folder import CaseFolder
 from orchestrator.case.render import render_case
+from orchestrator.plan.identity import same_case
 from orchestrator.plan.planner import plan_case
 from orchestrator.plan.resources import Demand, check_resources
 from orchestrator.report.postprocess import post_case
@@ -38,37 +39,19 @@ def default_case_dir(scene_path: str | Path) -> Path:
     return Path("runs") / Path(scene_path).stem
 
 
-#: what only a one-way run uses: a case of another coupling does not depend on it
-ONE_WAY_ONLY = {"transport": None, "outputs": ("flow_record_hz",)}
-
-
-def _modelled(scene_dump: dict, coupling: str | None) -> dict:
-    """The resolved scene without what the case's coupling does not use."""
-    if coupling == "one-way":
-        return scene_dump
-    out = dict(scene_dump)
-    for section, keys in ONE_WAY_ONLY.items():
-        if keys is None:
-            out.pop(section, None)
-        elif isinstance(out.get(section), dict):
-            out[section] = {k: v for k, v in out[section].items() if k not in keys}
-    return out
-
-
-def _same_case(case: Path, scene) -> bool:
-    """Does `case` hold this scene? Compared as resolved scenes, so a case rendered before a
-    new scene key (with its default) was added is still the same case; keys the case's
-    coupling does not use (a two-way case: the one-way transport's) are left out, so a changed
-    default there does not make a finished coupled run another case."""
+def holds_case(case: Path, scene) -> bool:
+    """Does the folder ``case`` hold this scene's case? Its scene.yaml and ``scene`` compared by
+    :func:`orchestrator.plan.identity.same_case` for the case's coupling (plan.json): the answer a
+    sweep's member ids give too."""
     folder = CaseFolder(case)
     if not folder.scene_path.is_file():
         return False
     try:
-        existing = load_scene(folder.scene_path).model_dump()
+        existing = load_scene(folder.scene_path)
     except InputError:
         return False
     coupling = (folder.plan() or {}).get("debris_coupling")
-    return _modelled(existing, coupling) == _modelled(scene.model_dump(), coupling)
+    return same_case(existing, scene, coupling or "none")  # no plan.json: no one-way case
 
 
 def _plan_warnings(case: Path) -> list[str]:
@@ -87,7 +70,7 @@ def prepare_case(scene_path: str | Path, out_dir: str | Path, sets: Sequence[str
     out = Path(out_dir)
     scene = load_scene(scene_path, list(sets))
     if out.is_dir() and any(out.iterdir()):
-        if _same_case(out, scene):
+        if holds_case(out, scene):
             return out, False
         raise InputError(
             "-o/--out",

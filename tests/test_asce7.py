@@ -236,3 +236,35 @@ def test_dynamic_response_ratio_bad_input():
     with pytest.raises(InputError) as e:
         dynamic_response_ratio(0.01, 0.02, damping_ratio=1.0)
     assert e.value.field == "zeta"
+
+
+# --------------------------------------------------------------------------- the design value
+
+
+def test_the_lesser_stiffness_governs_and_the_other_is_context():
+    from analytical.asce7 import asce7_design
+
+    d = asce7_design(1.5, 0.236)  # the study's container (k_d 3.04e6) on its column (k_s 4.685e5)
+    assert d.governing == "k_s" and d.design.stiffness_N_m == 4.685e5
+    assert d.force_N == pytest.approx(0.65 * 1.5 * math.sqrt(4.685e5 * 0.236))  # 324.2 N
+    assert d.other.force_N == pytest.approx(0.65 * 1.5 * math.sqrt(SEED_DEBRIS_STIFFNESS_N_M * 0.236))
+    assert d.force_N < d.other.force_N
+    stiff = asce7_design(1.5, 0.236, debris_stiffness_N_m=1e5)  # a soft body on the same column: k_d governs
+    assert stiff.governing == "k_d" and stiff.force_N == pytest.approx(0.65 * 1.5 * math.sqrt(1e5 * 0.236))
+    assert d.to_dict()["governing_stiffness"] == "k_s" and d.to_dict()["other_force_N"] == d.other.force_N
+
+
+def test_the_simplified_static_load_bounds_only_a_prototype():
+    from analytical.asce7 import SIMPLIFIED_STATIC_LOAD_N, asce7_design
+
+    assert SIMPLIFIED_STATIC_LOAD_N == 1.47e6  # 330 kips = 1,470 kN, times C_o I_tsu
+    # a full-scale 20 ft container (about 2,200 kg empty) at 5 m/s on a stiff element: F_i over the bound
+    big = dict(velocity_m_s=5.0, mass_kg=2200.0, debris_stiffness_N_m=8.5e7, structure_stiffness_N_m=2e8)
+    lab = asce7_design(**big)
+    proto = asce7_design(**big, prototype=True)
+    assert lab.design.force_N > lab.cap_N == pytest.approx(1.47e6 * 0.65)
+    assert lab.force_N == lab.design.force_N and not lab.capped  # laboratory scale: never capped
+    assert proto.capped and proto.force_N == pytest.approx(proto.cap_N)
+    assert "not applied" in lab.cap_note() and "applied" in proto.cap_note()
+    small = asce7_design(1.5, 0.236, prototype=True)
+    assert not small.capped and small.force_N == small.design.force_N

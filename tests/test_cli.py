@@ -1,6 +1,8 @@
 """The CLI contract: verbs, JSON keys, and exit codes (0 ok, 2 bad input, 1 failure)."""
 
 
+import json
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -22,7 +24,8 @@ def test_asce7_json_keys_and_values():
     [
         (["--velocity", "1.5", "--mass", "-1", "--stiffness", "4e5"], "mass"),
         (["--velocity", "1.5", "--mass", "0.2", "--stiffness", "0"], "stiffness"),
-        (["--velocity", "1.5", "--mass", "0.2"], "--stiffness"),
+        (["--velocity", "1.5", "--mass", "0.2", "--structure-stiffness", "-1"], "--structure-stiffness"),
+        (["--mass", "0.2"], "--velocity"),
     ],
 )
 def test_asce7_bad_input_exits_2_naming_the_field(args, field):
@@ -301,3 +304,47 @@ def test_every_option_says_what_it_is():
 
     walk(build_parser(), "debrisfoam")
     assert not missing, missing
+
+
+def test_one_verbs_response_feeds_the_others_fit(tmp_path):
+    """`analytical response --out` writes time_s,response_N; `analytical fit` reads it back and
+    recovers the pulse that made it (MDOF: magnitude and duration are all it fits)."""
+    csv = tmp_path / "r.csv"
+    cli_json("analytical", "response", "--model", "mdof", "--magnitude", "200", "--duration", "0.0047",
+             "--height", "0.4", "--out", str(csv))
+    fit = cli_json("analytical", "fit", "--model", "mdof", str(csv), "--height", "0.4")
+    assert fit["magnitude_N"] == pytest.approx(200, rel=0.02)
+    assert fit["duration_s"] == pytest.approx(0.0047, rel=0.02)
+    pd.DataFrame({"time_s": [0.0, 1.0], "other_N": [0.0, 1.0]}).to_csv(tmp_path / "bad.csv", index=False)
+    bad = run_cli("analytical", "fit", "--model", "mdof", str(tmp_path / "bad.csv"))
+    assert bad.returncode == 2 and "force_N" in bad.stderr and "response_N" in bad.stderr
+
+
+def test_help_names_every_report_verb_and_the_case_folder():
+    from orchestrator.cli import build_parser
+
+    top = run_cli("--help").stdout
+    report = build_parser()._subparsers._group_actions[0].choices["report"]
+    verbs = report._subparsers._group_actions[0].choices
+    assert len(verbs) >= 5
+    flat = " ".join(top.split())
+    assert all(v in flat for v in verbs), [v for v in verbs if v not in flat]
+    case = " ".join(run_cli("case", "--help").stdout.split())
+    assert "runs/<the scene file's name without .yaml>, e.g. runs/1debris" in case
+
+
+def test_a_shipped_scene_by_name_from_another_folder(tmp_path):
+    """`render 1debris` from a folder without that file renders the shipped scene; a file of that
+    name in the folder wins over it."""
+    def validate(name):
+        proc = run_cli("validate", name, "--json", cwd=tmp_path)
+        assert proc.returncode == 0, proc.stderr
+        return json.loads(proc.stdout)
+
+    out = validate("1debris")
+    assert out["scene"].endswith("1debris.yaml") and out["planned_cells"] == 135869
+    assert validate("hard/glancing")["name"] == "hard-glancing"
+    (tmp_path / "1debris").write_text((ROOT / "cases" / "nodebris.yaml").read_text())
+    assert validate("1debris")["name"] == "nodebris"  # the user's file
+    proc = run_cli("render", "no-such-scene", "-o", str(tmp_path / "x"), cwd=tmp_path)
+    assert proc.returncode == 2 and "debrisfoam scenes" in proc.stderr and not (tmp_path / "x").exists()

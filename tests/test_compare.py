@@ -85,7 +85,7 @@ def test_arrivals_against_chanson_and_the_seed():
 
 
 def test_gauge_models_start_from_the_still_water():
-    scene = load_scene(DATA / "tiny-nodebris.yaml")
+    scene = load_scene(ROOT / "cases" / "tiny-nodebris.yaml")
     summary = pd.DataFrame({"gauge": ["A", "B"], "x_m": [-0.05, 0.4], "y_m": [0.0, 0.0]})
     models = compare.gauge_models(scene, summary, 0.5, n=51)
     assert set(models["A"].columns) == {"time_s", "ritter_m", "chanson_m"}  # dry bed: no Stoker
@@ -161,3 +161,68 @@ def test_no_debris_run_gets_every_plot_and_the_report(tmp_path):
     assert set(arrivals["reference"]) == {"Ritter", "Chanson"}  # dry bed, and no seed gauge positions here
     assert arrivals["error_s"].notna().all()
     assert "comparisons" in summary.headline and any("snapshot" in m for m in summary.missing)
+
+
+# --------------------------------------------------------------------------- ASCE 7-22: one answer
+
+
+def test_u_max_at_the_column_is_ritters_speed_at_the_floating_depth():
+    """Ritter's dam break at a fixed x: the speed falls as the depth rises behind the front, so the
+    largest speed where the water floats a body of draft h_d is where h = h_d: u = 2 (sqrt(g h0) -
+    sqrt(g h_d)), whatever x."""
+    from orchestrator.results.asce_design import flow_speed_at
+    from orchestrator.transport.flow import FlowField
+
+    g, h0, h_d = 9.81, 0.4, 0.02
+    field = FlowField.ritter(h0, x_m=np.linspace(0.0, 2.0, 21), t_s=np.linspace(0.2, 2.0, 1801), gravity_m_s2=g)
+    site = flow_speed_at(field, 1.05, (-0.1, 0.1), h_d)
+    assert site.x_m == pytest.approx(1.0)
+    assert site.u_max_m_s == pytest.approx(2 * (math.sqrt(g * h0) - math.sqrt(g * h_d)), rel=2e-3)
+    assert site.depth_m >= h_d
+    assert flow_speed_at(field, 1.05, (-0.1, 0.1), 1.0) is None  # never that deep
+
+
+def test_the_run_names_one_design_value_as_the_analytical_verbs_do(debris):
+    """The report's ASCE table: k_s governs, the design force at the impact speed (the committed
+    two-way run records no flow velocity), the same figure `analytical asce7` and `analytical impact`
+    give for that speed and mass."""
+    from tests.conftest import cli_json
+
+    results, comp = debris
+    row = comp.asce.iloc[0]
+    speed = row["impact_speed_m_s"]
+    assert comp.site_flow is None and math.isnan(row["u_max_m_s"]) and "impact speed" in row["design_basis"]
+    assert row["governing_stiffness"] == "k_s" and row["other_stiffness"] == "k_d"
+    assert row["design_force_N"] == pytest.approx(0.65 * speed * math.sqrt(4.685e5 * 0.236))
+    assert row["other_force_N"] == pytest.approx(0.65 * speed * math.sqrt(SEED_DEBRIS_STIFFNESS_N_M * 0.236))
+    verb = cli_json("analytical", "asce7", "--velocity", repr(float(speed)), "--mass", "0.236")
+    strike = cli_json("analytical", "impact", "--velocity", repr(float(speed)))
+    assert verb["force_N"] == pytest.approx(row["design_force_N"], rel=1e-12)
+    assert strike["asce7_design_force_N"] == pytest.approx(row["design_force_N"], rel=1e-12)
+    assert verb["governing_stiffness"].startswith("k_s") and strike["asce7_governing_stiffness"].startswith("k_s")
+    assert verb["force_with_k_d_N"] == pytest.approx(row["other_force_N"], rel=1e-12)
+    head = comp.headline()["asce7"]
+    assert head["governing_stiffness"] == "k_s" and head["design_force_N"] == pytest.approx(row["design_force_N"],
+                                                                                             abs=1e-3)
+
+
+def test_a_one_way_run_takes_u_max_from_its_flow_record(debris, tmp_path):
+    """With a flow record at the column the design force is at u_max, and the study's way (the
+    impact speed) stays beside it."""
+    from orchestrator.results.asce_design import asce_design_table, site_flow_speed
+    from orchestrator.transport.flow import FlowField
+
+    results, _ = debris
+    scene = results.data.scene
+    col = scene.column
+    (tmp_path / "results").mkdir()
+    FlowField.uniform_current(0.1, 1.25, x_m=(col.x_m - 0.5, col.x_m + 0.5), y_m=(-0.15, 0.15)).save(
+        tmp_path / "results" / "flow_record.npz")
+    site = site_flow_speed(tmp_path, scene)
+    assert site.u_max_m_s == pytest.approx(1.25) and "flow record" in site.source
+    table = asce_design_table(results.impacts, results.data.body_masses_kg, col_stiffness := 4.685e5, site)
+    row = table.iloc[0]
+    assert row["design_force_N"] == pytest.approx(0.65 * 1.25 * math.sqrt(col_stiffness * 0.236))
+    assert row["force_at_impact_speed_N"] == pytest.approx(0.65 * row["impact_speed_m_s"] * math.sqrt(col_stiffness
+                                                                                                      * 0.236))
+    assert row["design_basis"].startswith("u_max")

@@ -34,7 +34,7 @@ from orchestrator.plan.resources import (
 from tests.conftest import ROOT, run_cli
 
 SCENE = ROOT / "cases" / "1debris.yaml"
-TINY = ROOT / "tests" / "data" / "post" / "tiny-nodebris.yaml"
+TINY = ROOT / "cases" / "tiny-nodebris.yaml"
 TINY_CASE = ROOT / "tests" / "data" / "post" / "tiny-nodebris"
 ABSURD = "mesh.cell_size_m=1e-6"
 

@@ -358,3 +358,24 @@ def test_study_figure7_fits_a_report(study):
         assert len({ax.get_xlim() for ax in fig.axes}) == 1  # one scale for the three variants
     finally:
         pyplot().close(fig)
+
+
+def test_each_impact_gets_a_zoom_with_its_peak_written_out(real):
+    """A 4.7 ms pulse on a 3.5 s axis cannot be read: every column impact gets a panel of a few
+    pulse lengths, in ms from the impact, with its peak force and base shear written out."""
+    results, _ = real["tiny-1debris"]
+    fig = plots.figure_column_forces(results)
+    try:
+        check_figure(fig)
+        zooms = [a for a in fig.axes if a.get_xlabel() == "time from the impact (ms)"]
+        column = results.impacts[results.impacts["kind"] == "column"]
+        assert len(zooms) == min(len(column), plots.MAX_ZOOMS) >= 1
+        ax = zooms[0]
+        lo, hi = ax.get_xlim()
+        duration_ms = 1e3 * float(column["duration_s"].iloc[0])
+        assert hi - lo < 5 * duration_ms  # milliseconds, not the run's seconds
+        text = " ".join(t.get_text() for t in ax.texts)
+        peak = results.column_forces["impact_force_x_N"].abs().max()
+        assert f"impact pulse: peak {peak:.0f} N" in text and "base shear from it: peak" in text
+    finally:
+        pyplot().close(fig)

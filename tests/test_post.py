@@ -33,6 +33,7 @@ from orchestrator.report.plots import PLOTS
 from tests.conftest import run_cli
 
 DATA = Path(__file__).parent / "data" / "post"
+ROOT = Path(__file__).resolve().parent.parent
 
 
 def _copy(name: str, tmp_path: Path) -> Path:
@@ -428,7 +429,7 @@ def test_a_real_tiny_run_post_processes_with_every_plot(tmp_path, openfoam):
     from orchestrator.run.runner import run_case
 
     case = tmp_path / "tiny"
-    render_from_file(DATA / "tiny-nodebris.yaml", case)
+    render_from_file(ROOT / "cases" / "tiny-nodebris.yaml", case)
     run_case(case, np=1, quiet=True)
     summary = post_case(case)
     assert summary.status == "finished"
@@ -478,6 +479,13 @@ def test_case_report_puts_the_first_impact_beside_the_study(debris_case, tmp_pat
     assert (f"| speed of the centre (m/s) | 1 | {speed:.3g} | - | {speed:.3g} | - | 1.6 | 0.13 | 22 | z = {z:+.2f} | - |"
             in text) and "outside the study's scatter" in text
     assert "| study-fit peak force (N) | 0 | - |" in text and "Welch's unequal-variance t test" in text
+    # the ASCE 7-22 table: the governing stiffness named, the design value at the impact speed (a
+    # two-way run records no flow velocity: said), the k_d force as context
+    design = 0.65 * speed * (4.685e5 * 0.236) ** 0.5
+    assert "## ASCE 7-22 6.11: the design impact force" in text and "**the column's lateral stiffness k_s governs**" in text
+    assert f"Design value: **F_i = {design:.0f} N** (k_s governs; the body's impact speed" in text
+    assert "u_max, the flow's maximum velocity at the column (what the standard's formula takes): not recorded" in text
+    assert "full-scale bound: not applied" in text
     for plot in ("gauges.png", "impacts.png", "summary.json"):
         assert (tmp_path / "page" / plot).is_file()
     missing = run_cli("report", "case", str(tmp_path), "-o", str(tmp_path / "x"))

@@ -164,6 +164,10 @@ def test_labels_are_legible_and_the_plan_view_has_both_scales(monkeypatch, tmp_p
     assert min(size for _, size in corner) >= 10, corner
     labels = [label for names, _ in points for label in names]
     assert labels.count("x = 0 m") == 2, "x marks in the plan view and in the whole-flume strip"
-    assert "y = 0 m" in labels and any(label.startswith("-") for names, _ in points if "y = 0 m" in names
-                                       for label in names), "y marks on both sides of the centreline"
+    y_marks = next(names for names, _ in points if "y = 0 m" in names)
+    assert any(label.startswith("y = -") for label in y_marks), "y marks on both sides of the centreline"
+    assert all(label.startswith("y = ") and label.endswith(" m") for label in y_marks), "every y mark with its unit"
+    headline = corner[0][0]
+    assert "6 debris bodies (one-way" in headline and "no debris" not in headline  # the flow runs without them
+    assert "see plan.json" not in headline
     assert {"1", "2", "3", "4", "5", "6"} <= set(labels) and "debrisN = body N" in labels

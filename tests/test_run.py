@@ -14,6 +14,7 @@ import json
 import math
 import os
 import re
+import shutil
 import signal
 import subprocess
 import sys
@@ -557,38 +558,37 @@ def test_a_stalled_solver_is_stopped_with_a_diagnosis(tmp_path, openfoam):
 
 
 @pytest.mark.openfoam
-def test_a_stop_before_the_first_time_step_kills_the_solver_at_once(tmp_path, openfoam):
+def test_a_stop_before_the_first_time_step_kills_the_solver_at_once(tmp_path, openfoam, monkeypatch):
     """A stop request while the solver has not taken a step (reading the mesh; with several
     overset bodies the addressing takes many minutes) cannot be answered by writeNow, which the
     solver reads between steps: the runner stops it at once instead of waiting STOP_KILL_TIMEOUT_S.
-    The ranks are frozen (SIGSTOP) as soon as they exist, so that they take no step."""
+    The ranks are held at a known point, so that no step can come first: the `interFoam` mpirun
+    finds first on the PATH is a gate that marks its arrival and waits for a file before it runs
+    the real solver; the stop is requested once both ranks wait there."""
     case = render(tmp_path, "unstarted", scene(end_time_s=0.1))
+    real = shutil.which("interFoam")
+    gate = tmp_path / "gate"
+    gate.mkdir()
+    (gate / "interFoam").write_text(f"#!/bin/sh\ntouch {gate}/held.$$\n"
+                                    f"while [ ! -e {gate}/open ]; do sleep 0.02; done\nexec {real} \"$@\"\n")
+    (gate / "interFoam").chmod(0o755)
+    monkeypatch.setenv("PATH", f"{gate}:{os.environ['PATH']}")
     stop = threading.Event()
-    frozen: list[int] = []
-    seen: list[str] = []  # the solver's log when the stop was requested
-    log = case / "log.interFoam"
 
-    def freeze_then_stop():
+    def stop_once_held():
         deadline = time.time() + 120
-        while time.time() < deadline and len(frozen) < 2:
-            for pid in _solver_ranks(case, "interFoam"):
-                if pid not in frozen:
-                    os.kill(pid, signal.SIGSTOP)
-                    frozen.append(pid)
-            time.sleep(0.002)
-        time.sleep(1.0)  # several of the runner's polls: it has read whatever the log holds
-        seen.append(log.read_text() if log.is_file() else "")
+        while time.time() < deadline and len(list(gate.glob("held.*"))) < 2:
+            time.sleep(0.01)
         stop.set()
 
-    watcher = threading.Thread(target=freeze_then_stop, daemon=True)
+    watcher = threading.Thread(target=stop_once_held, daemon=True)
     watcher.start()
     t0 = time.perf_counter()
     with pytest.raises(RunInterrupted) as err:
         run_case(case, quiet=True, stop_event=stop)
     watcher.join(5)
-    assert len(frozen) == 2
-    if "\nTime = " in seen[0]:  # a step got through before both ranks were frozen
-        pytest.skip("the solver took a time step before it could be frozen")
+    assert len(list(gate.glob("held.*"))) == 2  # both ranks reached the gate, and none went past it
+    assert "\nTime = " not in (case / "log.interFoam").read_text()
     assert time.perf_counter() - t0 < 60  # not the 600 s STOP_KILL_TIMEOUT_S
     e = err.value
     assert e.before_first_step and not e.clean
@@ -596,6 +596,7 @@ def test_a_stop_before_the_first_time_step_kills_the_solver_at_once(tmp_path, op
     assert not _solver_ranks(case, "interFoam")
     record = json.loads((case / "run.json").read_text())
     assert record["status"] == "interrupted" and record["segments"][-1]["stop_reason"] == "unstarted"
+    (gate / "open").touch()
     resumed = run_case(case, quiet=True)  # and the run goes on from the start
     assert resumed.status == "finished" and resumed.reached_time_s == pytest.approx(0.1)
 

@@ -6,7 +6,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from orchestrator.scene.reference import markdown, schema_rows, shipped_scenes
+from orchestrator.scene.reference import markdown, schema_rows
+from orchestrator.scene.shipped import shipped_scenes
 from orchestrator.scene.scenefile import load_scene
 from tests.conftest import run_cli
 

@@ -18,7 +18,7 @@ from orchestrator.studies.speed_error import gauge_rmse, pareto_front, solver_cp
 from orchestrator.studies.sweep import load_store, load_sweep
 from tests.conftest import ROOT, run_cli
 
-TINY = ROOT / "tests" / "data" / "post" / "tiny-nodebris.yaml"
+TINY = ROOT / "cases" / "tiny-nodebris.yaml"
 TINY_SWEEP = ROOT / "cases" / "sweeps" / "tiny-mesh-study.yaml"
 
 

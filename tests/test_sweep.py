@@ -30,7 +30,7 @@ from orchestrator.studies.sweep import (
 from orchestrator.studies.sweep.store import write_store as _write_store
 from tests.conftest import ROOT, run_cli
 
-TINY = ROOT / "tests" / "data" / "post" / "tiny-nodebris.yaml"
+TINY = ROOT / "cases" / "tiny-nodebris.yaml"
 TINY_SWEEP = ROOT / "cases" / "sweeps" / "tiny-mesh-study.yaml"
 SHORT = {"run.end_time_s": 0.3, "run.write_interval_s": 0.1}
 
@@ -377,3 +377,34 @@ def test_a_late_scene_key_changes_no_id_until_it_is_set():
     for late in ("run.max_delta_t_s=0.05", "run.stall_limit_s=1800"):
         assert member_id(load_scene(ROOT / "cases" / "nodebris.yaml",
                                     ["mesh.cell_size_m=0.08", late])) != "b92a230c1196"
+
+
+@pytest.mark.parametrize("change, same", [
+    ([], True),
+    (["mesh.cell_size_m=0.035"], False),
+    (["transport.drag_coefficient=2.0"], False),  # a one-way case reads its transport
+    (["run.debris_coupling=two-way"], False),
+])
+@pytest.mark.parametrize("coupling", ["auto", "two-way"])
+def test_a_case_folder_and_a_sweep_member_answer_the_same_case_alike(tmp_path, change, same, coupling):
+    """`debrisfoam case` resumes a folder when pipeline.holds_case says it holds the scene; a sweep
+    gives two scenes one member id when they make the same case: both ask plan.identity, so they agree
+    (a two-way case ignores the one-way transport: changing it leaves the case the same)."""
+    import json as _json
+
+    from orchestrator.case.folder import CaseFolder
+    from orchestrator.pipeline import holds_case
+    from orchestrator.plan.planner import plan_case
+    from orchestrator.scene.scenefile import dump_scene_yaml
+
+    sets = [f"run.debris_coupling={coupling}"]
+    a = load_scene(ROOT / "cases" / "1debris.yaml", sets)
+    b = load_scene(ROOT / "cases" / "1debris.yaml", sets + change)
+    plan = plan_case(a, "a")
+    folder = CaseFolder(tmp_path)
+    folder.write_scene_yaml(dump_scene_yaml(a))
+    folder.write_plan_json(_json.dumps({"debris_coupling": plan.debris_coupling}))
+    expected = same or (coupling == "two-way" and change == ["transport.drag_coefficient=2.0"]) \
+        or (coupling == "two-way" and change == ["run.debris_coupling=two-way"])
+    assert holds_case(tmp_path, b) is expected
+    assert (member_id(a) == member_id(b)) is expected

@@ -15,6 +15,7 @@ from typing import Any
 
 from analytical.errors import InputError
 from orchestrator.cli.common import EXIT_OK, ArgParser, Flags, emit, output_path, warn
+from orchestrator.scene.shipped import resolve_scene
 
 __all__ = ["POOR_FIT_RMSE_FRACTION", "add_analytical_parser", "column_from_args", "impact_inputs"]
 
@@ -69,30 +70,52 @@ def _time_axis(t_end: float, dt: float):
                                     "half the memory available now; give a shorter --t-end")
     return np.linspace(0.0, n * dt, n + 1)
 
-def cmd_asce7(args: argparse.Namespace) -> int:
-    from analytical.asce7 import asce7_impact
+#: What every ASCE 7-22 answer says about its velocity.
+VELOCITY_NOTE = ("ASCE 7-22 6.11.2's u_max is the flow's maximum velocity at the site (deep enough to float the "
+                 "debris); the study put each record's measured impact speed there; the velocity given here is used "
+                 "as u_max")
 
+
+def asce7_lines(design, prefix: str = "") -> dict[str, Any]:
+    """The ASCE 7-22 answer of an :class:`~analytical.asce7.AsceDesign`, keyed for a verb's output:
+    the design value with its governing stiffness first, the other stiffness's force as context."""
+    d = design.to_dict()
+    other = d["other_stiffness"]
+    keys = {
+        "design_force_N": d["force_N"],
+        "governing_stiffness": f"{d['governing_stiffness']} = {d['stiffness_N_m']:.4g} N/m (the lesser of k_d "
+                               f"{d['debris_stiffness_N_m']:.4g} and k_s {d['structure_stiffness_N_m']:.4g} N/m)",
+        "duration_s": d["duration_s"],
+        "impulse_Ns": d["impulse_Ns"],
+        "nominal_force_N": d["nominal_force_N"],
+        f"force_with_{other}_N": d["other_force_N"],
+        "velocity_m_s": d["velocity_m_s"],
+        "velocity_note": VELOCITY_NOTE,
+        "cap_N": d["cap_N"],
+        "cap_note": design.cap_note(),
+    }
+    return {f"{prefix}{k}": v for k, v in keys.items()}
+
+
+def cmd_asce7(args: argparse.Namespace) -> int:
+    from analytical.asce7 import asce7_design
+
+    k_d, k_s = args.debris_stiffness, args.structure_stiffness
+    if args.stiffness is not None:  # one k, chosen by the user: it governs, there is nothing to compare
+        k_d = k_s = args.stiffness
     with Flags(velocity_m_s="--velocity", mass_kg="--mass", stiffness_N_m="--stiffness", importance="--importance",
-                orientation="--orientation"):
-        r = asce7_impact(
-            velocity_m_s=args.velocity,
-            mass_kg=args.mass,
-            stiffness_N_m=args.stiffness,
-            importance=args.importance,
-            orientation=args.orientation,
-        )
-    emit(
-        {
-            "force_N": r.force_N,
-            "nominal_force_N": r.nominal_force_N,
-            "duration_s": r.duration_s,
-            "impulse_Ns": r.impulse_Ns,
-            "orientation_C_o": args.orientation,
-            "importance_I_tsu": args.importance,
-            "note": "force_N is the design force I_tsu C_o F_ni; nominal_force_N is F_ni = u sqrt(k m)",
-        },
-        args.json,
-    )
+               orientation="--orientation", debris_stiffness_N_m="--debris-stiffness",
+               structure_stiffness_N_m="--structure-stiffness"):
+        design = asce7_design(args.velocity, args.mass, k_d, k_s, args.importance, args.orientation,
+                              prototype=args.prototype)
+    out = asce7_lines(design)
+    out = {"force_N": out.pop("design_force_N"), **out, "orientation_C_o": args.orientation,
+           "importance_I_tsu": args.importance,
+           "note": "force_N is the design force F_i = I_tsu C_o u_max sqrt(k m_d) with the governing k"}
+    if args.stiffness is not None:
+        out["governing_stiffness"] = f"k = {args.stiffness:.4g} N/m (given with --stiffness)"
+        out.pop("force_with_k_d_N", None)
+    emit(out, args.json)
     return EXIT_OK
 
 
@@ -162,12 +185,13 @@ def _study_impact_inputs(args: argparse.Namespace):
 
 
 def cmd_impact(args: argparse.Namespace) -> int:
-    from analytical.asce7 import SEED_DEBRIS_STIFFNESS_N_M, asce7_impact
+    from analytical.asce7 import SEED_DEBRIS_MASS_KG, SEED_DEBRIS_STIFFNESS_N_M, asce7_design
     from analytical.contact_law import column_impact
 
     law, column, body = impact_inputs(args)
     r = column_impact(law, args.velocity, args.height, column=column, obliquity_deg=args.obliquity, **body)
-    asce = asce7_impact(args.velocity, body.get("mass_kg", 0.236), SEED_DEBRIS_STIFFNESS_N_M)
+    asce = asce7_design(args.velocity, body.get("mass_kg", SEED_DEBRIS_MASS_KG), SEED_DEBRIS_STIFFNESS_N_M,
+                        column.stiffness_N_m)
     emit(
         {
             "peak_force_N": r.peak_force_N,
@@ -180,7 +204,7 @@ def cmd_impact(args: argparse.Namespace) -> int:
             "damping_ratio": law.damping_ratio,
             "height_m": args.height,
             "obliquity_deg": args.obliquity,
-            "asce7_kd_design_force_N": asce.force_N,
+            **asce7_lines(asce, "asce7_"),
         },
         args.json,
     )
@@ -341,21 +365,35 @@ def cmd_study(args: argparse.Namespace) -> int:
 
 
 def _add_column_args(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--scene", help="scene YAML whose column to use (default: the study's column)")
+    p.add_argument("--scene", type=resolve_scene, help="scene YAML (or a shipped scene's name) whose column to use "
+                                                       "(default: the study's column)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a dotted scene key (repeatable)")
 
 
 def add_analytical_parser(verbs) -> None:
     """The ``analytical`` verb and its sub-verbs, on the top parser's ``verbs``."""
+    from analytical.asce7 import SEED_DEBRIS_STIFFNESS_N_M as SEED_KD
+    from analytical.asce7 import SEED_STRUCTURE_STIFFNESS_N_M as SEED_KS
+
     an = verbs.add_parser("analytical", help="analytical models (ASCE 7-22, SDOF, MDOF, fitting, dam break)")
     an_verbs = an.add_subparsers(dest="analytical_verb", required=True, parser_class=ArgParser)
 
     p = an_verbs.add_parser("asce7", help="ASCE 7-22 6.11 debris impact force, duration and impulse")
-    p.add_argument("--velocity", type=float, required=True, help="impact (max flow) velocity, m/s")
+    p.add_argument("--velocity", type=float, required=True,
+                   help="u_max, the flow's maximum velocity at the site, m/s (the study used the impact speed)")
     p.add_argument("--mass", type=float, required=True, help="debris mass, kg")
-    p.add_argument("--stiffness", type=float, required=True, help="stiffness k (lesser of debris and structure), N/m")
+    p.add_argument("--debris-stiffness", type=float, default=SEED_KD, metavar="K_D",
+                   help=f"k_d, the debris' effective stiffness, N/m (default {SEED_KD:.4g}, the study's container)")
+    p.add_argument("--structure-stiffness", type=float, default=SEED_KS, metavar="K_S",
+                   help=f"k_s, the struck element's lateral stiffness, N/m (default {SEED_KS:.4g}, the study's "
+                        "column); the lesser of k_d and k_s governs")
+    p.add_argument("--stiffness", type=float, default=None,
+                   help="one stiffness k, N/m, used as it is (instead of the lesser of k_d and k_s)")
     p.add_argument("--importance", type=float, default=1.0, help="I_tsu (1.0 for tsunami risk category II)")
     p.add_argument("--orientation", type=float, default=0.65, help="C_o (0.65 for logs, poles, containers)")
+    p.add_argument("--prototype", action="store_true",
+                   help="the inputs are full scale: bound F_i by the simplified static load 1,470 C_o I_tsu kN "
+                        "(never applied to laboratory-scale inputs)")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_asce7)
 
@@ -366,7 +404,8 @@ def add_analytical_parser(verbs) -> None:
                    help="contact height above the column's base, m (default 0.40, the study's mean)")
     p.add_argument("--obliquity", type=float, default=0.0,
                    help="angle of the body's velocity from the face's normal, degrees (default 0, head on)")
-    p.add_argument("--scene", help="scene YAML whose debris body and column to use (default: the study's "
+    p.add_argument("--scene", type=resolve_scene, help="scene YAML (or a shipped scene's name) whose debris body and "
+                                                       "column to use (default: the study's "
                                    "0.236 kg container and acrylic column)")
     p.add_argument("--body", help="which debris body of --scene (default: its first)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE",
@@ -405,11 +444,13 @@ def add_analytical_parser(verbs) -> None:
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_response)
 
-    p = an_verbs.add_parser("fit", help="fit an impact pulse to a measured force-response record (CSV time_s,force_N)")
+    p = an_verbs.add_parser("fit", help="fit an impact pulse to a measured force-response record (CSV time_s,force_N "
+                                        "or time_s,response_N)")
     p.add_argument("--model", choices=["sdof", "mdof"], required=True,
                    help="sdof: fit magnitude, duration, damping, stiffness, frequency within the study's bounds; "
                         "mdof: magnitude and duration on the column model")
-    p.add_argument("record", help="CSV with columns time_s,force_N")
+    p.add_argument("record", help="CSV with columns time_s,force_N (or time_s,response_N, as response --out "
+                                  "writes)")
     p.add_argument("--pulse", choices=["half-sine", "rectangular", "triangular"], default="half-sine",
                    help="pulse shape fitted")
     p.add_argument("--height", type=float, default=0.40, help="impact height above the column base, m (mdof)")

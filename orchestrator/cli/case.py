@@ -15,6 +15,7 @@ from typing import Any
 from analytical.errors import InputError
 from orchestrator.cli.common import (
     EXIT_OK,
+    SCENE_HELP,
     confirm_large,
     emit,
     missing_feature,
@@ -23,6 +24,7 @@ from orchestrator.cli.common import (
     warn,
     writable_folder,
 )
+from orchestrator.scene.shipped import resolve_scene
 
 __all__ = ["YES_HELP", "add_case_parsers", "cmd_case", "cmd_post", "cmd_preview", "cmd_render", "cmd_run"]
 
@@ -179,7 +181,7 @@ def cmd_case(args: argparse.Namespace) -> int:
 def add_case_parsers(verbs) -> None:
     """The ``render``, ``preview``, ``run``, ``post`` and ``case`` verbs, on the top parser's ``verbs``."""
     p = verbs.add_parser("render", help="render an OpenFOAM case from a scene YAML")
-    p.add_argument("scene", help="scene YAML (debrisfoam scenes lists the shipped ones; docs/scene.md)")
+    p.add_argument("scene", type=resolve_scene, help=SCENE_HELP)
     p.add_argument("-o", "--out", required=True, help="case folder to write (new or empty, or --force)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE",
                    help="override a dotted scene key, value as YAML (repeatable), e.g. mesh.cell_size_m=0.03")
@@ -190,7 +192,7 @@ def add_case_parsers(verbs) -> None:
     p.set_defaults(func=cmd_render)
 
     p = verbs.add_parser("preview", help="draw the scene (flume, column, debris, gauges) to a PNG")
-    p.add_argument("scene", help="scene YAML (debrisfoam scenes lists the shipped ones; docs/scene.md)")
+    p.add_argument("scene", type=resolve_scene, help=SCENE_HELP)
     p.add_argument("-o", "--out", required=True, help="the .png file to write")
     p.add_argument("--force", action="store_true", help="overwrite an existing file")
     p.add_argument("--json", action="store_true", help="print JSON (the file and the planner's warnings)")
@@ -223,8 +225,8 @@ def add_case_parsers(verbs) -> None:
     p.set_defaults(func=cmd_post)
 
     p = verbs.add_parser("case", help="render + run + post in one go (run it again to resume)")
-    p.add_argument("scene", help="scene YAML (debrisfoam scenes lists the shipped ones; docs/scene.md)")
-    p.add_argument("-o", "--out", default=None, help="case folder (default: runs/<scene name>)")
+    p.add_argument("scene", type=resolve_scene, help=SCENE_HELP)
+    p.add_argument("-o", "--out", default=None, help="case folder (default: runs/<the scene file's name without .yaml>, e.g. runs/1debris)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE",
                    help="override a dotted scene key, value as YAML (repeatable), e.g. mesh.cell_size_m=0.03")
     p.add_argument("--np", type=int, default=None, help="MPI ranks (default: the scene's run.cores)")

@@ -24,6 +24,7 @@ __all__ = [
     "EXIT_BAD_INPUT",
     "EXIT_FAILURE",
     "EXIT_OK",
+    "SCENE_HELP",
     "ArgParser",
     "Flags",
     "HelpFormatter",
@@ -37,6 +38,10 @@ __all__ = [
 ]
 
 EXIT_OK, EXIT_FAILURE, EXIT_BAD_INPUT = 0, 1, 2
+
+#: The help of every scene argument (each parsed by :func:`orchestrator.scene.shipped.resolve_scene`).
+SCENE_HELP = ("scene YAML, or a shipped scene by name (e.g. 1debris; `debrisfoam scenes` lists them; "
+              "docs/scene.md)")
 
 
 class HelpFormatter(argparse.ArgumentDefaultsHelpFormatter):

@@ -5,23 +5,31 @@ from __future__ import annotations
 
 import argparse
 
-from orchestrator.cli.common import EXIT_OK, emit, warn
+from orchestrator.cli.common import EXIT_OK, SCENE_HELP, emit, warn
+from orchestrator.scene.shipped import resolve_scene
 
 __all__ = ["add_scene_parsers", "cmd_scenes", "cmd_schema", "cmd_validate"]
 
 
 def cmd_scenes(args: argparse.Namespace) -> int:
-    from orchestrator.scene.reference import scenes_dir, shipped_scenes
+    from orchestrator.scene.shipped import scenes_dir, shipped_name, shipped_scenes, shipped_sweeps, sweeps_dir
 
-    scenes = shipped_scenes()
-    if args.json:
-        emit({"folder": str(scenes_dir()), "scenes": [{"path": str(p), "description": d} for p, d in scenes]}, True)
-        return EXIT_OK
     root = scenes_dir()
-    width = max(len(str(p.relative_to(root))) for p, _ in scenes)
-    print(f"shipped scenes in {root}:")
-    for path, text in scenes:
-        print(f"  {str(path.relative_to(root)):<{width}}  {text}")
+    scenes = [(shipped_name(p, root), p, d) for p, d in shipped_scenes()]
+    sweeps = [(shipped_name(p, sweeps_dir()), p, d) for p, d in shipped_sweeps()]
+    if args.json:
+        emit({"folder": str(root),
+              "scenes": [{"name": n, "path": str(p), "description": d} for n, p, d in scenes],
+              "sweeps": [{"name": n, "path": str(p), "description": d} for n, p, d in sweeps]}, True)
+        return EXIT_OK
+    width = max(len(n) for n, _, _ in scenes + sweeps)
+    print(f"shipped scenes (in {root}; give the name, e.g. `debrisfoam render 1debris -o runs/1debris`):")
+    for name, _, text in scenes:
+        print(f"  {name:<{width}}  {text}")
+    print(f"shipped sweeps (in {sweeps_dir()}; e.g. `debrisfoam sweep {sweeps[0][0] if sweeps else 'NAME'} "
+          "--dry-run`):")
+    for name, _, text in sweeps:
+        print(f"  {name:<{width}}  {text}")
     return EXIT_OK
 
 
@@ -60,13 +68,13 @@ def cmd_schema(args: argparse.Namespace) -> int:
 
 def add_scene_parsers(verbs) -> None:
     """The ``scenes``, ``validate`` and ``schema`` verbs, on the top parser's ``verbs``."""
-    p = verbs.add_parser("scenes", help="list the shipped example scenes, one line each")
+    p = verbs.add_parser("scenes", help="list the shipped example scenes and sweeps (usable by name), one line each")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_scenes)
 
     p = verbs.add_parser("validate", help="check a scene (schema and planner) without writing anything: exit 0 "
                                           "or 2")
-    p.add_argument("scene", help="scene YAML")
+    p.add_argument("scene", type=resolve_scene, help=SCENE_HELP)
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a dotted scene key (repeatable)")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_validate)

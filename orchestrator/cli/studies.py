@@ -20,6 +20,7 @@ from orchestrator.cli.case import YES_HELP
 from orchestrator.cli.common import (
     EXIT_FAILURE,
     EXIT_OK,
+    SCENE_HELP,
     ArgParser,
     Flags,
     confirm_large,
@@ -29,6 +30,7 @@ from orchestrator.cli.common import (
     warn,
     writable_folder,
 )
+from orchestrator.scene.shipped import resolve_scene, resolve_sweep
 
 __all__ = [
     "add_study_parsers",
@@ -290,7 +292,8 @@ def add_study_parsers(verbs) -> None:
     """The ``sweep`` and ``report`` verbs, on the top parser's ``verbs``."""
     p = verbs.add_parser("sweep", help="run a parameter sweep (a base scene and axes; see docs/sweeps.md); "
                                        "run it again to resume")
-    p.add_argument("sweep", help="sweep YAML")
+    p.add_argument("sweep", type=resolve_sweep, help="sweep YAML, or a shipped sweep by name (e.g. tiny-mesh-study; "
+                                                     "`debrisfoam scenes` lists them)")
     p.add_argument("-o", "--out", default=None, help="sweep folder (default: runs/sweeps/<sweep name>)")
     p.add_argument("--executor", choices=["local", "dask"], default=None,
                    help="local: a thread pool here; dask: a Dask LocalCluster, or --scheduler's cluster "
@@ -309,7 +312,8 @@ def add_study_parsers(verbs) -> None:
     p = verbs.add_parser("ensemble", help="one one-way flow, then N realisations of the debris from perturbed "
                                           "starts carried through it: impact probability and load statistics "
                                           "beside the study's (docs/ensembles.md)")
-    p.add_argument("scene", help="scene YAML (it must plan one-way: run.debris_coupling auto or one-way)")
+    p.add_argument("scene", type=resolve_scene, help=SCENE_HELP + "; it must plan one-way (run.debris_coupling auto "
+                                                                  "or one-way)")
     p.add_argument("-n", type=int, required=True, metavar="N", help="number of realisations")
     p.add_argument("-o", "--out", required=True, metavar="DIR",
                    help="ensemble folder: the flow case in DIR/flow (reused when finished), ensemble.csv, "
@@ -329,8 +333,10 @@ def add_study_parsers(verbs) -> None:
     p.add_argument("--json", action="store_true", help="print JSON (no progress)")
     p.set_defaults(func=cmd_ensemble)
 
-    rp = verbs.add_parser("report", help="reports across runs: speed-error (a sweep's cost against its errors), "
-                                                 "stability (a sweep's runs checked)")
+    rp = verbs.add_parser("report", help="results pages across runs: case (one run beside the study), layouts "
+                                         "(debris layouts side by side), coupling (one-way against two-way), "
+                                         "speed-error (a sweep's cost against its errors), stability (a sweep's "
+                                         "runs checked)")
     rp_verbs = rp.add_subparsers(dest="report_verb", required=True, parser_class=ArgParser)
     p = rp_verbs.add_parser("speed-error", help="wall time against error for every member of a sweep (and of "
                                                 "baseline sweeps): table and Pareto plot in SWEEP_DIR/report/")

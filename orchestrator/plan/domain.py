@@ -61,7 +61,7 @@ TOP_TRIM = 1.5
 RUNUP_DEPTHS = 2.0
 #: An obstacle sends its run-up over the trimmed top only when it blocks this fraction of the
 #: flume's width or more; a narrower one sends up a jet over its face and the bore passes round it.
-#: Measured on the tiny flume of tests/data/post/tiny-nodebris.yaml (dry bed, h0 = 0.2 m, 2.5 cm
+#: Measured on the tiny flume of cases/tiny-nodebris.yaml (dry bed, h0 = 0.2 m, 2.5 cm
 #: cells, open end, 1 s) under a 1.5 h0 top: a column across a third of the width let 0.008 % of
 #: the water over the top, half 0.19 %, two thirds 0.39 %, the whole width 1.9 %.
 RUNUP_BLOCKAGE = 0.4

@@ -6,7 +6,9 @@ Reads a post-processed run (``RUN/results/summary.json``, ``impacts.csv``) and w
                  wall time, each beside the study's figure and the target where there is one; then
                  each body's first column strike beside the study's 22, like for like (speeds, and
                  the base shear fitted as the study fitted its records: :mod:`orchestrator.report.
-                 study_table`), with Welch's test, or a single strike's z
+                 study_table`), with Welch's test, or a single strike's z; and the ASCE 7-22
+                 6.11 design force of each strike with the governing stiffness, at the flow's
+                 u_max beside the body's impact speed (:mod:`orchestrator.report.asce_section`)
   summary.json   the run's summary, copied
   *.png          the run's gauges, column forces, impacts and tracks plots, copied
 ``make results-1debris`` runs it on ``make case-1debris``'s folder; the README's table comes from it.
@@ -25,7 +27,10 @@ from analytical.contact_law import SEED_IMPACT_HEIGHTS_M
 from analytical.errors import InputError
 from orchestrator.case.folder import SUMMARY_JSON, CaseFolder
 from orchestrator.core.files import write_text_atomic
+from orchestrator.report.asce_section import asce_markdown
 from orchestrator.report.study_table import comparison_markdown, comparison_note
+from orchestrator.results.asce_design import asce_design_table, site_flow_speed
+from orchestrator.results.readers import load_case
 from orchestrator.results.study_fit import compare_strikes
 
 __all__ = ["write_case_report"]
@@ -109,7 +114,7 @@ def write_case_report(case_dir: str | Path, out_dir: str | Path) -> Path:
         raise InputError("case_dir", f"no results/summary.json: run `debrisfoam post {case}` first", str(case))
     head = json.loads(summary_path.read_text())
     impacts_path = folder.results_dir / "impacts.csv"
-    first, firsts = None, pd.DataFrame()
+    first, firsts, impacts = None, pd.DataFrame(), pd.DataFrame()
     if impacts_path.is_file():
         impacts = pd.read_csv(impacts_path)
         column = impacts[impacts["kind"] == "column"].sort_values("time_s", kind="stable")
@@ -150,6 +155,11 @@ def write_case_report(case_dir: str | Path, out_dir: str | Path) -> Path:
     lines += ["", f"## Each body's first column strike beside the study's 22, like for like ({len(firsts)} "
               f"strike{'' if len(firsts) == 1 else 's'})", "",
               *comparison_markdown(compare_strikes(firsts)), "", comparison_note(), ""]
+    data = load_case(case)
+    site = site_flow_speed(case, data.scene)
+    asce = asce_design_table(impacts, data.body_masses_kg, float(data.column.stiffness_N_m), site) \
+        if data.column is not None and not impacts.empty else pd.DataFrame()
+    lines += asce_markdown(asce, site, heading="##")
     lines += ["", *(f"![{p[:-4]}]({p})" for p in PLOTS if (out / p).is_file()), ""]
     if head.get("missing"):
         lines += ["What the post-processing could not give:", "", *(f"- {m}" for m in head["missing"]), ""]

@@ -15,6 +15,7 @@ import numpy as np
 import pandas as pd
 
 from orchestrator.core.files import write_text_atomic
+from orchestrator.report.asce_section import asce_markdown
 from orchestrator.results.compare import CONTAINER_MATERIAL, SPREADING_ANGLES_DEG
 from orchestrator.results.metrics import ARRIVAL_FRACTION, MIN_GAUGE_COVERAGE
 
@@ -144,9 +145,11 @@ def write_report(results, comp, figures: dict, tables: dict[str, Path], plots: d
             "tangential_velocity_in_m_s": "v_t in (m/s)", "obliquity_deg": "obliquity (deg)",
             "peak_force_N": "peak (N)", "duration_s": "duration (s)", "impulse_Ns": "impulse (N s)",
             "rebound_normal_velocity_m_s": "v_n out (m/s)", "restitution": "e"}))
-        out += ["", "### Against ASCE 7-22 and the impact formulas", "",
+        out += [""] + asce_markdown(comp.asce, comp.site_flow)
+        out += ["### Against the impact formulas", "",
                 "At the simulated impact velocity u (centre-of-mass velocity along the contact normal) and the "
-                "body's mass; k_d = the study's debris stiffness, k_s = the column's measured stiffness. Matsutomi "
+                "body's mass; k_d = the study's debris stiffness, k_s = the column's measured stiffness (both ASCE "
+                "rows shown: the design value, with the governing stiffness, is the section above). Matsutomi "
                 f"and Ikeno with C_MA = {CONTAINER_MATERIAL['added_mass_coefficient']}, the container as a log of "
                 f"equal cross-section, polyethylene E = {CONTAINER_MATERIAL['youngs_modulus_Pa']:.3g} Pa, "
                 f"nu = {CONTAINER_MATERIAL['poisson_ratio']}, yield {CONTAINER_MATERIAL['yield_stress_Pa']:.3g} Pa "

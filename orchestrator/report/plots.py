@@ -8,7 +8,8 @@ the comparisons of :mod:`orchestrator.results.compare`:
 ``column_forces.png``   the hydrodynamic force on the column (pressure, viscous, total) and the base
                         shear it causes, each on a linear axis of its own; below them, when the run
                         has impacts, the impact pulses with the sum, and the base shear from them
-                        with the total (tens of newtons and hundreds do not share one axis);
+                        with the total (tens of newtons and hundreds do not share one axis); then
+                        each impact zoomed to milliseconds, its peaks marked and written out;
 ``impacts.png``,        the impact pulses against the predicted and fitted ones, and the study's
 ``seed_fits.png``       fits to the simulated base shear (:mod:`orchestrator.report.impact_plots`);
 ``tracks.png``          debris tracks in plan view with the spreading areas, and the bodies'
@@ -124,8 +125,14 @@ def figure_column_forces(results):
     has_forces = not cf.empty and "time_s" in cf and len(cf) > 0
     has_impacts = has_forces and "impact_force_x_N" in cf and float(cf["impact_force_x_N"].abs().max()) > 0
     nrows = 2 if has_impacts else 1
-    fig, axes = plt.subplots(nrows, 2, figsize=(WIDTH_IN, 3.3 * nrows + 0.7), sharex=True, squeeze=False,
-                             layout="constrained")
+    windows = _impact_windows(results) if has_impacts else []
+    height = 3.3 * nrows + 0.7 + (2.9 if windows else 0.0)
+    fig = plt.figure(figsize=(WIDTH_IN, height), layout="constrained")
+    if windows:
+        top, bottom = fig.subfigures(2, 1, height_ratios=[3.3 * nrows + 0.7, 2.9])
+    else:
+        top, bottom = fig, None
+    axes = top.subplots(nrows, 2, sharex=True, squeeze=False)
     hydro, shear = axes[0]
     hydro.set_label("hydrodynamic force")
     shear.set_label("hydrodynamic base shear")
@@ -178,7 +185,65 @@ def figure_column_forces(results):
             empty(total, "no column response to the impacts")
     for ax in axes[-1]:
         ax.set_xlabel("time (s)")
+    if bottom is not None:
+        _zoom_panels(bottom, results, windows)
     return fig
+
+
+#: At most this many impacts get a zoom panel (the rest are named in the last panel's title).
+MAX_ZOOMS = 4
+
+
+def _impact_windows(results) -> list[tuple[int, float, float, float]]:
+    """(event, start, end, duration) of each column impact's zoom: from half a pulse before its
+    start to two and a half pulses after (the pulse is milliseconds on an axis of seconds)."""
+    imp = results.impacts
+    if imp is None or not len(imp):
+        return []
+    if "kind" in imp:
+        imp = imp[imp["kind"] == "column"]
+    out = []
+    for r in imp.itertuples():
+        duration = float(getattr(r, "duration_s", np.nan))
+        duration = duration if np.isfinite(duration) and duration > 0 else 0.005
+        t0 = float(r.time_s)
+        out.append((int(getattr(r, "event", len(out) + 1)), t0 - 0.5 * duration, t0 + 2.5 * duration, duration))
+    return out
+
+
+def _zoom_panels(sub, results, windows) -> None:
+    """One panel per impact (at most MAX_ZOOMS): its pulse and the base shear it causes, in ms
+    from the impact, each peak marked and written out."""
+    cf, cr = results.column_forces, results.column_response
+    shown = windows[:MAX_ZOOMS]
+    axes = sub.subplots(1, len(shown), squeeze=False)[0]
+    for ax, (event, start, end, duration) in zip(axes, shown):
+        t_ref = start + 0.5 * duration
+        peaks = []
+        for frame, column, label, colour in ((cf, "impact_force_x_N", "impact pulse", "#d7191c"),
+                                             (cr, "impact_base_shear_x_N", "base shear from it", "#2c7bb6")):
+            if frame is None or frame.empty or column not in frame:
+                continue
+            part = frame[(frame["time_s"] >= start) & (frame["time_s"] <= end)]
+            if part.empty:
+                continue
+            ms = 1e3 * (part["time_s"].to_numpy() - t_ref)
+            values = part[column].to_numpy()
+            ax.plot(ms, values, color=colour, lw=1.3, label=label)
+            k = int(np.argmax(np.abs(values)))
+            ax.scatter([ms[k]], [values[k]], color=colour, s=16, zorder=3)  # the peak, written out in the box
+            peaks.append(f"{label}: peak {values[k]:.0f} N at {ms[k]:+.2f} ms")
+        ax.set_title(f"impact {event} at t = {t_ref:.4f} s, {1e3 * duration:.2f} ms", fontsize=9, loc="left")
+        ax.text(0.98, 0.97, "\n".join(peaks), transform=ax.transAxes, ha="right", va="top", fontsize=9,
+                bbox={"boxstyle": "round", "fc": "white", "ec": "0.8", "alpha": 0.9})
+        ax.set_xlabel("time from the impact (ms)")
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("x (N)")
+    legend(axes[0], loc="lower right")
+    if len(windows) > len(shown):
+        axes[-1].set_title(axes[-1].get_title() + f" (+{len(windows) - len(shown)} more)", fontsize=9, loc="left")
+    sub.suptitle("each impact, zoomed: the pulse and the base shear it causes", fontsize=10, x=0.01,
+                 ha="left")
 
 
 def plot_column_forces(results, path: Path) -> Path:

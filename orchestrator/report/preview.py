@@ -470,14 +470,14 @@ def _scale_labels(plotter, points, labels, font_size: int, vertical: str) -> Non
 
 
 def _y_marks(plotter, x: float, y0: float, y1: float, step: float, font_size: int) -> None:
-    """y labels at x = ``x`` every ``step`` metres between the walls, each right of its mark."""
+    """y labels at x = ``x`` every ``step`` metres between the walls, each right of its mark, each
+    with its unit (the marks are few: the width of a flume)."""
     first = math.ceil(y0 / step - 1e-9) * step
     marks = np.arange(first, y1 + 1e-9, step)
     if marks.size == 0:
         return
     points = np.column_stack([np.full(marks.size, x), marks, np.zeros(marks.size)])
-    _scale_labels(plotter, points, [f" y = {m:g} m" if abs(m) < 1e-9 else f" {m:g}" for m in marks], font_size,
-                  "center")
+    _scale_labels(plotter, points, [f" y = {0.0 if abs(m) < 1e-9 else m:g} m" for m in marks], font_size, "center")
 
 
 def _view_aspect(row: int) -> float:
@@ -521,8 +521,10 @@ def _set_camera(plotter, direction: np.ndarray, up: Sequence[float], bounds: Seq
 
 def _headline(scene: Scene, plan: ModelPlan) -> str:
     """The plan in a few lines: solver, dimensions, cells, wall time, extents."""
-    n = len(plan.bodies)
+    n = len(scene.debris)
     bodies = f", {n} debris bod{'y' if n == 1 else 'ies'}" if n else ", no debris"
+    if n and not plan.bodies:  # one-way: the flow is solved without them, the bodies are carried through it
+        bodies += f" ({plan.debris_coupling}: the flow without them, then carried through it)"
     steps = estimated_steps(plan)
     (dx0, dx1), _, (_, dz1) = plan.domain_m
     lines = [
@@ -532,7 +534,8 @@ def _headline(scene: Scene, plan: ModelPlan) -> str:
         f"domain x {dx0:.2f} .. {dx1:.2f} m, top {dz1:.2f} m; finest cell {scene.mesh.cell_size_m:g} m",
     ]
     if plan.warnings:
-        lines.append(f"{len(plan.warnings)} plan warning(s): see plan.json")
+        lines.append(f"{len(plan.warnings)} plan warning(s): printed by `debrisfoam validate` and `render` "
+                     "(a rendered case keeps them in plan.json)")
     return "\n".join(lines)
 
 

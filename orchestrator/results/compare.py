@@ -76,6 +76,7 @@ from analytical.fitting import fit_mdof, fit_sdof
 from analytical.formulas import haehnel_daly, hertz_effective_modulus, ikeno, matsutomi
 from analytical.mdof import column_model, mdof_response
 from analytical.pulses import Tabulated
+from orchestrator.results.asce_design import SiteFlow, asce_design_table, site_flow_speed
 from orchestrator.results.tables import write_table
 
 __all__ = [
@@ -135,6 +136,10 @@ class Comparison:
     #: event -> {"time_s", "record_N", "sdof_N", "mdof_N", pulses: {method: pulse}, "height_m"}
     fit_records: dict[int, dict[str, Any]] = field(default_factory=dict)
     notes: list[str] = field(default_factory=list)
+    #: ASCE 7-22 6.11's design force of every column strike (:mod:`orchestrator.results.asce_design`)
+    asce: pd.DataFrame = field(default_factory=pd.DataFrame)
+    #: u_max of the flow at the column, when the run recorded it
+    site_flow: SiteFlow | None = None
 
     def headline(self) -> dict[str, Any]:
         out: dict[str, Any] = {"arrival_errors_s": {}}
@@ -148,6 +153,11 @@ class Comparison:
         if not self.impact_formulas.empty:
             first = self.impact_formulas[self.impact_formulas["event"] == self.impact_formulas["event"].min()]
             out["impact_peak_ratio"] = {r.method: _round(r.peak_ratio) for r in first.itertuples()}
+        if not self.asce.empty:
+            a = self.asce.iloc[0]
+            out["asce7"] = {"event": int(a["event"]), "design_force_N": _round(a["design_force_N"]),
+                            "governing_stiffness": a["governing_stiffness"], "u_max_m_s": _round(a["u_max_m_s"]),
+                            "impact_speed_m_s": _round(a["impact_speed_m_s"]), "design_basis": a["design_basis"]}
         if not self.spreading.empty:
             out["spreading"] = {
                 r.body: {"max_spread_deg": _round(r.max_spread_deg), **{
@@ -469,13 +479,16 @@ def compare(results) -> Comparison:
                      "no Table 1")
     seed_fits, table1, records = _seed_procedure(results, column, notes)
     spreading, areas = _spreading(results)
-    return Comparison(arrivals, models, formulas, seed_fits, table1, spreading, areas, records, notes)
+    site = site_flow_speed(data.case, scene)
+    asce = asce_design_table(results.impacts, data.body_masses_kg, float(column.stiffness_N_m), site) \
+        if column is not None and len(results.impacts) else pd.DataFrame()
+    return Comparison(arrivals, models, formulas, seed_fits, table1, spreading, areas, records, notes, asce, site)
 
 
 def write_tables(comp: Comparison, out_dir: str | Path) -> dict[str, Path]:
-    """arrivals.csv, impact_formulas.csv, seed_fits.csv, table1.csv, spreading.csv in out_dir."""
+    """arrivals.csv, impact_formulas.csv, seed_fits.csv, table1.csv, spreading.csv, asce.csv in out_dir."""
     out = Path(out_dir)
     written = {}
-    for name in ("arrivals", "impact_formulas", "seed_fits", "table1", "spreading"):
+    for name in ("arrivals", "impact_formulas", "seed_fits", "table1", "spreading", "asce"):
         written[name] = write_table(getattr(comp, name), out / f"{name}.csv")
     return written

@@ -16,7 +16,8 @@ MIN_SAMPLES = 20
 
 
 def read_force_record(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
-    """Return (time_s, force_N) from a CSV with those two columns, validated.
+    """Return (time_s, force_N) from a CSV with those two columns, validated (``response_N`` is read
+    as ``force_N``: a force response written by ``analytical response --out`` is a record to fit).
 
     Raises InputError naming the file and the column for: a missing file or column,
     non-numeric values or NaNs, fewer than MIN_SAMPLES rows, time not strictly increasing.
@@ -34,9 +35,12 @@ def read_force_record(path: str | Path) -> tuple[np.ndarray, np.ndarray]:
     except Exception as exc:  # pandas raises several types for unreadable CSV
         raise InputError("record", f"not a readable CSV: {exc}", source) from None
     frame.columns = [str(c).strip() for c in frame.columns]
+    if "force_N" not in frame.columns and "response_N" in frame.columns:  # `analytical response --out`'s record
+        frame = frame.rename(columns={"response_N": "force_N"})
     for column in ("time_s", "force_N"):
         if column not in frame.columns:
-            raise InputError(column, f"column missing (found: {', '.join(frame.columns)})", source)
+            also = " (or response_N, as `debrisfoam analytical response --out` writes)" if column == "force_N" else ""
+            raise InputError(column, f"column missing{also} (found: {', '.join(frame.columns)})", source)
     arrays = {}
     for column in ("time_s", "force_N"):
         values = pd.to_numeric(frame[column], errors="coerce").to_numpy(dtype=float)

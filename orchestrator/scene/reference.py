@@ -2,7 +2,7 @@
 
 `debrisfoam schema [KEY]` prints it; `make scene-doc` writes docs/scene.md from it, and a test
 checks that the committed page is what this module writes, so the reference cannot drift
-from the code. `debrisfoam scenes` lists the shipped example scenes (:func:`shipped_scenes`).
+from the code. The shipped scenes are :mod:`orchestrator.scene.shipped`'s.
 """
 
 from __future__ import annotations
@@ -10,17 +10,14 @@ from __future__ import annotations
 import types
 import typing
 from dataclasses import dataclass
-from pathlib import Path
 
-import yaml
 from pydantic import BaseModel
 from pydantic_core import PydanticUndefined
 
 from analytical.errors import InputError
-from orchestrator.core.files import bundled_dir
 from orchestrator.scene.schema import DebrisBody, DebrisLayout, Scene
 
-__all__ = ["SchemaRow", "markdown", "schema_rows", "scenes_dir", "shipped_scenes"]
+__all__ = ["SchemaRow", "markdown", "schema_rows"]
 
 _SYMBOLS = {"gt": ">", "ge": ">=", "lt": "<", "le": "<="}
 
@@ -155,24 +152,3 @@ def markdown(rows: list[SchemaRow]) -> str:
         lines.append(f"| {key} | {r.type.replace('|', '/')} | {r.default.replace('|', '/')} | {r.range} | "
                      f"{r.description.replace('|', '/')} |")
     return "\n".join(lines) + "\n"
-
-
-def scenes_dir() -> Path:
-    """The shipped example scenes: the repository's cases/, or the installed package's scenes/."""
-    return bundled_dir("scenes", "cases")
-
-
-def shipped_scenes() -> list[tuple[Path, str]]:
-    """(path, one-line description) of every shipped scene (sweep files excluded)."""
-    root = scenes_dir()
-    out = []
-    for path in sorted(root.rglob("*.yaml")):
-        if "sweeps" in path.relative_to(root).parts:
-            continue
-        try:
-            data = yaml.safe_load(path.read_text()) or {}
-        except yaml.YAMLError:
-            data = {}
-        text = data.get("description") if isinstance(data, dict) else None
-        out.append((path, " ".join(str(text).split()) if text else "(extends " + str(data.get("extends", "?")) + ")"))
-    return out

@@ -34,6 +34,9 @@ def read_yaml(path: str | Path, field: str) -> Any:
     (:mod:`orchestrator.scene.yamltext`). Every scene and sweep file is read here."""
     try:
         raw = Path(path).read_bytes()
+    except FileNotFoundError:
+        raise InputError(field, "no such file, nor a shipped scene or sweep of that name (`debrisfoam scenes` "
+                                "lists them)", str(path)) from None
     except OSError as err:
         raise InputError(field, f"cannot read the file: {err.strerror or err}", str(path)) from None
     return load_yaml(decode_text(raw, field, str(path)), field, str(path))

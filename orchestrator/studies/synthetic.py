@@ -176,7 +176,8 @@ def _save(fig, path: Path) -> None:
 
 
 def figure7(results: dict[str, list[RecordAnalysis]]):
-    """Peak modelled vs peak measured base shear, a panel per variant on shared scales, one legend."""
+    """Peak modelled vs peak synthetic-record base shear (the records stand in for the measured ones), a
+    panel per variant on shared scales, one legend."""
     plt = _pyplot()
     markers = {"asce_kd": "s", "asce_ks": "D", "sdof": "^", "sdof_column_mass": "v", "mdof": "o"}
     fig, axes = plt.subplots(1, len(results), figsize=(_WIDTH_IN, 4.9), squeeze=False, sharex=True, sharey=True,

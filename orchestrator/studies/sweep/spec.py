@@ -20,7 +20,6 @@ before a single case is rendered. A member's id is a short hash of its resolved 
 
 from __future__ import annotations
 
-import hashlib
 import itertools
 import json
 import os
@@ -31,12 +30,11 @@ from typing import Any
 
 from analytical.errors import DebrisfoamError, InputError
 from orchestrator.core.jsonio import json_default
+from orchestrator.plan.identity import ID_LENGTH, case_key
 from orchestrator.plan.planner import ModelPlan, estimate_wall_time_s, plan_case
 from orchestrator.scene.scenefile import load_scene, read_yaml, scene_to_dict
-from orchestrator.scene.schema import Scene, Transport
+from orchestrator.scene.schema import Scene
 
-#: Length of a member id (hex digits of the SHA-256 of the resolved scene).
-ID_LENGTH = 12
 #: The executors a sweep runs on.
 EXECUTORS = ("local", "dask")
 
@@ -44,16 +42,6 @@ _SWEEP_KEYS = ("name", "description", "base", "scenes", "set", "mode", "axes", "
 _EXECUTOR_KEYS = ("kind", "workers", "scheduler")
 _MODES = ("grid", "zip")
 _NAME_RE = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]*$")
-
-#: scene keys added after member ids were first issued, with the value they are not hashed at,
-#: so that adding a key leaves the ids of existing members, and their finished runs, as they were.
-#: run.debris_coupling is left out only for a scene without debris: with debris, its default
-#: (auto) now picks one-way where a member hashed before it ran two-way, so the id must change.
-LATE_KEYS = ((("run", "max_delta_t_s"), None), (("run", "stall_limit_s"), None), (("run", "water_balance_limit"), None),
-             (("outputs", "flow_record_hz"), 50.0))
-#: scene sections added after member ids were first issued: hashed only when not at their defaults
-LATE_SECTIONS = {"transport": Transport().model_dump(mode="json")}
-
 
 class SweepMemberError(InputError):
     """A member of a sweep is bad input: names the sweep file, the member and the field."""
@@ -125,18 +113,11 @@ def default_sweep_dir(sweep: Sweep | str | Path) -> Path:
     return Path("runs") / "sweeps" / name
 
 
-def member_id(scene: Scene) -> str:
-    """A short hash of the resolved scene (canonical JSON): the same scene, the same id."""
-    data = scene_to_dict(scene)
-    late = LATE_KEYS + (((("run", "debris_coupling"), "auto"),) if not scene.debris else ())
-    for (section, key), unhashed in late:
-        if isinstance(data.get(section), dict) and key in data[section] and data[section][key] == unhashed:
-            data[section].pop(key)
-    for section, default in LATE_SECTIONS.items():
-        if data.get(section) == default:
-            data.pop(section)
-    text = json.dumps(data, sort_keys=True, separators=(",", ":"), default=json_default)
-    return hashlib.sha256(text.encode()).hexdigest()[:ID_LENGTH]
+def member_id(scene: Scene, coupling: str | None = None) -> str:
+    """The member's id: the first :data:`ID_LENGTH` hex digits of its case key
+    (:func:`orchestrator.plan.identity.case_key`, the one answer to "is this the same case?"),
+    for a case of ``coupling`` (None: as the scene plans)."""
+    return case_key(scene, coupling)[:ID_LENGTH]
 
 
 # --------------------------------------------------------------------------- the file's fields
@@ -297,7 +278,7 @@ def _expand_members(source: str, bases: tuple[Path, ...], common: tuple[str, ...
         scene, plan = _scene_and_plan(source, base, [*common, *axis_overrides], where)
         resolved = scene_to_dict(scene)
         params = {k: (_resolved_value(resolved, k, v) if k != "scene" else v) for k, v in params.items()}
-        mid = member_id(scene)
+        mid = member_id(scene, plan.debris_coupling)
         if mid in seen:
             first = members[seen[mid] - 1]
             raise SweepMemberError(source, *where, InputError(

@@ -1,0 +1,79 @@
+"""Is this the same case? One answer, for a case folder being resumed and for a sweep's members.
+
+A case's inputs are its resolved scene (:func:`orchestrator.scene.scenefile.scene_to_dict`: layouts
+expanded, defaults filled in) as canonical JSON, less two kinds of keys that cannot change what
+the case computes:
+
+* keys the case's coupling never reads (:data:`ONE_WAY_ONLY`): a two-way or no-debris case
+  ignores the one-way transport and the flow record's rate, so changing their defaults leaves a
+  finished coupled run the same case;
+* keys added to the scene after runs were made, at the value that means "as before the key
+  existed" (:data:`LATE_KEYS`, :data:`LATE_SECTIONS`): adding a key leaves existing cases, and the
+  ids of existing sweep members, as they were.
+
+:func:`case_key` hashes those inputs (a sweep member's id is its first :data:`ID_LENGTH` hex
+digits); :func:`same_case` compares two scenes by it. ``debrisfoam case`` resumes a folder only
+when :func:`same_case` says its scene.yaml is the scene asked for.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+
+from orchestrator.core.jsonio import json_default
+from orchestrator.scene.scenefile import scene_to_dict
+from orchestrator.scene.schema import Scene, Transport
+
+__all__ = ["ID_LENGTH", "LATE_KEYS", "LATE_SECTIONS", "ONE_WAY_ONLY", "case_inputs", "case_key", "same_case"]
+
+#: Length of a sweep member's id (hex digits of :func:`case_key`).
+ID_LENGTH = 12
+#: What only a one-way case reads: a section (None: all of it) or some of its keys.
+ONE_WAY_ONLY = {"transport": None, "outputs": ("flow_record_hz",)}
+#: Scene keys added after the first runs, with the value they are left out at. run.debris_coupling
+#: is left out (at auto) only for a scene without debris: with debris, auto picks one-way where a
+#: case made before it ran two-way, so it must count.
+LATE_KEYS = ((("run", "max_delta_t_s"), None), (("run", "stall_limit_s"), None), (("run", "water_balance_limit"), None),
+             (("outputs", "flow_record_hz"), 50.0))
+#: Scene sections added after the first runs: left out when at their defaults.
+LATE_SECTIONS = {"transport": Transport().model_dump(mode="json")}
+
+
+def _coupling(scene: Scene) -> str:
+    from orchestrator.plan.planner import plan_case
+
+    return plan_case(scene, scene.name).debris_coupling
+
+
+def case_inputs(scene: Scene, coupling: str | None = None) -> dict:
+    """The resolved scene as the identity of a case's inputs (module notes). ``coupling`` is the
+    case's (plan.json's ``debris_coupling``); None plans the scene to find it."""
+    coupling = _coupling(scene) if coupling is None else coupling
+    data = scene_to_dict(scene)
+    if coupling != "one-way":
+        for section, keys in ONE_WAY_ONLY.items():
+            if keys is None:
+                data.pop(section, None)
+            elif isinstance(data.get(section), dict):
+                data[section] = {k: v for k, v in data[section].items() if k not in keys}
+    late = LATE_KEYS + (((("run", "debris_coupling"), "auto"),) if not scene.debris else ())
+    for (section, key), unhashed in late:
+        if isinstance(data.get(section), dict) and key in data[section] and data[section][key] == unhashed:
+            data[section].pop(key)
+    for section, default in LATE_SECTIONS.items():
+        if data.get(section) == default:
+            data.pop(section)
+    return data
+
+
+def case_key(scene: Scene, coupling: str | None = None) -> str:
+    """SHA-256 (hex) of :func:`case_inputs` as canonical JSON: the same inputs, the same key."""
+    text = json.dumps(case_inputs(scene, coupling), sort_keys=True, separators=(",", ":"), default=json_default)
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def same_case(a: Scene, b: Scene, coupling: str | None = None) -> bool:
+    """Do ``a`` and ``b`` make the same case (for a case of ``coupling``, None: ``a``'s plan's)?"""
+    coupling = _coupling(a) if coupling is None else coupling
+    return case_key(a, coupling) == case_key(b, coupling)
