@@ -363,6 +363,13 @@ class Transport(SceneSection):
     sub_volumes: tuple[int, int, int] = Field(
         (5, 3, 3), description="sub-volumes along the body's length, width and height over which the water is "
         "sampled, so that heave, pitch and roll answer the surface across the body")
+    drag_area: Literal["projected", "per_axis"] = Field(
+        "projected", description="projected: drag along the water's motion past the body, on the box's area seen "
+        "along it (a bluff body); per_axis: on each body axis with that axis's face (the cross-flow principle of "
+        "slender bodies, which pushes a yawed box sideways)")
+    munk_moment: bool = Field(
+        True, description="the yaw and pitch moment of the body's anisotropic added mass as it moves through the "
+        "water, -U x (A U) (Newman 1977): it turns an elongated body broadside to its motion through the water")
 
     @field_validator("sub_volumes")
     @classmethod
