@@ -89,13 +89,13 @@ FREE_STREAM_BOX_DRAG_COEFFICIENT = 1.05
 """A box face-on in steady, unbounded flow: Hoerner (1965) ch. 3 gives about 1.05 for a cube and
 1.0-1.2 for rectangular blocks."""
 
-DEFAULT_DRAG_COEFFICIENT = 3.0
-"""The effective C_d of a floating container carried by a dam-break bore, applied on each body
-axis: calibrated so that one-way transport reproduces the coupled (overset six-DoF) run of the
-same container in the same bore (docs/one-way.md, "Calibrated against the coupled run"). The
-container fills about half of the bore's depth, and the water piles up against it; the free-stream
-value (:data:`FREE_STREAM_BOX_DRAG_COEFFICIENT`) leaves it 0.38 m behind the coupled one at its
-strike."""
+DEFAULT_DRAG_COEFFICIENT = FREE_STREAM_BOX_DRAG_COEFFICIENT
+"""The C_d of a box on the area it shows the relative flow: Hoerner's free-stream value, not a
+fitted one. With the box's own added mass (a container carries 0.28 of its displaced water
+lengthwise, not 1.0) it carries the study's container to the column at the speed a C_d of 3.0
+gave (1.36 against 1.39 m/s, 0.10 s later: docs/one-way.md, "The drag coefficient"); 3.0 stood
+in for the inertia an isotropic C_a = 1 added, since afloat the forcing identifies only
+C_d / (1 + C_a)."""
 
 DEFAULT_ADDED_MASS_COEFFICIENT = None
 """None: each box's own added mass along and about its axes at its current draft
