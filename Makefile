@@ -12,7 +12,7 @@ COUPLING ?=
 OUT      ?= runs/1debris$(if $(COUPLING),-$(COUPLING),)
 CASE_SET := $(if $(CELL),--set mesh.cell_size_m=$(CELL),) $(if $(COUPLING),--set run.debris_coupling=$(COUPLING),)
 
-.PHONY: help venv openfoam test test-fast docs-check case-1debris case-layouts results-layouts compare-coupling sweep speed-error speed-error-debris stability synthetic-study contact-law results-1debris ensemble-1debris scene-doc bench bench-transport clean
+.PHONY: forcing-variants help venv openfoam test test-fast docs-check case-1debris case-layouts results-layouts compare-coupling sweep speed-error speed-error-debris stability synthetic-study contact-law results-1debris ensemble-1debris scene-doc bench bench-transport clean
 
 help:
 	@echo "make venv                   the Python environment only (.venv, the package installed editable)"
@@ -33,6 +33,7 @@ help:
 	@echo "make contact-law            calibrate the contact law on Table 1, check it on Table 2 (docs/results/contact-law/)"
 	@echo "make bench                  benchmarks (figures go to benchmarks/*.md)"
 	@echo "make bench-transport        one-way transport and ensemble benchmarks (benchmarks/transport.md, ensemble.md)"
+	@echo "make forcing-variants       after make case-1debris: the one-way forcing's variants through its record (benchmarks/forcing_variants.md)"
 
 venv: $(STAMP)
 $(STAMP): pyproject.toml
@@ -164,3 +165,9 @@ bench-transport: venv openfoam
 
 clean:
 	rm -rf $(VENV) .pytest_cache build *.egg-info
+
+# After make case-1debris: the container through its flow record under each forcing variant
+# (drag per axis or along the flow, the Munk moment, three drag coefficients), the table
+# docs/one-way.md quotes.
+forcing-variants: venv
+	$(PY) benchmarks/forcing_variants.py $(OUT) -o benchmarks/forcing_variants.md

@@ -80,6 +80,7 @@ __all__ = [
     "drag_time_constant",
     "heave_period",
     "hydro_loads",
+    "munk_moment",
     "sub_volumes",
     "submerged_fraction",
 ]
@@ -88,17 +89,22 @@ FREE_STREAM_BOX_DRAG_COEFFICIENT = 1.05
 """A box face-on in steady, unbounded flow: Hoerner (1965) ch. 3 gives about 1.05 for a cube and
 1.0-1.2 for rectangular blocks."""
 
-DEFAULT_DRAG_COEFFICIENT = 3.0
-"""The effective C_d of a floating container carried by a dam-break bore, applied on each body
-axis: calibrated so that one-way transport reproduces the coupled (overset six-DoF) run of the
-same container in the same bore (docs/one-way.md, "Calibrated against the coupled run"). The
-container fills about half of the bore's depth, and the water piles up against it; the free-stream
-value (:data:`FREE_STREAM_BOX_DRAG_COEFFICIENT`) leaves it 0.38 m behind the coupled one at its
-strike."""
+DEFAULT_DRAG_COEFFICIENT = FREE_STREAM_BOX_DRAG_COEFFICIENT
+"""The C_d of a box on the area it shows the relative flow: Hoerner's free-stream value, not a
+fitted one. With the box's own added mass (a container carries 0.28 of its displaced water
+lengthwise, not 1.0) it carries the study's container to the column at the speed a C_d of 3.0
+gave (1.36 against 1.39 m/s, 0.10 s later: docs/one-way.md, "The drag coefficient"); 3.0 stood
+in for the inertia an isotropic C_a = 1 added, since afloat the forcing identifies only
+C_d / (1 + C_a)."""
 
 DEFAULT_ADDED_MASS_COEFFICIENT = None
 """None: each box's own added mass along and about its axes at its current draft
 (:func:`added_mass_table`, :mod:`analytical.added_mass`), not one value on every axis."""
+
+DRAG_AREAS = ("projected", "per_axis")
+"""How drag meets a box: ``projected`` (the default), along the relative flow on the box's
+area projected normal to it; ``per_axis``, on each body axis with that axis's face (the
+cross-flow principle of slender bodies: a yawed box then 'sails' sideways)."""
 
 ADDED_MASS_TABLE_POINTS = 41
 """Submerged fractions (0 to 1 of the box's volume) at which :func:`added_mass_table` tabulates
@@ -120,8 +126,13 @@ class HydroCoefficients:
     drag_coefficient: float = DEFAULT_DRAG_COEFFICIENT
     added_mass_coefficient: float | None = DEFAULT_ADDED_MASS_COEFFICIENT
     sub_volumes: tuple[int, int, int] = (5, 3, 3)
+    drag_area: str = "projected"
+    munk_moment: bool = True
 
     def __post_init__(self):
+        if self.drag_area not in DRAG_AREAS:
+            raise InputError("hydro.drag_area", f"must be one of {DRAG_AREAS}, got {self.drag_area!r}")
+        object.__setattr__(self, "munk_moment", bool(self.munk_moment))
         object.__setattr__(self, "water_density_kg_m3",
                            require_positive("hydro.water_density_kg_m3", self.water_density_kg_m3))
         object.__setattr__(self, "gravity_m_s2", require_positive("hydro.gravity_m_s2", self.gravity_m_s2))
@@ -273,19 +284,46 @@ def hydro_loads(
         along = np.einsum("bji,bnj->bni", rot, accel) * ratio[:, None, :]
         total = accel + np.einsum("bij,bnj->bni", rot, along)
         force += rho * wet_volume[..., None] * total
+        arm = pts - com[:, None, :]
+        point_velocity = vel[:, None, :] + _cross(omega[:, None, :], arm)
+        water = np.where(wet[..., None], np.asarray(water_velocity_m_s, float), 0.0)
+        rel = water - point_velocity  # (B, N, 3) world: the water past the body
+        rel_body = np.einsum("bji,bnj->bni", rot, rel)  # R^T rel
         if c.drag_coefficient > 0.0:
-            arm = pts - com[:, None, :]
-            point_velocity = vel[:, None, :] + _cross(omega[:, None, :], arm)
-            water = np.where(wet[..., None], np.asarray(water_velocity_m_s, float), 0.0)
-            rel = water - point_velocity  # (B, N, 3) world
-            rel_body = np.einsum("bji,bnj->bni", rot, rel)  # R^T rel
             area = np.stack([size[:, 1] * size[:, 2], size[:, 0] * size[:, 2], size[:, 0] * size[:, 1]], axis=1)
             speed = np.linalg.norm(rel, axis=2)  # (B, N)
-            drag_body = (0.5 * rho * c.drag_coefficient) * (area[:, None, :] / n_pts) * \
-                (frac * speed)[..., None] * rel_body
+            if c.drag_area == "projected":
+                # the box's area seen along the relative flow: sum_k A_k |w_k| / |w|
+                seen = np.einsum("bk,bnk->bn", area, np.abs(rel_body))  # A_p |w|
+                drag_body = (0.5 * rho * c.drag_coefficient / n_pts) * (frac * seen)[..., None] * rel_body
+            else:
+                drag_body = (0.5 * rho * c.drag_coefficient) * (area[:, None, :] / n_pts) * \
+                    (frac * speed)[..., None] * rel_body
             force += np.einsum("bij,bnj->bni", rot, drag_body)
     moment = _cross(pts - com[:, None, :], force).sum(axis=1)
+    if c.munk_moment and np.any(wet):
+        moment += munk_moment(rot, rel_body, wet_volume, added_mass)
     return HydroLoads(force.sum(axis=1), moment, sub, added_mass, frac, added_inertia)
+
+
+def munk_moment(orientation, water_past_body, wet_volume, added_mass_kg) -> np.ndarray:
+    """The Munk moment (N m, world frame, (B, 3)) of B boxes translating through water.
+
+    A body with the added masses ``A = diag(A_x, A_y, A_z)`` along its axes moving at ``U``
+    relative to the water (body frame) takes the moment ``M = -U x (A U)`` (Kirchhoff's
+    equations in steady translation; Newman 1977, Marine Hydrodynamics, sec. 4.13): for a
+    container (``A_y > A_x``) moving at an angle to its length it is ``-(A_y - A_x) U_x U_y``
+    about the vertical, which turns it broadside to its motion through the water. ``U`` is the
+    volume-weighted mean over the wet sub-volumes of the body's velocity relative to the water
+    there (``water_past_body`` (B, N, 3) is the water's velocity relative to the body in the
+    body frame; ``U`` is its negative, and the moment is even in ``U``).
+    """
+    volume = np.asarray(wet_volume, float)
+    total = volume.sum(axis=1)
+    u = np.einsum("bn,bni->bi", volume, np.asarray(water_past_body, float))
+    u = np.divide(u, total[:, None], out=np.zeros_like(u), where=total[:, None] > 0)
+    body = -_cross(u, np.asarray(added_mass_kg, float) * u)
+    return np.einsum("bij,bj->bi", np.asarray(orientation, float), body)
 
 
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:

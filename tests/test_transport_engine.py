@@ -80,7 +80,7 @@ def test_on_a_sloped_surface_a_thin_box_tilts_with_it():
 def test_in_a_uniform_current_a_floating_box_drifts_up_to_the_current_speed():
     """(m + m_a) dv/dt = 0.5 rho C_d A (U - v)^2 from rest: v = U (t/tau) / (1 + t/tau), tau =
     (m + m_a) / (0.5 rho C_d A U) (A = width x draft, m_a the plate's own surge added mass,
-    0.05 kg; 0.30 s at the default C_d = 3). Expected v(tau) = U/2 and v(2 tau) = 2U/3 within 5 %."""
+    0.05 kg; 0.86 s at the default C_d = 1.05). Expected v(tau) = U/2 and v(2 tau) = 2U/3 within 5 %."""
     U = 0.5
     flow = FlowField.uniform_current(0.1, U, x_m=(-1.0, 3.0), y_m=(-0.5, 0.5), t_s=(0.0, 10.0))
     run = run_transport([TransportBody("plate", centre_m=(-0.8, 0.0, 0.1), **PLATE)], FLUME, 3.2, flow)

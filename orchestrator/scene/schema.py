@@ -347,14 +347,14 @@ class Outputs(SceneSection):
 class Transport(SceneSection):
     """The hydrodynamic forcing of one-way transport (run.debris_coupling one-way: the bodies
     carried through the recorded flow; docs/one-way.md). Each body is split into sub-volumes; each
-    submerged one takes buoyancy, the water's inertia (Froude-Krylov and added mass, (1 + C_a) rho V
-    Du/Dt) and drag."""
+    submerged one takes buoyancy, the water's inertia (Froude-Krylov and the box's own added mass
+    along its axes), drag along the water's motion past it, and the Munk moment of its
+    anisotropic added mass."""
 
     drag_coefficient: float = Field(
-        DEFAULT_DRAG_COEFFICIENT, ge=0, le=5, description="C_d of a body face-on to the relative flow, on each "
-        "body axis; 0 switches drag off. The default is calibrated so that one-way transport reproduces the coupled "
-        "run of the study's container in its bore (docs/one-way.md); in unbounded flow a box face-on has about 1.05 "
-        "(a cube) to 1.0-1.2 (blocks), Hoerner 1965")
+        DEFAULT_DRAG_COEFFICIENT, ge=0, le=5, description="C_d of a body on the area it shows the water moving "
+        "past it (transport.drag_area); 0 switches drag off. The default is Hoerner's (1965, ch. 3) free-stream "
+        "value for a box face-on, 1.05 (a cube; rectangular blocks 1.0-1.2), not a fitted one (docs/one-way.md)")
     added_mass_coefficient: float | None = Field(
         DEFAULT_ADDED_MASS_COEFFICIENT, ge=0, le=5, description="C_a of the submerged volume on every body axis, "
         "added to the water's inertia force and to the body's inertia; null (the default): each box's own along "
@@ -363,6 +363,13 @@ class Transport(SceneSection):
     sub_volumes: tuple[int, int, int] = Field(
         (5, 3, 3), description="sub-volumes along the body's length, width and height over which the water is "
         "sampled, so that heave, pitch and roll answer the surface across the body")
+    drag_area: Literal["projected", "per_axis"] = Field(
+        "projected", description="projected: drag along the water's motion past the body, on the box's area seen "
+        "along it (a bluff body); per_axis: on each body axis with that axis's face (the cross-flow principle of "
+        "slender bodies, which pushes a yawed box sideways)")
+    munk_moment: bool = Field(
+        True, description="the yaw and pitch moment of the body's anisotropic added mass as it moves through the "
+        "water, -U x (A U) (Newman 1977): it turns an elongated body broadside to its motion through the water")
 
     @field_validator("sub_volumes")
     @classmethod

@@ -78,7 +78,8 @@ def scene_settings(scene: Scene, settings: TransportSettings | None = None) -> T
     settings = TransportSettings() if settings is None else settings
     hydro = dataclasses.replace(settings.hydro, drag_coefficient=scene.transport.drag_coefficient,
                                 added_mass_coefficient=scene.transport.added_mass_coefficient,
-                                sub_volumes=tuple(scene.transport.sub_volumes))
+                                sub_volumes=tuple(scene.transport.sub_volumes),
+                                drag_area=scene.transport.drag_area, munk_moment=scene.transport.munk_moment)
     return dataclasses.replace(settings, hydro=hydro)
 
 
