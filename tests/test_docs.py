@@ -188,7 +188,7 @@ def _stated_cell_counts(page: Path) -> list[int]:
 @pytest.fixture(scope="module")
 def planned_1debris_cells():
     from orchestrator.plan.planner import plan_case
-    from orchestrator.scene.reference import scenes_dir
+    from orchestrator.scene.shipped import scenes_dir
     from orchestrator.scene.scenefile import load_scene
 
     scene = scenes_dir() / "1debris.yaml"
