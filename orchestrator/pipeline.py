@@ -20,7 +20,8 @@ from analytical.errors import InputError
 from orchestrator.case import foam
 from orchestrator.case.folder import CaseFolder
 from orchestrator.case.render import render_case
-from orchestrator.plan.identity import same_case
+from orchestrator.plan.identity import same_case, same_flow
+from orchestrator.scene.scenefile import dump_scene_yaml
 from orchestrator.plan.planner import plan_case
 from orchestrator.plan.resources import Demand, check_resources
 from orchestrator.report.postprocess import post_case
@@ -72,6 +73,8 @@ def prepare_case(scene_path: str | Path, out_dir: str | Path, sets: Sequence[str
     if out.is_dir() and any(out.iterdir()):
         if holds_case(out, scene):
             return out, False
+        if _retransport(out, scene, sets):
+            return out, False
         raise InputError(
             "-o/--out",
             f"{out} already holds a different case (its scene.yaml differs from {scene_path} with these "
@@ -79,6 +82,30 @@ def prepare_case(scene_path: str | Path, out_dir: str | Path, sets: Sequence[str
         )
     render_from_file(scene_path, out, list(sets), confirmed=confirmed)
     return out, True
+
+
+def _retransport(case: Path, scene, sets: Sequence[str]) -> bool:
+    """A one-way case whose flow is the scene's and whose transport section is not: take the
+    scene's transport section into its scene.yaml and forget its transport record, so that
+    the bodies are carried again through the recorded flow (:func:`carry_debris`). False when
+    the folder is not such a case."""
+    folder = CaseFolder(case)
+    if (folder.plan() or {}).get("debris_coupling") != "one-way" or not folder.scene_path.is_file():
+        return False
+    try:
+        existing = load_scene(folder.scene_path)
+    except InputError:
+        return False
+    if not same_flow(existing, scene):
+        return False
+    folder.write_scene_yaml(dump_scene_yaml(existing.model_copy(update={"transport": scene.transport}), list(sets)))
+    run = folder.run_record() or {}
+    if run.pop("transport", None) is not None:
+        run.pop("transport_wall_s", None)
+        folder.write_run_record(run)
+    print(f"debrisfoam: {case}: the transport settings changed; the bodies are carried again through its "
+          "recorded flow", file=sys.stderr, flush=True)
+    return True
 
 
 def run_full_case(scene_path: str | Path, out_dir: str | Path | None = None, sets: Sequence[str] = (),

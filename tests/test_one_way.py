@@ -130,3 +130,24 @@ def test_the_record_ends_are_walls_only_where_the_flume_has_them():
     closed = load_scene(ROOT / "cases" / "1debris.yaml", ["flume.downstream_end=closed"])
     assert open_record_ends(closed, (back + 0.02, end - 0.02), 0.04) == (False, False)
     assert open_record_ends(closed, (back + 0.02, 6.2), 0.04) == (False, True)
+
+
+def test_a_changed_transport_section_carries_the_bodies_again_through_the_same_flow(tmp_path):
+    """A rendered one-way case asked for again with other transport settings is the same flow:
+    it is resumed, its scene.yaml takes the new transport section and its transport record is
+    forgotten (so the bodies are carried again); another flow setting is a different case."""
+    from analytical.errors import InputError
+    from orchestrator.case.folder import CaseFolder
+    from orchestrator.pipeline import prepare_case
+
+    case, rendered = prepare_case(SCENE, tmp_path / "case")
+    assert rendered
+    folder = CaseFolder(case)
+    folder.write_run_record({"transport": {"wall_s": 1.0}, "transport_wall_s": 1.0, "status": "finished"})
+    again, rendered = prepare_case(SCENE, case, ["transport.drag_coefficient=2.5", "transport.munk_moment=false"])
+    assert again == case and not rendered
+    scene = load_scene(folder.scene_path)
+    assert (scene.transport.drag_coefficient, scene.transport.munk_moment) == (2.5, False)
+    assert "transport" not in folder.run_record() and folder.run_record()["status"] == "finished"
+    with pytest.raises(InputError, match="different case"):
+        prepare_case(SCENE, case, ["reservoir.depth_m=0.3"])

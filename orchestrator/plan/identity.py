@@ -25,7 +25,8 @@ from orchestrator.core.jsonio import json_default
 from orchestrator.scene.scenefile import scene_to_dict
 from orchestrator.scene.schema import Scene, Transport
 
-__all__ = ["ID_LENGTH", "LATE_KEYS", "LATE_SECTIONS", "ONE_WAY_ONLY", "case_inputs", "case_key", "same_case"]
+__all__ = ["ID_LENGTH", "LATE_KEYS", "LATE_SECTIONS", "ONE_WAY_ONLY", "case_inputs", "case_key", "same_case",
+           "same_flow"]
 
 #: Length of a sweep member's id (hex digits of :func:`case_key`).
 ID_LENGTH = 12
@@ -77,3 +78,10 @@ def same_case(a: Scene, b: Scene, coupling: str | None = None) -> bool:
     """Do ``a`` and ``b`` make the same case (for a case of ``coupling``, None: ``a``'s plan's)?"""
     coupling = _coupling(a) if coupling is None else coupling
     return case_key(a, coupling) == case_key(b, coupling)
+
+
+def same_flow(a: Scene, b: Scene) -> bool:
+    """Do ``a`` and ``b`` make the same one-way flow, whatever their transport sections? The
+    bodies are carried through a recorded flow afterwards, so a changed ``transport`` section
+    re-carries them through the same record instead of running the flow again."""
+    return same_case(a, b.model_copy(update={"transport": a.transport}), "one-way")
