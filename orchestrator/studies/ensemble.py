@@ -47,9 +47,18 @@ the water level the engine read beside the face; about 0.27 s of CPU a strike, a
 20 ms for the law's pulse), and :func:`summarise` sets the first strikes against the study's
 22 with Welch's test (docs/ensembles.md, "Beside the study, like for like").
 
+Batches
+-------
+:func:`run_realisations` carries ``batch_size`` realisations in one MuJoCo model
+(:mod:`orchestrator.transport.batch`: no contact pair between realisations), so the engine's
+per-step work is paid once for all of them; the table is the one-at-a-time one for the same
+seeds (tests/test_ensemble.py). ``study_fit`` False leaves the study's fit out (a design-scale
+ensemble reads the law's pulse; the fit is the like-for-like comparison's and costs more than
+the batched transport of a realisation).
+
 Executors
 ---------
-``local``: a process pool (``fork``, so the workers share the parent's FlowField without
+Each task is one batch. ``local``: a process pool (``fork``, so the workers share the parent's FlowField without
 copying or pickling it), ``workers`` processes (default: the machine's cores); one worker runs in
 this process. Processes, not threads: the engine steps MuJoCo from a Python loop (forcing,
 contact bookkeeping, array copies every step) that holds the GIL most of the time, so threads
