@@ -161,6 +161,55 @@ def test_the_table_holds_each_bodys_first_strike_and_its_pulse(current):
     pd.testing.assert_frame_equal(pooled_table.drop(columns=timings), table.drop(columns=timings))
 
 
+def _rows(runs) -> pd.DataFrame:
+    return pd.DataFrame([row for r in runs for row in r.rows], columns=TABLE_COLUMNS)
+
+
+def test_batched_realisations_give_the_one_at_a_time_table(current):
+    """Realisations stepped together in one model (batches of 4: one of 4 and one of 2) against
+    one model each, for the same seeds: the same strikes, first strikes to rounding."""
+    flow, npz = current
+    starts = ensemble_starts([container()], FLUME, COLUMN, Perturbation(), seed=4, n=6)
+    alone = _rows(run_ensemble(starts, FLUME, COLUMN, 1.3, flow, npz, "local", workers=1, batch_size=1,
+                               study_fit=False))
+    batched = _rows(run_ensemble(starts, FLUME, COLUMN, 1.3, flow, npz, "local", workers=1, batch_size=4,
+                                 study_fit=False))
+    assert alone["struck"].sum() >= 3  # the comparison compares strikes
+    assert list(batched["struck"]) == list(alone["struck"]) and list(batched["body"]) == ["debris1"] * 6
+    first = ["impact_time_s", "impact_velocity_m_s", "impact_speed_m_s", "impact_height_m", "peak_force_N",
+             "duration_s", "impulse_Ns", "peak_base_shear_N", "face_water_level_m"]
+    # MuJoCo judges its constraint solver's convergence over the whole model, so bodies in
+    # contact at once may differ by its tolerance (about 1e-6 relative on the 1-debris record);
+    # here they agree to rounding. Held well inside the issue's 1 ms and 1 %:
+    np.testing.assert_allclose(batched["impact_time_s"], alone["impact_time_s"], rtol=0, atol=1e-4)
+    np.testing.assert_allclose(batched[first].to_numpy(float), alone[first].to_numpy(float), rtol=1e-4, atol=1e-9)
+    # without the study's fit its columns are empty, the level at the face is still read
+    assert batched["study_fit_peak_N"].isna().all() and batched.loc[batched["struck"], "face_water_level_m"].notna().all()
+    # the rebound sequences after the first strike agree in count (it is chaotic: rounding may
+    # tell apart later strikes, not these short runs' counts)
+    assert list(batched["strikes"]) == list(alone["strikes"])
+
+
+def test_realisations_in_one_model_never_touch_each_other():
+    """Two realisations at the very same start share one model: no contact pair joins them, so
+    each moves as it would alone (here: identical runs); bodies of one realisation keep theirs."""
+    from orchestrator.transport.batch import batch_bodies, run_batch
+    from orchestrator.transport.model import build_model
+
+    pair = [container("a", x=0.6, y=0.1), container("b", x=0.6, y=-0.1)]
+    bodies, groups, _ = batch_bodies([pair, pair, pair])
+    built = build_model(bodies, FLUME, COLUMN, groups=groups)
+    between = built.pair_bodies[built.pair_bodies[:, 1] >= 0]
+    assert sorted(map(tuple, between)) == [(0, 1), (2, 3), (4, 5)]  # within each realisation only
+    assert len(built.pair_bodies) == 6 * 6 + 3  # bed, 4 walls and the column per body
+    start = [container(x=0.6, yaw=10.0)]
+    twins = run_batch([start, start], FLUME, 0.4, column=COLUMN,
+                      settings=TransportSettings(first_pulse_only=True))
+    alone = run_transport(start, FLUME, 0.4, column=COLUMN, settings=TransportSettings(first_pulse_only=True))
+    for result in twins:
+        pd.testing.assert_frame_equal(result.tracks, alone.tracks)
+
+
 def _table(struck_velocities, misses: int) -> pd.DataFrame:
     rows = []
     for i, v in enumerate([*struck_velocities, *[math.nan] * misses]):

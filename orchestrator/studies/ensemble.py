@@ -47,9 +47,18 @@ the water level the engine read beside the face; about 0.27 s of CPU a strike, a
 20 ms for the law's pulse), and :func:`summarise` sets the first strikes against the study's
 22 with Welch's test (docs/ensembles.md, "Beside the study, like for like").
 
+Batches
+-------
+:func:`run_realisations` carries ``batch_size`` realisations in one MuJoCo model
+(:mod:`orchestrator.transport.batch`: no contact pair between realisations), so the engine's
+per-step work is paid once for all of them; the table is the one-at-a-time one for the same
+seeds (tests/test_ensemble.py). ``study_fit`` False leaves the study's fit out (a design-scale
+ensemble reads the law's pulse; the fit is the like-for-like comparison's and costs more than
+the batched transport of a realisation).
+
 Executors
 ---------
-``local``: a process pool (``fork``, so the workers share the parent's FlowField without
+Each task is one batch. ``local``: a process pool (``fork``, so the workers share the parent's FlowField without
 copying or pickling it), ``workers`` processes (default: the machine's cores); one worker runs in
 this process. Processes, not threads: the engine steps MuJoCo from a Python loop (forcing,
 contact bookkeeping, array copies every step) that holds the GIL most of the time, so threads
@@ -85,12 +94,14 @@ from orchestrator.run.runner import run_case
 from orchestrator.scene.schema import Scene
 from orchestrator.scene.scenefile import load_scene
 from orchestrator.studies.sweep.executors import dask_executor
+from orchestrator.transport.batch import run_batch
 from orchestrator.transport.case_transport import case_flow, scene_settings, transport_setup
 from orchestrator.transport.engine import TransportResult, TransportSettings, run_transport
 from orchestrator.transport.flow import FlowField
 from orchestrator.transport.model import FlumeBounds, PlacedColumn, TransportBody
 
 __all__ = [
+    "DEFAULT_BATCH_SIZE",
     "EXECUTORS",
     "TABLE_COLUMNS",
     "TRACK_COLUMNS",
@@ -106,11 +117,16 @@ __all__ = [
     "plan_footprint",
     "run_ensemble",
     "run_realisation",
+    "run_realisations",
     "start_clash",
     "summarise",
 ]
 
 EXECUTORS = ("local", "dask")
+
+DEFAULT_BATCH_SIZE = 32
+"""Realisations carried in one model (:func:`run_realisations`; docs/ensembles.md gives the
+measurement it comes from)."""
 
 TABLE_COLUMNS = [
     "realisation", "body", "start_x_m", "start_y_m", "start_yaw_deg", "struck", "impact_time_s",
@@ -281,10 +297,11 @@ class Realisation:
 
 
 def body_rows(result: TransportResult, bodies: Sequence[TransportBody], realisation: int, wall_s: float,
-              column: PlacedColumn | None = None, bed_z_m: float = 0.0) -> list[dict[str, Any]]:
+              column: PlacedColumn | None = None, bed_z_m: float = 0.0, study_fit: bool = True) -> list[dict[str, Any]]:
     """ensemble.csv's rows of one realisation (:data:`TABLE_COLUMNS`) from its transport: with
     ``column``, each first strike's base shear fitted as the study fitted its records
-    (:func:`first_strike_fit`, ``bed_z_m`` the bed's elevation)."""
+    (:func:`first_strike_fit`, ``bed_z_m`` the bed's elevation; ``study_fit`` False: the water
+    level at the face only, the fit's columns empty)."""
     imp = result.impacts
     on_column = imp[imp["kind"] == "column"].sort_values("time_s", kind="stable") if len(imp) else imp
     rows = []
@@ -303,18 +320,19 @@ def body_rows(result: TransportResult, bodies: Sequence[TransportBody], realisat
                                               float(first["tangential_velocity_in_m_s"]))
                                    if first is not None else math.nan)
         start = time.perf_counter()
-        row.update(first_strike_fit(result, first, column, bed_z_m))
+        row.update(first_strike_fit(result, first, column, bed_z_m, fit=study_fit))
         row["study_fit_wall_s"] = round(time.perf_counter() - start, 4)
         rows.append(row)
     return rows
 
 
-def first_strike_fit(result: TransportResult, first, column: PlacedColumn | None, bed_z_m: float) -> dict[str, Any]:
+def first_strike_fit(result: TransportResult, first, column: PlacedColumn | None, bed_z_m: float,
+                     fit: bool = True) -> dict[str, Any]:
     """The water level at the face and the study's fit of the base shear of a first strike (a
     row of the engine's impacts table, or None): its pulse's base-shear history (what the one-way
     case writes to contacts/eventNNNN-base-shear.csv) fitted at the level the engine read from
     the flow beside the face, else at the contact height
-    (:func:`~orchestrator.results.study_fit.study_fit_figures`)."""
+    (:func:`~orchestrator.results.study_fit.study_fit_figures`); ``fit`` False: the level only."""
     out = {"face_water_level_m": math.nan, "study_fit_height_source": ""}
     pulse = result.pulses.get(int(first["event"])) if first is not None else None
     if pulse is None or pulse.base_shear is None or column is None:
@@ -325,6 +343,8 @@ def first_strike_fit(result: TransportResult, first, column: PlacedColumn | None
         out["face_water_level_m"] = level
     else:
         height, source = float(first["height_m"]), HEIGHT_SOURCES[2]
+    if not fit:
+        return out
     shear = pulse.base_shear
     shear_y = pulse.base_shear_y.response_N if pulse.base_shear_y is not None else None
     normal = (float(first["normal_x"]), float(first["normal_y"]), float(first["normal_z"]))
@@ -346,17 +366,36 @@ def _keep_flow(npz: str, flow: FlowField | None = None) -> FlowField:
 
 
 def run_realisation(number: int, bodies: list[TransportBody], flume: FlumeBounds, column: PlacedColumn | None,
-                    t_end_s: float, npz: str, settings: TransportSettings) -> Realisation:
+                    t_end_s: float, npz: str, settings: TransportSettings, study_fit: bool = True) -> Realisation:
     """Carry one realisation's bodies through the flow of ``npz`` (loaded once per process)."""
     flow = _keep_flow(npz)
     result = run_transport(bodies, flume, t_end_s, flow=flow, column=column, settings=settings)
-    rows = body_rows(result, bodies, number, 0.0, column, flume.bed_z_m)
+    return _realisation(number, result, bodies, column, flume, study_fit)
+
+
+def _realisation(number: int, result: TransportResult, bodies: Sequence[TransportBody], column: PlacedColumn | None,
+                 flume: FlumeBounds, study_fit: bool) -> Realisation:
+    rows = body_rows(result, bodies, number, 0.0, column, flume.bed_z_m, study_fit)
     wall = result.wall_s + result.pulse_wall_s + sum(r["study_fit_wall_s"] for r in rows)
     for r in rows:
         r["wall_time_s"] = round(float(wall), 4)
     tracks = result.tracks[["body", "time_s", "x_m", "y_m", "speed_m_s"]].copy()
     tracks.insert(0, "realisation", number)
     return Realisation(number, rows, tracks, wall)
+
+
+def run_realisations(numbers: Sequence[int], starts: Sequence[list[TransportBody]], flume: FlumeBounds,
+                     column: PlacedColumn | None, t_end_s: float, npz: str, settings: TransportSettings,
+                     study_fit: bool = True) -> list[Realisation]:
+    """Realisations ``numbers`` (their ``starts``) as one batch, one model stepped for all
+    (:func:`~orchestrator.transport.batch.run_batch`); one alone goes through
+    :func:`run_realisation`. Each realisation's wall time is its share of the batch's stepping
+    and pulses plus its own fits."""
+    if len(numbers) == 1:
+        return [run_realisation(numbers[0], list(starts[0]), flume, column, t_end_s, npz, settings, study_fit)]
+    results = run_batch(starts, flume, t_end_s, flow=_keep_flow(npz), column=column, settings=settings)
+    return [_realisation(number, result, bodies, column, flume, study_fit)
+            for number, result, bodies in zip(numbers, results, starts)]
 
 
 # --------------------------------------------------------------------------- the ensemble
@@ -387,42 +426,50 @@ def _open_local(workers: int, npz: str, flow: FlowField):
 def run_ensemble(starts: Sequence[list[TransportBody]], flume: FlumeBounds, column: PlacedColumn | None, t_end_s: float,
                  flow: FlowField, npz: str | Path, executor: str = "local", workers: int | None = None,
                  settings: TransportSettings | None = None,
-                 progress: Callable[[int, int], None] | None = None) -> list[Realisation]:
+                 progress: Callable[[int, int], None] | None = None, batch_size: int = DEFAULT_BATCH_SIZE,
+                 study_fit: bool = True) -> list[Realisation]:
     """Carry every realisation's bodies (``starts``) through ``flow`` (saved as ``npz``, which
-    Dask's workers load) on ``executor`` with ``workers`` at once; ``progress(done, total)``
-    after each; the realisations in order."""
+    Dask's workers load) on ``executor`` with ``workers`` at once, in batches of ``batch_size``
+    realisations a model (:func:`run_realisations`; 1: one model each); ``progress(done,
+    total)`` after each batch; the realisations in order."""
     if executor not in EXECUTORS:
         raise InputError("--executor", f"must be one of {', '.join(EXECUTORS)}, got {executor!r}")
+    if int(batch_size) < 1:
+        raise InputError("--batch-size", f"must be a whole number >= 1, got {batch_size}")
     workers = max(1, int(workers or os.cpu_count() or 1))
     settings = dataclasses.replace(settings or TransportSettings(), first_pulse_only=True)
     npz = str(npz)
     _keep_flow(npz, flow)
-    tasks = [(r, list(bodies), flume, column, float(t_end_s), npz, settings) for r, bodies in enumerate(starts)]
+    size = int(batch_size)
+    tasks = [(list(range(lo, min(lo + size, len(starts)))), [list(b) for b in starts[lo:lo + size]], flume, column,
+              float(t_end_s), npz, settings, study_fit) for lo in range(0, len(starts), size)]
     done: dict[int, Realisation] = {}
 
-    def finished(number: int, future) -> None:
+    def finished(numbers: list[int], future) -> None:
         try:
-            done[number] = future.result()
+            runs = future.result()
         except InputError:
             raise
         except DebrisfoamError as err:
-            raise type(err)(f"realisation {number}: {err}") from err
+            which = f"realisation {numbers[0]}" if len(numbers) == 1 else f"realisations {numbers[0]}-{numbers[-1]}"
+            raise type(err)(f"{which}: {err}") from err
+        done.update((r.number, r) for r in runs)
         if progress is not None:
-            progress(len(done), len(tasks))
+            progress(len(done), len(starts))
 
     if executor == "local" and workers == 1:
         for task in tasks:
-            done[task[0]] = run_realisation(*task)
+            done.update((r.number, r) for r in run_realisations(*task))
             if progress is not None:
-                progress(len(done), len(tasks))
+                progress(len(done), len(starts))
     elif executor == "local":
         with _open_local(workers, npz, flow) as pool:
-            futures = {pool.submit(run_realisation, *task): task[0] for task in tasks}
+            futures = {pool.submit(run_realisations, *task): task[0] for task in tasks}
             for future in concurrent.futures.as_completed(futures):
                 finished(futures[future], future)
     else:
         with dask_executor(workers, None, None) as ex:
-            futures = {ex.submit(run_realisation, *task, key=f"debrisfoam-ensemble-{task[0]}"): task[0]
+            futures = {ex.submit(run_realisations, *task, key=f"debrisfoam-ensemble-{task[0][0]}"): task[0]
                        for task in tasks}
             for future in ex.as_completed(list(futures)):
                 finished(futures[future], future)
@@ -491,11 +538,13 @@ def ensemble_flow(scene_path: str | Path, flow_dir: str | Path, sets: Sequence[s
 def ensemble(scene_path: str | Path, out_dir: str | Path, n: int, seed: int = 0, executor: str = "local",
              sets: Sequence[str] = (), workers: int | None = None, perturbation: Perturbation | None = None,
              settings: TransportSettings | None = None, progress: Callable[[int, int], None] | None = None,
-             quiet: bool = False, say: Callable[[str], None] = print, confirmed: bool = False) -> EnsembleResult:
+             quiet: bool = False, say: Callable[[str], None] = print, confirmed: bool = False,
+             batch_size: int = DEFAULT_BATCH_SIZE, study_fit: bool = True) -> EnsembleResult:
     """``debrisfoam ensemble``: the flow into ``out_dir/flow`` (or reused), ``n`` realisations,
     then ensemble.csv, tracks.csv, ensemble.json and report.md in ``out_dir`` (module notes).
     ``confirmed``: render the flow even over the resource guard's soft limits
-    (:func:`~orchestrator.pipeline.render_from_file`)."""
+    (:func:`~orchestrator.pipeline.render_from_file`). ``batch_size`` realisations share a model
+    (:func:`run_realisations`); ``study_fit`` False leaves the study's fit out (module notes)."""
     from orchestrator.studies.ensemble_report import write_report
 
     if int(n) <= 0:
@@ -504,6 +553,8 @@ def ensemble(scene_path: str | Path, out_dir: str | Path, n: int, seed: int = 0,
         raise InputError("--executor", f"must be one of {', '.join(EXECUTORS)}, got {executor!r}")
     if workers is not None and int(workers) <= 0:
         raise InputError("--workers", f"must be > 0, got {workers}")
+    if int(batch_size) < 1:
+        raise InputError("--batch-size", f"must be a whole number >= 1, got {batch_size}")
     perturbation = perturbation or Perturbation()
     t0 = time.perf_counter()
     out = Path(out_dir)
@@ -516,7 +567,7 @@ def ensemble(scene_path: str | Path, out_dir: str | Path, n: int, seed: int = 0,
     say(f"debrisfoam: {n} realisation(s) of {len(bodies)} bod{'y' if len(bodies) == 1 else 'ies'} over {t_end:g} s "
         f"on {executor}")
     runs = run_ensemble(starts, flume, column, t_end, flow, npz, executor, workers, scene_settings(scene, settings),
-                        progress)
+                        progress, batch_size, study_fit)
     table = pd.DataFrame([row for r in runs for row in r.rows], columns=TABLE_COLUMNS)
     tracks = pd.concat([r.tracks for r in runs], ignore_index=True)[TRACK_COLUMNS]
     summary = summarise(table, int(n), time.perf_counter() - t0)
@@ -525,7 +576,8 @@ def ensemble(scene_path: str | Path, out_dir: str | Path, n: int, seed: int = 0,
                    realisations_wall_s=round(float(summary["wall_time_s"]) - flow_wall_s, 2))
     summary.update(scene=str(scene_path), overrides=list(sets), flow_case=str(case), flow_record=str(npz),
                    end_time_s=t_end, seed=int(seed), executor=executor,
-                   workers=int(workers or os.cpu_count() or 1), perturbation=perturbation.to_dict(),
+                   workers=int(workers or os.cpu_count() or 1), batch_size=int(batch_size), study_fit=bool(study_fit),
+                   perturbation=perturbation.to_dict(),
                    pulses="the first column strike of each body (later strikes counted, without a pulse)")
     files = {"table": out / "ensemble.csv", "tracks": out / "tracks.csv", "summary": out / "ensemble.json"}
     write_text_atomic(files["table"], table.to_csv(index=False, float_format="%.10g"))

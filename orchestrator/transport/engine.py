@@ -179,9 +179,12 @@ class _Forcing:
 
 
 def run_transport(bodies, flume: FlumeBounds, t_end_s: float, flow: FlowField | None = None,
-                  column: PlacedColumn | None = None, settings: TransportSettings | None = None) -> TransportResult:
+                  column: PlacedColumn | None = None, settings: TransportSettings | None = None,
+                  groups=None) -> TransportResult:
     """Carry ``bodies`` (:class:`TransportBody`) through ``flow`` (None: dry) for ``t_end_s``
-    seconds in ``flume`` with ``column``; see the module notes."""
+    seconds in ``flume`` with ``column``; see the module notes. ``groups`` (one label per body,
+    None: one group): only bodies of one group can strike each other
+    (:func:`~orchestrator.transport.model.build_model`)."""
     settings = TransportSettings() if settings is None else settings
     bodies = [b if isinstance(b, TransportBody) else TransportBody(**b) for b in bodies]
     t_end = require_positive("t_end_s", t_end_s)
@@ -201,7 +204,7 @@ def run_transport(bodies, flume: FlumeBounds, t_end_s: float, flow: FlowField | 
             raise InputError("flume.bed_z_m", f"must equal the flow's bed ({flow.bed_z_m} m), got {flume.bed_z_m}")
     built = build_model(bodies, flume, column, gravity_m_s2=gravity,
                         steps_per_contact_period=settings.steps_per_contact_period,
-                        max_timestep_s=settings.max_timestep_s)
+                        max_timestep_s=settings.max_timestep_s, groups=groups)
     m, dt = built.model, built.timestep_s
     d = mujoco.MjData(m)
     for i, b in enumerate(bodies):

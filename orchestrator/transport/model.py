@@ -242,11 +242,18 @@ def _f(values) -> str:
 
 
 def build_model(bodies, flume: FlumeBounds, column: PlacedColumn | None = None, *, gravity_m_s2: float = 9.81,
-                steps_per_contact_period: int = 40, max_timestep_s: float = 1e-3) -> BuiltModel:
-    """The MJCF of the flume, the column and ``bodies`` (:class:`TransportBody`), compiled."""
+                steps_per_contact_period: int = 40, max_timestep_s: float = 1e-3, groups=None) -> BuiltModel:
+    """The MJCF of the flume, the column and ``bodies`` (:class:`TransportBody`), compiled.
+    ``groups`` (one label per body; None: one group) says which bodies can touch: body-body
+    pairs exist only within a group, so bodies of different groups pass through each other
+    (independent realisations in one model, :mod:`~orchestrator.transport.batch`)."""
     bodies = list(bodies)
     if not bodies:
         raise InputError("bodies", "give at least one body")
+    groups = [0] * len(bodies) if groups is None else list(groups)
+    if len(groups) != len(bodies):
+        raise InputError("groups", f"must give one group per body ({len(bodies)}), got {len(groups)}")
+    touching = [(i, j) for i in range(len(bodies)) for j in range(i + 1, len(bodies)) if groups[i] == groups[j]]
     names = [b.name for b in bodies]
     if len(set(names)) != len(names):
         raise InputError("bodies", f"names must be unique, got {names}")
@@ -254,10 +261,9 @@ def build_model(bodies, flume: FlumeBounds, column: PlacedColumn | None = None, 
         raise InputError("steps_per_contact_period", f"must be >= 40, got {steps_per_contact_period}")
     periods = [contact_period_s(b.contact, b.mass_kg) for b in bodies]
     dt_bound = min(periods) / steps_per_contact_period
-    for i in range(len(bodies)):
-        for j in range(i + 1, len(bodies)):
-            a, b = bodies[i], bodies[j]
-            periods.append(contact_period_s(pair_contact_law(a.contact, b.contact), a.mass_kg * b.mass_kg / (a.mass_kg + b.mass_kg)))
+    for i, j in touching:
+        a, b = bodies[i], bodies[j]
+        periods.append(contact_period_s(pair_contact_law(a.contact, b.contact), a.mass_kg * b.mass_kg / (a.mass_kg + b.mass_kg)))
     dt = min(min(periods) / steps_per_contact_period, max_timestep_s, dt_bound)
     imp = f"{CONTACT_IMPEDANCE} {CONTACT_IMPEDANCE} 0.001 0.5 2"
     fric_ref = f"0 {-FRICTION_DEMAND * gravity_m_s2 / STICK_SPEED_M_S!r}"  # at rest; rescaled in the run
@@ -305,11 +311,10 @@ def build_model(bodies, flume: FlumeBounds, column: PlacedColumn | None = None, 
         for name in statics:
             add_pair(i, -1, name, b.contact, b.friction_coefficient, b.mass_kg,
                      BED_DAMPING_RATIO if name == "bed" else None)
-    for i in range(len(bodies)):
-        for j in range(i + 1, len(bodies)):
-            a, b = bodies[i], bodies[j]
-            add_pair(i, j, f"{b.name}_box", pair_contact_law(a.contact, b.contact),
-                     0.5 * (a.friction_coefficient + b.friction_coefficient), a.mass_kg * b.mass_kg / (a.mass_kg + b.mass_kg))
+    for i, j in touching:
+        a, b = bodies[i], bodies[j]
+        add_pair(i, j, f"{b.name}_box", pair_contact_law(a.contact, b.contact),
+                 0.5 * (a.friction_coefficient + b.friction_coefficient), a.mass_kg * b.mass_kg / (a.mass_kg + b.mass_kg))
     xml = (f'<mujoco model="transport"><option timestep="{dt!r}" gravity="0 0 {-gravity_m_s2!r}" '
            f'density="0" viscosity="0" cone="elliptic" solver="Newton" integrator="Euler"/>'
            f'<worldbody>{"".join(world)}</worldbody>'
