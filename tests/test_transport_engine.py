@@ -263,3 +263,17 @@ def test_a_body_reaching_an_open_end_leaves_the_run_and_a_closed_end_is_a_wall(o
     assert gone["speed_m_s"] == pytest.approx(1.5, rel=1e-3)
     track = run.track("box")
     assert track["time_s"].max() <= gone["time_s"] and track["x_m"].max() < 2.9
+
+
+def test_in_a_batch_each_realisation_keeps_its_own_departure():
+    """Two realisations in one model, both heading for the open downstream end at different
+    speeds: each leaves once, at its own time, under its own name."""
+    from orchestrator.transport.batch import run_batch
+
+    starts = [[TransportBody("box", centre_m=(1.5, y, 0.03), velocity_m_s=(u, 0.0, 0.0), friction_coefficient=0.0,
+                             **CONTAINER_BOX)] for y, u in ((-0.2, 1.5), (0.2, 1.0))]
+    flume = FlumeBounds((-1.0, 2.9), (-0.5, 0.5), open_ends=(False, True))
+    first, second = run_batch(starts, flume, 1.6)
+    for run, u in ((first, 1.5), (second, 1.0)):
+        (gone,) = run.departures.to_dict("records")
+        assert gone["body"] == "box" and gone["time_s"] == pytest.approx((1.4 - 0.075) / u, abs=2e-3)

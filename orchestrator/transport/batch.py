@@ -93,6 +93,9 @@ def split_batch(result: TransportResult, n: int, owner: dict) -> list[TransportR
     impacts = impacts.assign(body=base)
     k_con, base = _realisation_of(contacts["body"], owner)
     contacts = contacts.assign(body=base, other=[owner[o][1] for o in contacts["other"]])
+    gone = result.departures
+    k_gone, base = _realisation_of(gone["body"], owner)
+    gone = gone.assign(body=base)
     # every event is in one of the two tables: its realisation, then its number there
     realisation_of_event = dict(zip(impacts["event"].astype(int), k_imp)) | dict(zip(contacts["event"].astype(int),
                                                                                      k_con))
@@ -114,5 +117,6 @@ def split_batch(result: TransportResult, n: int, owner: dict) -> list[TransportR
             body_contacts=contacts[k_con == k].reset_index(drop=True),
             wall_s=result.wall_s / n, pulse_wall_s=result.pulse_wall_s / n,
             pulses={local[e]: p for e, p in result.pulses.items() if e in mine},
-            strike_states={local[e]: s for e, s in result.strike_states.items() if e in mine}))
+            strike_states={local[e]: s for e, s in result.strike_states.items() if e in mine},
+            departures=gone[k_gone == k].reset_index(drop=True)))
     return out
