@@ -30,7 +30,7 @@ help:
 	@echo "make docs-check             the docs: links resolve, no history, README at most 800 words, figures the planner gives"
 	@echo "make synthetic-study        the seed's SDOF/MDOF/ASCE analysis on 22 synthetic records"
 	@echo "make scene-doc              docs/scene.md, the scene reference, from the schema"
-	@echo "make contact-law            calibrate the contact law on Table 1, check it on Table 2 (docs/results/contact-law/)"
+	@echo "make contact-law            calibrate the contact law on Table 2 (22 impacts), check it on Table 1 (docs/results/contact-law/)"
 	@echo "make bench                  benchmarks (figures go to benchmarks/*.md)"
 	@echo "make bench-transport        one-way transport and ensemble benchmarks (benchmarks/transport.md, ensemble.md)"
 	@echo "make forcing-variants       after make case-1debris: the one-way forcing's variants through its record (benchmarks/forcing_variants.md)"

@@ -70,8 +70,10 @@ Defaults and why
   of that formula without one, so adding mass on top would double count. (The papers could
   not be retrieved here; these are their findings as widely quoted.) For sensitivity, Matsutomi's
   apparent-mass coefficient for driftwood in a bore, ``C_MA = 1.7``, means ``C_a = 0.7``
-  (:data:`~analytical.impact_bodies.MATSUTOMI_ADDED_MASS_COEFFICIENT`). A partly submerged 1:40 container (draft about
-  0.026 m of 0.06 m) moving lengthwise has a potential-flow ``C_a`` of order 0.1.
+  (:data:`~analytical.impact_bodies.MATSUTOMI_ADDED_MASS_COEFFICIENT`). The floating 1:40 container (draft 0.026 m of
+  0.06 m) moving lengthwise has a potential-flow ``C_a`` of 0.28 in the impulsive limit (an upper
+  bound; :mod:`analytical.added_mass`); :func:`analytical.contact_law.column_impact` gives the
+  body its own added mass along the normal by default, the container law being calibrated so.
 * ``friction_coefficient = 0.3`` (:data:`DEFAULT_FRICTION_COEFFICIENT`): kinetic friction of
   polyethylene (the seed's debris) on a smooth hard surface (acrylic, glass, steel) is
   quoted at 0.2-0.3 in engineering tables; water lubricates it downwards. 0.3, the upper end,
@@ -89,8 +91,10 @@ With ``k_d`` the coupled model gives 1137 N over 0.86 ms, 0.624 N s, restitution
 shear 1004 N (rigid base; 886 N calibrated): between the seed's ASCE 7-22 ``k_d`` row
 (822 N = 0.65 x Haehnel & Daly's rigid-wall 1270 N, 0.6 ms, 0.46 N s) and the rigid wall,
 and far from its MDOF fit (237 N, 4.7 ms, 0.71 N s). The MDOF fit's pulse is what this model
-gives with a contact about 30 times softer than ``k_d``: ``k = 1.05e5 N/m`` yields 231 N,
-4.70 ms, 0.69 N s (tests/test_impact.py).
+gives with an undamped contact about 30 times softer than ``k_d``: ``k = 1.05e5 N/m`` yields
+231 N, 4.70 ms, 0.69 N s (tests/test_impact.py). That event is elastic and atypical; the shipped
+container law (:mod:`analytical.contact_law`) is calibrated on the study's 22 impacts instead
+(its Table 2), a damped spring, with the Table 1 event as its check.
 
 References
 ----------

@@ -1,13 +1,21 @@
-"""The contact law: its rigid-wall restitution against the integrated impact, its calibration on
-the study's Table 1 event, the held-out Table 2 comparison, bad input, and that the runner's
-contact resolution uses each body's own law."""
+"""The contact law: its rigid-wall restitution against the integrated impact, the strike's
+geometry and added mass, its calibration on the study's Table 2 through the study's own fit
+(a test that can fail), Table 1 as the check, bad input, and the report."""
 
 import math
 
 import numpy as np
 import pytest
 
+from analytical.added_mass import SEED_CONTAINER_ADDED_MASS
 from analytical.asce7 import SEED_DEBRIS_STIFFNESS_N_M
+from analytical.contact_calibration import (
+    FIGURES,
+    scatter,
+    strike_population,
+    table2_standard_errors,
+    unit_figures,
+)
 from analytical.contact_law import (
     ASCE7_KD,
     CONTAINER,
@@ -15,11 +23,10 @@ from analytical.contact_law import (
     SEED_TABLE2_MDOF,
     ContactLaw,
     box_inertia,
-    calibrate,
     column_impact,
     contact_law,
     damping_for_restitution,
-    held_out,
+    study_fit,
     wall_restitution,
 )
 from analytical.errors import InputError
@@ -29,14 +36,15 @@ from analytical.impact import Body, RigidWall, impact
 @pytest.mark.parametrize("zeta", [0.0, 0.05, 0.2, 0.5, 0.8])
 def test_wall_restitution_closed_form_matches_the_integrated_impact(zeta):
     body = Body.particle(0.236, (-1.6, 0.0, 0.0))
-    result = impact(body, (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), RigidWall(), stiffness_N_m=1.08e5, damping_ratio=zeta)
+    result = impact(body, (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), RigidWall(), stiffness_N_m=CONTAINER.stiffness_N_m,
+                    damping_ratio=zeta)
     assert result.restitution == pytest.approx(wall_restitution(zeta), abs=2e-4)
 
 
 def test_undamped_wall_strike_is_haehnel_and_dalys_half_sine():
     m, v, k = 0.236, 1.5, CONTAINER.stiffness_N_m
     body = Body.particle(m, (-v, 0.0, 0.0))
-    result = impact(body, (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), RigidWall(), **CONTAINER.options())
+    result = impact(body, (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), RigidWall(), stiffness_N_m=k)
     assert result.peak_force_N == pytest.approx(v * math.sqrt(k * m), rel=1e-3)
     assert result.duration_s == pytest.approx(math.pi * math.sqrt(m / k), rel=1e-3)
     assert result.impulse_Ns == pytest.approx(2 * m * v, rel=1e-3)
@@ -47,34 +55,90 @@ def test_restitution_and_damping_ratio_invert_each_other(e):
     assert wall_restitution(damping_for_restitution(e)) == pytest.approx(e, abs=1e-10)
 
 
-def test_calibration_on_table_1_reproduces_its_pulse_and_the_shipped_defaults():
-    cal = calibrate()
-    assert abs(cal.errors["peak_force"]) < 0.10 and abs(cal.errors["duration"]) < 0.10
-    assert abs(cal.errors["impulse"]) < 0.10
-    assert cal.law.stiffness_N_m == pytest.approx(CONTAINER.stiffness_N_m, rel=0.01)
-    assert cal.law.damping_ratio == pytest.approx(CONTAINER.damping_ratio, abs=1e-3)
-    # about 30 times softer than the rigid debris stiffness of the study's ASCE rows
-    assert 20 < SEED_DEBRIS_STIFFNESS_N_M / cal.law.stiffness_N_m < 40
+def test_an_end_on_strike_carries_the_lengthwise_added_mass_and_an_eccentric_one_less():
+    head_on = column_impact(CONTAINER, 1.5, 0.4)
+    # m_eff head-on = m (1 + C_a surge); the rotation does not enter at the nose's centre
+    assert head_on.effective_mass_kg == pytest.approx(0.236 + SEED_CONTAINER_ADDED_MASS.masses_kg[0], rel=1e-9)
+    bare = column_impact(CONTAINER, 1.5, 0.4, added_mass_coefficient=0.0)
+    assert bare.effective_mass_kg == pytest.approx(0.236, rel=1e-9)
+    corner = column_impact(CONTAINER, 1.5, 0.4, lateral_offset_m=0.03, vertical_offset_m=0.03)
+    assert corner.effective_mass_kg < 0.7 * head_on.effective_mass_kg
+    # a lighter contact: a shorter pulse (duration ~ sqrt(m_eff))
+    assert corner.duration_s < head_on.duration_s
+    # linear law: the pulse scales with the speed, its duration does not change
+    double = column_impact(CONTAINER, 3.0, 0.4)
+    assert double.peak_force_N == pytest.approx(2 * head_on.peak_force_N, rel=1e-6)
+    assert double.duration_s == pytest.approx(head_on.duration_s, rel=1e-9)
 
 
-def test_the_container_law_gives_table_1s_pulse_within_ten_percent():
+def test_the_studys_fit_of_a_strikes_base_shear_recovers_an_undamped_half_sine():
+    # an undamped contact on the stiff column is nearly a half-sine: the fit gives it back
+    law = ContactLaw(1.1e5, 0.0)
+    r = column_impact(law, 1.5, 0.4)
+    f = study_fit(r, 0.4)
+    assert f.magnitude_N == pytest.approx(r.peak_force_N, rel=0.01)
+    assert f.duration_s == pytest.approx(r.duration_s, rel=0.01)
+    assert f.impulse_Ns == pytest.approx(r.impulse_Ns, rel=0.01)
+    assert abs(f.start_s) < 1e-4
+
+
+def test_table2_standard_errors():
+    se = table2_standard_errors()
+    assert se["peak_force_N"] == pytest.approx(math.hypot(62.91 / math.sqrt(22), 171.07 * 0.0294 / 1.6), rel=0.02)
+    assert se["duration_s"] == pytest.approx(math.hypot(0.0005 / math.sqrt(22), 1e-4 / math.sqrt(12)), rel=1e-9)
+
+
+def test_population_has_the_studys_water_levels():
+    p = strike_population(64)
+    assert p.water_level_m.min() >= 0.16 and p.water_level_m.max() <= 0.50
+    assert np.mean(p.water_level_m) == pytest.approx(0.40, abs=0.01)
+    assert np.all(np.abs(p.lateral_offset_m) <= 0.03) and np.all(np.abs(p.obliquity_deg) <= 15.0)
+    flat = strike_population(8, geometry=False)
+    assert np.all(flat.lateral_offset_m == 0.0) and np.all(flat.obliquity_deg == 0.0)
+
+
+@pytest.mark.slow
+def test_the_shipped_law_reproduces_table_2_through_the_studys_fit_and_is_the_calibrations_minimum():
+    """The stored constants, struck over the calibration population and fitted as the study
+    did, give Table 2's three means within 2 standard errors each; one Gauss-Newton step of the
+    calibration from them moves each parameter by less than a tenth of its standard error."""
+    population = strike_population()
+    base = unit_figures(CONTAINER, population)
+    means = base.means()
+    se = table2_standard_errors(means)
+    z = np.array([(means[k] - SEED_TABLE2_MDOF[k][0]) / se[k] for k in FIGURES])
+    assert np.all(np.abs(z) < 2.0), z
+    # the Jacobian of the whitened residuals in (ln k, zeta), by forward differences
+    columns = []
+    for dk, dz in ((1e-3, 0.0), (0.0, 1e-3)):
+        law = ContactLaw(CONTAINER.stiffness_N_m * math.exp(dk), CONTAINER.damping_ratio + dz)
+        m = unit_figures(law, population).means()
+        columns.append((np.array([(m[k] - SEED_TABLE2_MDOF[k][0]) / se[k] for k in FIGURES]) - z) / (dk + dz))
+    jac = np.column_stack(columns)
+    step = -np.linalg.lstsq(jac, z, rcond=None)[0]
+    cov = np.linalg.inv(jac.T @ jac)
+    assert abs(step[0]) < 0.1 * math.sqrt(cov[0, 0]) and abs(step[1]) < 0.1 * math.sqrt(cov[1, 1]), (step, cov)
+    # an undamped law cannot: with the same stiffness its impulse is far above Table 2's
+    elastic = unit_figures(ContactLaw(CONTAINER.stiffness_N_m, 0.0), population).means()
+    assert (elastic["impulse_Ns"] - SEED_TABLE2_MDOF["impulse_Ns"][0]) / se["impulse_Ns"] > 3.0
+
+
+@pytest.mark.slow
+def test_table_1s_event_lies_in_the_upper_tail_of_the_laws_scatter():
+    figures = unit_figures(CONTAINER, strike_population(16, seed=7))
+    sc = scatter(figures, draws=20_000)
+    # the study's elastic event: stronger than most of the law's strikes at its speed
+    assert sc.table1_percentiles["impulse_Ns"] > 90.0
+    assert sc.means["duration_s"] == pytest.approx(SEED_TABLE2_MDOF["duration_s"][0], rel=0.05)
+    # the law's spread is narrower than the study's (speed and geometry alone)
+    assert sc.stds["peak_force_N"] < SEED_TABLE2_MDOF["peak_force_N"][1]
+
+
+def test_the_rigid_kd_law_is_the_asce_upper_bound():
     r = column_impact(CONTAINER, SEED_TABLE1_EVENT.velocity_m_s, SEED_TABLE1_EVENT.height_m)
-    assert r.peak_force_N == pytest.approx(SEED_TABLE1_EVENT.peak_force_N, rel=0.10)
-    assert r.duration_s == pytest.approx(SEED_TABLE1_EVENT.duration_s, rel=0.10)
-    # the rigid k_d law is the ASCE upper bound: five times the peak, a fifth of the duration
     kd = column_impact(ASCE7_KD, SEED_TABLE1_EVENT.velocity_m_s, SEED_TABLE1_EVENT.height_m)
     assert kd.peak_force_N > 4 * r.peak_force_N and kd.duration_s < r.duration_s / 4
-
-
-def test_held_out_table_2_means_lie_within_two_of_the_studys_standard_deviations():
-    h = held_out(CONTAINER, count=22)
-    assert np.mean(h.velocity_m_s) == pytest.approx(1.60, abs=1e-9)
-    for name in ("peak_force_N", "duration_s", "impulse_Ns"):
-        mean, _ = h.stats(name)
-        seed_mean, seed_std = SEED_TABLE2_MDOF[name]
-        assert abs(mean - seed_mean) < 2 * seed_std, name
-    # elastic: the mean pulse is stronger than the study's (it lost energy on average)
-    assert h.stats("impulse_Ns")[0] > SEED_TABLE2_MDOF["impulse_Ns"][0]
+    assert 20 < SEED_DEBRIS_STIFFNESS_N_M / CONTAINER.stiffness_N_m < 80
 
 
 @pytest.mark.parametrize(
@@ -97,7 +161,8 @@ def test_bad_contact_law_names_the_field(kwargs, field):
 @pytest.mark.parametrize(
     "kwargs, field",
     [({"velocity_m_s": 0.0}, "--velocity"), ({"velocity_m_s": 1.5, "height_m": 0.81}, "--height"),
-     ({"velocity_m_s": 1.5, "height_m": -0.1}, "--height"), ({"velocity_m_s": 1.5, "obliquity_deg": 90}, "--obliquity")],
+     ({"velocity_m_s": 1.5, "height_m": -0.1}, "--height"), ({"velocity_m_s": 1.5, "obliquity_deg": 90}, "--obliquity"),
+     ({"velocity_m_s": 1.5, "lateral_offset_m": 0.04}, "lateral_offset_m")],
 )
 def test_bad_strike_names_the_flag(kwargs, field):
     with pytest.raises(InputError) as err:
@@ -113,6 +178,12 @@ def test_restitution_key_gives_that_restitution_on_a_wall():
     assert law.stiffness_N_m == CONTAINER.stiffness_N_m
 
 
+def test_the_shipped_law_is_damped_and_soft():
+    assert 0.0 < CONTAINER.wall_restitution < 0.8
+    assert CONTAINER.to_dict()["law"] == "container"
+    assert CONTAINER.pair().stiffness_N_m == pytest.approx(CONTAINER.stiffness_N_m / 2)
+
+
 def test_box_inertia_of_a_thin_walled_box_exceeds_the_solid_box():
     solid = box_inertia((0.15, 0.06, 0.06), 0.236, None)
     hollow = box_inertia((0.15, 0.06, 0.06), 0.236, 0.005)
@@ -125,6 +196,7 @@ def test_law_validation_rejects_damping_at_one():
         ContactLaw(1e5, 1.0)
 
 
+@pytest.mark.slow
 def test_contact_law_report_writes_its_files(tmp_path):
     import json
 
@@ -133,7 +205,13 @@ def test_contact_law_report_writes_its_files(tmp_path):
     proc = run_cli("analytical", "contact-law", "-o", str(tmp_path / "cl"), "--strikes", "4", "--json")
     assert proc.returncode == 0, proc.stderr
     out = json.loads(proc.stdout)
-    assert out["stiffness_N_m"] == pytest.approx(CONTAINER.stiffness_N_m, rel=0.01)
-    for name in ("calibration.json", "held_out.csv", "held_out.md", "contact_law.png", "summary.json", "report.md"):
+    assert out["stiffness_N_m"] > 0 and 0 < out["damping_ratio"] < 1
+    for name in ("calibration.json", "scatter.csv", "scatter.md", "contact_law.png", "summary.json", "report.md"):
         assert (tmp_path / "cl" / name).stat().st_size > 0, name
     assert run_cli("analytical", "contact-law", "-o", str(tmp_path / "x"), "--strikes", "1").returncode == 2
+
+
+def test_the_population_is_a_deterministic_function_of_its_seed():
+    a, b, c = strike_population(5, seed=3), strike_population(5, seed=3), strike_population(5, seed=4)
+    np.testing.assert_array_equal(a.lateral_offset_m, b.lateral_offset_m)
+    assert not np.array_equal(a.lateral_offset_m, c.lateral_offset_m)

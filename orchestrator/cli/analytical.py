@@ -414,11 +414,11 @@ def add_analytical_parser(verbs) -> None:
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_impact)
 
-    p = an_verbs.add_parser("contact-law", help="calibrate the container's contact law on the study's Table 1 "
-                                                "event and check it on Table 2's held-out statistics, to files")
+    p = an_verbs.add_parser("contact-law", help="calibrate the container's contact law on the study's Table 2 "
+                                                "(22 impacts) and check it on its Table 1 event, to files")
     p.add_argument("-o", "--out", default="docs/results/contact-law",
                    help="output folder (default docs/results/contact-law)")
-    p.add_argument("--strikes", type=int, default=22, help="held-out strikes (default 22, as the study's impacts)")
+    p.add_argument("--strikes", type=int, default=32, help="strike geometries of the calibration (default 32)")
     p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_contact_law)
