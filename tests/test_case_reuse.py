@@ -2,8 +2,8 @@
 
 "The same" is the resolved scene, less what the case's coupling does not use: a two-way case
 does not depend on the one-way transport's keys, so a changed default there (or a --set of
-one) does not turn a finished coupled run into another case; a one-way case does depend on
-them. Rendering only, no OpenFOAM.
+one) does not turn a finished coupled run into another case; a one-way case takes them into
+its scene.yaml and carries its bodies again through the same flow. Rendering only, no OpenFOAM.
 """
 
 from __future__ import annotations
@@ -27,8 +27,13 @@ def test_a_two_way_case_is_the_same_whatever_the_transport_keys(tmp_path):
         prepare_case(TWO_WAY, case, ["run.end_time_s=0.7"])
 
 
-def test_a_one_way_case_depends_on_its_transport_keys(tmp_path):
+def test_a_one_way_case_takes_new_transport_keys_into_the_same_flow(tmp_path):
+    """The transport keys do not change a one-way case's flow: asked for with another drag
+    coefficient, the folder is resumed with the new key in its scene.yaml (the bodies are
+    carried again); a flow key makes it a different case."""
     case, _ = prepare_case(ONE_WAY, tmp_path / "one")
     assert prepare_case(ONE_WAY, case) == (case, False)
+    assert prepare_case(ONE_WAY, case, ["transport.drag_coefficient=1.5"]) == (case, False)
+    assert "drag_coefficient: 1.5" in (case / "scene.yaml").read_text()
     with pytest.raises(InputError, match="different case"):
-        prepare_case(ONE_WAY, case, ["transport.drag_coefficient=1.5"])
+        prepare_case(ONE_WAY, case, ["bed.wet_depth_m=0.02"])
