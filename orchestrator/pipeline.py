@@ -16,7 +16,7 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import Any, Sequence
 
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 from orchestrator.case import foam
 from orchestrator.case.folder import CaseFolder
 from orchestrator.case.render import render_case

@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable, Sequence
 
-from analytical.errors import DebrisfoamError
+from orchestrator.core.errors import DebrisfoamError
 from orchestrator.case.folder import BED_LAYER_ZONE, BODIES_DIR
 
 #: OpenFOAM v1912 from Debian: binaries in /usr/bin, project files here.
@@ -46,7 +46,7 @@ TAIL_LINES = 15
 LOG_TAIL_BYTES = 1 << 20
 
 
-class StepError(DebrisfoamError):
+class StepError(DebrisfoamError, RuntimeError):
     """An OpenFOAM step failed: names the step, the reason from its log, and the log."""
 
     def __init__(self, step: str, reason: str, log_path: str | Path, returncode: int | None = None):

@@ -32,7 +32,7 @@ import numpy as np
 import yaml
 from jinja2 import ChoiceLoader, Environment, FileSystemLoader, StrictUndefined
 
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 from orchestrator.case import foam
 from orchestrator.case.folder import BED_LAYER_ZONE, BODIES_DIR, PLAN_JSON, SCENE_YAML
 from orchestrator.core.files import bundled_dir, write_text_atomic

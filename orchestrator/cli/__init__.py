@@ -20,7 +20,7 @@ import os
 import sys
 from collections.abc import Sequence
 
-from analytical.errors import DebrisfoamError, InputError
+from orchestrator.core.errors import DebrisfoamError, InputError
 from orchestrator.cli.analytical import add_analytical_parser
 from orchestrator.cli.case import add_case_parsers
 from orchestrator.cli.common import EXIT_BAD_INPUT, EXIT_FAILURE, EXIT_OK, ArgParser

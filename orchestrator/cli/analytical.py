@@ -13,7 +13,7 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 from orchestrator.cli.common import EXIT_OK, ArgParser, Flags, emit, output_path, warn
 from orchestrator.scene.shipped import resolve_scene
 
@@ -240,7 +240,7 @@ def cmd_modes(args: argparse.Namespace) -> int:
 
 
 def cmd_response(args: argparse.Namespace) -> int:
-    from analytical.errors import require_positive
+    from orchestrator.core.errors import require_positive
     from analytical.pulses import make_pulse
 
     magnitude = require_positive("--magnitude", args.magnitude)

@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 from orchestrator.cli.common import (
     EXIT_OK,
     SCENE_HELP,

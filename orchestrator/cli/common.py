@@ -1,7 +1,7 @@
 """What every verb of the command line shares: the argument parser, output paths, printing.
 
 Library code raises; the verbs print. :class:`ArgParser` turns a usage error into an
-:class:`~analytical.errors.InputError` (exit 2), :func:`output_path` checks an output before
+:class:`~orchestrator.core.errors.InputError` (exit 2), :func:`output_path` checks an output before
 anything is computed, :class:`Flags` renames a library field to the flag the user typed,
 :func:`emit` prints a result as aligned text or JSON and :func:`warn` prints warnings.
 """
@@ -16,7 +16,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TypeVar
 
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 from orchestrator.core.errors import MissingFeatureError
 from orchestrator.core.jsonio import json_default
 

@@ -15,7 +15,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 from orchestrator.cli.case import YES_HELP
 from orchestrator.cli.common import (
     EXIT_FAILURE,

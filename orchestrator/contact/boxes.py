@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import ConvexHull, QhullError
 
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 
 __all__ = [
     "Box",

@@ -30,7 +30,7 @@ from typing import Literal
 
 import numpy as np
 
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 from analytical.impact_bodies import inverse_inertia_tensor
 from orchestrator.contact.boxes import Box, box_box, box_plane, freeze, sat_axes, sat_lower_bound, vec3
 from orchestrator.scene.geometry import flume_extent

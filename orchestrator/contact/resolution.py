@@ -16,7 +16,7 @@ import numpy as np
 
 from analytical.column import Column
 from analytical.contact_law import CONTAINER, ContactLaw, contact_law
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 from analytical.impact import DEFAULT_FRICTION_COEFFICIENT, impact, pair_impact
 from analytical.added_mass import box_added_mass
 from analytical.impact_bodies import Body, ColumnTarget, RigidWall

@@ -1,9 +1,17 @@
-"""Errors raised by the orchestration layer (the CLI maps them to exit codes)."""
+"""The errors of debrisfoam, for every stage of orchestrator/ (the CLI maps them to exit codes).
 
-from analytical.errors import DebrisfoamError, InputError
+One base, :class:`DebrisfoamError`; bad input is :class:`InputError`, which is also a
+``ValueError`` and names the field (and the file) at fault: exit code 2. Each stage's own
+errors derive from these and from the matching built-in (a failed OpenFOAM step or run is also
+a ``RuntimeError``), so code that catches the built-in catches them too. The two bases live in
+:mod:`analytical.errors` because the physics package, which imports nothing of orchestrator/,
+raises them as well; orchestrator/ takes them from here.
+"""
 
-__all__ = ["DebrisfoamError", "InputError", "MissingFeatureError"]
+from analytical.errors import DebrisfoamError, InputError, require_finite, require_positive
+
+__all__ = ["DebrisfoamError", "InputError", "MissingFeatureError", "require_finite", "require_positive"]
 
 
-class MissingFeatureError(DebrisfoamError):
+class MissingFeatureError(DebrisfoamError, NotImplementedError):
     """A verb whose implementation has not landed yet; the message names what is missing."""

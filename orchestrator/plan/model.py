@@ -12,7 +12,7 @@ import json
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 from orchestrator.plan.grid import BoxGrid, Segment
 
 __all__ = ["BodyPlan", "FlowRecordPlan", "GaugeLine", "GaugePlan", "ModelPlan", "Probe", "WaterBox", "grid_from_dict",

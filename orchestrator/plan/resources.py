@@ -20,7 +20,7 @@ import os
 from dataclasses import dataclass
 from typing import Any
 
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 
 __all__ = [
     "BASE_BYTES_PER_RANK",

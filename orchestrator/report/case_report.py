@@ -24,7 +24,7 @@ from pathlib import Path
 import pandas as pd
 
 from analytical.contact_law import SEED_IMPACT_HEIGHTS_M
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 from orchestrator.case.folder import SUMMARY_JSON, CaseFolder
 from orchestrator.core.files import write_text_atomic
 from orchestrator.report.asce_section import asce_markdown

@@ -37,7 +37,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 from orchestrator.core.files import write_text_atomic
 from orchestrator.report.figures import legend, pyplot, save_figure
 from orchestrator.report.layout_page import figure_text, minutes_text

@@ -41,7 +41,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 from orchestrator.case.folder import CaseFolder
 from orchestrator.contact.events import read_events
 from orchestrator.core.files import write_text_atomic

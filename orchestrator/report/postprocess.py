@@ -66,7 +66,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 from orchestrator.case.folder import CaseFolder
 from orchestrator.report import markdown, plots
 from orchestrator.results import compare

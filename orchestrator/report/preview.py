@@ -35,7 +35,7 @@ from typing import Any
 
 import numpy as np
 
-from analytical.errors import DebrisfoamError
+from orchestrator.core.errors import DebrisfoamError
 from orchestrator.core.files import write_bytes_atomic
 from orchestrator.plan.planner import ModelPlan, estimated_steps, plan_case
 from orchestrator.plan.resources import Demand, check_resources
@@ -91,7 +91,7 @@ def preview_scene_file(path: str | Path, out_png: str | Path, overrides: Sequenc
                        warnings: bool = False):
     """Load the scene in ``path`` (with ``key.path=value`` overrides), plan it, draw it to ``out_png``.
 
-    An :class:`~analytical.errors.InputError` from loading the scene passes through unchanged, as
+    An :class:`~orchestrator.core.errors.InputError` from loading the scene passes through unchanged, as
     does one from the resource guard's hard limits (:mod:`orchestrator.plan.resources`), before
     anything is written. Returns the path of the PNG written, or with ``warnings`` the planner's
     warnings and the guard's soft ones (a picture runs nothing: they are not asked about).

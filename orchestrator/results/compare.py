@@ -71,7 +71,7 @@ import pandas as pd
 
 from analytical.asce7 import SEED_DEBRIS_STIFFNESS_N_M, asce7_impact
 from analytical.dambreak import dam_break
-from analytical.errors import DebrisfoamError
+from orchestrator.core.errors import DebrisfoamError
 from analytical.fitting import fit_mdof, fit_sdof
 from analytical.formulas import haehnel_daly, hertz_effective_modulus, ikeno, matsutomi
 from analytical.mdof import column_model, mdof_response

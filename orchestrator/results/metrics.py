@@ -36,7 +36,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 import pandas as pd
 
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 from analytical.mdof import mdof_response
 from analytical.pulses import Tabulated
 from orchestrator.case.folder import EPS_T

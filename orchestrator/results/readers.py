@@ -24,7 +24,7 @@ from typing import Any, Sequence
 import numpy as np
 import pandas as pd
 
-from analytical.errors import DebrisfoamError, InputError
+from orchestrator.core.errors import DebrisfoamError, InputError
 from orchestrator.case.bodystate import read_body_properties
 from orchestrator.case.folder import EPS_T, CaseFolder
 from orchestrator.case.outputs import numeric_dirs

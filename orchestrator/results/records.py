@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 
 #: Fewer samples than this cannot resolve a pulse and the ringing after it.
 MIN_SAMPLES = 20

@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 from analytical.study_comparison import StudyComparison, compare_table, fit_like_the_study, strike_component
 
 __all__ = ["COMPARISON_ROWS", "HEIGHT_SOURCES", "STUDY_FIT_COLUMNS", "add_study_fits", "base_shear_path",

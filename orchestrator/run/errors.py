@@ -12,12 +12,12 @@ import shlex
 import signal
 from pathlib import Path
 
-from analytical.errors import DebrisfoamError
+from orchestrator.core.errors import DebrisfoamError
 
 __all__ = ["ContactError", "DivergenceError", "RunError", "RunInterrupted"]
 
 
-class RunError(DebrisfoamError):
+class RunError(DebrisfoamError, RuntimeError):
     """The run could not go on; the message says why and where the log is."""
 
 

@@ -96,7 +96,7 @@ from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any, Callable
 
-from analytical.errors import DebrisfoamError
+from orchestrator.core.errors import DebrisfoamError
 from orchestrator.case import bodystate, foam
 from orchestrator.case.folder import EPS_T, PLAN_JSON, SCENE_YAML, CaseFolder, processor_dirs
 from orchestrator.contact.settings import ContactSettings

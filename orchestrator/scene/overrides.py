@@ -4,7 +4,7 @@
 all change a scene the same way: a dotted key (list items by index, ``debris.0.mass_kg``)
 and a YAML value. Overrides apply to the raw mapping before it is resolved, so a layout,
 a placement or a gauge written ``at:`` follows the changed values. A key the schema does
-not know is an :class:`~analytical.errors.InputError` naming it, not a silent no-op.
+not know is an :class:`~orchestrator.core.errors.InputError` naming it, not a silent no-op.
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ import copy
 from collections.abc import Iterable, Sequence
 from typing import Any
 
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 from orchestrator.scene.schema import (
     Bed,
     ColumnSection,

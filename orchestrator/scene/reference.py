@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from pydantic import BaseModel
 from pydantic_core import PydanticUndefined
 
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 from orchestrator.scene.schema import DebrisBody, DebrisLayout, Scene
 
 __all__ = ["SchemaRow", "markdown", "schema_rows"]

@@ -5,7 +5,7 @@ The YAML says what the user means; the resolved scene says it explicitly: debris
 centre from its placement rule (on the bed, afloat at its draft, or as given), gauges
 written ``at: column_upstream_face`` get their coordinates. The result is then checked by
 the cross-field rules (:func:`~orchestrator.scene.validation.validate_scene`). pydantic's
-errors become :class:`~analytical.errors.InputError` naming the dotted key of the YAML.
+errors become :class:`~orchestrator.core.errors.InputError` naming the dotted key of the YAML.
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ from typing import Any
 
 from pydantic import ValidationError
 
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 from orchestrator.scene.geometry import TOLERANCE_M, draft_m, half_extent_z
 from orchestrator.scene.schema import DebrisBody, DebrisLayout, Gauge, Scene, SceneSection
 from orchestrator.scene.validation import validate_scene

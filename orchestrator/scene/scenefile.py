@@ -2,7 +2,7 @@
 
 :func:`load_scene` is the one way in: read the file, lay its ``extends`` parent under it,
 apply the ``--set`` overrides, resolve and validate. Every problem is an
-:class:`~analytical.errors.InputError` naming the dotted field, the rule and the file;
+:class:`~orchestrator.core.errors.InputError` naming the dotted field, the rule and the file;
 nothing downstream sees an invalid scene. :func:`dump_scene_yaml` writes the resolved
 scene (layouts expanded, bodies and gauges placed) as YAML that loads back to the same scene.
 
@@ -19,7 +19,7 @@ from typing import Any
 
 import yaml
 
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 from orchestrator.scene.overrides import apply_overrides
 from orchestrator.scene.resolve import scene_from_dict
 from orchestrator.scene.schema import Scene

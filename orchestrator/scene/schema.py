@@ -26,7 +26,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationInfo, field_validat
 
 from analytical.column import MAX_ELEMENTS
 from analytical.column import Column as AnalysisColumn
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 from analytical.hydrodynamics import DEFAULT_ADDED_MASS_COEFFICIENT, DEFAULT_DRAG_COEFFICIENT
 
 __all__ = [

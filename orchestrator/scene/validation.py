@@ -3,7 +3,7 @@
 Each field's own range is checked by the models (:mod:`orchestrator.scene.schema`); the
 rules here relate fields to one another (a body inside the flume and clear of the column,
 the mesh fine enough for the smallest thing it must resolve). The first broken rule raises
-an :class:`~analytical.errors.InputError` naming the dotted field the user has to change.
+an :class:`~orchestrator.core.errors.InputError` naming the dotted field the user has to change.
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 from orchestrator.scene.geometry import TOLERANCE_M as TOL
 from orchestrator.scene.geometry import body_rotation, box_corners, boxes_overlap, flume_extent
 from orchestrator.scene.schema import DebrisBody, Scene

@@ -13,7 +13,7 @@ from typing import Any
 
 import yaml
 
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 
 __all__ = ["decode_text", "duplicate_key", "load_yaml"]
 

@@ -84,7 +84,7 @@ import numpy as np
 import pandas as pd
 
 from analytical.contact_law import SEED_IMPACT_VELOCITY_M_S, SEED_TABLE2_MDOF
-from analytical.errors import DebrisfoamError, InputError
+from orchestrator.core.errors import DebrisfoamError, InputError
 from analytical.study_comparison import SEED_IMPACT_COUNT
 from orchestrator.core.files import write_json_atomic, write_text_atomic
 from orchestrator.pipeline import prepare_case

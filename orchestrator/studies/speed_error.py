@@ -57,7 +57,7 @@ import numpy as np
 import pandas as pd
 
 from analytical.dambreak import dam_break
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 from orchestrator.case.folder import RESULTS_DIR, CaseFolder
 from orchestrator.core.files import read_json_object
 from orchestrator.core.numbers import finite_or_none

@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 from orchestrator.case.folder import CaseFolder
 from orchestrator.case.outputs import (
     WATER_BALANCE_TOLERANCE,

@@ -40,7 +40,7 @@ from typing import Sequence
 import numpy as np
 import pandas as pd
 
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 from orchestrator.transport.engine import TransportResult, TransportSettings, run_transport
 from orchestrator.transport.flow import FlowField
 from orchestrator.transport.model import FlumeBounds, PlacedColumn, TransportBody

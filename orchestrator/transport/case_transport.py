@@ -30,7 +30,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable
 
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 from orchestrator.case.folder import CaseFolder
 from orchestrator.contact.events import write_events, write_pulse_files
 from orchestrator.contact.resolution import body_contact_law

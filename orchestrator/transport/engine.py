@@ -46,7 +46,7 @@ import mujoco
 import numpy as np
 import pandas as pd
 
-from analytical.errors import InputError, require_positive
+from orchestrator.core.errors import InputError, require_positive
 from analytical.hydrodynamics import (
     HydroCoefficients,
     added_mass_table,

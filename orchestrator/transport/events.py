@@ -47,7 +47,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 from analytical.impact import ColumnTarget, with_base_shear
 from orchestrator.contact.events import IMPACT_COLUMNS as RESULTS_IMPACT_COLUMNS
 

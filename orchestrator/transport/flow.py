@@ -19,7 +19,7 @@ Why this shape
 * The bed is one flat plane (the study flume's bed is): the engine models it as a MuJoCo
   plane. A sloped or stepped bed would need a heightfield in the engine as well.
 * Outside the recorded box or time span nothing is made up: :class:`FlowCoverageError` (an
-  :class:`~analytical.errors.InputError`) names the coordinate, the value and the range.
+  :class:`~orchestrator.core.errors.InputError`) names the coordinate, the value and the range.
   Along z a point below the surface is inside by construction (the levels must span the
   bed to the highest surface; :class:`FlowField` checks it).
 * One compressed ``.npz`` holds the arrays and the metadata (a JSON string under
@@ -43,7 +43,7 @@ from typing import NamedTuple
 import numpy as np
 
 from analytical.dambreak import RitterSolution
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 
 __all__ = ["FORMAT_VERSION", "FlowCoverageError", "FlowField", "FlowSample"]
 

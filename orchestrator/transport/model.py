@@ -57,7 +57,7 @@ import numpy as np
 
 from analytical.column import Column
 from analytical.contact_law import CONTAINER, ContactLaw, box_inertia
-from analytical.errors import InputError, require_positive
+from orchestrator.core.errors import InputError, require_positive
 from analytical.impact import DEFAULT_FRICTION_COEFFICIENT
 from orchestrator.contact.resolution import pair_contact_law
 from orchestrator.scene.geometry import body_rotation

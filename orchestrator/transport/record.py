@@ -42,7 +42,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 from orchestrator.case.folder import EPS_T, CaseFolder
 from orchestrator.case.outputs import numeric_dirs
 from orchestrator.plan.model import FlowRecordPlan, ModelPlan

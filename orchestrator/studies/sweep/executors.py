@@ -24,7 +24,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Iterable, Iterator
 
-from analytical.errors import DebrisfoamError
+from orchestrator.core.errors import DebrisfoamError
 from orchestrator.studies.sweep.spec import Member
 from orchestrator.studies.sweep.store import read_member_record
 

@@ -17,7 +17,7 @@ import time
 from pathlib import Path
 from typing import Any, Callable
 
-from analytical.errors import DebrisfoamError
+from orchestrator.core.errors import DebrisfoamError
 from orchestrator.case.folder import CaseFolder
 from orchestrator.pipeline import prepare_case, run_full_case
 from orchestrator.run.runner import RunInterrupted

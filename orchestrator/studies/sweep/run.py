@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 from orchestrator.studies.sweep.executors import (
     Executor,
     StartWatcher,

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from analytical.errors import DebrisfoamError, InputError
+from orchestrator.core.errors import DebrisfoamError, InputError
 from orchestrator.core.jsonio import json_default
 from orchestrator.plan.identity import ID_LENGTH, case_key
 from orchestrator.plan.planner import ModelPlan, estimate_wall_time_s, plan_case

@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 from orchestrator.case.folder import CaseFolder
 from orchestrator.core.files import read_json_object, write_bytes_atomic, write_json_atomic, write_text_atomic
 from orchestrator.core.jsonio import json_default
