@@ -24,6 +24,7 @@ RHO, G = 998.0, 9.81
 PLATE = dict(size_m=(0.2, 0.2, 0.02), mass_kg=0.4)
 CONTAINER_BOX = dict(size_m=(0.15, 0.06, 0.06), mass_kg=0.236, wall_thickness_m=0.005)
 FLUME = FlumeBounds((-1.0, 3.0), (-0.5, 0.5))
+ELASTIC = contact_law(damping_ratio=0.0)  # the container's spring without its dashpot: closed forms
 
 
 def _still(depth=0.1, **kw):
@@ -136,7 +137,8 @@ def test_a_box_launched_at_the_column(law):
     assert hit["normal_x"] == pytest.approx(-1.0)
     assert hit["obliquity_deg"] < 1.0
     ref = column_impact(law, hit["impact_velocity_m_s"], hit["height_m"], obliquity_deg=hit["obliquity_deg"],
-                        mass_kg=0.236, size_m=(0.15, 0.06, 0.06), wall_thickness_m=0.005, friction_coefficient=0.0)
+                        mass_kg=0.236, size_m=(0.15, 0.06, 0.06), wall_thickness_m=0.005, friction_coefficient=0.0,
+                        added_mass_coefficient=0.0)  # dry: no water carried
     assert hit["peak_force_N"] == pytest.approx(ref.peak_force_N, rel=1e-6)
     assert hit["impulse_Ns"] == pytest.approx(ref.impulse_Ns, rel=1e-6)
     assert hit["duration_s"] == pytest.approx(ref.duration_s, rel=1e-6)
@@ -150,9 +152,9 @@ def test_two_boxes_colliding_conserve_momentum():
     within 1 %; one body-body event; elastic law: separation / approach speed 1 within 5 %, and
     its pulse the half-sine of the two springs in series on the two-body mass within 3 %."""
     a = TransportBody("a", centre_m=(0.0, 0.0, 0.03), velocity_m_s=(1.0, 0.0, 0.0), friction_coefficient=0.0,
-                      size_m=(0.15, 0.06, 0.06), mass_kg=0.236)
+                      size_m=(0.15, 0.06, 0.06), mass_kg=0.236, contact=ELASTIC)
     b = TransportBody("b", centre_m=(0.3, 0.0, 0.03), velocity_m_s=(-0.5, 0.0, 0.0), friction_coefficient=0.0,
-                      size_m=(0.15, 0.06, 0.06), mass_kg=0.4)
+                      size_m=(0.15, 0.06, 0.06), mass_kg=0.4, contact=ELASTIC)
     run = run_transport([a, b], FLUME, 0.3, settings=TransportSettings(output_interval_s=0.005))
     ta, tb = run.track("a"), run.track("b")
     before = 0.236 * ta["u_m_s"].iloc[0] + 0.4 * tb["u_m_s"].iloc[0]
@@ -165,23 +167,23 @@ def test_two_boxes_colliding_conserve_momentum():
     assert event["approach_velocity_m_s"] == pytest.approx(1.5, rel=0.02)
     assert event["restitution"] == pytest.approx(1.0, rel=0.05)
     # the pulse: the undamped container springs in series (k / 2) on the two-body mass, head on
-    k, m = CONTAINER.stiffness_N_m / 2.0, 0.236 * 0.4 / (0.236 + 0.4)
+    k, m = ELASTIC.stiffness_N_m / 2.0, 0.236 * 0.4 / (0.236 + 0.4)
     assert event["peak_force_N"] == pytest.approx(1.5 * math.sqrt(k * m), rel=0.03)
     assert event["duration_s"] == pytest.approx(math.pi * math.sqrt(m / k), rel=0.03)
     assert event["impulse_Ns"] == pytest.approx(2.0 * m * 1.5, rel=0.03)
 
 
 def test_a_box_launched_at_a_side_wall_gets_the_half_sine_of_its_law():
-    """The container broadside into the side wall at 1.5 m/s (frictionless): one wall impact with
-    its pulse, the undamped law's half-sine on the whole mass: peak v sqrt(k m), duration
+    """The container broadside into the side wall at 1.5 m/s (frictionless), its spring undamped:
+    one wall impact with its pulse, the half-sine on the whole mass: peak v sqrt(k m), duration
     pi sqrt(m / k), impulse 2 m v, each within 3 %."""
     body = TransportBody("box", centre_m=(0.5, 0.3, 0.03), velocity_m_s=(0.0, 1.5, 0.0), friction_coefficient=0.0,
-                         **CONTAINER_BOX)
+                         contact=ELASTIC, **CONTAINER_BOX)
     run = run_transport([body], FLUME, 0.3)
     walls = run.impacts[run.impacts["kind"] == "wall"]
     assert len(walls) == 1
     hit = walls.iloc[0]
-    k, m = CONTAINER.stiffness_N_m, 0.236
+    k, m = ELASTIC.stiffness_N_m, 0.236
     assert hit["impact_velocity_m_s"] == pytest.approx(1.5, rel=0.02)
     assert hit["peak_force_N"] == pytest.approx(1.5 * math.sqrt(k * m), rel=0.03)
     assert hit["duration_s"] == pytest.approx(math.pi * math.sqrt(m / k), rel=0.03)
