@@ -226,3 +226,19 @@ def test_a_one_way_run_takes_u_max_from_its_flow_record(debris, tmp_path):
     assert row["force_at_impact_speed_N"] == pytest.approx(0.65 * row["impact_speed_m_s"] * math.sqrt(col_stiffness
                                                                                                       * 0.236))
     assert row["design_basis"].startswith("u_max")
+
+
+def test_the_depth_average_weighs_each_level_by_the_water_it_stands_for():
+    """Levels dense near the bed (a slow friction layer) and sparse above: u = 0.2 m/s below
+    10 mm and 2 m/s above, water 0.1 m deep, air above it at 5 m/s: the depth average is
+    (0.01 x 0.2 + 0.09 x 2) / 0.1 = 1.82 m/s within the trapezoids' error at the step, not the
+    mean of the levels, and the air does not count."""
+    import numpy as np
+
+    from orchestrator.results.asce_design import _depth_averaged_speed
+
+    z = np.array([0.0, 0.001, 0.002, 0.004, 0.006, 0.009, 0.011, 0.05, 0.099, 0.15])
+    u = np.where(z < 0.01, 0.2, 2.0)
+    u[z > 0.1] = 5.0
+    velocity = np.stack([u, np.zeros_like(u)], axis=1)
+    assert _depth_averaged_speed(z, velocity, 0.0, 0.1) == pytest.approx(1.82, abs=0.02)

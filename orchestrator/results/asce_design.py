@@ -6,9 +6,12 @@ maximum velocity at the site "at depths sufficient to float the debris". The stu
 put each record's measured impact speed in place of ``u_max``. A run gives both, so each column
 strike gets one row (:func:`asce_design_table`):
 
-* ``u_max`` (:func:`site_flow_speed`): the largest depth-averaged horizontal flow speed just
-  upstream of the column's face, over the run, among the moments the water there is at least as
-  deep as the lightest body's draft (it floats). It comes from the flow a one-way run records
+* ``u_max`` (:func:`site_flow_speed`): the largest depth-averaged horizontal flow speed two
+  column widths upstream of the column's face (:data:`UPSTREAM_WIDTHS`), over the run, among the
+  moments the water there is at least as deep as the lightest body's draft (it floats). The
+  standard means the site's flow without the structure; at the face itself the column stops
+  the water (its stagnation zone), while two widths upstream a column slows the flow by a few
+  per cent (potential flow past a cylinder: (R / r)^2 = 4 % at two diameters from its face). It comes from the flow a one-way run records
   (``results/flow_record.npz``, :mod:`orchestrator.transport.flow`); a run without that record
   (two-way, no debris) gives none and says so.
 * the body's impact speed (its centre's speed at the strike): the study's way, kept beside it.
@@ -37,6 +40,9 @@ __all__ = ["ASCE_COLUMNS", "SiteFlow", "asce_design_table", "float_depth_m", "si
 #: Least water depth (m) counted as flow at the column when no body says how deep it must be.
 MIN_DEPTH_M = 0.005
 
+#: Where u_max is read: this many column widths upstream of its face, out of its stagnation zone.
+UPSTREAM_WIDTHS = 2.0
+
 ASCE_COLUMNS = ["event", "time_s", "body", "mass_kg", "impact_speed_m_s", "u_max_m_s", "design_basis",
                 "governing_stiffness", "stiffness_N_m", "design_force_N", "duration_s", "impulse_Ns",
                 "other_stiffness", "other_force_N", "force_at_impact_speed_N", "cap_N", "capped"]
@@ -55,8 +61,9 @@ class SiteFlow:
 
     def describe(self) -> str:
         return (f"{self.u_max_m_s:.2f} m/s at t = {self.time_s:.3f} s, depth {self.depth_m:.3f} m, x = {self.x_m:.3f} m "
-                f"(the largest depth-averaged speed just upstream of the column's face where the water is at least "
-                f"{self.min_depth_m * 1e3:.0f} mm deep, enough to float the debris; {self.source})")
+                f"(the largest depth-averaged speed {UPSTREAM_WIDTHS:g} column widths upstream of its face, out of "
+                f"its stagnation zone, where the water is at least {self.min_depth_m * 1e3:.0f} mm deep, enough to "
+                f"float the debris; {self.source})")
 
 
 def float_depth_m(bodies: list[tuple[float, float, float]], density_kg_m3: float = 998.0) -> float:
@@ -83,16 +90,27 @@ def flow_speed_at(field: FlowField, x_face_m: float, y_span_m: tuple[float, floa
             depth = float(field.eta_m[k, i, j] - field.bed_z_m)
             if depth < min_depth_m:
                 continue
-            wet = field.z_m <= field.eta_m[k, i, j]
-            if not wet.any():
-                wet = np.zeros_like(wet)
-                wet[0] = True
-            uh = np.hypot(field.velocity_m_s[k, i, j, wet, 0], field.velocity_m_s[k, i, j, wet, 1])
-            speed = float(np.mean(uh))
+            speed = _depth_averaged_speed(field.z_m, field.velocity_m_s[k, i, j, :, :2], float(field.bed_z_m),
+                                          float(field.eta_m[k, i, j]))
             if best is None or speed > best.u_max_m_s:
                 best = SiteFlow(speed, float(field.t_s[k]), depth, float(field.x_m[i]), min_depth_m,
                                 "the one-way run's flow record")
     return best
+
+
+def _depth_averaged_speed(z_m: np.ndarray, velocity_h: np.ndarray, bed_z_m: float, eta_m: float) -> float:
+    """(1 / h) * integral of the horizontal speed from the bed to the surface (trapezoids over the
+    record's levels, which are dense near the bed and sparse above it, the highest wet level's
+    speed held up to the surface: the level above it is air): each level weighs by the water it
+    stands for, not one level one vote."""
+    speed = np.hypot(velocity_h[:, 0], velocity_h[:, 1])
+    depth = eta_m - bed_z_m
+    wet = z_m <= eta_m
+    if depth <= 0.0 or not wet.any():
+        return 0.0
+    z = np.concatenate([[bed_z_m], z_m[wet & (z_m > bed_z_m)], [eta_m]])
+    u = np.interp(z, z_m[wet], speed[wet])  # held at the ends: no air in the average
+    return float(np.trapezoid(u, z) / depth) if hasattr(np, "trapezoid") else float(np.trapz(u, z) / depth)
 
 
 def site_flow_speed(case_dir: str | Path, scene) -> SiteFlow | None:
@@ -105,9 +123,10 @@ def site_flow_speed(case_dir: str | Path, scene) -> SiteFlow | None:
     field = FlowField.load(path)
     col = scene.column
     x_face = float(col.x_m - col.size_x_m / 2)
+    x_read = x_face - UPSTREAM_WIDTHS * float(col.size_y_m)
     span = (float(col.y_m - col.size_y_m / 2), float(col.y_m + col.size_y_m / 2))
     bodies = [(float(b.mass_kg), float(b.size_m[0]), float(b.size_m[1])) for b in scene.debris]
-    return flow_speed_at(field, x_face, span, float_depth_m(bodies, field.water_density_kg_m3))
+    return flow_speed_at(field, x_read, span, float_depth_m(bodies, field.water_density_kg_m3))
 
 
 def _speed(row: dict) -> float:
