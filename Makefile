@@ -18,7 +18,7 @@ help:
 	@echo "make venv                   the Python environment only (.venv, the package installed editable)"
 	@echo "make case-1debris [CELL=m] [COUPLING=two-way]  the study's 1-debris scene, end to end (one-way: about 4 min on 2 idle cores; two-way: about 45 min)"
 	@echo "make results-1debris        after it: its table, plots and summary to docs/results/case-1debris/"
-	@echo "make ensemble-1debris [N=100] the 1-debris flow once, N perturbed starts through it (runs/ensemble-1debris, docs/results/ensemble-1debris)"
+	@echo "make ensemble-1debris [N=200] the 1-debris flow once, N perturbed starts through it (runs/ensemble-1debris, docs/results/ensemble-1debris)"
 	@echo "make case-layouts           the study's four debris layouts one-way (about 25 min on 2 cores), then results-layouts"
 	@echo "make results-layouts        after it: the layouts side by side to docs/results/layouts/"
 	@echo "make sweep SWEEP=mesh-study a sweep from cases/sweeps/ (runs/sweeps/<name>; run again to resume)"
@@ -91,9 +91,9 @@ case-layouts: venv openfoam
 results-layouts: venv
 	$(VENV)/bin/debrisfoam report layouts $(LAYOUTS_OUT) -o docs/results/layouts --force
 
-# make ensemble-1debris [N=100]: the 1-debris scene's one-way flow once (about 5 min of interFoam on
+# make ensemble-1debris [N=200]: the 1-debris scene's one-way flow once (about 5 min of interFoam on
 # 2 cores; reused when run again), then N realisations of perturbed starts through it (docs/ensembles.md).
-N ?= 100
+N ?= 200
 ensemble-1debris: venv openfoam
 	$(VENV)/bin/debrisfoam ensemble cases/1debris.yaml -n $(N) -o runs/ensemble-1debris --force
 	mkdir -p docs/results/ensemble-1debris
