@@ -143,16 +143,17 @@ class ColumnSection(SceneSection):
 class DebrisContact(SceneSection):
     """How a debris body strikes the column, a wall or another body, and how it slides on the bed.
 
-    ``law: container`` (default) is the contact law calibrated on the study's Table 1 event
-    (analytical.contact_law, docs/contact-law.md): a spring of the container's own compliance,
-    far softer than a rigid box. ``law: asce7_kd`` is the rigid debris stiffness k_d backed out
+    ``law: container`` (default) is the contact law calibrated on the study's 22 impacts (its
+    Table 2, through the study's own fit; analytical.contact_law, docs/contact-law.md): a damped
+    spring of the container's own compliance, far softer than a rigid box, that loses energy. ``law: asce7_kd`` is the rigid debris stiffness k_d backed out
     of the study's ASCE 7-22 rows (3.0e6 N/m), undamped: ASCE 7-22's own assumption, an upper
     bound. ``stiffness_N_m``, ``damping_ratio`` or ``restitution`` override the law's values;
     give at most one of the last two.
     """
 
     law: Literal["container", "asce7_kd"] = Field(
-        "container", description="container: calibrated on the study's Table 1 event; asce7_kd: rigid debris "
+        "container", description="container: a damped spring calibrated on the study's 22 impacts (Table 2); "
+        "asce7_kd: rigid debris "
         "stiffness k_d, undamped (docs/contact-law.md)")
     stiffness_N_m: float | None = Field(None, gt=0, description="contact stiffness k (N/m); null = the law's")
     damping_ratio: float | None = Field(
