@@ -279,3 +279,17 @@ def test_in_a_batch_each_realisation_keeps_its_own_departure():
     for run, u in ((first, 1.5), (second, 1.0)):
         (gone,) = run.departures.to_dict("records")
         assert gone["body"] == "box" and gone["time_s"] == pytest.approx((1.4 - 0.075) / u, abs=2e-3)
+
+
+@pytest.mark.parametrize("yaw_deg", [0.0, 25.0])
+def test_a_container_afloat_in_still_water_stays_where_it_is(yaw_deg):
+    """The study's container at rest at its draft in still water, its forcing complete (the
+    carried water per axis, drag along the flow, the Munk moment): over 2 s it moves under 1 mm
+    and turns under 1 degree, whatever its heading (nothing moves past it to turn it)."""
+    draft = 0.236 / (RHO * 0.15 * 0.06)
+    body = TransportBody("box", centre_m=(0.5, 0.0, 0.1 - draft + 0.03), yaw_deg=yaw_deg, **CONTAINER_BOX)
+    track = run_transport([body], FLUME, 2.0, _still()).track("box")
+    moved = (track[["x_m", "y_m", "z_m"]] - track[["x_m", "y_m", "z_m"]].iloc[0]).abs().to_numpy().max()
+    assert moved < 1e-3
+    for angle, start in (("yaw_deg", yaw_deg), ("pitch_deg", 0.0), ("roll_deg", 0.0)):
+        assert (track[angle] - start).abs().max() < 1.0, angle
