@@ -97,7 +97,9 @@ def dask_executor(slots: int, scheduler: str | None, cluster_kwargs: dict | None
             raise DebrisfoamError(f"cannot reach the Dask scheduler at {scheduler}: {err}") from None
         describe = f"dask scheduler {scheduler}"
     else:
-        options = {"n_workers": slots, "threads_per_worker": 1, "processes": True, "dashboard_address": None,
+        # the dashboard on a free port: two clusters at once (two sweeps, a test run beside a
+        # study) would otherwise contend for 8787 and warn on stderr
+        options = {"n_workers": slots, "threads_per_worker": 1, "processes": True, "dashboard_address": ":0",
                    "memory_limit": 0, "silence_logs": logging.ERROR}
         options.update(cluster_kwargs or {})
         # Ctrl-C is the parent's: it stops the members through `stop`
