@@ -27,7 +27,7 @@ sys.path.insert(0, str(ROOT))
 
 from orchestrator.transport.engine import run_transport  # noqa: E402
 from orchestrator.transport.flow import FlowField  # noqa: E402
-from orchestrator.transport.model import FlumeBounds, PlacedColumn, TransportBody  # noqa: E402
+from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn, TransportBody  # noqa: E402
 
 T_END_S = 3.5
 SIZE = (0.15, 0.06, 0.06)

@@ -29,7 +29,7 @@ from orchestrator.studies.ensemble import (
 from orchestrator.studies.ensemble_report import write_report
 from orchestrator.transport.engine import TransportSettings, run_transport
 from orchestrator.transport.flow import FlowField
-from orchestrator.transport.model import FlumeBounds, PlacedColumn, TransportBody
+from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn, TransportBody
 from tests.conftest import run_cli
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -194,7 +194,7 @@ def test_realisations_in_one_model_never_touch_each_other():
     """Two realisations at the very same start share one model: no contact pair joins them, so
     each moves as it would alone (here: identical runs); bodies of one realisation keep theirs."""
     from orchestrator.transport.batch import batch_bodies, run_batch
-    from orchestrator.transport.model import build_model
+    from orchestrator.transport.mujoco_model import build_model
 
     pair = [container("a", x=0.6, y=0.1), container("b", x=0.6, y=-0.1)]
     bodies, groups, _ = batch_bodies([pair, pair, pair])

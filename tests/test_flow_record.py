@@ -24,7 +24,7 @@ import yaml
 from orchestrator.case.foam import foam_env, run_step
 from orchestrator.plan.model import ModelPlan
 from orchestrator.transport.flow import FlowField
-from orchestrator.transport.record import FLOW_RECORD_NPZ, FlowRecordError, read_flow_record
+from orchestrator.transport.flow_record import FLOW_RECORD_NPZ, FlowRecordError, read_flow_record
 from tests.conftest import render_and_run, run_cli
 
 ROOT = Path(__file__).resolve().parent.parent

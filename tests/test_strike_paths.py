@@ -18,7 +18,7 @@ from orchestrator.scene.schema import column_for_analysis
 from orchestrator.scene.scenefile import load_scene
 from orchestrator.transport.engine import TransportSettings, run_transport
 from orchestrator.transport.flow import FlowField
-from orchestrator.transport.model import FlumeBounds, PlacedColumn, TransportBody
+from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn, TransportBody
 
 ROOT = Path(__file__).resolve().parents[1]
 DEPTH_M = 0.1  # still water: the container afloat at its draft

@@ -18,7 +18,7 @@ from analytical.hydrodynamics import HydroCoefficients, archimedes_draft, drag_t
 from orchestrator.transport.engine import BODY_COLUMNS, TransportSettings, run_transport
 from orchestrator.transport.events import IMPACT_COLUMNS
 from orchestrator.transport.flow import FlowCoverageError, FlowField
-from orchestrator.transport.model import FlumeBounds, PlacedColumn, TransportBody
+from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn, TransportBody
 
 RHO, G = 998.0, 9.81
 PLATE = dict(size_m=(0.2, 0.2, 0.02), mass_kg=0.4)

@@ -274,7 +274,7 @@ def cmd_response(args: argparse.Namespace) -> int:
 def cmd_fit(args: argparse.Namespace) -> int:
     from analytical.fitting import fit_mdof, fit_sdof
 
-    from orchestrator.results.records import read_force_record
+    from orchestrator.results.force_records import read_force_record
 
     time_s, force_N = read_force_record(args.record)
     column = column_from_args(args)

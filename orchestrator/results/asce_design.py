@@ -33,7 +33,7 @@ import pandas as pd
 
 from analytical.asce7 import SEED_DEBRIS_STIFFNESS_N_M, asce7_design
 from orchestrator.transport.flow import FlowField
-from orchestrator.transport.record import FLOW_RECORD_NPZ
+from orchestrator.transport.flow_record import FLOW_RECORD_NPZ
 
 __all__ = ["ASCE_COLUMNS", "SiteFlow", "asce_design_table", "float_depth_m", "site_flow_speed"]
 

@@ -72,7 +72,7 @@ them (`run_case`); `orchestrator.run.supervisor` holds what lasts a run (run.jso
 contact book, the bed watch) and runs each segment through `orchestrator.run.segments`
 (the solver process, its log, stop requests and kills); `orchestrator.run.control` edits
 controlDict, `orchestrator.run.times` finds the written times and the write grid,
-`orchestrator.run.record` keeps run.json and bodies.csv, `orchestrator.run.case_info`
+`orchestrator.run.run_json` keeps run.json and bodies.csv, `orchestrator.run.case_info`
 reads the case, `orchestrator.run.errors` names the ways a run ends early.
 
 PyFoam: `ParsedParameterFile` reads and edits controlDict and dynamicMeshDict
@@ -106,7 +106,7 @@ from orchestrator.run.contact_geometry import Contact
 from orchestrator.run.control import set_control
 from orchestrator.run.errors import ContactError, DivergenceError, RunError, RunInterrupted
 from orchestrator.run.monitor import Diagnosis, DivergenceLimits, Progress, StepRecord
-from orchestrator.run.record import now, states_in_logs, versions
+from orchestrator.run.run_json import now, states_in_logs, versions
 from orchestrator.run.segments import STOPPED_REASONS, SegmentResult, StopFlag
 from orchestrator.run.supervisor import Supervisor
 from orchestrator.run.times import MIN_SEGMENT_FRACTION, latest_time, remove_times_from, segment_span

@@ -49,7 +49,7 @@ from orchestrator.run.monitor import (
     StepRecord,
     water_balance_diagnosis,
 )
-from orchestrator.run.record import now
+from orchestrator.run.run_json import now
 
 __all__ = [
     "STOPPED_REASONS",

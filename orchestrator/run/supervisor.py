@@ -27,7 +27,7 @@ from orchestrator.run.contact_book import ContactBook, ContactSettings
 from orchestrator.run.control import TIME_PRECISION, set_control, significant_digits
 from orchestrator.run.errors import RunError
 from orchestrator.run.monitor import DivergenceLimits, Progress, StepRecord
-from orchestrator.run.record import (
+from orchestrator.run.run_json import (
     RunRecord,
     append_track,
     check_against_state_file,

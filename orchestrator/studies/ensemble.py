@@ -98,7 +98,7 @@ from orchestrator.transport.batch import run_batch
 from orchestrator.transport.case_transport import case_flow, scene_settings, transport_setup
 from orchestrator.transport.engine import TransportResult, TransportSettings, run_transport
 from orchestrator.transport.flow import FlowField
-from orchestrator.transport.model import FlumeBounds, PlacedColumn, TransportBody
+from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn, TransportBody
 
 __all__ = [
     "DEFAULT_BATCH_SIZE",

@@ -11,7 +11,7 @@ vectorised over bodies) samples the flow at every body's points in one call.
 Why the realisations stay independent
 -------------------------------------
 * **No contact between realisations.** The model has only explicit contact pairs
-  (:func:`~orchestrator.transport.model.build_model`); each realisation's bodies form one
+  (:func:`~orchestrator.transport.mujoco_model.build_model`); each realisation's bodies form one
   ``group`` and body-body pairs are built within a group only, so bodies of different
   realisations pass through each other. A batch of one-body realisations has no body-body pair
   at all; the bodies of a multi-body realisation keep theirs.
@@ -43,7 +43,7 @@ import pandas as pd
 from orchestrator.core.errors import InputError
 from orchestrator.transport.engine import TransportResult, TransportSettings, run_transport
 from orchestrator.transport.flow import FlowField
-from orchestrator.transport.model import FlumeBounds, PlacedColumn, TransportBody
+from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn, TransportBody
 
 __all__ = ["batch_bodies", "run_batch", "split_batch"]
 

@@ -4,7 +4,7 @@ After the flow run of a one-way case (``plan.debris_coupling == "one-way"``: int
 the bodies, recording alpha.water and U), :func:`transport_case`:
 
 1. reads the record into a :class:`~orchestrator.transport.flow.FlowField`
-   (:func:`~orchestrator.transport.record.read_flow_record`, kept as results/flow_record.npz);
+   (:func:`~orchestrator.transport.flow_record.read_flow_record`, kept as results/flow_record.npz);
 2. builds every scene body as it starts (size, mass, wall thickness, centre and orientation from
    the resolved scene, start velocity, its contact law and its bed friction coefficient), the
    flume's bed and side walls, end walls at the record's ends, and the column;
@@ -38,9 +38,9 @@ from orchestrator.core.files import write_text_atomic
 from orchestrator.scene.schema import Scene, column_for_analysis
 from orchestrator.scene.scenefile import load_scene
 from orchestrator.transport.engine import TransportResult, TransportSettings, run_transport
-from orchestrator.transport.model import FlumeBounds, PlacedColumn, TransportBody
+from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn, TransportBody
 from orchestrator.transport.flow import FlowField
-from orchestrator.transport.record import read_flow_record
+from orchestrator.transport.flow_record import read_flow_record
 
 __all__ = ["TRANSPORT_DIR", "TransportSummary", "case_flow", "scene_bodies", "scene_settings", "transport_case"]
 

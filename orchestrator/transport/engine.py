@@ -3,7 +3,7 @@
 The flume study found that the debris barely changes the flow, so the flow is computed once
 without bodies and recorded (:class:`~orchestrator.transport.flow.FlowField`), and any number
 of bodies is then carried through the record by a rigid-body engine. This module runs that
-engine: :func:`run_transport` builds the MuJoCo model (:mod:`~orchestrator.transport.model`:
+engine: :func:`run_transport` builds the MuJoCo model (:mod:`~orchestrator.transport.mujoco_model`:
 why MuJoCo, and how a contact law's stiffness and damping become MuJoCo's ``solref``), steps
 it at a fixed time step to ``t_end_s``, applies the hydrodynamic forcing of
 :mod:`analytical.hydrodynamics` and records tracks and contact events
@@ -58,7 +58,7 @@ from analytical.impact_bodies import Body
 from orchestrator.contact.resolution import pair_contact_law, resolve_bodies
 from orchestrator.transport.events import EventBook
 from orchestrator.transport.flow import FlowCoverageError, FlowField
-from orchestrator.transport.model import (
+from orchestrator.transport.mujoco_model import (
     FlumeBounds,
     PlacedColumn,
     TransportBody,
@@ -75,7 +75,7 @@ BODY_COLUMNS = ["time_s", "body", "x_m", "y_m", "z_m", "u_m_s", "v_m_s", "w_m_s"
 angular velocity too; ``q_ab`` the body-to-world rotation."""
 
 DEPARTURE_COLUMNS = ["body", "time_s", "end", "x_m", "y_m", "z_m", "u_m_s", "v_m_s", "w_m_s", "speed_m_s"]
-"""A body that reached an open end of the flume (:class:`~orchestrator.transport.model.FlumeBounds`)
+"""A body that reached an open end of the flume (:class:`~orchestrator.transport.mujoco_model.FlumeBounds`)
 and left the run: when, which end, where and how fast."""
 
 
@@ -184,7 +184,7 @@ def run_transport(bodies, flume: FlumeBounds, t_end_s: float, flow: FlowField | 
     """Carry ``bodies`` (:class:`TransportBody`) through ``flow`` (None: dry) for ``t_end_s``
     seconds in ``flume`` with ``column``; see the module notes. ``groups`` (one label per body,
     None: one group): only bodies of one group can strike each other
-    (:func:`~orchestrator.transport.model.build_model`)."""
+    (:func:`~orchestrator.transport.mujoco_model.build_model`)."""
     settings = TransportSettings() if settings is None else settings
     bodies = [b if isinstance(b, TransportBody) else TransportBody(**b) for b in bodies]
     t_end = require_positive("t_end_s", t_end_s)
