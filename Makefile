@@ -12,7 +12,7 @@ COUPLING ?=
 OUT      ?= runs/1debris$(if $(COUPLING),-$(COUPLING),)
 CASE_SET := $(if $(CELL),--set mesh.cell_size_m=$(CELL),) $(if $(COUPLING),--set run.debris_coupling=$(COUPLING),)
 
-.PHONY: forcing-variants help venv openfoam test test-fast docs-check case-1debris case-layouts results-layouts compare-coupling sweep speed-error speed-error-debris stability synthetic-study contact-law results-1debris ensemble-1debris scene-doc bench bench-transport clean
+.PHONY: forcing-variants help venv openfoam test test-fast docs-check case-1debris case-layouts results-layouts compare-coupling sweep speed-error speed-error-debris stability synthetic-study contact-law results-1debris ensemble-1debris scene-doc catalogue-doc bench bench-transport clean
 
 help:
 	@echo "make venv                   the Python environment only (.venv, the package installed editable)"
@@ -30,6 +30,7 @@ help:
 	@echo "make docs-check             the docs: links resolve, no history, README at most 800 words, figures the planner gives"
 	@echo "make synthetic-study        the seed's SDOF/MDOF/ASCE analysis on 22 synthetic records"
 	@echo "make scene-doc              docs/scene.md, the scene reference, from the schema"
+	@echo "make catalogue-doc          docs/catalogue.md, the debris and column catalogue, from its data"
 	@echo "make contact-law            calibrate the contact law on Table 2 (22 impacts), check it on Table 1 (docs/results/contact-law/)"
 	@echo "make bench                  benchmarks (figures go to benchmarks/*.md)"
 	@echo "make bench-transport        one-way transport and ensemble benchmarks (benchmarks/transport.md, ensemble.md)"
@@ -149,6 +150,9 @@ synthetic-study: venv
 # docs/scene.md, the scene reference, from the schema itself (a test checks it is current)
 scene-doc: venv
 	$(VENV)/bin/debrisfoam schema --markdown > docs/scene.md
+
+catalogue-doc: venv
+	$(VENV)/bin/debrisfoam catalogue --markdown > docs/catalogue.md
 
 contact-law: venv
 	$(VENV)/bin/debrisfoam analytical contact-law -o docs/results/contact-law --force

@@ -13,8 +13,15 @@ the reference study's acrylic column (the study's section 3.1):
 The measured ``natural_frequency_Hz`` and ``stiffness_N_m`` drive the SDOF model and the
 ASCE 7-22 stiffness; the geometry and material drive the MDOF beam model
 (:mod:`analytical.mdof`). ``base`` chooses the MDOF support: ``"rigid"`` (the seed's
-MDOF, built from the geometry alone; f1 about 88 Hz) or ``"calibrated"`` (a rotational
-base spring tuned so the beam's f1 equals ``natural_frequency_Hz``).
+MDOF, built from the geometry alone; f1 about 88 Hz), ``"calibrated"`` (a rotational
+base spring tuned so the beam's f1 equals ``natural_frequency_Hz``) or ``"spring"`` (a
+rotational base spring of the given ``base_spring_Nm_rad``).
+
+Sections other than a rectangular box (solid or circular concrete, steel pipes and W-shapes:
+:mod:`analytical.sections`) give their own ``section_area_m2`` and ``section_second_moment_m4``;
+the box sizes then describe only the footprint the flow and the debris meet. A cracked
+reinforced-concrete section scales its flexural rigidity by ``stiffness_factor`` (ACI 318's
+0.70 for columns); its mass and rotary inertia stay the gross section's.
 
 Units are SI throughout and carried in the field names.
 
@@ -37,7 +44,7 @@ from analytical.errors import InputError, require_finite, require_positive
 __all__ = ["BASES", "MAX_ELEMENTS", "Column"]
 
 #: Accepted values of :attr:`Column.base`.
-BASES = ("rigid", "calibrated")
+BASES = ("rigid", "calibrated", "spring")
 #: Most Timoshenko elements a column model may have. Its modes come from a dense eigenproblem of
 #: about 2 x elements degrees of freedom: measured here 0.5 s and 0.1 GB at 160 elements (the
 #: study's), 14 s and 0.6 GB at 1,600; time grows with the cube of the count and memory with its
@@ -81,6 +88,13 @@ class Column:
         MDOF base support, ``"rigid"`` or ``"calibrated"`` (see module docstring).
     elements:
         Number of Timoshenko beam elements of the MDOF model (int, 1 to :data:`MAX_ELEMENTS`).
+    section_area_m2, section_second_moment_m4:
+        The section's area A (m^2) and second moment I (m^4) about the axis the load bends;
+        None: the rectangular box's (:attr:`area_m2`, :attr:`second_moment_m4`).
+    stiffness_factor:
+        Effective-stiffness factor on E I (-), in (0, 1]; 1 for an uncracked section.
+    base_spring_Nm_rad:
+        Rotational base spring k_theta (N m/rad) of ``base="spring"``; None otherwise.
     """
 
     size_x_m: float = 0.20
@@ -96,6 +110,10 @@ class Column:
     damping_ratio: float = 0.045
     base: str = "rigid"
     elements: int = 160
+    section_area_m2: float | None = None
+    section_second_moment_m4: float | None = None
+    stiffness_factor: float = 1.0
+    base_spring_Nm_rad: float | None = None
 
     def __post_init__(self) -> None:
         positive = (
@@ -147,10 +165,23 @@ class Column:
                              f"freedom (about {48 * (2 * n) ** 2 / 1e9:.3g} GB): at most {MAX_ELEMENTS:,}")
         object.__setattr__(self, "elements", n)
 
+        for name in ("section_area_m2", "section_second_moment_m4", "base_spring_Nm_rad"):
+            if getattr(self, name) is not None:
+                object.__setattr__(self, name, require_positive(f"column.{name}", getattr(self, name)))
+        factor = require_positive("column.stiffness_factor", self.stiffness_factor)
+        if factor > 1.0:
+            raise InputError("column.stiffness_factor", f"must be in (0, 1], got {self.stiffness_factor!r}")
+        object.__setattr__(self, "stiffness_factor", factor)
+        if (self.base == "spring") != (self.base_spring_Nm_rad is not None):
+            raise InputError("column.base_spring_Nm_rad", "is required with base='spring' and only with it; got "
+                             f"{self.base_spring_Nm_rad!r} with base={self.base!r}")
+
     # ----------------------------------------------------------------- derived
     @property
     def area_m2(self) -> float:
-        """Cross-section area A (m^2)."""
+        """Cross-section area A (m^2): ``section_area_m2`` when given, else the box's."""
+        if self.section_area_m2 is not None:
+            return self.section_area_m2
         bx, by, t = self.size_x_m, self.size_y_m, self.wall_thickness_m
         return bx * by - max(bx - 2 * t, 0.0) * max(by - 2 * t, 0.0)
 
@@ -158,8 +189,10 @@ class Column:
     def second_moment_m4(self) -> float:
         """Second moment of area I (m^4) for bending about ``y`` (load along ``x``).
 
-        ``I = [b_y b_x^3 - (b_y - 2t)(b_x - 2t)^3] / 12``.
+        ``I = [b_y b_x^3 - (b_y - 2t)(b_x - 2t)^3] / 12``, or ``section_second_moment_m4`` when given.
         """
+        if self.section_second_moment_m4 is not None:
+            return self.section_second_moment_m4
         bx, by, t = self.size_x_m, self.size_y_m, self.wall_thickness_m
         return (by * bx**3 - max(by - 2 * t, 0.0) * max(bx - 2 * t, 0.0) ** 3) / 12.0
 
@@ -180,8 +213,8 @@ class Column:
 
     @property
     def bending_stiffness_Nm2(self) -> float:
-        """Flexural rigidity E I (N m^2)."""
-        return self.youngs_modulus_Pa * self.second_moment_m4
+        """Flexural rigidity E I (N m^2), times ``stiffness_factor`` (a cracked section's)."""
+        return self.youngs_modulus_Pa * self.second_moment_m4 * self.stiffness_factor
 
     @property
     def shear_stiffness_N(self) -> float:

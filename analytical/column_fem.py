@@ -12,7 +12,7 @@ Supports
 base displacement and restrains the base rotation by a rotational spring ``k_theta``
 (N m/rad) found with Brent's method so that the model's first frequency equals
 ``column.natural_frequency_Hz`` (the measured 70 Hz; the rigid-base beam gives about
-88 Hz). Damping is Rayleigh, ``C = a0 M + a1 K``, with
+88 Hz). ``base="spring"`` puts the given ``column.base_spring_Nm_rad`` there instead. Damping is Rayleigh, ``C = a0 M + a1 K``, with
 ``column.damping_ratio`` on modes 1 and 2 of the model (Chopra 2017, section 11.4).
 
 References
@@ -63,7 +63,7 @@ class ColumnModel:
         Unsupported beam K (no spring) and M over all DOFs; row 0 gives the base
         reaction.
     base_spring_Nm_rad:
-        Calibrated base rotational stiffness k_theta (N m/rad); None for a rigid base.
+        Base rotational stiffness k_theta (N m/rad), calibrated or given; None for a rigid base.
     rayleigh_a0_1_s, rayleigh_a1_s:
         Rayleigh coefficients of ``C = a0 M + a1 K`` (1/s and s).
     frequencies_Hz:
@@ -160,6 +160,9 @@ def column_model(column: Column) -> ColumnModel:
     spring = None
     if column.base == "calibrated":
         spring = _calibrate_base_spring(column, k_beam, m_ff)
+    elif column.base == "spring":
+        spring = column.base_spring_Nm_rad
+    if spring is not None:
         k_beam[0, 0] += spring
     w2, phi = linalg.eigh(k_beam, m_ff, driver="gvd")
     w2 = np.clip(w2, 0.0, None)

@@ -54,7 +54,7 @@ def test_frozen_hashable_and_equal_by_value():
     assert Column() == c and hash(Column()) == hash(c)
     assert Column(elements=160.0) == c and isinstance(Column(elements=160.0).elements, int)
     assert Column(base="calibrated") != c
-    assert set(BASES) == {"rigid", "calibrated"}
+    assert set(BASES) == {"rigid", "calibrated", "spring"}
 
 
 @pytest.mark.parametrize(

@@ -1,5 +1,6 @@
-"""The scene verbs: ``scenes`` (the shipped examples), ``validate`` (a scene checked, nothing
-written) and ``schema`` (the scene reference, docs/scene.md)."""
+"""The scene verbs: ``scenes`` (the shipped examples), ``catalogue`` (the debris types and column
+sections a scene can name), ``validate`` (a scene checked, nothing written) and ``schema`` (the
+scene reference, docs/scene.md)."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ import argparse
 from orchestrator.cli.common import EXIT_OK, SCENE_HELP, emit, warn
 from orchestrator.scene.shipped import resolve_scene
 
-__all__ = ["add_scene_parsers", "cmd_scenes", "cmd_schema", "cmd_validate"]
+__all__ = ["add_scene_parsers", "cmd_catalogue", "cmd_scenes", "cmd_schema", "cmd_validate"]
 
 
 def cmd_scenes(args: argparse.Namespace) -> int:
@@ -66,11 +67,36 @@ def cmd_schema(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def cmd_catalogue(args: argparse.Namespace) -> int:
+    from orchestrator.report.catalogue_page import catalogue_data, markdown
+
+    if args.markdown:
+        print(markdown(), end="")
+        return EXIT_OK
+    data = catalogue_data()
+    if args.json:
+        emit(data, True)
+        return EXIT_OK
+    print("debris types (a scene's `type:`; docs/catalogue.md gives every value's source):")
+    for d in data["debris"]:
+        print(f"  {d['name']:<27} {' x '.join(f'{s:g}' for s in d['size_m'])} m, {d['mass_kg']:g} kg  "
+              f"{d['description']}")
+    print("column sections (a column's `section: {kind: ...}`): " + ", ".join(data["section_kinds"]))
+    print("materials: " + ", ".join(m["name"] for m in data["materials"]))
+    return EXIT_OK
+
+
 def add_scene_parsers(verbs) -> None:
     """The ``scenes``, ``validate`` and ``schema`` verbs, on the top parser's ``verbs``."""
     p = verbs.add_parser("scenes", help="list the shipped example scenes and sweeps (usable by name), one line each")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_scenes)
+
+    p = verbs.add_parser("catalogue", help="the debris types and column sections a scene can name, with their "
+                                           "values (docs/catalogue.md is generated from it)")
+    p.add_argument("--markdown", action="store_true", help="print the catalogue page (docs/catalogue.md)")
+    p.add_argument("--json", action="store_true", help="print JSON (every value and its source)")
+    p.set_defaults(func=cmd_catalogue)
 
     p = verbs.add_parser("validate", help="check a scene (schema and planner) without writing anything: exit 0 "
                                           "or 2")

@@ -19,19 +19,28 @@ masses in kilograms, times in seconds, angles in degrees.
 from __future__ import annotations
 
 import dataclasses
-import typing
-from typing import Annotated, Any, Literal
+from typing import Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationInfo, field_validator
+from pydantic import Field, ValidationError, field_validator, model_validator
 
+from analytical.catalogue import list_debris
 from analytical.column import MAX_ELEMENTS
 from analytical.column import Column as AnalysisColumn
 from orchestrator.core.errors import InputError
 from analytical.hydrodynamics import DEFAULT_ADDED_MASS_COEFFICIENT, DEFAULT_DRAG_COEFFICIENT
+from orchestrator.scene.base import NonNeg, Pos, SceneSection
+from orchestrator.scene.catalogued import (
+    GEOMETRY_FIELDS,
+    ColumnSectionSpec,
+    column_from_section,
+    debris_from_catalogue,
+    section_geometry,
+)
 
 __all__ = [
     "Bed",
     "ColumnSection",
+    "ColumnSectionSpec",
     "DebrisBody",
     "DebrisContact",
     "DebrisLayout",
@@ -48,32 +57,6 @@ __all__ = [
     "column_for_analysis",
     "default_column",
 ]
-
-#: A float that must be > 0 (inside tuples, so the error names the component).
-Pos = Annotated[float, Field(gt=0)]
-#: A float that must be >= 0.
-NonNeg = Annotated[float, Field(ge=0)]
-
-
-def _takes_bool(annotation: Any) -> bool:
-    """Whether a field's type admits a boolean (``bool``, ``bool | None``, ...)."""
-    return annotation is bool or any(_takes_bool(a) for a in typing.get_args(annotation))
-
-
-class SceneSection(BaseModel):
-    """Base of every scene section: unknown keys are errors, instances are immutable, and a
-    boolean is refused where a number (or any other non-boolean) belongs: pydantic would read
-    ``end_time_s: true`` as 1.0."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True)
-
-    @field_validator("*", mode="before")
-    @classmethod
-    def _no_bool_for_numbers(cls, value: Any, info: ValidationInfo) -> Any:
-        items = value if isinstance(value, (list, tuple)) else (value,)
-        if any(isinstance(v, bool) for v in items) and not _takes_bool(cls.model_fields[info.field_name].annotation):
-            raise ValueError("must be a number (or the field's type), not a boolean (true/false)")
-        return value
 
 # ---------------------------------------------------------------------------- sections
 
@@ -116,28 +99,78 @@ class ColumnSection(SceneSection):
     """The obstacle: a rectangular box standing on the floor, centred at (x_m, y_m).
 
     The structural fields match :class:`analytical.column.Column` (same names, same
-    defaults for the measured values) so :func:`column_for_analysis` can build one.
+    defaults for the measured values) so :func:`column_for_analysis` can build one. With
+    ``section`` (a prototype column by section) the footprint, wall, section properties and
+    material come from the section and the frequency and stiffness from its MDOF model; a
+    circular section stands in the flow as the square box around it.
     """
 
     x_m: float = Field(description="centre of the column's footprint along the flume (m)")
     y_m: float = Field(0.0, description="centre of the footprint across the flume (m)")
-    size_x_m: float = Field(gt=0, description="footprint along the flow (m)")
-    size_y_m: float = Field(gt=0, description="footprint across the flow (m)")
+    section: ColumnSectionSpec | None = Field(
+        None, description="a prototype column by section (see ColumnSectionSpec); null = the fields below as given")
+    size_x_m: float = Field(gt=0, description="footprint along the flow (m); from `section` when given")
+    size_y_m: float = Field(gt=0, description="footprint across the flow (m); from `section` when given")
     height_m: float = Field(gt=0, description="height above the floor (m)")
-    wall_thickness_m: float = Field(gt=0, description="wall of the hollow section (m)")
-    youngs_modulus_Pa: float = Field(gt=0, description="Young's modulus of the column's material (Pa)")
-    density_kg_m3: float = Field(gt=0, description="density of the column's material (kg/m3)")
-    poisson_ratio: float = Field(gt=-1, lt=0.5, description="Poisson's ratio (-)")
-    shear_coefficient: float = Field(gt=0, description="Timoshenko shear coefficient of the section (-)")
-    natural_frequency_Hz: float = Field(70.0, gt=0, description="measured first frequency (Hz)")
-    stiffness_N_m: float = Field(4.685e5, gt=0, description="measured lateral stiffness (N/m)")
-    damping_ratio: float = Field(0.045, ge=0, lt=1, description="measured damping ratio (-); 0 = undamped")
-    base: Literal["rigid", "calibrated"] = Field(
+    wall_thickness_m: float = Field(gt=0, description="wall of the hollow section (m); from `section` when given")
+    section_area_m2: float | None = Field(None, gt=0, description="section area A (m2); null = the box's")
+    section_second_moment_m4: float | None = Field(
+        None, gt=0, description="second moment of the section about the axis the load bends (m4); null = the box's")
+    stiffness_factor: float = Field(1.0, gt=0, le=1, description="effective-stiffness factor on E I (-); "
+                                    "a cracked concrete section's")
+    youngs_modulus_Pa: float = Field(gt=0, description="Young's modulus of the column's material (Pa); from `section` when not given")
+    density_kg_m3: float = Field(gt=0, description="density of the column's material (kg/m3); from `section` when not given")
+    poisson_ratio: float = Field(gt=-1, lt=0.5, description="Poisson's ratio (-); from `section` when not given")
+    shear_coefficient: float = Field(gt=0, description="Timoshenko shear coefficient of the section (-); from `section` when given")
+    natural_frequency_Hz: float = Field(70.0, gt=0, description="measured first frequency (Hz); with a section, "
+                                        "its MDOF model's (the target with base: calibrated, then required)")
+    stiffness_N_m: float = Field(4.685e5, gt=0, description="measured lateral stiffness (N/m); with a section, "
+                                 "its MDOF model's at the top")
+    damping_ratio: float = Field(0.045, ge=0, lt=1, description="measured damping ratio (-); 0 = undamped; "
+                                 "with a section, its material's")
+    base: Literal["rigid", "calibrated", "spring"] = Field(
         "rigid", description="rigid: the study's MDOF (geometry only, f1 88 Hz); calibrated: a base spring tuned "
-        "to natural_frequency_Hz")
+        "to natural_frequency_Hz; spring: a rotational base spring of base_spring_Nm_rad")
+    base_spring_Nm_rad: float | None = Field(
+        None, gt=0, validate_default=True, description="rotational base spring (N m/rad); with base: spring only")
     elements: int = Field(
         160, ge=1, le=MAX_ELEMENTS, description="Timoshenko elements of the MDOF model (its modes are a dense "
         "eigenproblem: time grows with the cube of the count)")
+
+    @model_validator(mode="before")
+    @classmethod
+    def _from_section(cls, data: Any) -> Any:
+        if not isinstance(data, dict) or data.get("section") is None:
+            return data
+        try:
+            section = ColumnSectionSpec.model_validate(data["section"])
+        except ValidationError:
+            return data  # the section field reports it
+        return column_from_section(data, section)
+
+    @field_validator(*GEOMETRY_FIELDS)
+    @classmethod
+    def _as_section(cls, value, info):
+        section = info.data.get("section")
+        if section is not None:
+            fixed = section_geometry(section)[info.field_name]
+            if value is None or abs(value - fixed) > 1e-9 * abs(fixed):
+                raise ValueError(f"is fixed by column.section ({fixed:.6g}); leave it out or change the section")
+        return value
+
+    @field_validator("natural_frequency_Hz", mode="before")
+    @classmethod
+    def _target(cls, value):
+        if value is None:
+            raise ValueError("required with column.section and base: calibrated (the base spring's target)")
+        return value
+
+    @field_validator("base_spring_Nm_rad")
+    @classmethod
+    def _spring(cls, value, info):
+        if (info.data.get("base") == "spring") != (value is not None):
+            raise ValueError("required with base: spring, and only with it")
+        return value
 
 
 class DebrisContact(SceneSection):
@@ -186,10 +219,16 @@ class DebrisTemplate(SceneSection):
 
     Inertia: a closed box with walls ``wall_thickness_m`` thick (uniform material), or
     ``moment_of_inertia_kg_m2`` given (principal, body axes), or neither: a solid box.
+
+    ``type`` names a catalogued debris (analytical.catalogue, docs/catalogue.md): its size, mass,
+    inertia and contact stiffness are filled in, and fields written beside it override them.
     """
 
-    size_m: tuple[Pos, Pos, Pos] = Field(description="[length, width, height] (m)")
-    mass_kg: float = Field(gt=0, description="mass (kg)")
+    type: str | None = Field(None, description="a catalogued debris type (`debrisfoam catalogue`: "
+                             + ", ".join(list_debris()) + "); its size, mass, inertia and contact stiffness "
+                             "fill the fields not given; null = every field as given")
+    size_m: tuple[Pos, Pos, Pos] = Field(description="[length, width, height] (m); from `type` when not given")
+    mass_kg: float = Field(gt=0, description="mass (kg); from `type` when not given")
     wall_thickness_m: float | None = Field(None, gt=0, description="null = solid or inertia given")
     moment_of_inertia_kg_m2: tuple[Pos, Pos, Pos] | None = Field(
         None, description="principal moments about the body axes through the centre (kg m^2)"
@@ -213,6 +252,19 @@ class DebrisTemplate(SceneSection):
         description="keep the body upright (it yaws, it does not pitch or roll): v1912 has no bed contact, so a "
         "tipping body digs a corner into the floor. null = upright if it starts on the bed",
     )
+
+    @model_validator(mode="before")
+    @classmethod
+    def _from_catalogue(cls, data: Any) -> Any:
+        return debris_from_catalogue(data)
+
+    @field_validator("type")
+    @classmethod
+    def _known_type(cls, value):
+        if value is not None and value not in list_debris():
+            raise ValueError(f"unknown debris type {value!r}; the catalogue has {', '.join(list_debris())} "
+                             "(`debrisfoam catalogue`)")
+        return value
 
 
 class DebrisBody(DebrisTemplate):

@@ -1,0 +1,127 @@
+"""docs/catalogue.md, generated from the catalogue itself (`debrisfoam catalogue --markdown`).
+
+Every number on the page is read from :mod:`analytical.catalogue` and :mod:`analytical.sections`
+(or computed by them), so the page cannot drift from the data; tests/test_catalogue.py checks that
+the committed page is what this module writes.
+"""
+
+from __future__ import annotations
+
+import math
+
+from analytical.catalogue import LAB_SCALE, SOURCES, debris_type, list_debris
+from analytical.contact_law import SEED_IMPACT_VELOCITY_M_S, SEED_TABLE2_MDOF
+from analytical.asce7 import SEED_DEBRIS_MASS_KG
+from analytical.sections import KINDS, MATERIALS, RC_CRACKED_FACTOR, column_section
+
+__all__ = ["catalogue_data", "markdown"]
+
+_EXAMPLE = {"kind": "rc-square", "size_m": [0.6], "height_m": 8.0}
+
+
+def catalogue_data() -> dict:
+    """The catalogue as plain data (`debrisfoam catalogue --json`)."""
+    return {"debris": [debris_type(n).to_dict() for n in list_debris()],
+            "materials": [{"name": m.name, "family": m.family, "youngs_modulus_Pa": m.youngs_modulus_Pa,
+                           "density_kg_m3": m.density_kg_m3, "poisson_ratio": m.poisson_ratio,
+                           "damping_ratio": m.damping_ratio, "sources": m.sources} for m in MATERIALS.values()],
+            "section_kinds": {k: {"material": v[0], "sizes": v[1], "thicknesses": list(v[2])}
+                              for k, v in KINDS.items()}}
+
+
+def _g(x: float, digits: int = 4) -> str:
+    return f"{x:.{digits}g}"
+
+
+def markdown() -> str:
+    """The catalogue page."""
+    out = ["# Debris and column catalogue", "",
+           "Generated from `analytical/catalogue.py` and `analytical/sections.py` by `make catalogue-doc`",
+           "(`debrisfoam catalogue --markdown`); never edited by hand. `debrisfoam catalogue` lists it.", "",
+           "A scene names an entry: a debris body `type: container-20ft-empty` (its size, mass, inertia and",
+           "contact stiffness are filled in; fields written beside it override them), a column",
+           "`section: {kind: rc-square, size_m: [0.6]}` (docs/scene.md). An unknown name or a missing",
+           "property is exit 2 naming the file and the field.", "",
+           "## Debris", "",
+           "| type | size L x W x H (m) | mass (kg) | tare (kg) | I_xx, I_yy, I_zz (kg m^2) | container law k (N/m), "
+           "zeta | k_d (N/m) | ASCE 7-22 k_d |",
+           "|---|---|---|---|---|---|---|---|"]
+    for name in list_debris():
+        e = debris_type(name)
+        inertia = ", ".join(_g(v, 3) for v in e.moment_of_inertia_kg_m2)
+        out.append(f"| `{name}` | {' x '.join(f'{s:g}' for s in e.size_m)} | {e.mass_kg:g} | {e.tare_kg:g} | "
+                   f"{inertia} | {_g(e.contact_stiffness_N_m)}, {e.contact_damping_ratio:g} | {_g(e.kd_N_m)} | "
+                   f"{'not found' if e.asce_kd_N_m is None else _g(e.asce_kd_N_m)} |")
+    out += ["", "`debrisfoam design` samples a container's mass between its empty and loaded entries",
+            "(`analytical.catalogue.mass_range_kg('container-20ft')`).", "", "### Sources", ""]
+    used = sorted({key for n in list_debris() for key in debris_type(n).sources.values()})
+    for key in used:
+        fields = sorted({f for n in list_debris() for f, k in debris_type(n).sources.items() if k == key})
+        out.append(f"- **{key}** ({', '.join(fields)}): {SOURCES[key]}.")
+    lab = SEED_TABLE2_MDOF
+    lam = LAB_SCALE
+    out += ["", "### Inertia", "",
+            "A container is a closed thin shell carrying its tare, spread uniformly over the six faces of its",
+            "outer box, plus its cargo (mass less tare) as a uniform block filling ISO 668's minimum internal",
+            "dimensions, centred. No published container inertia was found; this is the package's model,",
+            "and a mass given in a scene gets the same model at that mass.", "",
+            "### Contact at full scale", "",
+            "The `container` law is the study's 1:40 damped spring (docs/contact-law.md) Froude-scaled. Under",
+            "Froude similarity at length scale lambda (g unchanged) forces scale with lambda^3, lengths with",
+            "lambda and times with sqrt(lambda): a spring k = F / x scales with lambda^2, a damping ratio is",
+            f"dimensionless and unchanged. With lambda = {lam:g}, the study's mean strike (Table 2: "
+            f"{lab['peak_force_N'][0]:g} N over {lab['duration_s'][0] * 1e3:g} ms",
+            f"at {SEED_IMPACT_VELOCITY_M_S[0]:g} m/s by a {SEED_DEBRIS_MASS_KG:g} kg container) becomes "
+            f"{lab['peak_force_N'][0] * lam**3 / 1e6:.3g} MN over {lab['duration_s'][0] * math.sqrt(lam) * 1e3:.3g} ms "
+            f"at {SEED_IMPACT_VELOCITY_M_S[0] * math.sqrt(lam):.3g} m/s",
+            f"by a {SEED_DEBRIS_MASS_KG * lam**3:,.0f} kg container: between the empty and loaded 20-ft entries. "
+            "The law was calibrated",
+            "on the 20-ft model only; the 40-ft entries take the same spring (the same end frame strikes).", "",
+            "Full-scale measurements could not be checked here. Piran Aghl, Naito & Riggs (2014, 2015) were not",
+            "found; Riggs et al. (2014), J. Offshore Mech. Arct. Eng. 136(4) 041603, was reachable only as its",
+            "abstract (full-scale in-air impact tests at Lehigh University with a wooden utility pole and a",
+            "shipping container, 1:5 in-water tests at Oregon State University), without forces or durations;",
+            "ASCE 7-22 Table 6.11-2",
+            "(container masses and debris stiffness) and FEMA P-646 (2019)'s debris table only as their opening",
+            "pages. So the scaled law stands on the study's 22 impacts and Froude similarity alone, the `asce7_kd`",
+            "column is the study's k_d scaled the same way, and the ASCE 7-22 k_d column is left empty: take k_d",
+            "from the printed standard (`contact.stiffness_N_m` with `law: asce7_kd`) for a code comparison.",
+            "Logs, poles and vehicles are not catalogued: no source for their size, mass and stiffness was",
+            "retrievable."]
+    out += ["", "## Columns", "",
+            "`analytical.sections.column_section(kind, size_m, height_m, material)` gives the MDOF column",
+            "(`analytical.column.Column`) of a prototype column; its first frequency and its lateral stiffness",
+            "at the top come from that model. Solid reinforced concrete uses the gross section with its flexural",
+            f"rigidity times the cracked-section factor {RC_CRACKED_FACTOR:g} (ACI 318-19 Table 6.6.3.1.1(a), "
+            "columns);",
+            "steel sections use their design dimensions. A circular column stands in the flow as the square box",
+            "around it. Bases: `rigid` (fixed), `spring` (a rotational spring `base_spring_Nm_rad`), `calibrated`",
+            "(a spring tuned to a given frequency). A pinned base is not offered: the model is a cantilever,",
+            "and a cantilever on a pin has no lateral stiffness.", "",
+            "| kind | material | sizes | thicknesses |", "|---|---|---|---|"]
+    for kind, (family, count, needs) in KINDS.items():
+        sizes = "[x, y]" if count == 2 else ("[D]" if "circular" in kind or "pipe" in kind else "[b]")
+        if kind == "steel-w":
+            sizes = "[depth, flange width]"
+        out.append(f"| `{kind}` | {family} | {sizes} | {', '.join(needs) or '-'} |")
+    out += ["", "Shear coefficients: Cowper (1966) for solid rectangles, solid circles and thin circular tubes;",
+            "hollow rectangles and W-shapes by the shear area of the walls along the load (AISC 360-16 G2, G6).",
+            "", "### Materials", "",
+            "| material | E (GPa) | density (kg/m^3) | Poisson | damping |", "|---|---|---|---|---|"]
+    for m in MATERIALS.values():
+        out.append(f"| `{m.name}` | {m.youngs_modulus_Pa / 1e9:.4g} | {m.density_kg_m3:g} | {m.poisson_ratio:g} | "
+                   f"{m.damping_ratio:g} |")
+    out.append("")
+    for m in MATERIALS.values():
+        out.append(f"- `{m.name}`: " + "; ".join(f"{k}: {v}" for k, v in m.sources.items()) + ".")
+    c = column_section(_EXAMPLE["kind"], _EXAMPLE["size_m"], _EXAMPLE["height_m"])
+    ei, rho_a, h = c.bending_stiffness_Nm2, c.mass_per_length_kg_m, c.height_m
+    f_eb = 1.8751**2 / (2 * math.pi * h**2) * math.sqrt(ei / rho_a)
+    out += ["", "### Example", "",
+            f"A {_EXAMPLE['size_m'][0]:g} m square concrete-28mpa column {h:g} m high on a rigid base: "
+            f"E I = {_g(ei)} N m^2 (cracked), rho A = {_g(rho_a)} kg/m;",
+            f"its MDOF model's f1 = {c.natural_frequency_Hz:.3f} Hz (Euler-Bernoulli 3.516 / (2 pi L^2) "
+            f"sqrt(E I / rho A) = {f_eb:.3f} Hz; shear and rotary inertia lower it),",
+            f"lateral stiffness at the top {_g(c.stiffness_N_m)} N/m (3 E I / L^3 = {_g(3 * ei / h**3)} N/m), "
+            f"damping {c.damping_ratio:g}.", ""]
+    return "\n".join(out)
