@@ -12,7 +12,7 @@ COUPLING ?=
 OUT      ?= runs/1debris$(if $(COUPLING),-$(COUPLING),)
 CASE_SET := $(if $(CELL),--set mesh.cell_size_m=$(CELL),) $(if $(COUPLING),--set run.debris_coupling=$(COUPLING),)
 
-.PHONY: forcing-variants help venv openfoam test test-fast docs-check case-1debris case-layouts results-layouts compare-coupling sweep speed-error speed-error-debris stability synthetic-study contact-law results-1debris ensemble-1debris scene-doc catalogue-doc bench bench-transport clean
+.PHONY: approach forcing-variants help venv openfoam test test-fast docs-check case-1debris case-layouts results-layouts compare-coupling sweep speed-error speed-error-debris stability synthetic-study contact-law results-1debris ensemble-1debris scene-doc catalogue-doc bench bench-transport clean
 
 help:
 	@echo "make venv                   the Python environment only (.venv, the package installed editable)"
@@ -34,6 +34,7 @@ help:
 	@echo "make contact-law            calibrate the contact law on Table 2 (22 impacts), check it on Table 1 (docs/results/contact-law/)"
 	@echo "make bench                  benchmarks (figures go to benchmarks/*.md)"
 	@echo "make bench-transport        one-way transport and ensemble benchmarks (benchmarks/transport.md, ensemble.md)"
+	@echo "make approach [OUT=runs/1debris]  after make case-1debris: the strike speed against the record's cell size near the column, its frame rate and the forcing near the face, with the force budget (docs/results/approach/)"
 	@echo "make forcing-variants       after make case-1debris: the one-way forcing's variants through its record (benchmarks/forcing_variants.md)"
 
 venv: $(STAMP)
@@ -173,5 +174,10 @@ clean:
 # After make case-1debris: the container through its flow record under each forcing variant
 # (drag per axis or along the flow, the Munk moment, three drag coefficients), the table
 # docs/one-way.md quotes.
+# The study's own flows (runs/approach-*, orchestrator/studies/approach_report.py STUDY_RUNS) are
+# read when present; each missing one is named on the page with the command that makes it.
+approach: venv
+	$(PY) -m orchestrator.studies.approach_report --default $(OUT) --runs runs -o docs/results/approach
+
 forcing-variants: venv
 	$(PY) benchmarks/forcing_variants.py $(OUT) -o benchmarks/forcing_variants.md

@@ -37,6 +37,7 @@ import numpy as np
 
 from orchestrator.plan.domain import RUNUP_BLOCKAGE, Domain
 from orchestrator.plan.grading import cell_edges
+from orchestrator.plan.refine import record_axis, refine_span
 from orchestrator.plan.grid import BoxGrid
 from orchestrator.plan.model import FlowRecordPlan
 from orchestrator.scene.geometry import body_rotation
@@ -136,6 +137,15 @@ def choose_coupling(scene: Scene, reasons: dict[str, str], warnings: list[str]) 
     return asked
 
 
+def _refined_record(scene: Scene, background: BoxGrid, xs: np.ndarray, ys: np.ndarray):
+    """The record's x and y samples with the refinement box's cell centres inside it (plan/refine.py)."""
+    box = scene.mesh.refine_box_m
+    if box is None:
+        return xs, ys
+    cx, cy = (0.5 * (e[:-1] + e[1:]) for e in (cell_edges(background.x), cell_edges(background.y)))
+    return record_axis(xs, cx, refine_span(box, 0)), record_axis(ys, cy, refine_span(box, 1))
+
+
 def flow_record_plan(scene: Scene, background: BoxGrid, domain: Domain, reasons: dict[str, str]) -> FlowRecordPlan:
     """The flow a one-way run records: region, sample grid and rate, with the reason.
 
@@ -166,6 +176,9 @@ def flow_record_plan(scene: Scene, background: BoxGrid, domain: Domain, reasons:
         k += 1
     xs = np.linspace(x0, x1, nx + 1)
     ys = np.linspace(y0 + inset, y1 - inset, ny + 1)
+    step_x, step_y = (x1 - x0) / nx, (y1 - y0 - 2 * inset) / ny
+    xs, ys = _refined_record(scene, background, xs, ys)
+    nx, ny = xs.size - 1, ys.size - 1
     interval = 1.0 / scene.outputs.flow_record_hz
     record = FlowRecordPlan(
         RECORD_NAME, float(f"{interval:.10g}"), tuple(float(v) for v in xs), tuple(float(v) for v in ys),
@@ -176,10 +189,11 @@ def flow_record_plan(scene: Scene, background: BoxGrid, domain: Domain, reasons:
     reasons["flow_record"] = (
         f"{RECORD_NAME}: alpha.water and U every {interval:.4g} s ({scene.outputs.flow_record_hz:g} Hz, "
         f"outputs.flow_record_hz) on {nx + 1} x {ny + 1} x {zc.size} = {record.points} points: "
-        f"x {x0:.4g}..{x1:.4g} m every {(x1 - x0) / nx:.4g} m (the bodies' start footprints, less a "
+        f"x {x0:.4g}..{x1:.4g} m every {step_x:.4g} m (the bodies' start footprints, less a "
         f"{margin:.3g} m margin: the largest body's diagonal and two cells, to the domain's downstream end: the "
         "record's ends are walls for the bodies, so it reaches past the column as far as the flow is modelled), the full width every "
-        f"{(y1 - y0 - 2 * inset) / ny:.4g} m"
+        f"{step_y:.4g} m"
+        + (" (at the cell centres inside mesh.refine_box_m)" if scene.mesh.refine_box_m is not None else "")
         + (f" ({k} cell sizes: at most {RECORD_MAX_POINTS} points)" if k > 1 else "")
         + f", z at the background's {zc.size} cell centres from the bed to the domain's top {faces[-1]:.3g} m "
         "(no water is higher), so sum(alpha dz) is each cell column's water; "

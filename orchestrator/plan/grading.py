@@ -22,6 +22,7 @@ import numpy as np
 from orchestrator.plan.bodies import BedGap
 from orchestrator.plan.domain import Domain, column_spans_width
 from orchestrator.plan.grid import BoxGrid, Segment, graded_segment
+from orchestrator.plan.refine import refine_axis, refine_span
 from orchestrator.scene.schema import Scene
 
 __all__ = [
@@ -167,6 +168,27 @@ def _wanted_planes(scene: Scene, domain: Domain, gap: BedGap | None, warnings: l
     return wx, wy, wz
 
 
+def _refined(scene: Scene, fine, axes, two_d: bool, reasons: dict[str, str]):
+    """The three axes' segments with the scene's refinement box, if any (:mod:`orchestrator.plan.refine`)."""
+    mesh = scene.mesh
+    if mesh.refine_box_m is None or mesh.refine_cell_size_m is None:
+        return axes
+    out = []
+    for i, (name, segs) in enumerate(zip("xyz", axes)):
+        if name == "y" and two_d:
+            out.append(segs)
+            continue
+        span = refine_span(mesh.refine_box_m, i)
+        out.append(refine_axis(segs, span, fine[i], mesh.cell_size_m, mesh.refine_cell_size_m, mesh.growth_ratio,
+                               name))
+    b = mesh.refine_box_m
+    reasons["refine_box"] = (
+        f"cells of {mesh.refine_cell_size_m:g} m in x {b[0]:g}..{b[1]:g}, y {b[2]:g}..{b[3]:g}, z {b[4]:g}..{b[5]:g} m "
+        f"(mesh.refine_box_m), growing by {mesh.growth_ratio:g} a cell to {mesh.cell_size_m:g} m around it; the "
+        "block grid refines the slabs through the box along each axis")
+    return tuple(out)
+
+
 def background_grid(scene: Scene, domain: Domain, gap: BedGap | None, two_d: bool,
                     reasons: dict[str, str], warnings: list[str], *, one_way: bool = False) -> BoxGrid:
     """The background BoxGrid of ``domain``, the column a hole in it."""
@@ -178,6 +200,7 @@ def background_grid(scene: Scene, domain: Domain, gap: BedGap | None, two_d: boo
     xs = axis_segments(domain.x_lo, domain.x_hi, fine[0], wx, h, h_max, growth)
     ysegs = (Segment(fy0, fy1, 1),) if two_d else axis_segments(fy0, fy1, fine[1], wy, h, h_max, growth)
     zs = axis_segments(0.0, domain.z_hi, fine[2], wz, h, h_max, growth)
+    xs, ysegs, zs = _refined(scene, fine, (xs, ysegs, zs), two_d, reasons)
     holes: frozenset = frozenset()
     if col:
         ii = _indices_within(xs, col.x_m - col.size_x_m / 2, col.x_m + col.size_x_m / 2)

@@ -349,6 +349,12 @@ class Mesh(SceneSection):
     top_m: float | None = Field(
         None, gt=0, description="top of the modelled air space; null = min(flume height, 1.5 depth) (m)"
     )
+    refine_box_m: tuple[float, float, float, float, float, float] | None = Field(
+        None, description="x0, x1, y0, y1, z0, z1 of a box of finer cells (refine_cell_size_m) inside the fine "
+        "region, e.g. where a body approaches the column; the block grid refines the slabs through it, and a "
+        "one-way flow record samples it at its cell centres (orchestrator/plan/refine.py); null = none (m)")
+    refine_cell_size_m: float | None = Field(
+        None, gt=0, description="cell size inside refine_box_m, finer than cell_size_m (m); null = none")
     trim_domain: bool = Field(
         True,
         description="false: model the whole reservoir, the whole flume to its downstream end and its full height, "

@@ -293,6 +293,19 @@ def _check_mesh(scene: Scene, source: str | None) -> None:
                 source,
             )
     _check_mesh_top(scene, source)
+    _check_refine_box(scene, source)
+
+
+def _check_refine_box(scene: Scene, source: str | None) -> None:
+    """mesh.refine_box_m and mesh.refine_cell_size_m given together, the cells finer than cell_size_m."""
+    mesh = scene.mesh
+    if (mesh.refine_box_m is None) != (mesh.refine_cell_size_m is None):
+        missing = "mesh.refine_cell_size_m" if mesh.refine_cell_size_m is None else "mesh.refine_box_m"
+        raise InputError(missing, "a refinement box needs both mesh.refine_box_m and mesh.refine_cell_size_m",
+                         source)
+    if mesh.refine_cell_size_m is not None and mesh.refine_cell_size_m >= mesh.cell_size_m:
+        raise InputError("mesh.refine_cell_size_m", f"{mesh.refine_cell_size_m:g} m must be finer than "
+                         f"mesh.cell_size_m ({mesh.cell_size_m:g} m)", source)
 
 
 def _check_mesh_top(scene: Scene, source: str | None) -> None:

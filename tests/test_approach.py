@@ -1,0 +1,154 @@
+"""The approach study's pieces: the refinement box (orchestrator/plan/refine.py), the force budget
+(orchestrator/transport/budget.py, a conservation check on real MuJoCo) and the study's flow
+variants (orchestrator/studies/approach.py)."""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from analytical.hydrodynamics import HydroCoefficients, hydro_loads, sub_volumes
+from orchestrator.core.errors import InputError
+from orchestrator.plan.grading import cell_edges
+from orchestrator.plan.grid import Segment
+from orchestrator.plan.planner import plan_case
+from orchestrator.plan.refine import record_axis, refine_axis, transition_m
+from orchestrator.scene.scenefile import load_scene
+from orchestrator.studies.approach import ApproachFlow, face_distance, thinned
+from orchestrator.transport.budget import BUDGET_TERMS, force_budget
+from orchestrator.transport.engine import TransportSettings, run_transport
+from orchestrator.transport.flow import FlowField
+from orchestrator.transport.mujoco_model import FlumeBounds, TransportBody
+
+CASE = Path(__file__).resolve().parents[1] / "cases" / "1debris.yaml"
+BOX = "mesh.refine_box_m=[4.3,5.05,-0.16,0.16,0,0.24]"
+
+
+def _sizes(segs):
+    edges = cell_edges(tuple(segs))
+    return edges, np.diff(edges)
+
+
+def test_refine_axis_puts_fine_cells_in_the_box_grows_by_the_ratio_and_keeps_every_plane():
+    """Cells of 0.02 m in 1.0..1.5, at most x 1.15 from cell to cell, back to 0.04 m; the planes
+    0.0 (hard) and 1.26 (inside the box) kept."""
+    segs = (Segment(-1.0, 0.0, 25), Segment(0.0, 1.26, 32), Segment(1.26, 3.0, 44))
+    out = refine_axis(segs, (1.0, 1.5), (-1.0, 3.0), 0.04, 0.02, 1.15)
+    edges, sizes = _sizes(out)
+    planes = [out[0].start_m] + [s.end_m for s in out]
+    assert 0.0 in planes and 1.26 in planes and planes[0] == -1.0 and planes[-1] == 3.0
+    mid = 0.5 * (edges[:-1] + edges[1:])
+    assert np.all(sizes[(mid > 1.0) & (mid < 1.5)] <= 0.02 + 1e-9)
+    assert np.max(sizes) <= 0.04 + 1e-9
+    assert np.all(sizes[1:] / sizes[:-1] <= 1.15 + 0.03) and np.all(sizes[:-1] / sizes[1:] <= 1.15 + 0.03)
+    far = (mid < 1.0 - transition_m(0.04, 0.02, 1.15) - 0.05) | (mid > 1.5 + transition_m(0.04, 0.02, 1.15) + 0.05)
+    assert np.all((sizes[far] > 0.035) & (sizes[far] <= 0.04 + 1e-9))
+
+
+def test_refine_axis_refuses_a_box_whose_transitions_leave_the_fine_region():
+    segs = (Segment(0.0, 2.0, 50),)
+    with pytest.raises(InputError, match="mesh.refine_box_m"):
+        refine_axis(segs, (1.5, 1.7), (0.0, 1.8), 0.04, 0.02, 1.15)
+    with pytest.raises(InputError, match="mesh.refine_cell_size_m"):
+        refine_axis(segs, (0.5, 0.9), (0.0, 2.0), 0.04, 0.05, 1.15)
+
+
+def test_record_axis_takes_the_cell_centres_inside_the_span_only():
+    base = np.linspace(0.0, 1.0, 11)
+    centres = np.arange(0.41, 0.6, 0.02)
+    out = record_axis(base, centres, (0.4, 0.6))
+    assert np.all(np.diff(out) > 0)
+    assert set(np.round(out[(out > 0.4) & (out < 0.6)], 6)) == set(np.round(centres, 6))
+    assert {0.0, 0.3, 0.7, 1.0} <= set(np.round(out, 6))
+
+
+def test_the_1debris_plan_with_a_2cm_box_refines_the_mesh_and_the_record_there_and_nothing_without():
+    plain = plan_case(load_scene(CASE, ["run.end_time_s=2.5"]))
+    boxed = plan_case(load_scene(CASE, ["run.end_time_s=2.5", BOX, "mesh.refine_cell_size_m=0.02"]))
+    assert plain.background.cell_count() < boxed.background.cell_count() < 2.5 * plain.background.cell_count()
+    x = np.array(boxed.flow_record.x_m)
+    inside = x[(x > 4.32) & (x < 5.03)]
+    assert np.allclose(np.diff(inside), 0.02, rtol=0.07)
+    assert np.allclose(np.diff(np.array(plain.flow_record.x_m)), 0.0402, rtol=0.01)
+    assert "refine_box" in boxed.reasons and "refine_box" not in plain.reasons
+
+
+def test_a_refine_box_without_its_cell_size_is_bad_input_naming_the_field():
+    with pytest.raises(InputError, match="mesh.refine_cell_size_m"):
+        load_scene(CASE, [BOX])
+
+
+def _floating_in_a_current():
+    flow = FlowField.uniform_current(0.1, 0.5, x_m=(-1.0, 3.0), y_m=(-0.5, 0.5), t_s=(0.0, 10.0))
+    body = TransportBody("plate", centre_m=(-0.8, 0.0, 0.1), size_m=(0.2, 0.2, 0.02), mass_kg=0.4)
+    settings = TransportSettings(output_interval_s=0.002)
+    run = run_transport([body], FlumeBounds((-1.0, 3.0), (-0.5, 0.5)), 1.0, flow, settings=settings)
+    return flow, body, settings, run.track("plate")
+
+
+def test_the_budget_of_a_box_drifting_in_a_current_balances_its_acceleration():
+    """No contact afloat: what the budget leaves over ((m + m_a) a less every force) stays under
+    3 % of the drag that drives the body, and drag and buoyancy carry the motion."""
+    flow, body, settings, track = _floating_in_a_current()
+    budget = force_budget(track[track["time_s"] > 0.05], flow, body.size_m, body.mass_kg, settings.hydro)
+    assert set(f"{t}_x" for t in BUDGET_TERMS) <= set(budget.columns)
+    drag = budget["drag_x"].abs().max()
+    assert drag > 0.01
+    assert budget["contact_x"].abs().max() < 0.03 * drag
+    assert np.median(np.abs(budget["inertia_x"] - budget["drag_x"])) < 0.03 * drag
+    assert budget["buoyancy_z"].median() == pytest.approx(0.4 * 9.81, rel=0.02)
+
+
+def test_the_budget_terms_add_up_to_the_engine_force_function():
+    """weight + buoyancy + Froude-Krylov + added mass + drag = hydro_loads' force - m g, in a flow that
+    accelerates (Ritter's dam break), to rounding."""
+    flow = FlowField.ritter(0.4, x_m=np.linspace(-1.0, 3.0, 81), t_s=np.linspace(0.0, 2.0, 41))
+    rot = np.eye(3)
+    track = {"time_s": [0.4, 0.5, 0.6], "x_m": [0.3] * 3, "y_m": [0.0] * 3, "z_m": [0.03] * 3,
+             "u_m_s": [0.5, 0.6, 0.7], "v_m_s": [0.0] * 3, "w_m_s": [0.0] * 3}
+    track.update({f"omega_{a}_rad_s": [0.0] * 3 for a in "xyz"})
+    track.update({f"q_{a}{b}": [rot["xyz".index(a), "xyz".index(b)]] * 3 for a in "xyz" for b in "xyz"})
+    import pandas as pd
+    coeffs = HydroCoefficients()
+    budget = force_budget(pd.DataFrame(track), flow, (0.15, 0.06, 0.06), 0.236, coeffs)
+    pts = np.array([0.3, 0.0, 0.03]) + sub_volumes((0.15, 0.06, 0.06)).centres_m
+    eta = flow.surface(pts[:, 0], pts[:, 1], 0.5)
+    s = flow.sample(pts, 0.5, eta_m=eta)
+    loads = hydro_loads([[0.3, 0, 0.03]], rot[None], [[0.6, 0, 0]], [[0, 0, 0]], [[0.15, 0.06, 0.06]], pts[None],
+                        eta[None], s.velocity_m_s[None], s.material_acceleration_m_s2[None],
+                        dataclasses.replace(coeffs, water_density_kg_m3=flow.water_density_kg_m3))
+    forces = [t for t in BUDGET_TERMS if t not in ("contact", "inertia")]
+    total = np.array([sum(budget[f"{t}_{a}"].iloc[0] for t in forces) for a in "xyz"])
+    assert abs(loads.force_N[0, 0]) > 0.05  # the flow does push
+    assert np.allclose(total, loads.force_N[0] - [0, 0, 0.236 * 9.81], atol=1e-9)
+    assert budget["inertia_x"].iloc[0] > 0.236 * 1.0  # (m + m_a) a, a = 1 m/s^2
+
+
+def test_thinned_keeps_the_frames_nearest_each_multiple():
+    flow = FlowField.uniform_current(0.1, 0.5, t_s=np.arange(0.0, 1.0001, 0.005))
+    half = thinned(flow, 50.0)
+    assert np.allclose(np.diff(half.t_s), 0.02)
+    assert half.t_s[0] == 0.0 and half.t_s[-1] == pytest.approx(1.0)
+
+
+def test_approach_flow_samples_the_flow_upstream_of_the_face_near_the_column_only():
+    flow = FlowField.ritter(0.4, x_m=np.linspace(-1.0, 3.0, 81), t_s=np.linspace(0.0, 2.0, 41))
+    frozen = ApproachFlow(flow, 2.0, (-0.1, 0.1), 0.2)
+    near = np.array([[1.95, 0.0, 0.02]])
+    assert np.allclose(frozen.sample(near, 1.5).velocity_m_s, flow.sample([[1.8, 0.0, 0.02]], 1.5).velocity_m_s)
+    aside = np.array([[1.95, 0.5, 0.02]])
+    assert np.allclose(frozen.sample(aside, 1.5).velocity_m_s, flow.sample(aside, 1.5).velocity_m_s)
+    assert frozen.t_s is flow.t_s
+
+
+def test_face_distance_is_the_gap_from_the_nose_of_a_yawed_box():
+    import pandas as pd
+    c, s = np.cos(np.radians(30)), np.sin(np.radians(30))
+    rot = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
+    row = {"x_m": [1.0]}
+    row.update({f"q_{a}{b}": [rot["xyz".index(a), "xyz".index(b)]] for a in "xyz" for b in "xyz"})
+    gap = face_distance(pd.DataFrame(row), (0.15, 0.06, 0.06), 1.2)
+    assert gap[0] == pytest.approx(0.2 - (0.075 * c + 0.03 * s))
