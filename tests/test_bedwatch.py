@@ -12,7 +12,7 @@ import pytest
 from conftest import ROOT, run_cli
 from orchestrator.case import bodystate
 from orchestrator.run import waterdepth
-from orchestrator.run.bedwatch import BedWatch, underside_m
+from orchestrator.run.bedwatch import BedWatch, breakaway_ratio, footprint_mean_radius, underside_m
 from orchestrator.case.bodystate import BodyState
 
 SCENE = ROOT / "tests" / "data" / "scenes" / "float-carry.yaml"
@@ -114,3 +114,56 @@ def test_the_runner_edits_the_bed_constraints_and_the_friction_damper(case):
     assert bodystate.set_bed_friction(case, {"debris1": None}) == ["debris1"]
     text = (case / "constant" / "dynamicMeshDict").read_text()
     assert "linearDamper" not in text and "restOnBedPlane" not in text
+
+
+def test_the_friction_lever_arm_is_the_footprints_mean_distance_from_its_centre():
+    # a unit square: (sqrt(2) + ln(1 + sqrt(2))) / 6 = 0.3826 (the classic mean distance to the centre)
+    assert footprint_mean_radius(1.0, 1.0) == pytest.approx((np.sqrt(2) + np.log(1 + np.sqrt(2))) / 6, rel=1e-12)
+    # the seed's container against a midpoint-rule integration of its 0.15 x 0.06 m footprint
+    n = 1500
+    x = (np.arange(n) + 0.5) / n * 0.15 - 0.075
+    y = (np.arange(n) + 0.5) / n * 0.06 - 0.03
+    numeric = float(np.hypot(*np.meshgrid(x, y)).mean())
+    assert footprint_mean_radius(0.15, 0.06) == pytest.approx(numeric, rel=1e-5)
+    assert footprint_mean_radius(0.15, 0.06) == pytest.approx(footprint_mean_radius(0.06, 0.15), rel=1e-12)
+
+
+def test_static_friction_bears_a_load_inside_its_limit_ellipse():
+    mu, normal, r = 0.3, 1.65, 0.042
+    assert breakaway_ratio((0.3 * 1.65, 0.0), 0.0, mu, normal, r) == pytest.approx(1.0)  # F = mu N
+    assert breakaway_ratio((0.0, 0.0), mu * normal * r, mu, normal, r) == pytest.approx(1.0)  # M = mu N r
+    # half the force and half the moment together: inside (0.25 + 0.25)
+    assert breakaway_ratio((0.0, 0.5 * mu * normal), -0.5 * mu * normal * r, mu, normal, r) == pytest.approx(0.5)
+    # the spurious yaw moment of the overset solver around the 1-debris container (up to 8e-4 N m)
+    # is far inside what friction bears on the 15 mm wet bed
+    assert breakaway_ratio((0.02, 0.0), 8e-4, mu, normal, footprint_mean_radius(0.15, 0.06)) < 0.1
+    assert breakaway_ratio((0.0, 0.0), 0.0, mu, 0.0, r) == float("inf")  # afloat: nothing to bear
+
+
+def test_a_body_at_rest_on_the_bed_is_stuck_and_a_sliding_one_gets_a_yaw_damper(tmp_path):
+    case = tmp_path / "case"
+    proc = run_cli("render", str(ROOT / "tests" / "data" / "scenes" / "still-water-resting.yaml"), "-o", str(case))
+    assert proc.returncode == 0, proc.stderr
+    watch = BedWatch.for_case(case, 0.005, lambda m: None)
+    [state] = bodystate.coefficient_states(case)
+    assert bodystate.bed_constraints(case)["debris1"] == "hold"
+    _, out = watch.at_restart("0", [state])
+    assert bodystate.stuck_bodies(case) == {"debris1"} and watch.stuck == {"debris1"}
+    assert out[0].velocity_m_s == (0.0, 0.0, 0.0)
+    text = (case / "constant" / "dynamicMeshDict").read_text()
+    assert "stickPoint" in text and "stickOrientation" in text and "sphericalAngularDamper" in text
+    # the yaw damper is mu N r over the floor's yaw rate: the same time constant as the linear one
+    body = watch.bodies["debris1"]
+    radius = footprint_mean_radius(0.15, 0.06)
+    assert watch.friction_spin["debris1"] == pytest.approx(0.05 / radius)
+    # a body sliding at 0.2 m/s is not stuck; ending the stick leaves its hold
+    assert bodystate.unstick_bodies(case, ["debris1"]) == ["debris1"]
+    sliding = state.with_changes(velocity_m_s=(0.2, 0.0, 0.0))
+    watch.at_restart("0.1", [sliding])
+    assert bodystate.stuck_bodies(case) == set() and bodystate.bed_constraints(case)["debris1"] == "hold"
+    assert watch.friction_speed["debris1"] == pytest.approx(0.2)
+    assert body.bed_friction > 0
+    # freed from the bed, a stuck body loses its stick with its hold
+    assert bodystate.stick_bodies(case, ["debris1"]) == ["debris1"]
+    assert bodystate.release_holds(case, ["debris1"]) == ["debris1"]
+    assert bodystate.stuck_bodies(case) == set()

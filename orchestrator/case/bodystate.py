@@ -397,6 +397,9 @@ def _edit_motion_entry(case_dir: str | Path, names, key: str,
 #: The planner's on-bed hold: the bed plane (and, for a body free to tip, its axis); an
 #: upright body keeps its keepUpright axis for the whole run.
 _HOLD_KEYS = ("holdOnBedPlane", "holdOnBedAxis")
+#: Static bed friction: a body at rest on the bed whose load the friction can bear does not move
+#: (`stick_bodies`; `orchestrator.run.bedwatch` decides when it sticks and when it breaks away).
+STICK_KEYS = ("stickPoint", "stickOrientation")
 #: The constraint `rest_on_bed` adds (not the planner's initial hold, which `release_holds` removes).
 REST_ON_BED = "restOnBedPlane"
 
@@ -410,7 +413,7 @@ def release_holds(case_dir: str | Path, names: Sequence[str]) -> list[str]:
     def release(constraints: dict) -> dict | None:
         if "holdOnBedPlane" not in constraints:
             return None
-        return {k: v for k, v in constraints.items() if k not in _HOLD_KEYS}
+        return {k: v for k, v in constraints.items() if k not in (*_HOLD_KEYS, *STICK_KEYS)}
 
     return _edit_constraints(case_dir, names, release)
 
@@ -426,7 +429,8 @@ def pin_bodies(case_dir: str | Path, names: Sequence[str]) -> list[str]:
     def pin(constraints: dict) -> dict | None:
         if "pinnedPoint" in constraints:
             return None
-        kept = {k: v for k, v in constraints.items() if k not in (*_HOLD_KEYS, "keepUpright", REST_ON_BED)}
+        kept = {k: v for k, v in constraints.items()
+                if k not in (*_HOLD_KEYS, *STICK_KEYS, "keepUpright", REST_ON_BED)}
         return {**kept, "pinnedPoint": {"sixDoFRigidBodyMotionConstraint": "point"},
                 "pinnedOrientation": {"sixDoFRigidBodyMotionConstraint": "orientation"}}
 
@@ -471,6 +475,34 @@ def rest_to_hold(case_dir: str | Path, names: Sequence[str]) -> list[str]:
     return _edit_constraints(case_dir, names, to_hold)
 
 
+def stick_bodies(case_dir: str | Path, names: Sequence[str]) -> list[str]:
+    """Hold the named bodies still on the bed (sixDoF `point` + `orientation` beside their bed
+    constraint): static friction. Returns the bodies stuck now (stuck or pinned ones are skipped)."""
+    def stick(constraints: dict) -> dict | None:
+        if STICK_KEYS[0] in constraints or "pinnedPoint" in constraints:
+            return None
+        return {**constraints, STICK_KEYS[0]: {"sixDoFRigidBodyMotionConstraint": "point"},
+                STICK_KEYS[1]: {"sixDoFRigidBodyMotionConstraint": "orientation"}}
+
+    return _edit_constraints(case_dir, names, stick)
+
+
+def unstick_bodies(case_dir: str | Path, names: Sequence[str]) -> list[str]:
+    """End the static friction of the named bodies (they slide from now on). Returns those changed."""
+    def unstick(constraints: dict) -> dict | None:
+        if STICK_KEYS[0] not in constraints:
+            return None
+        return {k: v for k, v in constraints.items() if k not in STICK_KEYS}
+
+    return _edit_constraints(case_dir, names, unstick)
+
+
+def stuck_bodies(case_dir: str | Path) -> set[str]:
+    """The bodies held by static friction now (`stick_bodies`)."""
+    return {name for name, coeffs in _body_dicts(_parsed(Path(case_dir) / DYNAMIC_MESH_DICT))
+            if STICK_KEYS[0] in (coeffs.get("constraints") or {})}
+
+
 def bed_constraints(case_dir: str | Path) -> dict[str, str]:
     """How the runner keeps each body on the bed now: "pinned", "hold" (the planner's initial
     hold), "rest" (`rest_on_bed`) or "" (free)."""
@@ -482,27 +514,36 @@ def bed_constraints(case_dir: str | Path) -> dict[str, str]:
     return out
 
 
-#: The restraint that carries a resting body's bed friction (`set_bed_friction`).
+#: The restraints that carry a resting body's sliding bed friction (`set_bed_friction`): along the
+#: bed (a `linearDamper`) and against its yaw (a `sphericalAngularDamper`).
 BED_FRICTION = "bedFriction"
+BED_FRICTION_YAW = "bedFrictionYaw"
+_DAMPERS = {BED_FRICTION: "linearDamper", BED_FRICTION_YAW: "sphericalAngularDamper"}
 
 
-def set_bed_friction(case_dir: str | Path, coefficients: dict[str, float | None]) -> list[str]:
-    """Set (a number, N s/m) or remove (None) the `linearDamper` restraint `bedFriction` of the
-    named bodies: a force -coeff * velocity on the centre of mass (v1912's sixDoF restraint). The
-    runner sizes it to the Coulomb friction of a body resting on the bed (`orchestrator.run.bedwatch`).
-    Returns the bodies changed."""
+def set_bed_friction(case_dir: str | Path, coefficients: dict[str, float | None],
+                     yaw: dict[str, float | None] | None = None) -> list[str]:
+    """Set (a number) or remove (None) the friction dampers of the named bodies: `bedFriction`, a
+    force -coeff * velocity on the centre of mass (N s/m), and, for the bodies in `yaw`,
+    `bedFrictionYaw`, a moment -coeff * angular velocity (N m s) (v1912's sixDoF restraints). The
+    runner sizes them to the Coulomb friction of a body sliding on the bed
+    (`orchestrator.run.bedwatch`). Returns the bodies changed."""
+    yaw = yaw or {}
+
     def edit(name: str, restraints: dict) -> dict | None:
-        value = coefficients[name]
-        old = restraints.get(BED_FRICTION)
-        if value is None:
-            if old is None:
-                return None
-            del restraints[BED_FRICTION]
-        else:
-            if old is not None and math.isclose(float(old.get("coeff", -1.0)), value, rel_tol=1e-9):
-                return None
-            restraints[BED_FRICTION] = {"sixDoFRigidBodyMotionRestraint": "linearDamper", "coeff": float(value)}
-        return restraints
+        changed = False
+        for key, value in ((BED_FRICTION, coefficients[name]), (BED_FRICTION_YAW, yaw.get(name))):
+            if key == BED_FRICTION_YAW and name not in yaw:
+                continue
+            old = restraints.get(key)
+            if value is None:
+                if old is not None:
+                    del restraints[key]
+                    changed = True
+            elif old is None or not math.isclose(float(old.get("coeff", -1.0)), value, rel_tol=1e-9):
+                restraints[key] = {"sixDoFRigidBodyMotionRestraint": _DAMPERS[key], "coeff": float(value)}
+                changed = True
+        return restraints if changed else None
 
     return _edit_motion_entry(case_dir, list(coefficients), "restraints", edit)
 

@@ -85,10 +85,13 @@ class Front:
 
 
 def dam_break_front(h0: float, wet_depth: float, g: float) -> Front:
-    """Ritter's dry-bed front, or Stoker's wet-bed intermediate state (no friction)."""
+    """Ritter's dry-bed front, Stoker's wet-bed intermediate state (no friction), or still water
+    (the impoundment no deeper than the wet bed)."""
     c0 = math.sqrt(g * h0)
     if wet_depth <= 0:
         return Front(speed_m_s=2 * c0, depth_m=0.0, velocity_m_s=2 * c0, wet=False, g=g)
+    if wet_depth >= h0:  # still water: no dam break
+        return Front(speed_m_s=0.0, depth_m=h0, velocity_m_s=0.0, wet=True, g=g)
     st = stoker_state(h0, wet_depth, g)
     return Front(speed_m_s=st.shock_speed_m_s, depth_m=st.h2_m, velocity_m_s=st.u2_m_s, wet=True, g=g)
 
@@ -190,6 +193,11 @@ def _downstream_end(scene: Scene, body_boxes: list[BodyBox], margin_col: float,
     col = scene.column
     (_, fx1), _, _ = flume_extent(scene)
     front = dam_break_front(h0, scene.bed.wet_depth_m, g)
+    if front.speed_m_s <= 0.0:  # still water: nothing comes, nothing to trim against
+        kind = "outlet" if scene.flume.downstream_end == "open" else "wall"
+        reasons["domain_end"] = f"domain runs to the flume's end (x = {fx1:.3g} m): still water, no dam break"
+        reasons["downstream_type"] = f"{kind}: the flume's downstream end is {scene.flume.downstream_end}"
+        return fx1, kind
     if col:
         path_end = col.x_m + col.size_x_m / 2 + margin_col
     else:

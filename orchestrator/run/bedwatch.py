@@ -47,6 +47,23 @@ against yaw); N is the one of the last restart (the depth may change within a se
 the floor speed the damper acts as a viscous one (time constant m u_floor / (mu N), 40 ms for
 the study's container on a 15 mm wet bed), so a body never sticks exactly (no static friction);
 each refresh is a solver restart.
+
+**Static friction.** A body at rest on the bed does not move until the fluid's load exceeds what
+friction can bear. The runner holds such a body still (`bodystate.stick_bodies`: sixDoF `point` and
+`orientation` beside its bed constraint) and reads the fluid's horizontal force F and yaw moment M
+about its centre (the forces function object on its wall, averaged over the last 0.01 s); it breaks
+away (the constraints removed at a restart) once the load leaves the limit surface of a uniformly
+loaded footprint, approximated by the ellipse (F / mu N)^2 + (M / (mu N r))^2 >= 1 with r the mean
+distance of the footprint from its centre (`footprint_mean_radius`; the limit surface and its
+ellipsoidal approximation: Goyal, Ruina & Papadopoulos 1991, Wear 143; Howe & Cutkosky 1996, IJRR
+15). A body on the bed slower than `STICK_SPEED_M_S` (at its centre and at r) whose load is inside
+the surface sticks again. Without it a resting body turns in still water: v1912's overset
+interpolation around a body standing in 7.5 mm of water puts a spurious 1-8e-4 N m yaw moment on it
+(measured: the seed's container on the 1-debris scene's wet bed yawed 58 degrees in its first 0.2 s,
+about 1 s before the bore came; friction can bear about 0.02 N m). Sliding, the yaw is resisted by
+a `sphericalAngularDamper` sized like the linear one: mu N r at the yaw rate of the restart (at
+least `FRICTION_FLOOR_M_S` / r), the two resisting separately (Coulomb's coupling of sliding and
+spinning is not modelled).
 """
 
 from __future__ import annotations
@@ -72,10 +89,33 @@ FRICTION_BAND = 1.25
 #: simulated seconds between two stops to resize a damper (a body the bore sets moving would
 #: otherwise stop the solver every few time steps)
 FRICTION_MIN_INTERVAL_S = 0.02
+#: a body on the bed slower than this (at its centre and at its footprint's mean radius) is at rest:
+#: static friction holds it if it can bear the fluid's load (m/s)
+STICK_SPEED_M_S = 0.005
 #: what the runner records of every sample it reads (in the case)
 DEPTH_CSV = "body_depth.csv"
 _FIELDS = ("time_s", "body", "depth_m", "columns", "underside_m", "float_depth_m", "lift_N", "weight_N",
-           "constraint", "friction_N_s_m")
+           "constraint", "friction_N_s_m", "stuck")
+
+
+def footprint_mean_radius(length_m: float, width_m: float) -> float:
+    """The mean distance of a rectangle's points from its centre (m): the lever arm of Coulomb
+    friction against spinning about the centre on a uniformly loaded footprint (closed form of the
+    integral of sqrt(x^2 + y^2) over the rectangle)."""
+    p, q = 0.5 * length_m, 0.5 * width_m
+    d = math.hypot(p, q)
+    quarter = (2 * p * q * d + p ** 3 * math.log((q + d) / p) + q ** 3 * math.log((p + d) / q)) / 6.0
+    return quarter / (p * q)
+
+
+def breakaway_ratio(force_xy: Sequence[float], moment_z: float, mu: float, normal_N: float,
+                    radius_m: float) -> float:
+    """Where a load sits on static friction's limit surface: (F / mu N)^2 + (M / mu N r)^2, 1 at
+    the surface (breaks away at >= 1); inf when friction can bear nothing."""
+    limit = mu * normal_N
+    if limit <= 0:
+        return math.inf
+    return (math.hypot(*force_xy[:2]) / limit) ** 2 + (moment_z / (limit * radius_m)) ** 2
 
 
 @dataclass(frozen=True)
@@ -87,6 +127,10 @@ class BodyAfloat:
     size_m: tuple[float, float, float]
     draft_m: float
     bed_friction: float
+
+    @property
+    def friction_radius_m(self) -> float:
+        return footprint_mean_radius(self.size_m[0], self.size_m[1])
 
 
 def underside_m(state: BodyState, size: Sequence[float], bed_z: float = 0.0) -> float:
@@ -113,7 +157,12 @@ class BedWatch:
     constraints: dict[str, str] = field(default_factory=dict)
     rested_at_depth: dict[str, float] = field(default_factory=dict)
     friction_speed: dict[str, float] = field(default_factory=dict)
+    friction_spin: dict[str, float] = field(default_factory=dict)
+    #: the bodies static friction holds, and each body's normal force at the last restart (N)
+    stuck: set[str] = field(default_factory=set)
+    normal_N: dict[str, float] = field(default_factory=dict)
     last_sample_s: float = -math.inf
+    last_load_s: float = -math.inf
     gap_m: float = 0.0
     restart_s: float = 0.0
     #: where each body's columns were placed (its centre's x, y at the restart)
@@ -172,6 +221,23 @@ class BedWatch:
     def lift_N(self, name: str, until_s: float = math.inf) -> float | None:
         return waterdepth.read_lift(self.case, name, until_s)
 
+    def load_ratio(self, state: BodyState, until_s: float = math.inf) -> float | None:
+        """Where the fluid's load on a body on the bed sits on its static friction's limit surface
+        (`breakaway_ratio`), from the forces on its wall; None before they are written."""
+        load = waterdepth.read_load(self.case, state.name, until_s)
+        normal = self.normal_N.get(state.name)
+        if load is None or normal is None:
+            return None
+        force, moment = load
+        x, y = state.centre_of_mass_m[:2]
+        moment_z = float(moment[2]) - (x * float(force[1]) - y * float(force[0]))  # about its centre
+        body = self.bodies[state.name]
+        return breakaway_ratio(force, moment_z, body.bed_friction, normal, body.friction_radius_m)
+
+    def at_rest(self, state: BodyState) -> bool:
+        spin = abs(float(state.angular_velocity_rad_s[2])) * self.bodies[state.name].friction_radius_m
+        return math.hypot(*state.velocity_m_s[:2]) < STICK_SPEED_M_S and spin < STICK_SPEED_M_S
+
     def can_float(self, state: BodyState, measured: tuple[float, int] | None, lift: float | None) -> bool:
         """The water all round is deep enough and the fluid already pushes the body up by its weight."""
         body = self.bodies[state.name]
@@ -188,7 +254,8 @@ class BedWatch:
             return [], list(states)
         now = bodystate.bed_constraints(self.case)
         sample = waterdepth.read_at(self.case, self.axis, float(time_name)) if self.axis else None
-        freed, coeffs, out = [], {}, []
+        freed, coeffs, yaw, out = [], {}, {}, []
+        self.stuck = bodystate.stuck_bodies(self.case)
         for state in states:
             kind = now.get(state.name, "")
             if kind == "rest" and self.constraints.get(state.name) != "rest":
@@ -216,18 +283,25 @@ class BedWatch:
                          f"up by {lift:.3g} N")
                 freed.append(state.name)
                 kind = ""
-            out.append(state)
             if kind in ("hold", "rest") and self.friction:
                 body = self.bodies[state.name]
+                normal = self.normal_force_N(state, depth)
+                state = self._static_friction(time_name, state, normal)
                 speed = max(math.hypot(*state.velocity_m_s[:2]), FRICTION_FLOOR_M_S)
-                coeffs[state.name] = body.bed_friction * self.normal_force_N(state, depth) / speed
-                self.friction_speed[state.name] = speed
+                radius = body.friction_radius_m
+                spin = max(abs(float(state.angular_velocity_rad_s[2])), FRICTION_FLOOR_M_S / radius)
+                coeffs[state.name] = body.bed_friction * normal / speed
+                yaw[state.name] = body.bed_friction * normal * radius / spin
+                self.friction_speed[state.name], self.friction_spin[state.name] = speed, spin
             else:
-                coeffs[state.name] = None
+                coeffs[state.name] = yaw[state.name] = None
                 self.friction_speed.pop(state.name, None)
+                self.friction_spin.pop(state.name, None)
+                self.stuck.discard(state.name)  # freed: release_holds removed the stick too
+            out.append(state)
             now[state.name] = kind
             self._record(float(time_name), state, measured, lift, kind, coeffs[state.name])
-        bodystate.set_bed_friction(self.case, coeffs)
+        bodystate.set_bed_friction(self.case, coeffs, yaw)
         self.constraints = now
         # columns for the next segment around the bodies kept on the bed and those near it (a body
         # closer to the bed than its own height may be put back on it; body_depth.csv records them)
@@ -239,18 +313,54 @@ class BedWatch:
         self.placed = {s.name: (float(s.centre_of_mass_m[0]), float(s.centre_of_mass_m[1])) for s in near}
         return freed, out
 
+    def _static_friction(self, time_name: str, state: BodyState, normal_N: float) -> BodyState:
+        """Stick a body at rest whose load friction bears; let a stuck one go once it does not."""
+        self.normal_N[state.name] = normal_N
+        ratio = self.load_ratio(state, float(time_name))
+        if state.name in self.stuck:
+            if ratio is not None and ratio >= 1.0:
+                bodystate.unstick_bodies(self.case, [state.name])
+                self.stuck.discard(state.name)
+                self.say(f"t = {time_name} s: {state.name} breaks away: the water's load is {ratio ** 0.5:.2f} "
+                         "times what static bed friction bears")
+        elif self.at_rest(state) and (ratio is None or ratio < 1.0):
+            bodystate.stick_bodies(self.case, [state.name])
+            self.stuck.add(state.name)
+            self.say(f"t = {time_name} s: {state.name} at rest on the bed: static friction holds it"
+                     + ("" if ratio is None else f" (the water's load is {ratio ** 0.5:.2f} of what it bears)"))
+            state = state.with_changes(velocity_m_s=(0.0, 0.0, 0.0), angular_velocity_rad_s=(0.0, 0.0, 0.0))
+        return state
+
     # ---- while the solver runs
     def why_stop(self, states: Sequence[BodyState], time_s: float) -> str | None:
         """A reason to stop the solver now, or None: a constrained body the newest sample shows
-        afloat, or a resting body whose speed has left its friction band."""
+        afloat, a resting body whose speed has left its friction band, one come to rest, or a stuck
+        one the water's load breaks away."""
+        loads_due = time_s - self.last_load_s >= waterdepth.SAMPLE_INTERVAL_S  # the forces, every 0.01 s
+        if loads_due:
+            self.last_load_s = time_s
         for state in states:
             kind = self.constraints.get(state.name, "")
             speed0 = self.friction_speed.get(state.name)
-            if kind in ("hold", "rest") and speed0 is not None and time_s - self.restart_s >= FRICTION_MIN_INTERVAL_S:
-                speed = max(math.hypot(*state.velocity_m_s[:2]), FRICTION_FLOOR_M_S)
-                if not speed0 / FRICTION_BAND <= speed <= speed0 * FRICTION_BAND:
-                    return (f"{state.name} slides at {speed:.3g} m/s, its bed friction was set for "
-                            f"{speed0:.3g} m/s")
+            if (kind not in ("hold", "rest") or speed0 is None or time_s - self.restart_s < FRICTION_MIN_INTERVAL_S
+                    or state.name in self.stuck):
+                continue
+            speed = max(math.hypot(*state.velocity_m_s[:2]), FRICTION_FLOOR_M_S)
+            if not speed0 / FRICTION_BAND <= speed <= speed0 * FRICTION_BAND:
+                return f"{state.name} slides at {speed:.3g} m/s, its bed friction was set for {speed0:.3g} m/s"
+            spin0 = self.friction_spin.get(state.name)
+            spin = max(abs(float(state.angular_velocity_rad_s[2])),
+                       FRICTION_FLOOR_M_S / self.bodies[state.name].friction_radius_m)
+            if spin0 is not None and not spin0 / FRICTION_BAND <= spin <= spin0 * FRICTION_BAND:
+                return f"{state.name} turns at {spin:.3g} rad/s, its bed friction was set for {spin0:.3g} rad/s"
+            if loads_due and self.at_rest(state) and (self.load_ratio(state) or 0.0) < 1.0:
+                return f"{state.name} has come to rest on the bed"
+        for state in states:
+            if loads_due and state.name in self.stuck and time_s - self.restart_s >= FRICTION_MIN_INTERVAL_S:
+                ratio = self.load_ratio(state)
+                if ratio is not None and ratio >= 1.0:
+                    return (f"{state.name}: the water's load is {ratio ** 0.5:.2f} times what static bed "
+                            "friction bears")
         for state in states:
             if self.constraints.get(state.name) in ("hold", "rest") and not self._covered(state):
                 return f"{state.name} slid off the water columns placed around it"
@@ -293,4 +403,4 @@ class BedWatch:
                         0 if measured is None else measured[1],
                         f"{underside_m(state, body.size_m, self.bed_z):.5f}", f"{self.float_depth_m(state):.5f}",
                         "" if lift is None else f"{lift:.4f}", f"{body.mass_kg * self.g:.4f}",
-                        kind or "free", "" if coeff is None else f"{coeff:.5g}"])
+                        kind or "free", "" if coeff is None else f"{coeff:.5g}", int(state.name in self.stuck)])

@@ -313,6 +313,21 @@ def read_lift(case_dir: str | Path, body: str, until_s: float = math.inf,
     """The mean vertical fluid force (N) on a body's wall over the last `window_s` of simulated time
     up to `until_s` (the forces function object `lift_<body>`), from the newest segment that has
     steps more than `LIFT_SETTLE_S` after its start; None if there is none yet."""
+    force = _read_mean(case_dir, body, "force.dat", until_s, window_s)
+    return None if force is None else float(force[2])
+
+
+def read_load(case_dir: str | Path, body: str, until_s: float = math.inf,
+              window_s: float = SAMPLE_INTERVAL_S) -> tuple[np.ndarray, np.ndarray] | None:
+    """The mean fluid force (N) and moment (N m, about the origin, as `lift_<body>` writes it) on a
+    body's wall over the same window as `read_lift`; None if either is not there yet."""
+    force = _read_mean(case_dir, body, "force.dat", until_s, window_s)
+    moment = _read_mean(case_dir, body, "moment.dat", until_s, window_s)
+    return None if force is None or moment is None else (force, moment)
+
+
+def _read_mean(case_dir: str | Path, body: str, file: str, until_s: float, window_s: float) -> np.ndarray | None:
+    """The mean total (x, y, z) of a forces file of `lift_<body>` over the window (see read_lift)."""
     base = Path(case_dir) / "postProcessing" / f"{LIFT_PREFIX}{body}"
     if not base.is_dir():
         return None
@@ -327,7 +342,7 @@ def read_lift(case_dir: str | Path, body: str, until_s: float = math.inf,
             continue
         rows = []
         try:
-            lines = (p / "force.dat").read_text().splitlines()
+            lines = (p / file).read_text().splitlines()
         except OSError:
             continue
         for line in lines:
@@ -337,13 +352,12 @@ def read_lift(case_dir: str | Path, body: str, until_s: float = math.inf,
             if len(parts) < 4:
                 continue  # a line being written
             try:
-                t, fz = float(parts[0]), float(parts[3])
+                t, v = float(parts[0]), (float(parts[1]), float(parts[2]), float(parts[3]))
             except ValueError:
                 continue
             if start + LIFT_SETTLE_S < t <= until_s + 1e-9:  # not the first steps after a restart
-                rows.append((t, fz))
+                rows.append((t, v))
         if rows:
             last = rows[-1][0]
-            recent = [fz for t, fz in rows if t > last - window_s - 1e-12]
-            return float(np.mean(recent))
+            return np.mean([v for t, v in rows if t > last - window_s - 1e-12], axis=0)
     return None

@@ -87,10 +87,11 @@ def _check_water(scene: Scene, source: str | None) -> None:
             f"impoundment {res.depth_m:g} m is above the flume walls ({fl.height_m:g} m)",
             source,
         )
-    if bed.wet_depth_m >= res.depth_m:
+    if bed.wet_depth_m > res.depth_m + TOL:
         raise InputError(
             "bed.wet_depth_m",
-            f"must be shallower than the impoundment ({res.depth_m:g} m) for a dam break, got {bed.wet_depth_m:g}",
+            f"must be shallower than the impoundment ({res.depth_m:g} m) for a dam break (or equal to it: "
+            f"still water), got {bed.wet_depth_m:g}",
             source,
         )
 
@@ -263,10 +264,16 @@ def _check_gauges(scene: Scene, source: str | None) -> None:
             raise InputError(f"gauges.{i}.x_m", f"gauge {g.name!r} is inside the column", source)
 
 
+def still_water(scene: Scene) -> bool:
+    """The impoundment is the wet bed: no dam break, the flume's water at rest (a test of what
+    holds still; the dam-break resolution rule does not apply)."""
+    return abs(scene.reservoir.depth_m - scene.bed.wet_depth_m) <= TOL
+
+
 def _check_mesh(scene: Scene, source: str | None) -> None:
     """The finest cell fine enough for the impoundment, the column and every body; mesh.top_m in range."""
     res, col, h = scene.reservoir, scene.column, scene.mesh.cell_size_m
-    if h > res.depth_m / MIN_CELLS_OVER_DEPTH + TOL:
+    if h > res.depth_m / MIN_CELLS_OVER_DEPTH + TOL and not still_water(scene):
         raise InputError(
             "mesh.cell_size_m",
             f"{h:g} m cannot resolve the impoundment: at least {MIN_CELLS_OVER_DEPTH:g} cells over "
