@@ -33,7 +33,7 @@ from analytical.pulses import Rectangular
 from orchestrator.core.files import write_json_atomic, write_text_atomic
 from orchestrator.report.figures import WIDTH_IN, empty, pyplot, save_figure
 from orchestrator.scene.schema import Design, column_for_analysis
-from orchestrator.studies.design import DEMANDS, mass_range, realisation_demands
+from orchestrator.studies.design_table import DEMANDS, mass_range, realisation_demands
 from orchestrator.transport.case_transport import scene_bodies
 
 __all__ = ["CONDITIONAL", "QUANTILES", "asce_values", "figure_exceedance", "markdown", "summarise", "write_report"]
@@ -144,9 +144,9 @@ def figure_exceedance(result, summary: dict[str, Any]):
             empty(ax, f"{label}: no realisation struck the column")
             continue
         conf = f"{summary['confidence'] * 100:.0f} %"
-        ax.fill_between(curve["level"], np.maximum(curve["lower"], 1e-12), curve["upper"], step="post", alpha=0.25,
+        ax.fill_between(curve["level"], np.maximum(curve["lower"], 1e-12), curve["upper"], step="pre", alpha=0.25,
                         color="C0", lw=0, label=f"{conf} interval of each probability (Clopper-Pearson)")
-        ax.step(curve["level"], curve["probability"], where="post", color="C0", label="this tool's realisations")
+        ax.step(curve["level"], curve["probability"], where="pre", color="C0", label="this tool's realisations")
         floor = max(float(curve["probability"].min()) / 3.0, 1e-5)
         for name, q in summary["demands"][key]["quantiles"].items():
             ax.plot([q["value"]], [1.0 - QUANTILES[name]], "k.", ms=5)
@@ -168,7 +168,7 @@ def figure_exceedance(result, summary: dict[str, Any]):
         ax.set_xlabel(f"{label} ({unit})")
         ax.set_ylabel("exceedance probability")
         ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=7, loc="lower left")
+        ax.legend(fontsize=7, loc="upper right")
     p = summary["strike_probability"]
     fig.suptitle(f"{summary['realisations']} realisations; P(strike) = {p['probability']:.3f} "
                  f"[{p['lower']:.3f}, {p['upper']:.3f}]; conditional on the scene's inundation "
@@ -181,6 +181,12 @@ def _num(value: float | None, digits: int = 4) -> str:
     if value is None or (isinstance(value, float) and not math.isfinite(value)):
         return "-"
     return f"{value:.{digits}g}"
+
+
+def _range(value, unit: str) -> str:
+    if isinstance(value, list):
+        return f"{value[0]:g} to {value[1]:g} {unit}"
+    return "each body's own" if value == "each body's own" else f"{value or 'the placement tolerance'}"
 
 
 def markdown(summary: dict[str, Any]) -> str:
@@ -199,9 +205,10 @@ def markdown(summary: dict[str, Any]) -> str:
     for c in summary["cases"]:
         lines.append(f"| {c['name']} | {', '.join(c['overrides']) or 'the scene as it is'} | {c['weight']:.3g} | "
                      f"{c['realisations']} | {c['strike_probability']:.3g} | {_num(u.get(c['name']), 3)} |")
-    lines += ["", f"Draws: mass {summary['draws']['mass_kg']} kg, heading {summary['draws']['heading_deg']} deg, "
-                  f"start x {summary['draws']['start_x_m'] or 'placement tolerance'} m, start y "
-                  f"{summary['draws']['start_y_m'] or 'placement tolerance'} m.", "",
+    draws = summary["draws"]
+    lines += ["", f"Draws (uniform where a range is given): mass {_range(draws['mass_kg'], 'kg')}, heading "
+                  f"{_range(draws['heading_deg'], 'deg')}, start x {_range(draws['start_x_m'], 'm')}, start y "
+                  f"{_range(draws['start_y_m'], 'm')}.", "",
               "## Demands", "", f"Quantiles with their {conf} intervals ('-': more realisations needed).", "",
               "| demand | P50 | P90 | P99 | largest |", "|---|---|---|---|---|"]
     for d in summary["demands"].values():
