@@ -255,24 +255,24 @@ def test_a_study_folder_is_not_replaced_without_force(tmp_path):
 @pytest.mark.openfoam
 def test_the_verb_runs_each_inundation_case_once_and_writes_the_page(tmp_path, openfoam):
     out = tmp_path / "study"
-    cases = "design.inundation=[{name: deep, weight: 3}, {name: shallow, set: {reservoir.depth_m: 0.14}, weight: 1}]"
+    cases = "design.inundation=[{name: base, weight: 3}, {name: deep, set: {reservoir.depth_m: 0.18}, weight: 1}]"
     proc = run_cli("design", str(TINY), "-n", "8", "-o", str(out), "--set", cases, "--set",
                    "design.mass_kg=[0.2, 0.3]", "--json")
     assert proc.returncode == 0, proc.stderr[-3000:]
     head = json.loads(proc.stdout)
     table = pd.read_csv(out / "design.csv")
     assert list(table.columns) == DESIGN_COLUMNS and head["realisations"] == 8
-    assert table.groupby("case").size().to_dict() == {"deep": 6, "shallow": 2}
+    assert table.groupby("case").size().to_dict() == {"base": 6, "deep": 2}
     assert table["mass_kg"].between(0.2, 0.3).all() and table["struck"].any()
     summary = json.loads((out / "design.json").read_text())
-    assert [c["name"] for c in summary["cases"]] == ["deep", "shallow"]
+    assert [c["name"] for c in summary["cases"]] == ["base", "deep"]
     assert summary["asce"]["values"] is not None and summary["asce"]["cases"][0]["u_max_m_s"] > 0
     for name in ("design.md", "exceedance.png"):
         assert (out / name).is_file()
-    run_json = (out / "flows" / "shallow" / "run.json").read_text()
+    run_json = (out / "flows" / "deep" / "run.json").read_text()
     proc = run_cli("design", str(TINY), "-n", "8", "-o", str(out), "--set", cases, "--set",
                    "design.mass_kg=[0.2, 0.3]", "--force", "--json")
     assert proc.returncode == 0, proc.stderr[-3000:]
-    assert (out / "flows" / "shallow" / "run.json").read_text() == run_json  # the flows are reused
+    assert (out / "flows" / "deep" / "run.json").read_text() == run_json  # the flows are reused
     again = pd.read_csv(out / "design.csv")
     pd.testing.assert_frame_equal(again.drop(columns="wall_time_s"), table.drop(columns="wall_time_s"))
