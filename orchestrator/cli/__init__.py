@@ -23,6 +23,7 @@ from collections.abc import Sequence
 from orchestrator.core.errors import DebrisfoamError, InputError
 from orchestrator.cli.analytical import add_analytical_parser
 from orchestrator.cli.case import add_case_parsers
+from orchestrator.cli.design import add_design_parser
 from orchestrator.cli.common import EXIT_BAD_INPUT, EXIT_FAILURE, EXIT_OK, ArgParser
 from orchestrator.cli.scenes import add_scene_parsers
 from orchestrator.cli.studies import add_study_parsers
@@ -49,6 +50,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_scene_parsers(verbs)
     add_case_parsers(verbs)
     add_study_parsers(verbs)
+    add_design_parser(verbs)
     return parser
 
 

@@ -7,6 +7,7 @@ the case computes:
 * keys the case's coupling never reads (:data:`ONE_WAY_ONLY`): a two-way or no-debris case
   ignores the one-way transport and the flow record's rate, so changing their defaults leaves a
   finished coupled run the same case;
+* the ``design`` section (what ``debrisfoam design`` samples over a case's flow; no case reads it);
 * keys added to the scene after runs were made, at the value that means "as before the key
   existed" (:data:`LATE_KEYS`, :data:`LATE_SECTIONS`): adding a key leaves existing cases, and the
   ids of existing sweep members, as they were.
@@ -52,6 +53,7 @@ def case_inputs(scene: Scene, coupling: str | None = None) -> dict:
     case's (plan.json's ``debris_coupling``); None plans the scene to find it."""
     coupling = _coupling(scene) if coupling is None else coupling
     data = scene_to_dict(scene)
+    data.pop("design", None)  # what `debrisfoam design` samples: never read by a case
     if coupling != "one-way":
         for section, keys in ONE_WAY_ONLY.items():
             if keys is None:

@@ -2,8 +2,8 @@
 
 A scene is the description of one dam-break debris-impact set-up. Its sections are
 ``flume``, ``reservoir``, ``bed``, ``column`` (null = none), ``debris`` (a list; empty =
-none; items are bodies or layout generators), ``gauges``, ``fluids``, ``mesh``, ``run``
-and ``outputs``; the models below give every field, its default and its range. They are
+none; items are bodies or layout generators), ``gauges``, ``fluids``, ``mesh``, ``run``,
+``outputs``, ``transport`` and ``design``; the models below give every field, its default and its range. They are
 the single source of the scene reference (docs/scene.md, :mod:`orchestrator.scene.reference`).
 Reading a scene file is :mod:`orchestrator.scene.scenefile`; resolving layouts, placements
 and gauges is :mod:`orchestrator.scene.resolve`; the cross-field rules are
@@ -21,6 +21,7 @@ from __future__ import annotations
 import dataclasses
 from typing import Any, Literal
 
+import yaml
 from pydantic import Field, ValidationError, field_validator, model_validator
 
 from analytical.catalogue import list_debris
@@ -45,6 +46,8 @@ __all__ = [
     "DebrisContact",
     "DebrisLayout",
     "DebrisTemplate",
+    "Design",
+    "DesignInundation",
     "Flume",
     "Fluids",
     "Gauge",
@@ -438,6 +441,80 @@ class Transport(SceneSection):
         return value
 
 
+class DesignInundation(SceneSection):
+    """One inundation case of a design study (``debrisfoam design``, docs/design.md): the scene
+    with these overrides is one flow, run once; its realisations weigh ``weight``."""
+
+    name: str | None = Field(None, description="the case's name in the tables (null: case<k>, k from 1)")
+    set: tuple[str, ...] = Field(
+        (), description="scene overrides of this case, a mapping of dotted keys to values (e.g. "
+        "{reservoir.depth_m: 0.35}) or a list of key=value strings, as --set takes them")
+    weight: float = Field(1.0, gt=0, description="the case's weight; the weights are normalised to sum to 1 (-)")
+
+    @field_validator("set", mode="before")
+    @classmethod
+    def _overrides(cls, value):
+        if isinstance(value, dict):
+            value = [f"{k}={yaml.safe_dump(v, default_flow_style=True).strip().removesuffix('...').strip()}"
+                     for k, v in value.items()]
+        if not isinstance(value, (list, tuple)) or not all(isinstance(v, str) and "=" in v for v in value):
+            raise ValueError("must be a mapping of dotted scene keys to values, or a list of key=value strings")
+        if any(v.partition("=")[0].strip().split(".")[0] == "design" for v in value):
+            raise ValueError("an inundation case cannot override the design section itself")
+        return tuple(v.strip() for v in value)
+
+
+class Design(SceneSection):
+    """What ``debrisfoam design`` samples (docs/design.md): each realisation draws every body's
+    start, heading and mass over the ranges below, and an inundation case by its weight. Not
+    read by a flow: changing it never makes another case."""
+
+    realisations: int = Field(2000, ge=1, description="realisations over all inundation cases")
+    seed: int = Field(0, ge=0, description="seed of the draws (realisation r draws from (seed, case, r))")
+    mass_kg: tuple[Pos, Pos] | None = Field(
+        None, description="[least, greatest] mass of every body (kg; e.g. empty and loaded), drawn uniformly; "
+        "null: each body's own mass")
+    heading_deg: tuple[float, float] | None = Field(
+        None, description="[least, greatest] yaw of every body (degrees), drawn uniformly; null: the "
+        "ensemble's placement tolerance about each body's own yaw (normal, 12 degrees)")
+    start_x_m: tuple[float, float] | None = Field(
+        None, description="[least, greatest] x of a body's centre at the start (m), drawn uniformly; null "
+        "(with start_y_m null): the ensemble's placement tolerance about each body's own centre")
+    start_y_m: tuple[float, float] | None = Field(
+        None, description="[least, greatest] y of a body's centre at the start (m), drawn uniformly; null: "
+        "each body's own y (with start_x_m) or the placement tolerance (without)")
+    inundation: tuple[DesignInundation, ...] = Field(
+        (DesignInundation(),), description="the inundation cases: each a flow of the scene with its overrides, "
+        "weighted; default one case, the scene as it is")
+    risk_category: Literal["II", "III", "IV", "vertical-evacuation-refuge"] = Field(
+        "II", description="Tsunami Risk Category, for ASCE 7-22's importance factor I_tsu (Table 6.8-1)")
+    orientation_coefficient: float = Field(
+        0.65, gt=0, le=1, description="ASCE 7-22 6.11's orientation coefficient C_o (0.65: containers, logs, poles)")
+    debris_stiffness_N_m: float | None = Field(
+        None, gt=0, description="ASCE 7-22 6.11's debris stiffness k_d (N/m); null: the study's 1:40 container, "
+        "3.04e6 N/m (analytical/asce7.py)")
+    prototype: bool = Field(
+        False, description="full-scale inputs: ASCE 7-22's simplified static load 1,470 C_o I_tsu kN caps F_i")
+    confidence: float = Field(0.95, gt=0, lt=1, description="level of every interval (-)")
+
+    @field_validator("start_x_m", "start_y_m", "mass_kg", "heading_deg")
+    @classmethod
+    def _ordered(cls, value):
+        if value is not None and not value[0] <= value[1]:
+            raise ValueError("must be [least, greatest]")
+        return value
+
+    @field_validator("inundation")
+    @classmethod
+    def _cases(cls, value):
+        if not value:
+            raise ValueError("give at least one inundation case")
+        names = [c.name for c in value if c.name is not None]
+        if len(set(names)) != len(names):
+            raise ValueError(f"case names must be unique, got {names}")
+        return value
+
+
 class Scene(SceneSection):
     """A resolved, validated scene (every body placed, every gauge positioned)."""
 
@@ -454,6 +531,7 @@ class Scene(SceneSection):
     run: Run
     outputs: Outputs = Outputs()
     transport: Transport = Transport()
+    design: Design = Design()
 
 
 # ------------------------------------------------------------------------ the column

@@ -1,0 +1,299 @@
+"""Design studies: from a scene to the distribution of a column's debris demands, beside ASCE 7-22.
+
+``debrisfoam design SCENE -o DIR`` (docs/design.md) reads the scene's ``design`` section
+(:class:`~orchestrator.scene.schema.Design`) and:
+
+1. **The flows once.** Each inundation case (the scene with the case's overrides) is a one-way
+   flow rendered and run into ``DIR/flows/<case>`` by
+   :func:`~orchestrator.studies.ensemble.ensemble_flow`: a finished flow of the same scene is
+   reused (a changed ``design`` section never makes another case), a folder holding another
+   case is bad input. ``u_max``, the flow's maximum speed at the site, is read from each
+   record (:func:`~orchestrator.results.asce_design.site_flow_speed`).
+2. **Realisations.** ``design.realisations`` are shared among the cases in proportion to their
+   weights (largest remainders, at least one each), so the pooled sample is a stratified sample
+   of the weighted mixture. Realisation ``r`` of case ``c`` draws from
+   ``numpy.random.default_rng([seed, c, r])`` (:func:`design_starts`), the same whatever the
+   number of realisations or the executor: every body's mass (uniform in ``mass_kg``, else its
+   own; its inertia is the scene's box at that mass), heading (uniform in ``heading_deg``, else
+   the ensemble's tolerance: normal, 12 degrees, clipped at 2 standard deviations) and start
+   (uniform in ``start_x_m`` x ``start_y_m``, else the ensemble's tolerance: normal, a quarter
+   of the length), drawn again while it comes within 2 mm of a wall, the column or another body.
+   A body's start height is the scene's (a floating body starts at its own mass's draft).
+3. **Demands.** Realisations are stepped together in batches
+   (:func:`~orchestrator.transport.batch.run_batch`); each body's first column strike gives
+   its contact force (the contact law in series with the MDOF column), and from that pulse the
+   column's peak base shear, base moment and top displacement
+   (:func:`analytical.column_demand.strike_demands`, resultants of the two bending directions).
+   Later strikes of the same body (its rebound sequence) are counted without a pulse. A
+   realisation's demand is the largest over its bodies; a realisation that never strikes has
+   demand 0 and stays in the sample (the page states P(strike)).
+
+The exceedance curves, quantiles and intervals are :mod:`analytical.exceedance`'s; the page,
+the figure and design.json are :mod:`orchestrator.studies.design_report`'s. Everything here
+is conditional on the scene's inundation cases: it is not a probabilistic tsunami hazard
+analysis.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures
+import dataclasses
+import multiprocessing
+import os
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable, Sequence
+
+import numpy as np
+import pandas as pd
+
+from analytical.column_demand import strike_demands
+from orchestrator.core.errors import DebrisfoamError, InputError
+from orchestrator.core.files import write_text_atomic
+from orchestrator.results.asce_design import SiteFlow, site_flow_speed
+from orchestrator.scene.schema import Design, Scene
+from orchestrator.scene.scenefile import load_scene
+from orchestrator.studies.design_table import DEMANDS, DESIGN_COLUMNS, allocate, case_names, mass_range, \
+    realisation_demands
+from orchestrator.studies.ensemble import DEFAULT_BATCH_SIZE, EXECUTORS, Perturbation, body_rows, ensemble_flow, \
+    start_clash
+from orchestrator.studies.sweep.executors import dask_executor
+from orchestrator.transport.batch import run_batch
+from orchestrator.transport.case_transport import scene_settings, transport_setup
+from orchestrator.transport.engine import TransportSettings, run_transport
+from orchestrator.transport.flow import FlowField
+from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn, TransportBody
+
+__all__ = ["DEMANDS", "DESIGN_COLUMNS", "DesignCase", "DesignResult", "allocate", "case_names", "design",
+           "design_batch", "design_starts", "mass_range", "realisation_demands"]
+
+@dataclass
+class DesignCase:
+    """One inundation case: its name, overrides, normalised weight, realisations, flow and site."""
+
+    name: str
+    sets: list[str]
+    weight: float
+    realisations: int
+    scene: Scene | None = None
+    flow_case: Path | None = None
+    npz: Path | None = None
+    site: SiteFlow | None = None
+    flow_wall_s: float = 0.0
+
+
+@dataclass
+class DesignResult:
+    """A design study: its table, cases, summary and where it wrote them."""
+
+    table: pd.DataFrame
+    cases: list[DesignCase]
+    summary: dict[str, Any]
+    files: dict[str, Path] = field(default_factory=dict)
+
+
+def design_starts(bodies: Sequence[TransportBody], flume: FlumeBounds, column: PlacedColumn | None, spec: Design,
+                  case: int, realisation: int, perturbation: Perturbation | None = None) -> list[TransportBody]:
+    """Realisation ``realisation`` of case ``case``: every body's mass, heading and start (module
+    notes); raises InputError naming the design key when a body finds no free start."""
+    p = perturbation or Perturbation()
+    rng = np.random.default_rng([int(spec.seed), int(case), int(realisation)])
+    placed: list[TransportBody] = []
+    for body in bodies:
+        lo, hi = mass_range(body, spec)
+        mass = float(rng.uniform(lo, hi)) if hi > lo else lo
+        sigma = p.position_sigma_fraction * body.size_m[0]
+        clash = None
+        for _ in range(int(p.max_tries)):
+            nx, ny, nyaw = np.clip(rng.standard_normal(3), -p.clip_sigmas, p.clip_sigmas)
+            ux, uy, uyaw = rng.uniform(size=3)
+            x, y, z = body.centre_m
+            if spec.start_x_m is None and spec.start_y_m is None:
+                x, y = x + float(nx) * sigma, y + float(ny) * sigma
+            else:
+                if spec.start_x_m is not None:
+                    x = spec.start_x_m[0] + float(ux) * (spec.start_x_m[1] - spec.start_x_m[0])
+                if spec.start_y_m is not None:
+                    y = spec.start_y_m[0] + float(uy) * (spec.start_y_m[1] - spec.start_y_m[0])
+            yaw = (body.yaw_deg + float(nyaw) * p.yaw_sigma_deg if spec.heading_deg is None
+                   else spec.heading_deg[0] + float(uyaw) * (spec.heading_deg[1] - spec.heading_deg[0]))
+            moved = dataclasses.replace(body, centre_m=(x, y, z), yaw_deg=yaw, mass_kg=mass)
+            clash = start_clash(moved, placed, flume, column, p.min_gap_m)
+            if clash is None:
+                placed.append(moved)
+                break
+        else:
+            key = "design.start_x_m" if spec.start_x_m is not None or spec.start_y_m is not None else \
+                f"debris.{body.name}.centre_m"
+            raise InputError(key, f"body {body.name}: no start in {p.max_tries} draws keeps {p.min_gap_m:g} m from "
+                                  f"the walls, the column and the other bodies (case {case + 1}, realisation "
+                                  f"{realisation}; the last came within the gap of {clash}): move or widen the area")
+    return placed
+
+
+# --------------------------------------------------------------------------- the realisations
+_FLOWS: dict[str, FlowField] = {}
+
+
+def _flow(npz: str, flow: FlowField | None = None) -> FlowField:
+    """The flow of ``npz`` in this process: given (the local pool's initializer), or loaded once."""
+    if flow is not None:
+        _FLOWS[npz] = flow
+    if npz not in _FLOWS:
+        _FLOWS[npz] = FlowField.load(npz)
+    return _FLOWS[npz]
+
+
+def design_batch(numbers: Sequence[int], starts: Sequence[list[TransportBody]], flume: FlumeBounds,
+                 column: PlacedColumn, t_end_s: float, npz: str, settings: TransportSettings) -> list[dict[str, Any]]:
+    """Rows of design.csv (without the case's columns) for realisations ``numbers`` of one case,
+    stepped together in one model (module notes)."""
+    flow = _flow(npz)
+    if len(starts) == 1:
+        results = [run_transport(list(starts[0]), flume, t_end_s, flow=flow, column=column, settings=settings)]
+    else:
+        results = run_batch(starts, flume, t_end_s, flow=flow, column=column, settings=settings)
+    rows = []
+    for number, result, bodies in zip(numbers, results, starts):
+        wall = result.wall_s + result.pulse_wall_s
+        imp = result.impacts
+        on_column = imp[imp["kind"] == "column"].sort_values("time_s", kind="stable") if len(imp) else imp
+        start = time.perf_counter()
+        for row, body in zip(body_rows(result, bodies, number, 0.0, column, flume.bed_z_m, study_fit=False), bodies):
+            out = {k: row[k] for k in DESIGN_COLUMNS if k in row}
+            out.update(mass_kg=body.mass_kg, **{k: 0.0 for k in DEMANDS})
+            strikes = on_column[on_column["body"] == body.name] if len(on_column) else on_column
+            pulse = result.pulses.get(int(strikes.iloc[0]["event"])) if len(strikes) else None
+            if pulse is not None:
+                loads = strike_demands(pulse.force, pulse.normal, column.column, float(pulse.contact_height_m))
+                out.update(peak_force_N=float(pulse.peak_force_N), **loads)
+            rows.append(out)
+        wall += time.perf_counter() - start
+        for out in rows[-len(bodies):]:
+            out["wall_time_s"] = round(float(wall), 4)
+    return rows
+
+
+def _run_case(case: DesignCase, starts: list[list[TransportBody]], flume: FlumeBounds, column: PlacedColumn,
+              flow: FlowField, executor: str, workers: int, batch_size: int,
+              progress: Callable[[int], None] | None) -> list[dict[str, Any]]:
+    """Every realisation of one case, in batches, on ``executor``; rows in realisation order."""
+    settings = dataclasses.replace(scene_settings(case.scene), first_pulse_only=True)
+    npz = str(case.npz)
+    _flow(npz, flow)
+    t_end = float(case.scene.run.end_time_s)
+    tasks = [(list(range(lo, min(lo + batch_size, len(starts)))), starts[lo:lo + batch_size], flume, column, t_end,
+              npz, settings) for lo in range(0, len(starts), batch_size)]
+    done: dict[int, list[dict[str, Any]]] = {}
+
+    def finished(first: int, rows: list[dict[str, Any]]) -> None:
+        done[first] = rows
+        if progress is not None:
+            progress(len({r["realisation"] for r in rows}))
+
+    def collect(first: int, future) -> None:
+        try:
+            rows = future.result()
+        except InputError:
+            raise
+        except DebrisfoamError as err:
+            raise type(err)(f"case {case.name}, realisations from {first}: {err}") from err
+        finished(first, rows)
+
+    if executor == "local" and workers == 1:
+        for task in tasks:
+            finished(task[0][0], design_batch(*task))
+    elif executor == "local":
+        with concurrent.futures.ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("fork"),
+                                                    initializer=_flow, initargs=(npz, flow)) as pool:
+            futures = {pool.submit(design_batch, *task): task[0][0] for task in tasks}
+            for future in concurrent.futures.as_completed(futures):
+                collect(futures[future], future)
+    else:
+        with dask_executor(workers, None, None) as ex:
+            futures = {ex.submit(design_batch, *task, key=f"debrisfoam-design-{case.name}-{task[0][0]}"): task[0][0]
+                       for task in tasks}
+            for future in ex.as_completed(list(futures)):
+                collect(futures[future], future)
+    return [row for first in sorted(done) for row in done[first]]
+
+
+# --------------------------------------------------------------------------- the verb
+def _cases(scene_path: str | Path, sets: Sequence[str], spec: Design) -> list[DesignCase]:
+    """The inundation cases, each checked as a scene (its overrides named on bad input)."""
+    names = case_names(spec)
+    weights = np.array([c.weight for c in spec.inundation], dtype=float)
+    counts = allocate(int(spec.realisations), weights)
+    cases = []
+    for k, (inundation, name, n) in enumerate(zip(spec.inundation, names, counts)):
+        case_sets = list(sets) + list(inundation.set)
+        try:
+            scene = load_scene(scene_path, case_sets)
+        except InputError as err:
+            raise InputError(f"design.inundation.{k}.set: {err.field}", err.rule, str(scene_path)) from None
+        if scene.column is None:
+            raise InputError("column", "a design study needs a column to load", str(scene_path))
+        cases.append(DesignCase(name, case_sets, float(weights[k] / weights.sum()), n, scene))
+    return cases
+
+
+def design(scene_path: str | Path, out_dir: str | Path, sets: Sequence[str] = (), executor: str = "local",
+           workers: int | None = None, batch_size: int = DEFAULT_BATCH_SIZE,
+           progress: Callable[[int, int], None] | None = None, quiet: bool = False,
+           say: Callable[[str], None] = print, confirmed: bool = False) -> DesignResult:
+    """``debrisfoam design``: the flows into ``out_dir/flows`` (or reused), the realisations, then
+    design.csv, design.json, exceedance.png and design.md in ``out_dir`` (module notes)."""
+    from orchestrator.studies.design_report import write_report
+
+    if executor not in EXECUTORS:
+        raise InputError("--executor", f"must be one of {', '.join(EXECUTORS)}, got {executor!r}")
+    if workers is not None and int(workers) <= 0:
+        raise InputError("--workers", f"must be > 0, got {workers}")
+    if int(batch_size) < 1:
+        raise InputError("--batch-size", f"must be a whole number >= 1, got {batch_size}")
+    t0 = time.perf_counter()
+    out = Path(out_dir)
+    spec = load_scene(scene_path, list(sets)).design
+    cases = _cases(scene_path, sets, spec)
+    workers = max(1, int(workers or os.cpu_count() or 1))
+    prepared = []
+    for k, case in enumerate(cases):
+        start = time.perf_counter()
+        say(f"debrisfoam: inundation case {case.name} ({k + 1} of {len(cases)}): "
+            f"{', '.join(case.sets[len(sets):]) or 'the scene as it is'}")
+        case.scene, case.flow_case, flow, case.npz = ensemble_flow(
+            scene_path, out / "flows" / case.name, case.sets, quiet=quiet, stream=sys.stderr if quiet else None,
+            say=say, confirmed=confirmed)
+        case.site = site_flow_speed(case.flow_case, case.scene)
+        bodies, flume, column = transport_setup(case.scene, flow)
+        starts = [design_starts(bodies, flume, column, case.scene.design, k, r) for r in range(case.realisations)]
+        case.flow_wall_s = time.perf_counter() - start
+        prepared.append((case, starts, flume, column, flow))
+    total = sum(c.realisations for c in cases)
+    say(f"debrisfoam: {total} realisation(s) over {len(cases)} inundation case(s) on {executor}")
+    count = [0]
+
+    def advance(n: int) -> None:
+        count[0] += n
+        if progress is not None:
+            progress(count[0], total)
+
+    rows = []
+    for case, starts, flume, column, flow in prepared:
+        for row in _run_case(case, starts, flume, column, flow, executor, workers, int(batch_size), advance):
+            rows.append({**row, "case": case.name, "case_weight": case.weight,
+                         "sample_weight": case.weight / case.realisations})
+        _FLOWS.pop(str(case.npz), None)  # one flow held at a time
+    table = pd.DataFrame(rows, columns=DESIGN_COLUMNS)
+    table["struck"] = table["struck"].astype(bool)
+    files = {"table": out / "design.csv"}
+    write_text_atomic(files["table"], table.to_csv(index=False, float_format="%.10g"))
+    result = DesignResult(table, cases, {}, files)
+    wall = {"wall_time_s": round(time.perf_counter() - t0, 2),
+            "flow_phase_wall_s": round(sum(c.flow_wall_s for c in cases), 2),
+            "workers": workers, "executor": executor, "batch_size": int(batch_size)}
+    files.update(write_report(out, result, scene_path, list(sets), spec, wall))
+    return result
+

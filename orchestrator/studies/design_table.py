@@ -1,0 +1,68 @@
+"""What a design study's table holds and the small rules both its run and its page use: the
+demands and design.csv's columns, the realisations' shares among inundation cases, the masses
+a body is drawn between, and each realisation's demand (the largest over its bodies)."""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+import numpy as np
+import pandas as pd
+
+from orchestrator.core.errors import InputError
+from orchestrator.scene.schema import Design
+from orchestrator.transport.mujoco_model import TransportBody
+
+__all__ = ["DEMANDS", "DESIGN_COLUMNS", "allocate", "case_names", "mass_range", "realisation_demands"]
+
+#: The demands of a design study: column of design.csv -> (what it is, unit).
+DEMANDS = {"peak_force_N": ("peak impact force", "N"), "base_shear_N": ("base shear", "N"),
+           "base_moment_Nm": ("base moment", "N m"), "top_displacement_m": ("top displacement", "m")}
+
+DESIGN_COLUMNS = ["case", "realisation", "case_weight", "sample_weight", "body", "mass_kg", "start_x_m",
+                  "start_y_m", "start_yaw_deg", "struck", "strikes", "impact_time_s", "impact_speed_m_s",
+                  "impact_velocity_m_s", "impact_height_m", "obliquity_deg", "duration_s", "impulse_Ns",
+                  *DEMANDS, "wall_time_s"]
+"""design.csv: one row per realisation and body: its case and weights (the case's, normalised,
+and each of its realisations' share ``case_weight / n_case``), the body's drawn mass and start,
+its first column strike (time, centre speed, normal velocity, contact height, obliquity,
+pulse duration and impulse) and its demands (0 when it never struck); the realisation's share
+of the batch's wall time."""
+
+
+def allocate(n: int, weights: Sequence[float]) -> list[int]:
+    """``n`` realisations shared in proportion to ``weights`` (largest remainders), at least one each."""
+    w = np.asarray(weights, dtype=float)
+    w = w / w.sum()
+    if n < w.size:
+        raise InputError("design.realisations", f"must be at least the number of inundation cases ({w.size}), got {n}")
+    exact = w * n
+    counts = np.floor(exact).astype(int)
+    for i in np.argsort(-(exact - counts), kind="stable")[: n - int(counts.sum())]:
+        counts[i] += 1
+    for i in np.flatnonzero(counts == 0):  # every case keeps one, taken from the largest
+        counts[int(np.argmax(counts))] -= 1
+        counts[i] = 1
+    return [int(c) for c in counts]
+
+
+def case_names(spec: Design) -> list[str]:
+    """Each case's name (``case<k>``, k from 1, where none is given)."""
+    return [c.name or f"case{k + 1}" for k, c in enumerate(spec.inundation)]
+
+
+def mass_range(body: TransportBody, spec: Design) -> tuple[float, float]:
+    """The masses a body is drawn between: ``design.mass_kg``, else its own mass.
+
+    Where the debris catalogue (issue 32, item 2) names a body's type, its empty and loaded
+    masses are the range to return here when ``design.mass_kg`` is not given."""
+    if spec.mass_kg is not None:
+        return float(spec.mass_kg[0]), float(spec.mass_kg[1])
+    return float(body.mass_kg), float(body.mass_kg)
+
+
+def realisation_demands(table: pd.DataFrame) -> pd.DataFrame:
+    """One row per (case, realisation): each demand's largest over its bodies, whether any body
+    struck, and the realisation's sample weight."""
+    agg = {k: "max" for k in DEMANDS} | {"struck": "any", "sample_weight": "first", "case_weight": "first"}
+    return table.groupby(["case", "realisation"], sort=False).agg(agg).reset_index()

@@ -1,0 +1,278 @@
+"""Design studies (`debrisfoam design`): the exceedance estimator and its intervals against known
+distributions, inundation cases combined by their weights as a closed-form mixture, the column's
+base moment and top displacement against the static cantilever, the draws, the realisations'
+demands on a synthetic flow, the page, the verb's bad input (exit 2 naming the file and the
+field), and the verb end to end on the tiny one-way scene with OpenFOAM."""
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from analytical.asce7 import SEED_DEBRIS_STIFFNESS_N_M, asce7_design
+from analytical.column import Column
+from analytical.column_demand import column_demands, rigid_rotation, strike_demands
+from analytical.column_fem import column_model, static_deflection
+from analytical.exceedance import clopper_pearson, exceedance
+from analytical.mdof import mdof_response
+from analytical.pulses import HalfSine, Tabulated
+from orchestrator.scene.schema import Design
+from orchestrator.scene.scenefile import load_scene
+from orchestrator.studies.design import DEMANDS, DESIGN_COLUMNS, DesignCase, DesignResult, allocate, design_batch, \
+    design_starts
+from orchestrator.studies.design_report import write_report
+from orchestrator.transport.engine import TransportSettings, run_transport
+from orchestrator.transport.flow import FlowField
+from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn, TransportBody
+from tests.conftest import run_cli
+
+ROOT = Path(__file__).resolve().parent.parent
+TINY = ROOT / "tests" / "data" / "scenes" / "tiny-oneway-strike.yaml"
+FLUME = FlumeBounds((0.0, 2.0), (-0.3, 0.3), 0.0)
+COLUMN = PlacedColumn(1.0, 0.0, Column(size_x_m=0.1, size_y_m=0.1, height_m=0.3, wall_thickness_m=0.005))
+BODY = TransportBody("debris1", (0.15, 0.06, 0.06), 0.236, (0.6, 0.0, 0.03), wall_thickness_m=0.005)
+
+
+# --------------------------------------------------------------------------- the estimator
+def test_the_curve_and_its_bands_cover_an_exponentials_truth_at_the_stated_rate():
+    """400 samples of 200 from Exp(1): the pointwise Clopper-Pearson interval covers S(x) = e^-x
+    at x = ln 2 and ln 10 in at least 95 % of them (it is exact-conservative), the DKW band covers
+    the whole curve as often, and the P90 interval covers ln 10 as often (less the Monte Carlo
+    scatter of 400 trials, about 1 %)."""
+    rng = np.random.default_rng(7)
+    trials, n = 400, 200
+    cover = {"ln2": 0, "ln10": 0, "dkw": 0, "p90": 0}
+    grid = np.linspace(0.0, 6.0, 601)
+    for _ in range(trials):
+        exc = exceedance([rng.exponential(1.0, n)])
+        for name, x in (("ln2", math.log(2)), ("ln10", math.log(10))):
+            lo, hi = exc.interval(exc.probability(x))
+            cover[name] += bool(lo[0] <= math.exp(-x) <= hi[0])
+        cover["dkw"] += bool(np.max(np.abs(exc.probability(grid) - np.exp(-grid))) <= exc.dkw())
+        q = exc.quantile(0.9)
+        cover["p90"] += bool(q.lower <= math.log(10) <= q.upper)
+    for name, hits in cover.items():
+        assert hits / trials >= 0.93, (name, hits / trials)
+    # and the estimate itself converges: 20,000 samples put S(ln 10) within 3 standard errors of 0.1
+    big = exceedance([rng.exponential(1.0, 20000)])
+    assert big.probability(math.log(10))[0] == pytest.approx(0.1, abs=3 * math.sqrt(0.09 / 20000))
+
+
+def test_quantiles_are_order_statistics_and_the_p99_of_a_small_sample_has_no_upper_end():
+    values = np.arange(1.0, 101.0)  # 1 .. 100
+    exc = exceedance([values])
+    assert exc.quantile(0.5).value == 50.0 and exc.quantile(0.9).value == 90.0
+    q = exc.quantile(0.5)
+    assert q.lower < 50.0 < q.upper
+    # the order-statistic interval for the median of 100 at 95 %: ranks 40 and 61 (binomial 0.5)
+    assert 38.0 <= q.lower <= 41.0 and 60.0 <= q.upper <= 63.0
+    assert exceedance([values[:50]]).quantile(0.99).upper is None  # 50 samples cannot bound P99 from above
+    # exceedance beside a value, with Clopper-Pearson's interval on 10 of 100
+    e = exc.exceeds(90.0)
+    lo, hi = clopper_pearson(10, 100)
+    assert e["probability"] == pytest.approx(0.10) and (e["lower"], e["upper"]) == pytest.approx((float(lo), float(hi)))
+
+
+def test_non_strikes_are_zero_demands_in_the_curve():
+    exc = exceedance([[0.0, 0.0, 0.0, 5.0, 10.0]])
+    curve = exc.curve()
+    assert list(curve["level"]) == [5.0, 10.0]
+    assert curve["probability"] == pytest.approx([0.4, 0.2])
+    assert exc.quantile(0.5).value == 0.0  # P50 falls among the realisations that never struck
+
+
+def test_weights_combine_inundation_cases_as_a_mixture():
+    # exactly: case A (weight 1) [1, 2, 3, 4], case B (weight 3) [10, 20]: P(X > 2.5) = 0.25 * 0.5 + 0.75 * 1
+    exc = exceedance([[1, 2, 3, 4], [10, 20]], [1.0, 3.0])
+    assert exc.probability(2.5)[0] == pytest.approx(0.875)
+    assert exc.probability(15.0)[0] == pytest.approx(0.375)
+    assert exc.sample_weights.sum() == pytest.approx(1.0)
+    # the closed-form mixture 0.3 Exp(1) + 0.7 Exp(1/4), sampled 4,000 and 1,000 (not in proportion)
+    rng = np.random.default_rng(3)
+    exc = exceedance([rng.exponential(1.0, 4000), rng.exponential(4.0, 1000)], [0.3, 0.7])
+    n_eff = 1.0 / (0.3 ** 2 / 4000 + 0.7 ** 2 / 1000)
+    assert exc.n_eff == pytest.approx(n_eff)
+    for x in (0.5, 2.0, 6.0):
+        truth = 0.3 * math.exp(-x) + 0.7 * math.exp(-x / 4.0)
+        se = math.sqrt(0.3 ** 2 * math.exp(-x) * (1 - math.exp(-x)) / 4000
+                       + 0.7 ** 2 * math.exp(-x / 4) * (1 - math.exp(-x / 4)) / 1000)
+        assert exc.probability(x)[0] == pytest.approx(truth, abs=4 * se)
+        lo, hi = exc.interval(exc.probability(x))
+        assert lo[0] <= truth <= hi[0]
+    # realisations shared in proportion to the weights: the pooled sample's n_eff is its size
+    counts = allocate(1000, [1.0, 3.0])
+    assert counts == [250, 750]
+    assert exceedance([np.ones(c) for c in counts], [1.0, 3.0]).n_eff == pytest.approx(1000)
+    assert sum(allocate(7, [1, 1, 1])) == 7 and min(allocate(3, [100, 1, 1])) == 1
+
+
+# --------------------------------------------------------------------------- column demands
+@pytest.mark.parametrize("base", ["rigid", "calibrated"])
+def test_a_slow_load_gives_the_static_cantilever(base):
+    """Held for many periods: base shear P, base moment P h, top displacement the static
+    deflection (rigid base: Timoshenko's closed form P h^2 (3H - h) / 6EI + P h / kGA)."""
+    column = Column(base=base)
+    h = float(column_model(column).node_height_m[60])
+    d = column_demands(Tabulated([0.0, 2.0, 4.0], [0.0, 100.0, 100.0]), column, h, t=[3.5, 3.9])
+    assert d.base_shear_N == pytest.approx(100.0, rel=1e-6)
+    assert d.base_moment_Nm == pytest.approx(100.0 * h, rel=1e-6)
+    static = static_deflection(column, h, column.height_m, 100.0)
+    assert d.top_displacement_m == pytest.approx(static, rel=1e-5)
+    if base == "rigid":
+        H, EI, kGA = column.height_m, column.bending_stiffness_Nm2, column.shear_stiffness_N
+        assert static == pytest.approx(100 * h * h * (3 * H - h) / (6 * EI) + 100 * h / kGA, rel=1e-9)
+
+
+def test_the_rigid_rotation_strains_nothing_and_the_shear_is_mdofs():
+    column = Column()
+    model = column_model(column)
+    k = model.beam_stiffness_full
+    assert np.max(np.abs(k @ rigid_rotation(model))) <= 1e-12 * np.max(np.abs(k.toarray()))
+    pulse = HalfSine(171.0, 0.0047)
+    d = column_demands(pulse, column, 0.3)
+    shear = mdof_response(pulse, column, 0.3, d.time_s).response_N
+    assert np.max(np.abs(d.base_shear_N - shear)) <= 1e-4 * np.max(np.abs(shear))
+    # linear in the load; a load turned 90 degrees on a square column gives the same resultants
+    twice = strike_demands(Tabulated(d.time_s[:50], 2 * pulse.force(d.time_s[:50])), (-1, 0, 0), column, 0.3)
+    once = strike_demands(Tabulated(d.time_s[:50], pulse.force(d.time_s[:50])), (-1, 0, 0), column, 0.3)
+    sideways = strike_demands(Tabulated(d.time_s[:50], pulse.force(d.time_s[:50])), (0, 1, 0), column, 0.3)
+    for key in once:
+        assert twice[key] == pytest.approx(2 * once[key], rel=1e-9)
+        assert sideways[key] == pytest.approx(once[key], rel=1e-9)
+
+
+# --------------------------------------------------------------------------- draws and realisations
+def test_draws_are_reproducible_and_inside_the_ranges():
+    spec = Design(mass_kg=(0.2, 0.4), heading_deg=(-30.0, 30.0), start_x_m=(0.4, 0.7), start_y_m=(-0.15, 0.15))
+    starts = [design_starts([BODY], FLUME, COLUMN, spec, 0, r)[0] for r in range(200)]
+    assert design_starts([BODY], FLUME, COLUMN, spec, 0, 17)[0] == starts[17]
+    assert design_starts([BODY], FLUME, COLUMN, spec, 1, 17)[0] != starts[17]  # another case, other draws
+    mass = np.array([b.mass_kg for b in starts])
+    yaw = np.array([b.yaw_deg for b in starts])
+    x = np.array([b.centre_m[0] for b in starts])
+    assert mass.min() >= 0.2 and mass.max() <= 0.4 and mass.std() == pytest.approx(0.2 / math.sqrt(12), rel=0.15)
+    assert yaw.min() >= -30 and yaw.max() <= 30 and x.min() >= 0.4 and x.max() <= 0.7
+    assert all(b.centre_m[2] == BODY.centre_m[2] for b in starts)
+    # without ranges: the body's own mass, its start about its own by the placement tolerance
+    own = design_starts([BODY], FLUME, COLUMN, Design(), 0, 0)[0]
+    assert own.mass_kg == BODY.mass_kg and abs(own.centre_m[0] - 0.6) <= 2 * 0.25 * 0.15 + 1e-12
+
+
+@pytest.fixture(scope="module")
+def current(tmp_path_factory):
+    flow = FlowField.uniform_current(0.1, 0.6, x_m=np.linspace(0.0, 2.0, 21), y_m=np.linspace(-0.3, 0.3, 7),
+                                     t_s=np.linspace(0.0, 3.0, 31))
+    return flow, str(flow.save(tmp_path_factory.mktemp("flow") / "flow_record.npz"))
+
+
+def test_a_batch_gives_each_strikes_demands_and_zero_without_a_strike(current):
+    flow, npz = current
+    spec = Design(mass_kg=(0.2, 0.4))
+    starts = [design_starts([BODY], FLUME, COLUMN, spec, 0, r) for r in range(2)]
+    # a third realisation far downstream of the column never strikes it
+    starts.append([TransportBody("debris1", (0.15, 0.06, 0.06), 0.3, (1.6, 0.0, 0.03), wall_thickness_m=0.005)])
+    settings = TransportSettings(first_pulse_only=True)
+    rows = pd.DataFrame(design_batch([0, 1, 2], starts, FLUME, COLUMN, 1.3, npz, settings))
+    assert list(rows["realisation"]) == [0, 1, 2]
+    assert rows["struck"].tolist() == [True, True, False]
+    assert (rows.loc[2, list(DEMANDS)] == 0.0).all()
+    alone = run_transport(starts[0], FLUME, 1.3, flow=flow, column=COLUMN, settings=settings)
+    first = alone.impacts[alone.impacts["kind"] == "column"].iloc[0]
+    assert rows.loc[0, "peak_force_N"] == pytest.approx(first["peak_force_N"], rel=1e-3)  # batched: to rounding
+    pulse = alone.pulses[int(first["event"])]
+    expected = strike_demands(pulse.force, pulse.normal, COLUMN.column, pulse.contact_height_m)
+    for key, value in expected.items():
+        assert rows.loc[0, key] == pytest.approx(value, rel=1e-3)
+    assert rows.loc[0, "mass_kg"] == starts[0][0].mass_kg
+
+
+def test_the_page_sets_asce_beside_the_curves(tmp_path):
+    """A page from a hand-made table (no flow record: u_max falls back to the largest impact speed)."""
+    scene = load_scene(TINY)
+    rng = np.random.default_rng(0)
+    rows = []
+    for case, weight, n in (("deep", 0.75, 30), ("shallow", 0.25, 10)):
+        for r in range(n):
+            struck = r % 5 != 0
+            f = float(rng.uniform(50, 200)) if struck else 0.0
+            rows.append({"case": case, "realisation": r, "case_weight": weight, "sample_weight": weight / n,
+                         "body": "debris1", "mass_kg": 0.236, "struck": struck, "strikes": int(struck),
+                         "impact_speed_m_s": 0.9 if struck else math.nan, "impact_height_m": 0.05 if struck else
+                         math.nan, "peak_force_N": f, "base_shear_N": 1.2 * f, "base_moment_Nm": 0.05 * f,
+                         "top_displacement_m": 1e-7 * f, "wall_time_s": 0.1})
+    table = pd.DataFrame(rows, columns=DESIGN_COLUMNS)
+    cases = [DesignCase("deep", [], 0.75, 30, scene), DesignCase("shallow", [], 0.25, 10, scene)]
+    result = DesignResult(table, cases, {})
+    spec = Design(risk_category="III")
+    files = write_report(tmp_path, result, TINY, [], spec, {"wall_time_s": 1.0, "flow_phase_wall_s": 0.0,
+                                                          "workers": 1, "executor": "local", "batch_size": 32})
+    summary = json.loads((tmp_path / "design.json").read_text())
+    assert set(files) == {"summary", "figure", "report"} and (tmp_path / "exceedance.png").stat().st_size > 10000
+    assert summary["strike_probability"]["probability"] == pytest.approx(0.8)
+    code = asce7_design(0.9, 0.236, SEED_DEBRIS_STIFFNESS_N_M, scene.column.stiffness_N_m, 1.25)
+    asce = summary["asce"]
+    assert asce["importance_I_tsu"] == 1.25 and asce["governing"] == code.governing
+    assert asce["values"][code.governing]["peak_force_N"] == pytest.approx(code.force_N)
+    assert asce["load_height_m"] == pytest.approx(0.05)
+    force = summary["demands"]["peak_force_N"]
+    assert set(force["quantiles"]) == {"P50", "P90", "P99"} and set(force["asce"]) == {"k_s", "k_d"}
+    expected = (0.75 * (table[table.case == "deep"].peak_force_N > code.force_N).mean()
+                + 0.25 * (table[table.case == "shallow"].peak_force_N > code.force_N).mean())
+    assert force["asce"][code.governing]["probability"] == pytest.approx(expected)
+    page = (tmp_path / "design.md").read_text()
+    assert "not a probabilistic tsunami hazard analysis" in page and "![exceedance](exceedance.png)" in page
+
+
+# --------------------------------------------------------------------------- the verb
+@pytest.mark.parametrize("sets, field", [
+    (["design.mass_kg=[0.4, 0.2]"], "design.mass_kg"),
+    (["design.realisations=0"], "design.realisations"),
+    (["design.colour=red"], "design.colour"),
+    (["design.risk_category=V"], "design.risk_category"),
+    (["design.inundation=[{set: {reservoir.depth_m: -1}}]"], "design.inundation.0.set: reservoir.depth_m"),
+    (["design.inundation=[{weight: 0}]"], "design.inundation.0.weight"),
+])
+def test_a_bad_design_section_is_exit_2_naming_the_file_and_field(tmp_path, sets, field):
+    args = [a for s in sets for a in ("--set", s)]
+    proc = run_cli("design", str(TINY), "-o", str(tmp_path / "study"), *args)
+    assert proc.returncode == 2, proc.stderr
+    assert field in proc.stderr and "tiny-oneway-strike.yaml" in proc.stderr, proc.stderr
+    assert not (tmp_path / "study").exists()  # nothing rendered
+
+
+def test_a_study_folder_is_not_replaced_without_force(tmp_path):
+    out = tmp_path / "study"
+    out.mkdir()
+    (out / "design.csv").write_text("x\n")
+    proc = run_cli("design", str(TINY), "-o", str(out))
+    assert proc.returncode == 2 and "--force" in proc.stderr
+
+
+@pytest.mark.openfoam
+def test_the_verb_runs_each_inundation_case_once_and_writes_the_page(tmp_path, openfoam):
+    out = tmp_path / "study"
+    cases = "design.inundation=[{name: base, weight: 3}, {name: deep, set: {reservoir.depth_m: 0.18}, weight: 1}]"
+    proc = run_cli("design", str(TINY), "-n", "8", "-o", str(out), "--set", cases, "--set",
+                   "design.mass_kg=[0.2, 0.3]", "--json")
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    head = json.loads(proc.stdout)
+    table = pd.read_csv(out / "design.csv")
+    assert list(table.columns) == DESIGN_COLUMNS and head["realisations"] == 8
+    assert table.groupby("case").size().to_dict() == {"base": 6, "deep": 2}
+    assert table["mass_kg"].between(0.2, 0.3).all() and table["struck"].any()
+    summary = json.loads((out / "design.json").read_text())
+    assert [c["name"] for c in summary["cases"]] == ["base", "deep"]
+    assert summary["asce"]["values"] is not None and summary["asce"]["cases"][0]["u_max_m_s"] > 0
+    for name in ("design.md", "exceedance.png"):
+        assert (out / name).is_file()
+    run_json = (out / "flows" / "deep" / "run.json").read_text()
+    proc = run_cli("design", str(TINY), "-n", "8", "-o", str(out), "--set", cases, "--set",
+                   "design.mass_kg=[0.2, 0.3]", "--force", "--json")
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    assert (out / "flows" / "deep" / "run.json").read_text() == run_json  # the flows are reused
+    again = pd.read_csv(out / "design.csv")
+    pd.testing.assert_frame_equal(again.drop(columns="wall_time_s"), table.drop(columns="wall_time_s"))
