@@ -276,3 +276,18 @@ def test_the_verb_runs_each_inundation_case_once_and_writes_the_page(tmp_path, o
     assert (out / "flows" / "deep" / "run.json").read_text() == run_json  # the flows are reused
     again = pd.read_csv(out / "design.csv")
     pd.testing.assert_frame_equal(again.drop(columns="wall_time_s"), table.drop(columns="wall_time_s"))
+
+
+def test_a_catalogued_container_is_drawn_between_its_empty_and_loaded_masses():
+    from analytical.catalogue import mass_range_kg
+    from orchestrator.studies.design_table import mass_range
+
+    body = TransportBody(name="c", size_m=(6.058, 2.438, 2.591), mass_kg=2300.0, centre_m=(0.0, 0.0, 1.3))
+    empty, loaded = mass_range_kg("container-20ft")
+    assert mass_range(body, Design(), "container-20ft-empty") == (empty, loaded)
+    assert loaded > 10 * empty  # 2,300 kg empty to 30,480 kg at the maximum gross mass
+    # the design section's own range wins; an untyped body keeps its mass
+    assert mass_range(body, Design(mass_kg=[3000.0, 4000.0]), "container-20ft-empty") == (3000.0, 4000.0)
+    assert mass_range(body, Design(), None) == (2300.0, 2300.0)
+    # the study's 1:40 model has no empty and loaded pair: its own mass
+    assert mass_range(body, Design(), "container-20ft-study-1to40") == (2300.0, 2300.0)

@@ -55,7 +55,7 @@ from orchestrator.core.files import write_text_atomic
 from orchestrator.results.asce_design import SiteFlow, site_flow_speed
 from orchestrator.scene.schema import Design, Scene
 from orchestrator.scene.scenefile import load_scene
-from orchestrator.studies.design_table import DEMANDS, DESIGN_COLUMNS, allocate, case_names, mass_range, \
+from orchestrator.studies.design_table import DEMANDS, DESIGN_COLUMNS, allocate, case_names, debris_types, mass_range, \
     realisation_demands
 from orchestrator.studies.ensemble import DEFAULT_BATCH_SIZE, EXECUTORS, Perturbation, body_rows, ensemble_flow, \
     start_clash
@@ -95,14 +95,15 @@ class DesignResult:
 
 
 def design_starts(bodies: Sequence[TransportBody], flume: FlumeBounds, column: PlacedColumn | None, spec: Design,
-                  case: int, realisation: int, perturbation: Perturbation | None = None) -> list[TransportBody]:
+                  case: int, realisation: int, perturbation: Perturbation | None = None,
+                  types: dict[str, str | None] | None = None) -> list[TransportBody]:
     """Realisation ``realisation`` of case ``case``: every body's mass, heading and start (module
     notes); raises InputError naming the design key when a body finds no free start."""
     p = perturbation or Perturbation()
     rng = np.random.default_rng([int(spec.seed), int(case), int(realisation)])
     placed: list[TransportBody] = []
     for body in bodies:
-        lo, hi = mass_range(body, spec)
+        lo, hi = mass_range(body, spec, (types or {}).get(body.name))
         mass = float(rng.uniform(lo, hi)) if hi > lo else lo
         sigma = p.position_sigma_fraction * body.size_m[0]
         clash = None
@@ -268,7 +269,9 @@ def design(scene_path: str | Path, out_dir: str | Path, sets: Sequence[str] = ()
             say=say, confirmed=confirmed)
         case.site = site_flow_speed(case.flow_case, case.scene)
         bodies, flume, column = transport_setup(case.scene, flow)
-        starts = [design_starts(bodies, flume, column, case.scene.design, k, r) for r in range(case.realisations)]
+        types = debris_types(case.scene)
+        starts = [design_starts(bodies, flume, column, case.scene.design, k, r, types=types)
+                  for r in range(case.realisations)]
         case.flow_wall_s = time.perf_counter() - start
         prepared.append((case, starts, flume, column, flow))
     total = sum(c.realisations for c in cases)

@@ -30,10 +30,11 @@ from analytical.asce7 import SEED_DEBRIS_STIFFNESS_N_M, asce7_design, importance
 from analytical.column_demand import column_demands
 from analytical.exceedance import exceedance
 from analytical.pulses import Rectangular
+from analytical import catalogue
 from orchestrator.core.files import write_json_atomic, write_text_atomic
 from orchestrator.report.figures import WIDTH_IN, empty, pyplot, save_figure
 from orchestrator.scene.schema import Design, column_for_analysis
-from orchestrator.studies.design_table import DEMANDS, mass_range, realisation_demands
+from orchestrator.studies.design_table import DEMANDS, debris_types, mass_range, realisation_demands
 from orchestrator.transport.case_transport import scene_bodies
 
 __all__ = ["CONDITIONAL", "QUANTILES", "asce_values", "figure_exceedance", "markdown", "summarise", "write_report"]
@@ -50,8 +51,12 @@ def asce_values(result, spec: Design, heights_m: np.ndarray) -> dict[str, Any]:
     cases = result.cases
     scene = cases[0].scene
     column = column_for_analysis(scene)
-    mass = max(mass_range(b, spec)[1] for b in scene_bodies(scene))
-    k_d = float(spec.debris_stiffness_N_m or SEED_DEBRIS_STIFFNESS_N_M)
+    types = debris_types(scene)
+    mass = max(mass_range(b, spec, types.get(b.name))[1] for b in scene_bodies(scene))
+    typed = [catalogue.debris_type(t) for t in types.values() if t is not None]
+    # the code's k_d: the design section's; else the catalogued debris's (the study's k_d Froude-scaled,
+    # docs/catalogue.md: ASCE 7-22's Table 6.11-2 values are not in the tool); else the study's
+    k_d = float(spec.debris_stiffness_N_m or max((e.kd_N_m for e in typed), default=SEED_DEBRIS_STIFFNESS_N_M))
     k_s = float(column.stiffness_N_m)
     importance = importance_factor(spec.risk_category)
     per_case, best = [], None

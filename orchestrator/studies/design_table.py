@@ -9,11 +9,13 @@ from typing import Sequence
 import numpy as np
 import pandas as pd
 
+from analytical import catalogue
 from orchestrator.core.errors import InputError
 from orchestrator.scene.schema import Design
 from orchestrator.transport.mujoco_model import TransportBody
 
-__all__ = ["DEMANDS", "DESIGN_COLUMNS", "allocate", "case_names", "mass_range", "realisation_demands"]
+__all__ = ["DEMANDS", "DESIGN_COLUMNS", "allocate", "case_names", "debris_types", "mass_range",
+           "realisation_demands"]
 
 #: The demands of a design study: column of design.csv -> (what it is, unit).
 DEMANDS = {"peak_force_N": ("peak impact force", "N"), "base_shear_N": ("base shear", "N"),
@@ -51,14 +53,21 @@ def case_names(spec: Design) -> list[str]:
     return [c.name or f"case{k + 1}" for k, c in enumerate(spec.inundation)]
 
 
-def mass_range(body: TransportBody, spec: Design) -> tuple[float, float]:
-    """The masses a body is drawn between: ``design.mass_kg``, else its own mass.
-
-    Where the debris catalogue (issue 32, item 2) names a body's type, its empty and loaded
-    masses are the range to return here when ``design.mass_kg`` is not given."""
+def mass_range(body: TransportBody, spec: Design, debris_type: str | None = None) -> tuple[float, float]:
+    """The masses a body is drawn between: ``design.mass_kg``; else, for a body the debris
+    catalogue names (``debris[].type`` of a container family), its family's empty and loaded
+    masses (analytical.catalogue.mass_range_kg); else its own mass."""
     if spec.mass_kg is not None:
         return float(spec.mass_kg[0]), float(spec.mass_kg[1])
+    if debris_type is not None and catalogue.debris_type(debris_type).family is not None:
+        lo, hi = catalogue.mass_range_kg(debris_type)
+        return float(lo), float(hi)
     return float(body.mass_kg), float(body.mass_kg)
+
+
+def debris_types(scene) -> dict[str, str | None]:
+    """Each body's catalogue type (None where the scene gives its properties itself)."""
+    return {b.name: getattr(b, "type", None) for b in scene.debris}
 
 
 def realisation_demands(table: pd.DataFrame) -> pd.DataFrame:
