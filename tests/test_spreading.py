@@ -167,10 +167,10 @@ def test_page_says_when_the_transport_spreads_less_than_measured(tmp_path):
     narrow = _ensemble(tmp_path / "narrow", np.linspace(-0.5, 0.5, 9))
     files = spreading_study([narrow], tmp_path / "page")
     text = files["report"].read_text()
-    assert "far less than the measured containers spread" in text
+    assert "spreads the tracks less than the measured containers spread" in text
     wide = _ensemble(tmp_path / "wide", np.linspace(-12.0, 12.0, 9))
     text = spreading_study([wide], tmp_path / "page2")["report"].read_text()
-    assert "far less than the measured" not in text
+    assert "less than the measured containers" not in text
 
 
 def test_missing_ensemble_file_is_bad_input_naming_it(tmp_path):

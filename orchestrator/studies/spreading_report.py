@@ -22,7 +22,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from orchestrator.core.files import write_text_atomic
-from orchestrator.report.figures import SMALL, WIDTH_IN, empty, legend, pyplot, save_figure
+from orchestrator.report.figures import SMALL, WIDTH_IN, empty, legend, legend_handles, pyplot, save_figure
 from orchestrator.report.track_plots import draw_column, draw_spreading_areas
 from orchestrator.results.compare import SPREADING_ANGLES_DEG, spreading_area
 from orchestrator.results.spreading import (GOSEBERG_2016_BOXES, GOSEBERG_2016_SOURCE, LATERAL_SPREAD_RATE,
@@ -82,40 +82,55 @@ def figure_angles(summaries: Sequence[dict[str, Any]]):
     return fig
 
 
+def _plan_box(spreads) -> tuple[float, float]:
+    """One x range (m) for every plan view: the starts less 0.3 m to past the tracks and column."""
+    lo, hi = [], []
+    for spread in spreads:
+        lo.append(float(spread.source_xy[:, 0].min()) - 0.3)
+        hi.append(float(spread.tracks["x_m"].max()) if len(spread.tracks) else spread.stations_m[-1] + 0.5)
+        if spread.scene.column is not None:
+            hi.append(spread.scene.column.x_m + spread.scene.column.size_x_m)
+    return min(lo), max(hi) + 0.2
+
+
 def figure_tracks(spreads) -> Any:
-    """One plan view per ensemble: tracks, starts, column, stations and the ASCE areas."""
+    """One plan view per ensemble (two a row, one x range): tracks, starts, column, stations and
+    the ASCE areas."""
     plt = pyplot()
     n = max(1, len(spreads))
-    fig, axes = plt.subplots(n, 1, figsize=(WIDTH_IN, 2.6 * n + 0.8), layout="constrained", squeeze=False)
-    for ax, spread in zip(axes[:, 0], spreads):
+    cols = 1 if n == 1 else 2
+    rows = math.ceil(n / cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(WIDTH_IN, (4.6 if cols == 1 else 2.6) * rows + 1.0),
+                             layout="constrained", squeeze=False)
+    x_lo, x_hi = _plan_box(spreads) if spreads else (0.0, 1.0)
+    for ax, spread in zip(axes.flat, spreads):
         scene = spread.scene
         (_, _), (y_lo, y_hi), _ = flume_extent(scene)
-        tracks = spread.tracks
-        x_hi = float(tracks["x_m"].max()) if len(tracks) else spread.stations_m[-1] + 0.5
-        if scene.column is not None:
-            x_hi = max(x_hi, scene.column.x_m + scene.column.size_x_m)
-        x_lo = float(spread.source_xy[:, 0].min()) - 0.3
-        box = (x_lo, x_hi + 0.2, y_lo, y_hi)
+        box = (x_lo, x_hi, y_lo, y_hi)
         src = spread.source_xy
-        draw_spreading_areas(ax, {name: spreading_area(src, spec["half_angle_deg"], box[1])
+        draw_spreading_areas(ax, {name: spreading_area(src, spec["half_angle_deg"], x_hi)
                                   for name, spec in SPREADING_ANGLES_DEG.items()}, box)
-        for _, track in tracks.groupby(["realisation", "body"], sort=False):
+        for _, track in spread.tracks.groupby(["realisation", "body"], sort=False):
             ax.plot(track["x_m"], track["y_m"], lw=0.5, color="0.2", alpha=0.15, label="a track (centre of mass)")
         for xs in spread.stations_m:
             ax.axvline(xs, color="#d95f02", lw=0.9, ls=":", label="stations")
-        ax.scatter(src[:, 0], src[:, 1], marker="s", s=18, color="k", zorder=5, label="nominal starts")
+        ax.scatter(src[:, 0], src[:, 1], marker="s", s=14, color="k", zorder=5, label="nominal starts")
         if scene.column is not None:
             draw_column(ax, scene.column)
         for wall in (y_lo, y_hi):
             ax.axhline(wall, color="0.2", lw=1.2, label="side walls")
-        ax.set_xlim(box[0], box[1])
+        ax.set_xlim(x_lo, x_hi)
         ax.set_ylim(y_lo - 0.05, y_hi + 0.05)
         ax.set_aspect("equal", adjustable="box")
+        ax.set_xlabel("x along the flume (m)")
         ax.set_ylabel("y (m)")
         ax.set_title(f"{spread.name}: {spread.per_track['realisation'].nunique()} realisations, "
                      f"{len(spread.per_track)} tracks", fontsize=10, loc="left")
-        legend(ax, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=SMALL - 1)
-    axes[-1, 0].set_xlabel("x along the flume (m)")
+    for ax in list(axes.flat)[len(spreads):]:
+        ax.axis("off")
+    entries = legend_handles(*axes.flat)
+    if entries:
+        fig.legend(list(entries.values()), list(entries), loc="outside lower center", ncol=4, fontsize=SMALL)
     return fig
 
 
@@ -310,8 +325,8 @@ def findings(summaries: Sequence[dict[str, Any]]) -> list[str]:
             out.append(f"{s['scene']}: the start yaw ({_f(sigma, 'g')} deg std) moves the angle at x = {s['stations_m'][-1]:g} m by "
                        f"{_f(y['slope'], '.3f')} deg per deg (r = {_f(y['r'], '.2f')}).")
     if narrower and all(narrower):
-        out.append("Before the column the one-way transport spreads the tracks far less than the measured "
-                   "containers spread. What in the model can be responsible (not tuned here): each scene's flow is "
+        out.append("Before the column the one-way transport spreads the tracks less than the measured "
+                   "containers spread (the factors above). What in the model can be responsible (not tuned here): each scene's flow is "
                    "one recorded laminar solution (no turbulence model) on 4 cm cells and 50 Hz frames, laterally "
                    "smooth and nearly symmetric, with no turbulence and no ambient fluctuation in it, so bodies "
                    "started a few centimetres apart see nearly the same flow; one-way, a body does not disturb the "
