@@ -13,7 +13,7 @@ import pytest
 
 from orchestrator.core.errors import InputError
 from orchestrator.results.spreading import (GOSEBERG_2016_BOXES, angle_at_station, box_stats, displacement_angle,
-                                            lateral_spread, station_crossing, track_angles)
+                                            flow_direction, lateral_spread, station_crossing, track_angles)
 from orchestrator.studies.spreading import read_ensemble, spreading_study, stations
 from orchestrator.scene.scenefile import load_scene
 from tests.conftest import ROOT, run_cli
@@ -106,6 +106,24 @@ def test_box_whiskers_stop_at_the_last_value_within_one_and_a_half_iqr():
 def test_measured_boxes_are_ordered_as_boxes():
     for name, b in GOSEBERG_2016_BOXES.items():
         assert b["whislo"] < b["q1"] <= b["med"] <= b["q3"] < b["whishi"], name
+
+
+def test_flow_direction_of_a_uniform_flow_at_a_known_angle():
+    # a uniform flow at 3 deg to the axis, 0.2 m deep over half the record: every wet sample at 3 deg
+    t, x, y, z = np.arange(4.0), np.linspace(0.0, 2.0, 11), np.linspace(-0.5, 0.5, 11), np.array([0.01, 0.03, 0.1])
+    eta = np.zeros((t.size, x.size, y.size))
+    eta[:, :6, :] = 0.2  # wet for x <= 1.0
+    u, a = 1.5, math.radians(3.0)
+    vel = np.zeros((t.size, x.size, y.size, z.size, 3))
+    vel[..., 0], vel[..., 1] = u * math.cos(a), u * math.sin(a)
+    out = flow_direction(t, x, y, z, 0.0, eta, vel, (0.0, 2.0), (-0.25, 0.25), 0.03)
+    assert out["samples"] == t.size * 6 * 5  # x <= 1.0 wet (6 points), |y| <= 0.25 (5 points)
+    assert out["level_m"] == pytest.approx(0.03)
+    assert out["mean_u_m_s"] == pytest.approx(u * math.cos(a))
+    assert out["rms_v_over_u"] == pytest.approx(math.tan(a))
+    assert out["angle_p5_deg"] == pytest.approx(3.0) and out["angle_p95_deg"] == pytest.approx(3.0)
+    dry = flow_direction(t, x, y, z, 0.0, eta, vel, (1.5, 2.0), (-0.2, 0.2), 0.03)
+    assert dry["samples"] == 0 and math.isnan(dry["rms_v_over_u"])
 
 
 def test_stations_stop_short_of_the_column_face():

@@ -42,12 +42,12 @@ import pandas as pd
 from orchestrator.core.errors import InputError
 from orchestrator.core.files import write_json_atomic, write_text_atomic
 from orchestrator.results.compare import SPREADING_ANGLES_DEG, spreading_angle_deg
-from orchestrator.results.spreading import (GOSEBERG_2016_BOXES, LATERAL_SPREAD_RATE, box_stats, lateral_spread,
-                                            station_crossing, station_key, track_angles)
+from orchestrator.results.spreading import (GOSEBERG_2016_BOXES, LATERAL_SPREAD_RATE, box_stats, flow_direction,
+                                            lateral_spread, station_crossing, station_key, track_angles)
 from orchestrator.scene.schema import Scene
 from orchestrator.scene.scenefile import load_scene
 
-__all__ = ["STATION_GAP_M", "SceneSpread", "read_ensemble", "scene_summary", "spreading_study",
+__all__ = ["PATH_HALF_WIDTH_M", "STATION_GAP_M", "SceneSpread", "path_flow", "read_ensemble", "scene_summary", "spreading_study",
            "stations", "track_columns", "track_table"]
 
 STATION_GAP_M = 0.3
@@ -236,6 +236,30 @@ def _nominal_yaw(spread: SceneSpread, bodies: pd.Series) -> np.ndarray:
     return np.array([nominal.get(b, 0.0) for b in bodies], dtype=float)
 
 
+PATH_HALF_WIDTH_M = 0.2
+"""The flow's direction is read over the starts' lateral extent widened by this on each side (m)."""
+
+
+def path_flow(spread: SceneSpread) -> dict[str, Any]:
+    """The direction of the scene's recorded flow along the bodies' path
+    (:func:`~orchestrator.results.spreading.flow_direction`): from the most upstream nominal start to
+    the last station, across the starts' extent +- :data:`PATH_HALF_WIDTH_M`, at half the first
+    body's height above the bed; empty when the folder has no flow record."""
+    from orchestrator.transport.flow import FlowField
+
+    npz = spread.folder / "flow" / "results" / "flow_record.npz"
+    if not npz.is_file():
+        return {}
+    flow = FlowField.load(npz)
+    src = spread.source_xy
+    level = float(spread.scene.debris[0].size_m[2]) / 2.0
+    stats = flow_direction(flow.t_s, flow.x_m, flow.y_m, flow.z_m, flow.bed_z_m, flow.eta_m, flow.velocity_m_s,
+                           (float(src[:, 0].min()), spread.stations_m[-1]),
+                           (float(src[:, 1].min()) - PATH_HALF_WIDTH_M, float(src[:, 1].max()) + PATH_HALF_WIDTH_M),
+                           level)
+    return {k: _round(v, 5) for k, v in stats.items()}
+
+
 def spreading_study(folders: Sequence[str | Path], out_dir: str | Path) -> dict[str, Path]:
     """Read every ensemble folder, write spreading.csv, summary.json, report.md and the figures
     to ``out_dir`` (module notes); the files written, by kind."""
@@ -250,7 +274,7 @@ def spreading_study(folders: Sequence[str | Path], out_dir: str | Path) -> dict[
         spreads.append(spread)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    summaries = [scene_summary(s) for s in spreads]
+    summaries = [scene_summary(s) | {"path_flow": path_flow(s)} for s in spreads]
     profiles = {s.name: spread_profile(s) for s in spreads}
     files = {"table": out / "spreading.csv", "summary": out / "summary.json"}
     table = pd.concat([s.per_track for s in spreads], ignore_index=True, sort=False)

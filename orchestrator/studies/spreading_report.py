@@ -268,6 +268,27 @@ def _tables(summaries) -> list[str]:
     return out
 
 
+def _path_flow(summaries) -> list[str]:
+    out = ["## The recorded flow along the path", "",
+           "The flow record's velocity at half the container's height above the bed, over the path (from the most "
+           "upstream nominal start to the last station, across the starts' extent +- 0.2 m), at every frame where "
+           "the water there is at least 1.5 times that level deep: how far its direction strays from the "
+           "flume's axis. A body carried one-way goes where this flow takes it.", "",
+           "| scene | samples | level (m) | mean u (m/s) | RMS v (m/s) | RMS v / mean u | flow angle 5 / 25 / 75 / 95 % "
+           "(deg) |", "|---|---|---|---|---|---|---|"]
+    for s in summaries:
+        f = s.get("path_flow") or {}
+        if not f.get("samples"):
+            out.append(f"| {s['scene']} | no flow record | - | - | - | - | - |")
+            continue
+        out.append(f"| {s['scene']} | {f['samples']} | {_f(f['level_m'], '.3f')} | {_f(f['mean_u_m_s'], '.2f')} | "
+                   f"{_f(f['rms_v_m_s'], '.4f')} | {_f(f['rms_v_over_u'], '.4f')} | {_f(f['angle_p5_deg'], '.2f')} / "
+                   f"{_f(f['angle_p25_deg'], '.2f')} / {_f(f['angle_p75_deg'], '.2f')} / "
+                   f"{_f(f['angle_p95_deg'], '.2f')} |")
+    out.append("")
+    return out
+
+
 def _start_yaw(summaries) -> list[str]:
     out = ["## How much of it is the start yaw", "",
            "The angle at the last station fitted against the start's yaw offset (degrees of angle per degree of "
@@ -280,6 +301,18 @@ def _start_yaw(summaries) -> list[str]:
                    f"{_box_text(y.get('small_yaw') or {})} |")
     out.append("")
     return out
+
+
+def _flow_against_tracks(flow_ratio, track_ratio) -> str:
+    """How the tracks' std / run compares with the flow's RMS v / u (the text after a finding)."""
+    if not flow_ratio or track_ratio is None or not math.isfinite(track_ratio):
+        return "."
+    times = track_ratio / flow_ratio
+    if times <= 2.0:
+        return f": of the order of the tracks' std / run ({track_ratio:.3f}); the bodies go where the flow takes them."
+    return (f", against the tracks' std / run of {track_ratio:.3f} ({times:.1f} times more): the rest of the spread "
+            "is the bodies' own (in a layout they start about 0.1 m apart, and the one-way model resolves their "
+            "contacts with one another).")
 
 
 def _measured_iqr() -> tuple[float, float]:
@@ -309,6 +342,12 @@ def findings(summaries: Sequence[dict[str, Any]]) -> list[str]:
                    f"displacement's std is {_f(e['std_dy_m'] * 1000 if e['std_dy_m'] is not None else None)} mm, "
                    f"{_f(ratio, '.3f')} of the run against {rate:g} measured (JSCE 2021)"
                    + (f", {rate / ratio:.0f} times less" if ratio and ratio < rate else "") + ".")
+        f = s.get("path_flow") or {}
+        if f.get("samples"):
+            out.append(f"{s['scene']}: the recorded flow the bodies travel in runs within "
+                       f"{_f(f['angle_p5_deg'], '.2f')} .. {_f(f['angle_p95_deg'], '.2f')} deg of the flume's axis "
+                       f"(5-95 %), RMS v / mean u = {_f(f['rms_v_over_u'], '.4f')}"
+                       + _flow_against_tracks(f["rms_v_over_u"], ratio))
         m = s["angle_max_rest_deg"]
         if m.get("n"):
             out.append(f"{s['scene']}: the max and rest angles (IQR {_f(m['q1'])} .. {_f(m['q3'])}, whiskers "
@@ -350,6 +389,7 @@ def markdown(summaries: Sequence[dict[str, Any]], figures: dict[str, Path], find
     if findings:
         lines += ["## What it shows", ""] + [f"- {f}" for f in findings] + [""]
     lines += _tables(summaries)
+    lines += _path_flow(summaries)
     lines += _start_yaw(summaries)
     lines += ["## Figures", ""]
     captions = {"angles": "Spreading angles, measured and simulated", "tracks": "Tracks in plan view with the "
