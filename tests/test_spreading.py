@@ -170,6 +170,8 @@ def test_page_from_a_synthetic_ensemble(tmp_path):
     assert summary["tracks"] == angles.size
     assert summary["stations"]["4600mm"]["angle_deg"]["q1"] == pytest.approx(-10.0)
     assert summary["stations"]["4600mm"]["angle_deg"]["q3"] == pytest.approx(10.0)
+    dy = 1.4 * np.tan(np.radians(angles))  # the run from 3.2 m to the 4.6 m station
+    assert summary["per_body_last_station"]["debris1"]["std_dy_m"] == pytest.approx(dy.std(ddof=1), rel=1e-4)
     assert summary["asce"]["Nistor et al. (2017b)"]["outside"] == 2
     assert summary["asce"]["Naito et al. (2014)"]["outside"] == 0
     # the start yaw was drawn as half the angle: the fit gives slope 2 and r = 1

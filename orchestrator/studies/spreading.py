@@ -204,6 +204,10 @@ def scene_summary(spread: SceneSpread) -> dict[str, Any]:
         entry = {k: _round(v, 5) for k, v in lateral_spread(t["y0_m"], t[f"y_at_{key}"], t["x0_m"], xs).items()}
         entry["angle_deg"] = {k: _round(v, 3) for k, v in box_stats(t[f"angle_at_{key}"]).items()}
         out["stations"][key] = entry
+    dy_last = t[f"y_at_{last}"] - t["y0_m"]
+    out["per_body_last_station"] = {
+        str(body): {"mean_dy_m": _round(g.mean(), 5), "std_dy_m": _round(g.std(ddof=1), 5), "tracks": int(g.count())}
+        for body, g in dy_last.groupby(t["body"])}
     pooled = pd.concat([t["angle_max_deg"], t["angle_rest_deg"]], ignore_index=True)
     out["angle_max_rest_deg"] = {k: _round(v, 3) for k, v in box_stats(pooled).items()}
     out["angle_max_deg"] = {k: _round(v, 3) for k, v in box_stats(t["angle_max_deg"]).items()}
