@@ -352,7 +352,7 @@ def add_study_parsers(verbs) -> None:
     p.set_defaults(func=cmd_ensemble)
 
     rp = verbs.add_parser("report", help="results pages across runs: case (one run beside the study), layouts "
-                                         "(debris layouts side by side), spreading (ensembles' tracks against measured "
+                                         "(debris layouts side by side), spreading (tracks against measured "
                                          "spreading), coupling (one-way against two-way), "
                                          "speed-error (a sweep's cost against its errors), stability (a sweep's "
                                          "runs checked)")
