@@ -12,13 +12,14 @@ COUPLING ?=
 OUT      ?= runs/1debris$(if $(COUPLING),-$(COUPLING),)
 CASE_SET := $(if $(CELL),--set mesh.cell_size_m=$(CELL),) $(if $(COUPLING),--set run.debris_coupling=$(COUPLING),)
 
-.PHONY: approach forcing-variants help venv openfoam test test-fast docs-check case-1debris case-layouts results-layouts compare-coupling sweep speed-error speed-error-debris stability synthetic-study contact-law results-1debris ensemble-1debris scene-doc catalogue-doc bench bench-transport clean
+.PHONY: approach forcing-variants help venv openfoam test test-fast docs-check case-1debris case-layouts results-layouts compare-coupling sweep speed-error speed-error-debris stability synthetic-study contact-law results-1debris ensemble-1debris spreading scene-doc catalogue-doc bench bench-transport clean
 
 help:
 	@echo "make venv                   the Python environment only (.venv, the package installed editable)"
 	@echo "make case-1debris [CELL=m] [COUPLING=two-way]  the study's 1-debris scene, end to end (one-way: about 4 min on 2 idle cores; two-way: about 45 min)"
 	@echo "make results-1debris        after it: its table, plots and summary to docs/results/case-1debris/"
 	@echo "make ensemble-1debris [N=200] the 1-debris flow once, N perturbed starts through it (runs/ensemble-1debris, docs/results/ensemble-1debris)"
+	@echo "make spreading              one-way ensembles of the 1-debris scene and the 3- and 6-container layouts, their tracks against measured spreading (docs/results/spreading)"
 	@echo "make case-layouts           the study's four debris layouts one-way (about 25 min on 2 cores), then results-layouts"
 	@echo "make results-layouts        after it: the layouts side by side to docs/results/layouts/"
 	@echo "make sweep SWEEP=mesh-study a sweep from cases/sweeps/ (runs/sweeps/<name>; run again to resume)"
@@ -101,6 +102,24 @@ ensemble-1debris: venv openfoam
 	mkdir -p docs/results/ensemble-1debris
 	cp runs/ensemble-1debris/report.md runs/ensemble-1debris/ensemble.json runs/ensemble-1debris/histograms.png \
 	   runs/ensemble-1debris/envelope.png docs/results/ensemble-1debris/
+
+# make spreading: one-way ensembles of the 1-debris scene (SPREAD_N=200) and the 3x1, 1x3 and 2x3
+# layouts (SPREAD_LAYOUT_N=100 each), then their tracks against Goseberg et al. 2016's measured spreading
+# and the ASCE 7-22 6.11.5.1 envelopes (docs/results/spreading/). Each ensemble runs its scene's flow into
+# runs/spreading/<scene>/flow once (about 4-5 min of interFoam each on 2 idle cores) and reuses it when run
+# again; a finished one-way case of the same scene copied there serves too (runs/ensemble-1debris/flow, or
+# a member of make case-layouts in runs/sweeps/debris-layouts/<id>/). The study's fit is left out
+# (--no-study-fit): the page reads the tracks only.
+SPREAD_N        ?= 200
+SPREAD_LAYOUT_N ?= 100
+SPREAD_SCENES   := 1debris:$(SPREAD_N) 3debris-3x1:$(SPREAD_LAYOUT_N) 3debris-1x3:$(SPREAD_LAYOUT_N) 6debris-2x3:$(SPREAD_LAYOUT_N)
+spreading: venv openfoam
+	@set -e; for spec in $(SPREAD_SCENES); do scene=$${spec%%:*}; n=$${spec##*:}; \
+	  $(NICE) $(VENV)/bin/debrisfoam ensemble cases/$$scene.yaml -n $$n -o runs/spreading/$$scene --force \
+	    --no-study-fit --batch-size 50; \
+	done
+	$(VENV)/bin/debrisfoam report spreading $(foreach s,$(SPREAD_SCENES),runs/spreading/$(firstword $(subst :, ,$(s)))) \
+	  -o docs/results/spreading --force
 
 # make sweep SWEEP=mesh-study [EXECUTOR=dask]: cases/sweeps/$(SWEEP).yaml -> runs/sweeps/<name>
 SWEEP    ?= mesh-study

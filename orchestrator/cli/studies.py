@@ -39,6 +39,7 @@ __all__ = [
     "cmd_report_coupling",
     "cmd_report_layouts",
     "cmd_report_speed_error",
+    "cmd_report_spreading",
     "cmd_report_stability",
     "cmd_sweep",
 ]
@@ -256,6 +257,15 @@ def cmd_report_layouts(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def cmd_report_spreading(args: argparse.Namespace) -> int:
+    from orchestrator.studies.spreading import spreading_study
+
+    out = output_path(args.out, "-o/--out", args.force, folder=True)
+    files = spreading_study(args.ensembles, out)
+    emit({kind: str(path) for kind, path in files.items()}, args.json)
+    return EXIT_OK
+
+
 def cmd_report_coupling(args: argparse.Namespace) -> int:
     from orchestrator.report.coupling import compare_coupling, scan_runs, write_coupling_report
 
@@ -342,7 +352,8 @@ def add_study_parsers(verbs) -> None:
     p.set_defaults(func=cmd_ensemble)
 
     rp = verbs.add_parser("report", help="results pages across runs: case (one run beside the study), layouts "
-                                         "(debris layouts side by side), coupling (one-way against two-way), "
+                                         "(debris layouts side by side), spreading (tracks against measured "
+                                         "spreading), coupling (one-way against two-way), "
                                          "speed-error (a sweep's cost against its errors), stability (a sweep's "
                                          "runs checked)")
     rp_verbs = rp.add_subparsers(dest="report_verb", required=True, parser_class=ArgParser)
@@ -381,6 +392,16 @@ def add_study_parsers(verbs) -> None:
     p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_report_layouts)
+
+    p = rp_verbs.add_parser("spreading", help="finished ensembles' tracks against measured debris spreading "
+                                              "(Goseberg et al. 2016) and the ASCE 7-22 6.11.5.1 envelopes: "
+                                              "angles, lateral spread, plots (make spreading)")
+    p.add_argument("ensembles", nargs="+", metavar="ENSEMBLE_DIR",
+                   help="folders written by debrisfoam ensemble (ensemble.csv, tracks.csv, ensemble.json, flow/)")
+    p.add_argument("-o", "--out", required=True, help="output folder (report.md, spreading.csv, summary.json, plots)")
+    p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_report_spreading)
 
     p = rp_verbs.add_parser("coupling", help="one scene run one-way and two-way on the same mesh, side by side: "
                                              "the tracks' difference until the first strike, the strikes, the "
