@@ -194,3 +194,76 @@ def test_bad_inundation_exits_2_naming_the_field(tmp_path, override, field):
     proc = run_cli("validate", _bore_scene(tmp_path), "--set", override)
     assert proc.returncode == 2, proc.stderr
     assert field in proc.stderr and "bore.yaml" in proc.stderr
+
+
+def test_two_way_contact_settings_scale_with_the_scene():
+    from orchestrator.contact.settings import ContactSettings
+
+    lab = ContactSettings()
+    assert lab.froude_scaled(1.0) == lab
+    proto = lab.froude_scaled(SCALE)
+    assert proto.gap_m == pytest.approx(SCALE * lab.gap_m)
+    assert proto.float_margin_m == pytest.approx(SCALE * lab.float_margin_m)
+    assert proto.window_s == pytest.approx(math.sqrt(SCALE) * lab.window_s)
+    assert proto.min_impact_speed_m_s == pytest.approx(math.sqrt(SCALE) * lab.min_impact_speed_m_s)
+    assert ContactSettings(gap_m=0.1).froude_scaled(SCALE).gap_m == 0.1  # a chosen gap is kept
+
+
+# ------------------------------------------------------------------ the scale report
+
+
+def _fake_run(folder, scene_path, scale, arrival_factor=1.0):
+    """A post-processed run folder: the resolved scene and results tables of a made-up flow,
+    every figure the lab's times lambda^exponent."""
+    import json
+
+    import pandas as pd
+
+    r = math.sqrt(scale)
+    (folder / "results").mkdir(parents=True)
+    (folder / "scene.yaml").write_text(dump_scene_yaml(load_scene(scene_path)))
+    (folder / "run.json").write_text(json.dumps({"time_steps": 450}))
+    pd.DataFrame({"gauge": ["WG2", "WG3"], "arrival_s": [0.88 * r * arrival_factor, 1.19 * r],
+                  "peak_elevation_m": [0.147 * scale, 0.133 * scale]}).to_csv(folder / "results" / "gauge_summary.csv")
+    t = np.linspace(0, 3.5, 36)
+    pd.DataFrame({"time_s": t * r, "WG2_elevation_m": 0.1 * scale * (t > 0.88)}).to_csv(
+        folder / "results" / "gauges.csv", index=False)
+    pd.DataFrame({"kind": ["column"], "time_s": [2.37 * r], "impact_speed_m_s": [1.30 * r],
+                  "impact_velocity_m_s": [1.25 * r], "height_m": [0.093 * scale], "peak_force_N": [206 * scale ** 3],
+                  "duration_s": [0.0047 * r], "impulse_Ns": [0.46 * scale ** 3.5]}).to_csv(
+        folder / "results" / "impacts.csv", index=False)
+    pd.DataFrame({"time_s": t * r, "hydro_force_x_N": 52 * scale ** 3 * (t > 1.7)}).to_csv(
+        folder / "results" / "column_forces.csv", index=False)
+    return folder
+
+
+def test_scale_report_on_an_exactly_scaled_flow(tmp_path):
+    from orchestrator.report.froude_scale import compare_scales, write_scale_report
+
+    lab = _fake_run(tmp_path / "lab", LAB, 1.0)
+    proto = _fake_run(tmp_path / "proto", PROTOTYPE, SCALE)
+    cmp = compare_scales(lab, proto)
+    assert cmp.scale == pytest.approx(SCALE)
+    diffs = cmp.table["difference_percent"].dropna()
+    assert len(diffs) >= 10 and np.allclose(diffs, 0.0, atol=1e-9)
+    assert cmp.within_target()
+    files = write_scale_report(cmp, tmp_path / "page")
+    assert "| WG2 bore arrival | s | 0.5 |" in files["report"].read_text()
+    assert files["figure"].stat().st_size > 1000
+    late = _fake_run(tmp_path / "late", PROTOTYPE, SCALE, arrival_factor=1.06)
+    cmp = compare_scales(lab, late)
+    assert not cmp.within_target()
+    row = cmp.table.set_index("quantity").loc["WG2 bore arrival"]
+    assert row["difference_percent"] == pytest.approx(6.0)
+
+
+def test_scale_report_refuses_runs_of_different_scenes(tmp_path):
+    from orchestrator.core.errors import InputError
+    from orchestrator.report.froude_scale import compare_scales
+
+    lab = _fake_run(tmp_path / "lab", LAB, 1.0)
+    coarse = tmp_path / "coarse.yaml"
+    coarse.write_text(yaml.safe_dump({"extends": str(PROTOTYPE), "mesh": {"cell_size_m": 1.2}}))
+    other = _fake_run(tmp_path / "other", coarse, SCALE)
+    with pytest.raises(InputError, match="mesh.cell_size_m"):
+        compare_scales(lab, other)
