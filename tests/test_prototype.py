@@ -238,7 +238,7 @@ def _fake_run(folder, scene_path, scale, arrival_factor=1.0):
 
 
 def test_scale_report_on_an_exactly_scaled_flow(tmp_path):
-    from orchestrator.report.froude_scale import compare_scales, write_scale_report
+    from orchestrator.studies.froude_scale import compare_scales, write_scale_report
 
     lab = _fake_run(tmp_path / "lab", LAB, 1.0)
     proto = _fake_run(tmp_path / "proto", PROTOTYPE, SCALE)
@@ -259,7 +259,7 @@ def test_scale_report_on_an_exactly_scaled_flow(tmp_path):
 
 def test_scale_report_refuses_runs_of_different_scenes(tmp_path):
     from orchestrator.core.errors import InputError
-    from orchestrator.report.froude_scale import compare_scales
+    from orchestrator.studies.froude_scale import compare_scales
 
     lab = _fake_run(tmp_path / "lab", LAB, 1.0)
     coarse = tmp_path / "coarse.yaml"

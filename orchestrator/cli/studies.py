@@ -268,7 +268,7 @@ def cmd_report_coupling(args: argparse.Namespace) -> int:
 
 
 def cmd_report_scale(args: argparse.Namespace) -> int:
-    from orchestrator.report.froude_scale import compare_scales, write_scale_report
+    from orchestrator.studies.froude_scale import compare_scales, write_scale_report
 
     comparison = compare_scales(args.lab, args.prototype)
     files = write_scale_report(comparison, output_path(args.out, "-o/--out", args.force, folder=True))
