@@ -12,12 +12,13 @@ COUPLING ?=
 OUT      ?= runs/1debris$(if $(COUPLING),-$(COUPLING),)
 CASE_SET := $(if $(CELL),--set mesh.cell_size_m=$(CELL),) $(if $(COUPLING),--set run.debris_coupling=$(COUPLING),)
 
-.PHONY: approach forcing-variants help venv openfoam test test-fast docs-check case-1debris case-layouts results-layouts compare-coupling sweep speed-error speed-error-debris stability synthetic-study contact-law results-1debris ensemble-1debris spreading scene-doc catalogue-doc bench bench-transport clean
+.PHONY: approach prototype-1debris forcing-variants help venv openfoam test test-fast docs-check case-1debris case-layouts results-layouts compare-coupling sweep speed-error speed-error-debris stability synthetic-study contact-law results-1debris ensemble-1debris spreading scene-doc catalogue-doc bench bench-transport clean
 
 help:
 	@echo "make venv                   the Python environment only (.venv, the package installed editable)"
 	@echo "make case-1debris [CELL=m] [COUPLING=two-way]  the study's 1-debris scene, end to end (one-way: about 4 min on 2 idle cores; two-way: about 45 min)"
 	@echo "make results-1debris        after it: its table, plots and summary to docs/results/case-1debris/"
+	@echo "make prototype-1debris      the 1-debris scene at 40:1 one-way (about as long as case-1debris), beside the lab run Froude-scaled (docs/results/prototype-1debris/)"
 	@echo "make ensemble-1debris [N=200] the 1-debris flow once, N perturbed starts through it (runs/ensemble-1debris, docs/results/ensemble-1debris)"
 	@echo "make spreading              one-way ensembles of the 1-debris scene and the 3- and 6-container layouts, their tracks against measured spreading (docs/results/spreading)"
 	@echo "make case-layouts           the study's four debris layouts one-way (about 25 min on 2 cores), then results-layouts"
@@ -75,6 +76,15 @@ docs-check: venv
 
 case-1debris: venv openfoam
 	$(VENV)/bin/debrisfoam case cases/1debris.yaml -o $(OUT) $(CASE_SET)
+
+# The study's 1-debris scene at 40:1 (cases/prototype-1debris.yaml), run one-way, then set beside the
+# lab run Froude-scaled (runs/1debris, made first when missing): docs/results/prototype-1debris/.
+LAB_RUN   ?= runs/1debris
+PROTO_RUN ?= runs/prototype-1debris
+prototype-1debris: venv openfoam
+	@test -f $(LAB_RUN)/results/summary.json || $(VENV)/bin/debrisfoam case cases/1debris.yaml -o $(LAB_RUN)
+	$(VENV)/bin/debrisfoam case cases/prototype-1debris.yaml -o $(PROTO_RUN) --yes
+	$(VENV)/bin/debrisfoam report scale $(LAB_RUN) $(PROTO_RUN) -o docs/results/prototype-1debris --force
 
 # After make case-1debris: its table beside the study's figures, its plots and summary, to
 # docs/results/case-1debris/ (the page the README's table comes from).

@@ -277,6 +277,15 @@ def cmd_report_coupling(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def cmd_report_scale(args: argparse.Namespace) -> int:
+    from orchestrator.studies.froude_scale import compare_scales, write_scale_report
+
+    comparison = compare_scales(args.lab, args.prototype)
+    files = write_scale_report(comparison, output_path(args.out, "-o/--out", args.force, folder=True))
+    emit({"within_target": comparison.within_target(), **{kind: str(path) for kind, path in files.items()}}, args.json)
+    return EXIT_OK
+
+
 def cmd_report_stability(args: argparse.Namespace) -> int:
     from orchestrator.studies.stability import markdown, stability_table
 
@@ -354,7 +363,8 @@ def add_study_parsers(verbs) -> None:
     rp = verbs.add_parser("report", help="results pages across runs: case (one run beside the study), layouts "
                                          "(debris layouts side by side), spreading (tracks against measured "
                                          "spreading), coupling (one-way against two-way), "
-                                         "speed-error (a sweep's cost against its errors), stability (a sweep's "
+                                         "speed-error (a sweep's cost against its errors), scale (a scene and its "
+                                         "Froude-scaled twin), stability (a sweep's "
                                          "runs checked)")
     rp_verbs = rp.add_subparsers(dest="report_verb", required=True, parser_class=ArgParser)
     p = rp_verbs.add_parser("speed-error", help="wall time against error for every member of a sweep (and of "
@@ -415,6 +425,15 @@ def add_study_parsers(verbs) -> None:
     p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_report_coupling)
+
+    p = rp_verbs.add_parser("scale", help="a scene and its Froude-scaled twin side by side: arrivals, gauges, "
+                                          "the first strike, forces, each lab figure scaled (make prototype-1debris)")
+    p.add_argument("lab", metavar="LAB", help="the laboratory-scale run's folder (post-processed)")
+    p.add_argument("prototype", metavar="PROTOTYPE", help="the same scene's run at another scale (post-processed)")
+    p.add_argument("-o", "--out", required=True, help="output folder (report.md, comparison.csv, gauges.png)")
+    p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_report_scale)
 
     p = rp_verbs.add_parser("stability", help="for every member of a sweep: finished with sane physics (water "
                                               "conserved, no body inside a wall, finite forces) or stopped with "

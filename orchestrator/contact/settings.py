@@ -10,9 +10,15 @@ Units: seconds, metres, kg, N.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+import math
+from dataclasses import dataclass, field, fields, replace
 
 __all__ = ["ContactSettings"]
+
+#: The defaults set at the study's 0.40 m flume that a scene lambda times larger takes x lambda
+#: (lengths) and x sqrt(lambda) (times and speeds): :meth:`ContactSettings.froude_scaled`.
+_LENGTHS = ("gap_m", "float_margin_m")
+_TIMES_AND_SPEEDS = ("min_impact_speed_m_s", "window_s", "bed_runaway_m_s")
 
 
 @dataclass(frozen=True)
@@ -69,6 +75,18 @@ class ContactSettings:
     float_margin_m: float = 0.005
     bed_friction: bool = True
     impact: dict = field(default_factory=dict)
+
+    def froude_scaled(self, factor: float) -> "ContactSettings":
+        """These settings for a scene ``factor`` (lambda, orchestrator.plan.scale) times larger than
+        the study's flume: the lengths still at their defaults x lambda, the times and speeds at
+        their defaults x sqrt(lambda); values a caller chose are kept."""
+        if factor == 1.0:
+            return self
+        defaults = {f.name: f.default for f in fields(ContactSettings)}
+        changes = {n: getattr(self, n) * factor for n in _LENGTHS if getattr(self, n) == defaults[n]}
+        changes |= {n: getattr(self, n) * math.sqrt(factor) for n in _TIMES_AND_SPEEDS
+                    if getattr(self, n) == defaults[n]}
+        return replace(self, **changes)
 
     @property
     def bed_sink_m(self) -> float:

@@ -76,7 +76,7 @@ def case_numbers(background: BoxGrid, water: Sequence[WaterBox], gauges: Sequenc
         "water_depth_m": float(depth),
         "column_box_m": column,
         "first_delta_t_s": first_delta_t_s(max_courant, min_cell, depth, gravity_m_s2),
-        "max_delta_t_s": max_delta_t_s(max_delta_t, write_interval_s),
+        "max_delta_t_s": max_delta_t_s(max_delta_t, write_interval_s, float(depth)),
         "gauge_lines": lines,
         "probes": probes,
         "bed_friction_per_m": bed_friction_per_m(bed_friction_factor, bed_friction_calibration, layer),

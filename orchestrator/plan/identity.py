@@ -39,7 +39,7 @@ ONE_WAY_ONLY = {"transport": None, "outputs": ("flow_record_hz",)}
 LATE_KEYS = ((("run", "max_delta_t_s"), None), (("run", "stall_limit_s"), None), (("run", "water_balance_limit"), None),
              (("outputs", "flow_record_hz"), 50.0))
 #: Scene sections added after the first runs: left out when at their defaults.
-LATE_SECTIONS = {"transport": Transport().model_dump(mode="json")}
+LATE_SECTIONS = {"transport": Transport().model_dump(mode="json"), "inundation": None}
 
 
 def _coupling(scene: Scene) -> str:
@@ -65,7 +65,7 @@ def case_inputs(scene: Scene, coupling: str | None = None) -> dict:
         if isinstance(data.get(section), dict) and key in data[section] and data[section][key] == unhashed:
             data[section].pop(key)
     for section, default in LATE_SECTIONS.items():
-        if data.get(section) == default:
+        if section in data and data[section] == default:
             data.pop(section)
     return data
 

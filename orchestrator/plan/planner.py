@@ -37,6 +37,7 @@ from orchestrator.plan.timestep import (
     max_delta_t_s,
     time_step_estimate_s,
 )
+from orchestrator.scene.inundation import inundation_reason
 from orchestrator.scene.schema import Scene
 from orchestrator.scene.validation import plausibility_warnings
 
@@ -226,6 +227,7 @@ def _water(scene: Scene, domain: Domain, reasons: dict[str, str]) -> tuple[Water
     reasons["water"] = (
         f"water up to {h0:g} m behind the gate"
         + (f" and a {wet:g} m wet bed downstream" if wet > 0 else "; dry bed")
+        + (f"; {inundation_reason(scene)}" if scene.inundation is not None else "")
     )
     reasons["bed_friction"] = (
         f"Darcy f = {scene.bed.friction_factor:g} as a drag rho (f/8)|U|U on the first cell layer above the bed: "

@@ -14,6 +14,7 @@ import math
 from orchestrator.plan.grading import min_cell_m
 from orchestrator.plan.grid import BoxGrid
 from orchestrator.plan.model import BodyPlan, ModelPlan
+from orchestrator.plan.scale import time_scale
 from orchestrator.scene.schema import Scene
 
 __all__ = [
@@ -33,6 +34,10 @@ __all__ = [
 #: (140,749 cells, 1,478 steps to 3.5 s in 42 min) and 16.7 us on the short flume at 4 cm
 #: (95,548 cells, 1,431 steps to 2.1 s in 38 min): 14 us.
 US_PER_CELL_STEP = {"interFoam": 3.5e-6, "overInterDyMFoam": 14.0e-6}
+#: The default maxDeltaT (s) at the study's 0.40 m impoundment (x sqrt(lambda) deeper: plan.scale).
+MAX_DELTA_T_S = 0.01
+#: The cap on the first time step (s) at the study's 0.40 m impoundment (x sqrt(lambda) deeper).
+FIRST_DELTA_T_CAP_S = 1e-3
 #: Cores at which US_PER_CELL_STEP was measured.
 MEASURED_CORES = 2
 #: Measured time steps over the steps the Courant limit at Ritter's front speed predicts
@@ -45,17 +50,21 @@ MEASURED_CORES = 2
 STEP_FACTOR = {"interFoam": 1.25, "overInterDyMFoam": 5.5}
 
 
-def max_delta_t_s(max_delta_t: float | None, write_interval_s: float) -> float:
+def max_delta_t_s(max_delta_t: float | None, write_interval_s: float, water_depth_m: float = 0.0) -> float:
     """The largest time step the case allows (maxDeltaT): the scene's run.max_delta_t_s, else
-    min(0.01 s, the write interval)."""
-    return float(max_delta_t or min(0.01, write_interval_s))
+    min(0.01 s x sqrt(lambda), the write interval), lambda the scene's Froude factor over the
+    study's flume (:func:`~orchestrator.plan.scale.froude_factor` of ``water_depth_m``, the
+    impoundment depth; 0 or less: 1), so a scene 40 times larger takes the same steps."""
+    factor = time_scale(water_depth_m) if water_depth_m > 0 else 1.0
+    return float(max_delta_t or min(MAX_DELTA_T_S * factor, write_interval_s))
 
 
 def first_delta_t_s(max_courant: float, min_cell: float, water_depth_m: float, gravity_m_s2: float) -> float:
     """The first time step (deltaT, two significant digits): a tenth of the Courant limit on the
-    smallest cell at Ritter's front speed for the deepest water, at most 1 ms."""
+    smallest cell at Ritter's front speed for the deepest water, at most 1 ms x sqrt(lambda)."""
     wave_speed = 2 * math.sqrt(gravity_m_s2 * max(water_depth_m, 1e-3))
-    return float(f"{min(1e-3, 0.1 * max_courant * min_cell / wave_speed):.2g}")
+    cap = FIRST_DELTA_T_CAP_S * (time_scale(water_depth_m) if water_depth_m > 0 else 1.0)
+    return float(f"{min(cap, 0.1 * max_courant * min_cell / wave_speed):.2g}")
 
 
 def time_step_estimate_s(scene: Scene, solver: str, background: BoxGrid, bodies: tuple[BodyPlan, ...],
@@ -71,7 +80,7 @@ def time_step_estimate_s(scene: Scene, solver: str, background: BoxGrid, bodies:
         horizontal += [min_cell_m(b.grid.x), min_cell_m(b.grid.y), min_cell_m(tall)]
     h_step = min(horizontal)
     dt_courant = scene.run.max_courant * h_step / u_ref
-    cap = max_delta_t_s(scene.run.max_delta_t_s, scene.run.write_interval_s)
+    cap = max_delta_t_s(scene.run.max_delta_t_s, scene.run.write_interval_s, scene.reservoir.depth_m)
     dt = min(dt_courant / STEP_FACTOR[solver], cap)
     reasons["time_step"] = (
         f"about {dt:.3g} s: Co = {scene.run.max_courant:g} on the smallest horizontal cell ({h_step:.3g} m) at "

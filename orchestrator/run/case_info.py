@@ -64,6 +64,8 @@ class CaseInfo:
     stall_limit_s: float | None = None
     #: plan.json water_balance_limit (scene run.water_balance_limit): None = the runner's default
     water_balance_limit: float | None = None
+    #: plan.json water_depth_m (the impoundment): the scene's Froude scale (orchestrator.plan.scale)
+    water_depth_m: float = 0.0
 
     @property
     def body_names(self) -> tuple[str, ...]:
@@ -112,6 +114,7 @@ def load_case_info(case_dir: str | Path, np_override: int | None = None) -> Case
         end_time_s=float(control["endTime"]),
         write_interval_s=float(control["writeInterval"]),
         velocity_scale_m_s=float(plan.get("velocity_scale_m_s") or 5.0),
+        water_depth_m=float(plan.get("water_depth_m") or 0.0),
         adjustable_time_step=str(control["adjustTimeStep"]).lower() in ("yes", "on", "true", "1")
         if "adjustTimeStep" in control else False,
         max_courant=float(control["maxCo"]) if "maxCo" in control else 1.0,

@@ -100,6 +100,7 @@ from orchestrator.core.errors import DebrisfoamError
 from orchestrator.case import bodystate, foam
 from orchestrator.case.folder import EPS_T, PLAN_JSON, SCENE_YAML, CaseFolder, processor_dirs
 from orchestrator.contact.settings import ContactSettings
+from orchestrator.plan.scale import froude_factor
 from orchestrator.run.bedwatch import BedWatch
 from orchestrator.run.case_info import CaseInfo, load_case_info
 from orchestrator.run.contact_geometry import Contact
@@ -199,7 +200,9 @@ def _run_locked(case_dir, np, quiet, reconstruct, contact, limits, stop_event, p
     info = _original_controls(load_case_info(case_dir, np))
     case = info.case
     stop = StopFlag(stop_event)
-    sup = Supervisor(info, quiet, contact or ContactSettings(), limits or DivergenceLimits(), stop,
+    if contact is None:  # the defaults, at the case's scale (they were set on the study's 0.40 m flume)
+        contact = ContactSettings().froude_scaled(froude_factor(info.water_depth_m) if info.water_depth_m > 0 else 1.0)
+    sup = Supervisor(info, quiet, contact, limits or DivergenceLimits(), stop,
                      poll_interval_s, stream, on_step)
     rec = sup.record
     data = rec.data

@@ -18,6 +18,7 @@ from pydantic import ValidationError
 
 from orchestrator.core.errors import InputError
 from orchestrator.scene.geometry import TOLERANCE_M, draft_m, half_extent_z
+from orchestrator.scene.inundation import apply_inundation
 from orchestrator.scene.schema import DebrisBody, DebrisLayout, Gauge, Scene, SceneSection
 from orchestrator.scene.validation import validate_scene
 
@@ -30,7 +31,7 @@ def scene_from_dict(data: dict, source: str | None = None) -> Scene:
     """Resolve and validate a raw scene mapping (as read from YAML) into a Scene."""
     if not isinstance(data, dict):
         raise InputError("scene", f"must be a mapping of sections, got a {type(data).__name__}", source)
-    data = dict(data)
+    data = apply_inundation(dict(data), source)
     raw_debris = data.pop("debris", None)
     raw_gauges = data.pop("gauges", None)
     base = _validate(Scene, data, (), source)

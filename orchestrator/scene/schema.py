@@ -51,6 +51,7 @@ __all__ = [
     "Flume",
     "Fluids",
     "Gauge",
+    "Inundation",
     "Mesh",
     "Outputs",
     "Reservoir",
@@ -376,7 +377,7 @@ class Run(SceneSection):
         "<= 1 the careful ones (2 outer, 3 pressure), above 1 the fast ones (1 outer, 2 pressure; "
         "benchmarks/runner_settings.md)")
     max_delta_t_s: float | None = Field(
-        None, gt=0, description="largest time step (s); null = min(0.01 s, write interval), which also caps "
+        None, gt=0, description="largest time step (s); null = min(0.01 s x sqrt(lambda), write interval), lambda = max(1, h0 / 0.40 m) (the Froude scale over the study's flume, docs/prototype.md), which also caps "
                                 "the Courant number on coarse meshes")
     stall_limit_s: float | None = Field(
         None, gt=0, description="wall seconds without solver output after which the runner stops the run as "
@@ -402,8 +403,9 @@ class Outputs(SceneSection):
                                     "interval")
     preview: bool = Field(True, description="draw the scene to preview.png when rendering")
     flow_record_hz: float = Field(
-        50.0, ge=50, le=1000, description="frames per second of the flow record a one-way run writes "
-        "(run.debris_coupling; the bodies are carried through it) (Hz)")
+        50.0, gt=0, le=1000, description="frames per second of the flow record a one-way run writes "
+        "(run.debris_coupling; the bodies are carried through it) (Hz); 50 Hz is 10 frames over the bore's "
+        "passage of the study's 0.4 m flume, a scene at Froude scale lambda keeps them with 50 / sqrt(lambda)")
 
 
 class Transport(SceneSection):
@@ -515,6 +517,20 @@ class Design(SceneSection):
         return value
 
 
+class Inundation(SceneSection):
+    """The bore a scene asks for at its column, instead of a reservoir: ASCE 7-22's inundation
+    depth and flow speed at the site. The planner sizes the dam break that makes it
+    (:mod:`orchestrator.scene.inundation`, Stoker's frictionless wet-bed solution): the
+    impoundment depth ``reservoir.depth_m``, the wet bed ``bed.wet_depth_m`` (a given wet bed
+    allows one speed at a given depth) and, when not given, ``reservoir.length_m`` (long enough
+    that the negative wave reflected from the upstream wall reaches the column after
+    ``run.end_time_s``). Bed friction slows the real bore: docs/prototype.md gives the measured
+    difference."""
+
+    depth_m: float = Field(gt=0, description="flow depth behind the bore at the column, without the column (m)")
+    speed_m_s: float = Field(gt=0, description="depth-averaged flow speed behind the bore at the column (m/s)")
+
+
 class Scene(SceneSection):
     """A resolved, validated scene (every body placed, every gauge positioned)."""
 
@@ -532,6 +548,9 @@ class Scene(SceneSection):
     outputs: Outputs = Outputs()
     transport: Transport = Transport()
     design: Design = Design()
+    inundation: Inundation | None = Field(
+        None, description="the bore wanted at the column (depth, speed); the reservoir and wet bed are then sized "
+        "for it (see Inundation); null: the reservoir as given")
 
 
 # ------------------------------------------------------------------------ the column

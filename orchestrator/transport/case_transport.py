@@ -35,6 +35,7 @@ from orchestrator.case.folder import CaseFolder
 from orchestrator.contact.events import write_events, write_pulse_files
 from orchestrator.contact.resolution import body_contact_law
 from orchestrator.core.files import write_text_atomic
+from orchestrator.plan.scale import time_scale
 from orchestrator.scene.schema import Scene, column_for_analysis
 from orchestrator.scene.scenefile import load_scene
 from orchestrator.transport.engine import TransportResult, TransportSettings, run_transport
@@ -72,10 +73,30 @@ def scene_bodies(scene: Scene) -> list[TransportBody]:
     return bodies
 
 
+#: TransportSettings' times and speeds that are set at the study's 0.40 m flume: a deeper scene
+#: gets them x sqrt(lambda) where they are left at their defaults (orchestrator.plan.scale).
+FROUDE_SCALED_SETTINGS = ("output_interval_s", "hydro_interval_s", "max_timestep_s", "separation_s",
+                          "min_impact_velocity_m_s")
+
+
+def froude_settings(scene: Scene, settings: TransportSettings) -> TransportSettings:
+    """``settings`` with each of :data:`FROUDE_SCALED_SETTINGS` still at its default multiplied by
+    sqrt(lambda), lambda the scene's Froude factor over the study's flume (1 for a scene at most
+    0.40 m deep): a scene 40 times larger is carried through the same number of forcing updates
+    and outputs per bore passage, and counts the same strikes."""
+    factor = time_scale(scene.reservoir.depth_m)
+    if factor == 1.0:
+        return settings
+    defaults = TransportSettings()
+    changes = {name: getattr(settings, name) * factor for name in FROUDE_SCALED_SETTINGS
+               if getattr(settings, name) == getattr(defaults, name)}
+    return dataclasses.replace(settings, **changes)
+
+
 def scene_settings(scene: Scene, settings: TransportSettings | None = None) -> TransportSettings:
     """``settings`` (the defaults when None) with the scene's hydrodynamic coefficients (its
-    ``transport`` section)."""
-    settings = TransportSettings() if settings is None else settings
+    ``transport`` section), and Froude-scaled to the scene's size (:func:`froude_settings`)."""
+    settings = froude_settings(scene, TransportSettings() if settings is None else settings)
     hydro = dataclasses.replace(settings.hydro, drag_coefficient=scene.transport.drag_coefficient,
                                 added_mass_coefficient=scene.transport.added_mass_coefficient,
                                 sub_volumes=tuple(scene.transport.sub_volumes),
