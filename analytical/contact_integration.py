@@ -41,7 +41,7 @@ from analytical.impact_bodies import ColumnTarget
 from analytical.impact_results import ImpactHistory
 from analytical.pulses import Tabulated
 
-__all__ = ["ColumnBlock", "NormalIntegrator", "column_blocks"]
+__all__ = ["ColumnBlock", "ContactState", "NormalIntegrator", "column_blocks"]
 
 _dsbmv, _dpbtrs = blas.dsbmv, lapack.dpbtrs
 
@@ -88,7 +88,7 @@ def column_blocks(target: ColumnTarget, n: np.ndarray) -> tuple[tuple[ColumnBloc
     )
 
 
-class _State:
+class ContactState:
     """The stacked column DOFs (``u, v, a``) and the body's (``s, vs, as_``) at one time, with
     the compression ``delta = s - b . u`` and its rate."""
 
@@ -195,7 +195,7 @@ class NormalIntegrator:
             y_s = y_s - scale * z_s
         du = y - u
         ds = y_s - st.s
-        return _State(
+        return ContactState(
             y, c2 * du - v, c44 * du - c4 * v - a, y_s, c2 * ds - st.vs, c44 * ds - c4 * st.vs - st.as_, self.b
         )
 
@@ -242,7 +242,7 @@ class NormalIntegrator:
     def _first_contact(self, approach_speed):
         """The state at first contact: column at rest, body moving into the obstacle."""
         zero = np.zeros(self.size)
-        return _State(zero, zero, zero, 0.0, float(approach_speed), 0.0, self.b)
+        return ContactState(zero, zero, zero, 0.0, float(approach_speed), 0.0, self.b)
 
     def _record(self, rec, time, state, force):
         """Append one sample of the history."""

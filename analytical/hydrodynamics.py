@@ -254,7 +254,7 @@ def hydro_loads(
     omega = np.asarray(angular_velocity_rad_s, float).reshape(-1, 3)
     size = np.asarray(size_m, float).reshape(-1, 3)
     pts = np.asarray(points_m, float)
-    n_pts = pts.shape[1]
+    n_bodies, n_pts = pts.shape[:2]
     cell = size / np.asarray(c.sub_volumes, float)  # (B, 3)
     dv = np.prod(cell, axis=1)  # (B,)
     half_z = 0.5 * np.einsum("bk,bk->b", np.abs(rot[:, 2, :]), cell)  # (B,)
@@ -275,35 +275,49 @@ def hydro_loads(
         added_inertia = np.zeros_like(added_mass)
         ratio = np.full_like(added_mass, c.added_mass_coefficient)
 
-    force = np.zeros_like(pts)
-    force[:, :, 2] = rho * c.gravity_m_s2 * wet_volume
-    wet = frac > 0.0
-    if np.any(wet):
-        accel = np.where(wet[..., None], np.asarray(water_acceleration_m_s2, float), 0.0)
-        # (I + R diag(C) R^T) Du/Dt: the water's inertia and the added mass's, along the body axes
-        along = np.einsum("bji,bnj->bni", rot, accel) * ratio[:, None, :]
-        total = accel + np.einsum("bij,bnj->bni", rot, along)
-        force += rho * wet_volume[..., None] * total
-        arm = pts - com[:, None, :]
-        point_velocity = vel[:, None, :] + _cross(omega[:, None, :], arm)
-        water = np.where(wet[..., None], np.asarray(water_velocity_m_s, float), 0.0)
-        rel = water - point_velocity  # (B, N, 3) world: the water past the body
-        rel_body = np.einsum("bji,bnj->bni", rot, rel)  # R^T rel
+    # Every term is formed at the wet sub-volumes only, in their body's frame (where the
+    # added mass is diagonal and the drag areas are the faces'), summed per body and turned
+    # into the world once per body.
+    force = np.zeros((n_bodies, 3))
+    moment = np.zeros((n_bodies, 3))
+    wet = np.flatnonzero(frac.reshape(-1) > 0.0)
+    if wet.size:
+        owner = wet // n_pts
+        rot_p = rot[owner]  # (P, 3, 3)
+        world = np.stack([np.asarray(water_velocity_m_s, float).reshape(-1, 3)[wet],
+                          np.asarray(water_acceleration_m_s2, float).reshape(-1, 3)[wet],
+                          pts.reshape(-1, 3)[wet] - com[owner]], axis=1)
+        water, accel, arm = np.moveaxis(np.matmul(world, rot_p), 1, 0)  # R^T x: body frame, (P, 3) each
+        motion = np.matmul(np.stack([vel, omega], axis=1), rot)  # (B, 2, 3): v and omega, body frame
+        rel = water - motion[owner, 0] - _cross(motion[owner, 1], arm)  # the water past the body
+        volume = wet_volume.reshape(-1)[wet]
+        # buoyancy (world +z is row 2 of R in the body frame) and (I + diag(C)) Du/Dt
+        f = (1.0 + ratio[owner]) * accel
+        f += c.gravity_m_s2 * rot_p[:, 2, :]
+        f *= (rho * volume)[:, None]
         if c.drag_coefficient > 0.0:
             area = np.stack([size[:, 1] * size[:, 2], size[:, 0] * size[:, 2], size[:, 0] * size[:, 1]], axis=1)
-            speed = np.linalg.norm(rel, axis=2)  # (B, N)
+            area = area[owner]
+            share = frac.reshape(-1)[wet]
             if c.drag_area == "projected":
                 # the box's area seen along the relative flow: sum_k A_k |w_k| / |w|
-                seen = np.einsum("bk,bnk->bn", area, np.abs(rel_body))  # A_p |w|
-                drag_body = (0.5 * rho * c.drag_coefficient / n_pts) * (frac * seen)[..., None] * rel_body
+                seen = np.einsum("pk,pk->p", area, np.abs(rel))  # A_p |w|
+                f += ((0.5 * rho * c.drag_coefficient / n_pts) * (share * seen))[:, None] * rel
             else:
-                drag_body = (0.5 * rho * c.drag_coefficient) * (area[:, None, :] / n_pts) * \
-                    (frac * speed)[..., None] * rel_body
-            force += np.einsum("bij,bnj->bni", rot, drag_body)
-    moment = _cross(pts - com[:, None, :], force).sum(axis=1)
-    if c.munk_moment and np.any(wet):
-        moment += munk_moment(rot, rel_body, wet_volume, added_mass)
-    return HydroLoads(force.sum(axis=1), moment, sub, added_mass, frac, added_inertia)
+                speed = np.sqrt(np.einsum("pk,pk->p", rel, rel))
+                f += (0.5 * rho * c.drag_coefficient / n_pts) * area * (share * speed)[:, None] * rel
+        starts = np.flatnonzero(np.r_[True, owner[1:] != owner[:-1]])  # owner ascends
+        bodies = owner[starts]
+        sums = np.add.reduceat(np.concatenate([f, _cross(arm, f), volume[:, None] * rel], axis=1), starts, axis=0)
+        force[bodies] = sums[:, 0:3]
+        moment[bodies] = sums[:, 3:6]
+        past = np.zeros((n_bodies, 1, 3))
+        past[bodies, 0] = sums[:, 6:9] / sub[bodies, None]  # the volume-weighted mean
+        turned = np.matmul(rot, np.stack([force, moment], axis=2))  # (B, 3, 2)
+        force, moment = turned[:, :, 0], turned[:, :, 1]
+        if c.munk_moment:
+            moment += munk_moment(rot, past, sub[:, None], added_mass)
+    return HydroLoads(force, moment, sub, added_mass, frac, added_inertia)
 
 
 def munk_moment(orientation, water_past_body, wet_volume, added_mass_kg) -> np.ndarray:

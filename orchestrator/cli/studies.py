@@ -346,7 +346,8 @@ def add_study_parsers(verbs) -> None:
     p.add_argument("--workers", type=int, default=None, metavar="N",
                    help="realisations at once (default: this machine's cores)")
     p.add_argument("--batch-size", type=int, default=None, metavar="B",
-                   help="realisations stepped together in one model (default 32; 1: one model each)")
+                   help="at most B realisations stepped together in one model (default 128; fewer when the "
+                        "workers would not each get a batch; 1: one model each)")
     p.add_argument("--no-study-fit", action="store_true",
                    help="leave out the study's fit of each first strike (about 0.27 s of CPU a strike): for "
                         "design-scale ensembles; the like-for-like comparison then has no pulse rows")

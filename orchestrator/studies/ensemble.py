@@ -84,6 +84,8 @@ import numpy as np
 import pandas as pd
 
 from analytical.contact_law import SEED_IMPACT_VELOCITY_M_S, SEED_TABLE2_MDOF
+from analytical.contact_modal import column_modes
+from analytical.impact_bodies import ColumnTarget
 from orchestrator.core.errors import DebrisfoamError, InputError
 from analytical.study_comparison import SEED_IMPACT_COUNT
 from orchestrator.core.files import write_json_atomic, write_text_atomic
@@ -124,7 +126,7 @@ __all__ = [
 
 EXECUTORS = ("local", "dask")
 
-DEFAULT_BATCH_SIZE = 32
+DEFAULT_BATCH_SIZE = 128
 """Realisations carried in one model (:func:`run_realisations`; docs/ensembles.md gives the
 measurement it comes from)."""
 
@@ -429,8 +431,9 @@ def run_ensemble(starts: Sequence[list[TransportBody]], flume: FlumeBounds, colu
                  progress: Callable[[int, int], None] | None = None, batch_size: int = DEFAULT_BATCH_SIZE,
                  study_fit: bool = True) -> list[Realisation]:
     """Carry every realisation's bodies (``starts``) through ``flow`` (saved as ``npz``, which
-    Dask's workers load) on ``executor`` with ``workers`` at once, in batches of ``batch_size``
-    realisations a model (:func:`run_realisations`; 1: one model each); ``progress(done,
+    Dask's workers load) on ``executor`` with ``workers`` at once, in batches of at most
+    ``batch_size`` realisations a model (:func:`run_realisations`; 1: one model each), smaller
+    when there are too few realisations to give every worker a batch; ``progress(done,
     total)`` after each batch; the realisations in order."""
     if executor not in EXECUTORS:
         raise InputError("--executor", f"must be one of {', '.join(EXECUTORS)}, got {executor!r}")
@@ -440,7 +443,8 @@ def run_ensemble(starts: Sequence[list[TransportBody]], flume: FlumeBounds, colu
     settings = dataclasses.replace(settings or TransportSettings(), first_pulse_only=True)
     npz = str(npz)
     _keep_flow(npz, flow)
-    size = int(batch_size)
+    # at most batch_size a model, and no fewer batches than workers (each worker busy)
+    size = max(1, min(int(batch_size), math.ceil(len(starts) / workers)))
     tasks = [(list(range(lo, min(lo + size, len(starts)))), [list(b) for b in starts[lo:lo + size]], flume, column,
               float(t_end_s), npz, settings, study_fit) for lo in range(0, len(starts), size)]
     done: dict[int, Realisation] = {}
@@ -463,6 +467,9 @@ def run_ensemble(starts: Sequence[list[TransportBody]], flume: FlumeBounds, colu
             if progress is not None:
                 progress(len(done), len(starts))
     elif executor == "local":
+        if column is not None:  # the column's modes once, inherited by the forked workers
+            for axis in (0, 1):
+                column_modes(ColumnTarget(column.column, column.column.height_m).axis_column(axis))
         with _open_local(workers, npz, flow) as pool:
             futures = {pool.submit(run_realisations, *task): task[0] for task in tasks}
             for future in concurrent.futures.as_completed(futures):

@@ -151,7 +151,8 @@ class _Forcing:
             part.names = [self.names[i] for i in active]
             part.tables = None if self.tables is None else self.tables[active]
             return part(t_flow, com[active], rot[active], vel[active], omega[active])
-        pts = com[:, None, :] + np.einsum("bij,bnj->bni", rot, self.local)
+        pts = np.matmul(self.local, rot.transpose(0, 2, 1))
+        pts += com[:, None, :]
         flat = pts.reshape(-1, 3)
         try:
             eta = self.flow.surface(flat[:, 0], flat[:, 1], t_flow).reshape(pts.shape[:2])

@@ -112,9 +112,8 @@ def _locate(axis: np.ndarray, values: np.ndarray, name: str, unit: str = "m",
     return idx, frac
 
 
-#: Corner offsets (a, b, c) of a grid cell, and the +-1 signs of their weights' derivatives.
+#: Corner offsets (a, b, c) of a grid cell, x slowest.
 _CORNERS = np.array([(a, b, c) for a in (0, 1) for b in (0, 1) for c in (0, 1)], dtype=np.intp)
-_SIGNS = 2.0 * _CORNERS - 1.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -184,6 +183,12 @@ class FlowField:
         object.__setattr__(self, "velocity_m_s", u)
         object.__setattr__(self, "meta", dict(self.meta))
         object.__setattr__(self, "_steps", {n: _uniform_step(getattr(self, n)) for n in ("t_s", "x_m", "y_m", "z_m")})
+        # Flat views for the gathers of sample() and surface(): one np.take each (numpy's
+        # multi-index fancy indexing is many times slower); a velocity row (3 values) is
+        # gathered as one opaque item.
+        object.__setattr__(self, "_eta_flat", eta.reshape(self.t_s.size, -1))
+        rows = u.reshape(self.t_s.size, -1, 3)
+        object.__setattr__(self, "_rows", rows.view(np.dtype((np.void, 3 * rows.itemsize)))[..., 0])
 
     # ------------------------------------------------------------------ extent
     @property
@@ -213,9 +218,10 @@ class FlowField:
         k, ft, _ = self._time(t_s)
         i, fx = _locate(self.x_m, x.reshape(-1), "x", step=self._steps["x_m"])
         j, fy = _locate(self.y_m, y.reshape(-1), "y", step=self._steps["y_m"])
-        both = self.eta_m[k:k + 2]
-        corners = (both[:, i, j] * (1 - fx) + both[:, i + 1, j] * fx) * (1 - fy) + \
-            (both[:, i, j + 1] * (1 - fx) + both[:, i + 1, j + 1] * fx) * fy
+        nj = self.y_m.size
+        q = np.take(self._eta_flat[k:k + 2], (i * nj + j)[None, :] + np.array([0, nj, 1, nj + 1])[:, None], axis=1)
+        gx = 1.0 - fx
+        corners = (q[:, 0] * gx + q[:, 1] * fx) * (1.0 - fy) + (q[:, 2] * gx + q[:, 3] * fx) * fy
         return (corners[0] * (1.0 - ft) + corners[1] * ft).reshape(x.shape)
 
     def sample(self, points_m, t_s: float, acceleration: bool = True, eta_m=None) -> FlowSample:
@@ -225,6 +231,10 @@ class FlowField:
         so a partly submerged sub-volume sees the water at the surface. ``eta_m`` (P,): the
         surface there if already known. Raises :class:`FlowCoverageError` for x, y or t
         outside the record.
+
+        The trilinear interpolant is taken one axis at a time (z, then y, then x) at both
+        frames; its gradient comes from the same differences, and everything is blended
+        linearly in time, in float64 whatever the record's type.
         """
         p = np.asarray(points_m, dtype=float).reshape(-1, 3)
         eta = self.surface(p[:, 0], p[:, 1], t_s) if eta_m is None else np.asarray(eta_m, float).reshape(-1)
@@ -234,22 +244,26 @@ class FlowField:
         z = np.minimum(np.maximum(np.minimum(p[:, 2], eta), max(self.z_m[0], self.bed_z_m)), self.z_m[-1])
         l_, fz = _locate(self.z_m, z, "z", step=self._steps["z_m"])
         nj, nl = self.y_m.size, self.z_m.size
-        frames = self.velocity_m_s[k:k + 2].reshape(2, -1, 3)
         offsets = (_CORNERS[:, 0] * nj + _CORNERS[:, 1]) * nl + _CORNERS[:, 2]  # (8,)
-        corners = frames[:, ((i * nj + j) * nl + l_)[None, :] + offsets[:, None]]  # (2, 8, P, 3)
-        f = np.stack([fx, fy, fz])  # (3, P)
-        w1 = np.where(_CORNERS.T[:, :, None] == 1, f[:, None, :], 1.0 - f[:, None, :])  # (3, 8, P)
-        weight = w1[0] * w1[1] * w1[2]  # (8, P)
-        both = np.einsum("kp,tkpc->tpc", weight, corners)  # (2, P, 3)
+        rows = np.take(self._rows[k:k + 2], ((i * nj + j) * nl + l_)[None, :] + offsets[:, None], axis=1)
+        # (frame, x corner, y corner, z corner, P, 3)
+        c = rows[..., None].view(self.velocity_m_s.dtype).reshape(2, 2, 2, 2, -1, 3).astype(float)
+        fx, fy, fz = fx[:, None], fy[:, None], fz[:, None]
+        dz = c[:, :, :, 1] - c[:, :, :, 0]
+        ez = c[:, :, :, 0] + fz * dz  # along z
+        dy = ez[:, :, 1] - ez[:, :, 0]
+        ey = ez[:, :, 0] + fy * dy  # along y
+        dx = ey[:, 1] - ey[:, 0]
+        both = ey[:, 0] + fx * dx  # along x: (2 frames, P, 3)
         u_t = both[0] * (1.0 - ft) + both[1] * ft
         if not acceleration:
             return FlowSample(eta, u_t, np.zeros_like(u_t))
-        h = np.stack([self.x_m[i + 1] - self.x_m[i], self.y_m[j + 1] - self.y_m[j], self.z_m[l_ + 1] - self.z_m[l_]])
-        dw = np.stack([_SIGNS[:, 0, None] / h[0] * w1[1] * w1[2], _SIGNS[:, 1, None] / h[1] * w1[0] * w1[2],
-                       _SIGNS[:, 2, None] / h[2] * w1[0] * w1[1]])  # (3 dirs, 8, P)
-        now = corners[0] * (1.0 - ft) + corners[1] * ft  # (8, P, 3)
-        grad = np.einsum("dkp,kpc->pcd", dw, now)  # (P, 3 comps, 3 dirs)
-        accel = (both[1] - both[0]) / dt + np.einsum("pcd,pd->pc", grad, u_t)
+        h = (self.x_m[i + 1] - self.x_m[i], self.y_m[j + 1] - self.y_m[j], self.z_m[l_ + 1] - self.z_m[l_])
+        dzy = dz[:, :, 0] + fy * (dz[:, :, 1] - dz[:, :, 0])
+        grad = (dx, dy[:, 0] + fx * (dy[:, 1] - dy[:, 0]), dzy[:, 0] + fx * (dzy[:, 1] - dzy[:, 0]))
+        accel = (both[1] - both[0]) / dt
+        for d in range(3):  # (u . grad) u, the gradient at the blended time
+            accel += (grad[d][0] * (1.0 - ft) + grad[d][1] * ft) * (u_t[:, d] / h[d])[:, None]
         return FlowSample(eta, u_t, accel)
 
     # ------------------------------------------------------------------ files
