@@ -778,3 +778,14 @@ def test_the_bed_friction_coefficient_is_f_over_4_dz_times_the_calibration():
     assert f > 0
     assert p.bed_friction_per_m == pytest.approx(2.0 * f / (4 * p.friction_layer_m))
     assert plan_case(case("1debris", "bed.friction_factor=0")).bed_friction_per_m == 0.0
+
+
+@pytest.mark.parametrize("hz, cap", [(50.0, 0.01), (100.0, 0.01), (200.0, 0.005), (400.0, 0.0025)])
+def test_a_one_way_record_gets_a_frame_at_every_interval(hz, cap):
+    # maxDeltaT is at most the record's frame interval: a 200 Hz record with 0.01 s steps would
+    # get a frame only every other interval
+    scene = load_scene(CASES / "1debris.yaml", [f"outputs.flow_record_hz={hz}"])
+    plan = plan_case(scene)
+    assert plan.flow_record is not None and plan.flow_record.interval_s == pytest.approx(1 / hz)
+    assert plan.max_delta_t_s == pytest.approx(cap)
+    assert plan.time_step_estimate_s <= cap + 1e-12

@@ -54,10 +54,12 @@ def column_box_m(grid: BoxGrid) -> tuple[tuple[float, ...], tuple[float, ...]] |
 
 def case_numbers(background: BoxGrid, water: Sequence[WaterBox], gauges: Sequence[GaugePlan], *, two_d: bool,
                  max_courant: float, write_interval_s: float, max_delta_t: float | None, gravity_m_s2: float,
-                 bed_friction_factor: float, bed_friction_calibration: float) -> dict[str, Any]:
+                 bed_friction_factor: float, bed_friction_calibration: float,
+                 record_interval_s: float | None = None) -> dict[str, Any]:
     """The ModelPlan fields of this module's docstring (keyword arguments of ModelPlan).
 
-    ``max_delta_t``: the scene's run.max_delta_t_s (None: the default cap).
+    ``max_delta_t``: the scene's run.max_delta_t_s (None: the default cap); ``record_interval_s``:
+    the one-way flow record's frame interval (None: no record).
     """
     z0, z1 = background.planes("z")[0], background.planes("z")[-1]
     bed_cell = background.z[0].cell_sizes_m()[0]
@@ -76,7 +78,7 @@ def case_numbers(background: BoxGrid, water: Sequence[WaterBox], gauges: Sequenc
         "water_depth_m": float(depth),
         "column_box_m": column,
         "first_delta_t_s": first_delta_t_s(max_courant, min_cell, depth, gravity_m_s2),
-        "max_delta_t_s": max_delta_t_s(max_delta_t, write_interval_s, float(depth)),
+        "max_delta_t_s": max_delta_t_s(max_delta_t, write_interval_s, float(depth), record_interval_s),
         "gauge_lines": lines,
         "probes": probes,
         "bed_friction_per_m": bed_friction_per_m(bed_friction_factor, bed_friction_calibration, layer),

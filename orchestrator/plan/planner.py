@@ -104,7 +104,8 @@ def plan_case(scene: Scene, source: str | None = None) -> ModelPlan:
         bodies = body_plans(scene, layout, reasons, warnings)
     water = _water(scene, domain, reasons)
     gauges = _gauges(scene, domain, reasons)
-    dt = time_step_estimate_s(scene, solver, background, bodies, two_d, reasons)
+    record_interval = flow_record.interval_s if flow_record is not None else None
+    dt = time_step_estimate_s(scene, solver, background, bodies, two_d, reasons, record_interval)
     cells = background.cell_count() + sum(b.grid.cell_count() for b in bodies)
     require_labels(cells, source)
     reasons["cell_count"] = (
@@ -147,7 +148,8 @@ def plan_case(scene: Scene, source: str | None = None) -> ModelPlan:
         **case_numbers(background, water, gauges, two_d=two_d, max_courant=run.max_courant,
                        write_interval_s=run.write_interval_s, max_delta_t=run.max_delta_t_s,
                        gravity_m_s2=scene.fluids.gravity_m_s2, bed_friction_factor=scene.bed.friction_factor,
-                       bed_friction_calibration=scene.bed.friction_calibration),
+                       bed_friction_calibration=scene.bed.friction_calibration,
+                       record_interval_s=record_interval),
     )
     return _with_wall_time(plan)
 

@@ -50,13 +50,15 @@ MEASURED_CORES = 2
 STEP_FACTOR = {"interFoam": 1.25, "overInterDyMFoam": 5.5}
 
 
-def max_delta_t_s(max_delta_t: float | None, write_interval_s: float, water_depth_m: float = 0.0) -> float:
+def max_delta_t_s(max_delta_t: float | None, write_interval_s: float, water_depth_m: float = 0.0,
+                  record_interval_s: float | None = None) -> float:
     """The largest time step the case allows (maxDeltaT): the scene's run.max_delta_t_s, else
-    min(0.01 s x sqrt(lambda), the write interval), lambda the scene's Froude factor over the
-    study's flume (:func:`~orchestrator.plan.scale.froude_factor` of ``water_depth_m``, the
-    impoundment depth; 0 or less: 1), so a scene 40 times larger takes the same steps."""
+    min(0.01 s x sqrt(lambda), the write interval, the one-way flow record's frame interval),
+    lambda the scene's Froude factor over the study's flume (:func:`~orchestrator.plan.scale.froude_factor`
+    of ``water_depth_m``, the impoundment depth; 0 or less: 1), so a scene 40 times larger takes the
+    same steps, and a record at more than 100 Hz gets a frame at every interval."""
     factor = time_scale(water_depth_m) if water_depth_m > 0 else 1.0
-    return float(max_delta_t or min(MAX_DELTA_T_S * factor, write_interval_s))
+    return float(max_delta_t or min(MAX_DELTA_T_S * factor, write_interval_s, record_interval_s or math.inf))
 
 
 def first_delta_t_s(max_courant: float, min_cell: float, water_depth_m: float, gravity_m_s2: float) -> float:
@@ -68,7 +70,7 @@ def first_delta_t_s(max_courant: float, min_cell: float, water_depth_m: float, g
 
 
 def time_step_estimate_s(scene: Scene, solver: str, background: BoxGrid, bodies: tuple[BodyPlan, ...],
-                         two_d: bool, reasons: dict[str, str]) -> float:
+                         two_d: bool, reasons: dict[str, str], record_interval_s: float | None = None) -> float:
     """The time step the solver is expected to take (s), with its reason."""
     u_ref = 2.0 * math.sqrt(scene.fluids.gravity_m_s2 * scene.reservoir.depth_m)
     horizontal = [min_cell_m(background.x)] + ([] if two_d else [min_cell_m(background.y)])
@@ -80,7 +82,8 @@ def time_step_estimate_s(scene: Scene, solver: str, background: BoxGrid, bodies:
         horizontal += [min_cell_m(b.grid.x), min_cell_m(b.grid.y), min_cell_m(tall)]
     h_step = min(horizontal)
     dt_courant = scene.run.max_courant * h_step / u_ref
-    cap = max_delta_t_s(scene.run.max_delta_t_s, scene.run.write_interval_s, scene.reservoir.depth_m)
+    cap = max_delta_t_s(scene.run.max_delta_t_s, scene.run.write_interval_s, scene.reservoir.depth_m,
+                        record_interval_s)
     dt = min(dt_courant / STEP_FACTOR[solver], cap)
     reasons["time_step"] = (
         f"about {dt:.3g} s: Co = {scene.run.max_courant:g} on the smallest horizontal cell ({h_step:.3g} m) at "
