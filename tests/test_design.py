@@ -225,6 +225,9 @@ def test_the_page_sets_asce_beside_the_curves(tmp_path):
     assert force["asce"][code.governing]["probability"] == pytest.approx(expected)
     page = (tmp_path / "design.md").read_text()
     assert "not a probabilistic tsunami hazard analysis" in page and "![exceedance](exceedance.png)" in page
+    # each ASCE input says where it comes from: an untyped body, the study's k_d and its own mass
+    assert "- k_d: the study's 1:40 container's k_d, 3.04e+06 N/m" in page and "- m_d: the heaviest body's own mass" in page
+    assert "Table 6.8-1 for the scene's design.risk_category (III)" in page
 
 
 # --------------------------------------------------------------------------- the verb
@@ -298,8 +301,10 @@ def test_the_shipped_street_scene_plans_every_case_near_the_lab_scenes_cells_and
     one-way on the order of the 1-debris scene's 136k cells, keeps the mesh rules (2 cells across
     the column, 1.5 across the container, 4 over the impoundment), and its draws stay between the
     20-ft container's empty and loaded masses."""
+    from analytical import catalogue
     from analytical.catalogue import mass_range_kg
     from orchestrator.plan.planner import plan_case
+    from orchestrator.studies.design_report import input_sources
     from orchestrator.studies.design import _cases
     from orchestrator.studies.design_table import debris_types
     from orchestrator.transport.case_transport import scene_bodies
@@ -328,3 +333,7 @@ def test_the_shipped_street_scene_plans_every_case_near_the_lab_scenes_cells_and
                            for r in range(200)])
         assert masses.min() >= empty and masses.max() <= loaded
         assert masses.max() - masses.min() > 0.8 * (loaded - empty)  # drawn across the range, not at one mass
+    # the page's ASCE inputs: the catalogue's k_d (the study's Froude-scaled) and the loaded 20-ft mass
+    sources = input_sources(cases[0].scene, spec, [catalogue.debris_type("container-20ft-empty")])
+    assert "Froude-scaled by 40^2" in sources["k_d"] and "container-20ft" in sources["m_d"]
+    assert "rc-square 1 m" in sources["k_s"]
