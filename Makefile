@@ -12,13 +12,14 @@ COUPLING ?=
 OUT      ?= runs/1debris$(if $(COUPLING),-$(COUPLING),)
 CASE_SET := $(if $(CELL),--set mesh.cell_size_m=$(CELL),) $(if $(COUPLING),--set run.debris_coupling=$(COUPLING),)
 
-.PHONY: approach prototype-1debris forcing-variants help venv openfoam test test-fast docs-check case-1debris case-layouts results-layouts compare-coupling sweep speed-error speed-error-debris stability synthetic-study contact-law results-1debris ensemble-1debris spreading scene-doc catalogue-doc bench bench-transport clean
+.PHONY: approach prototype-1debris design-street forcing-variants help venv openfoam test test-fast docs-check case-1debris case-layouts results-layouts compare-coupling sweep speed-error speed-error-debris stability synthetic-study contact-law results-1debris ensemble-1debris spreading scene-doc catalogue-doc bench bench-transport clean
 
 help:
 	@echo "make venv                   the Python environment only (.venv, the package installed editable)"
 	@echo "make case-1debris [CELL=m] [COUPLING=two-way]  the study's 1-debris scene, end to end (one-way: about 4 min on 2 idle cores; two-way: about 45 min)"
 	@echo "make results-1debris        after it: its table, plots and summary to docs/results/case-1debris/"
 	@echo "make prototype-1debris      the 1-debris scene at 40:1 one-way (about as long as case-1debris), beside the lab run Froude-scaled (docs/results/prototype-1debris/)"
+	@echo "make design-street          debrisfoam design on the street scene: 3 flows and 2000 realisations (runs/design-street, docs/results/design-street)"
 	@echo "make ensemble-1debris [N=200] the 1-debris flow once, N perturbed starts through it (runs/ensemble-1debris, docs/results/ensemble-1debris)"
 	@echo "make spreading              one-way ensembles of the 1-debris scene and the 3- and 6-container layouts, their tracks against measured spreading (docs/results/spreading)"
 	@echo "make case-layouts           the study's four debris layouts one-way (about 25 min on 2 cores), then results-layouts"
@@ -112,6 +113,16 @@ ensemble-1debris: venv openfoam
 	mkdir -p docs/results/ensemble-1debris
 	cp runs/ensemble-1debris/report.md runs/ensemble-1debris/ensemble.json runs/ensemble-1debris/histograms.png \
 	   runs/ensemble-1debris/envelope.png docs/results/ensemble-1debris/
+
+# make design-street: `debrisfoam design` on cases/design-street.yaml (a 20-ft container onto a
+# 1.0 m RC column, three inundation cases): the three one-way flows (93k-122k cells, reused when run
+# again) and 2000 realisations, then the page (design.md, design.json, exceedance.png; the per-realisation
+# design.csv stays in runs/) to docs/results/design-street/ (docs/design.md gives the measured time).
+design-street: venv openfoam
+	$(NICE) $(VENV)/bin/debrisfoam design cases/design-street.yaml -o runs/design-street --force --yes
+	mkdir -p docs/results/design-street
+	cp runs/design-street/design.md runs/design-street/design.json runs/design-street/exceedance.png \
+	   docs/results/design-street/
 
 # make spreading: one-way ensembles of the 1-debris scene (SPREAD_N=200) and the 3x1, 1x3 and 2x3
 # layouts (SPREAD_LAYOUT_N=100 each), then their tracks against Goseberg et al. 2016's measured spreading

@@ -225,6 +225,9 @@ def test_the_page_sets_asce_beside_the_curves(tmp_path):
     assert force["asce"][code.governing]["probability"] == pytest.approx(expected)
     page = (tmp_path / "design.md").read_text()
     assert "not a probabilistic tsunami hazard analysis" in page and "![exceedance](exceedance.png)" in page
+    # each ASCE input says where it comes from: an untyped body, the study's k_d and its own mass
+    assert "- k_d: the study's 1:40 container's k_d, 3.04e+06 N/m" in page and "- m_d: the heaviest body's own mass" in page
+    assert "Table 6.8-1 for the scene's design.risk_category (III)" in page
 
 
 # --------------------------------------------------------------------------- the verb
@@ -291,3 +294,46 @@ def test_a_catalogued_container_is_drawn_between_its_empty_and_loaded_masses():
     assert mass_range(body, Design(), None) == (2300.0, 2300.0)
     # the study's 1:40 model has no empty and loaded pair: its own mass
     assert mass_range(body, Design(), "container-20ft-study-1to40") == (2300.0, 2300.0)
+
+
+def test_the_shipped_street_scene_plans_every_case_near_the_lab_scenes_cells_and_draws_20ft_masses():
+    """cases/design-street.yaml (issue 32's design example): each inundation case loads, plans
+    one-way on the order of the 1-debris scene's 136k cells, keeps the mesh rules (2 cells across
+    the column, 1.5 across the container, 4 over the impoundment), and its draws stay between the
+    20-ft container's empty and loaded masses."""
+    from analytical import catalogue
+    from analytical.catalogue import mass_range_kg
+    from orchestrator.plan.planner import plan_case
+    from orchestrator.studies.design_report import input_sources
+    from orchestrator.studies.design import _cases
+    from orchestrator.studies.design_table import debris_types
+    from orchestrator.transport.case_transport import scene_bodies
+    from orchestrator.scene.schema import column_for_analysis
+
+    path = ROOT / "cases" / "design-street.yaml"
+    spec = load_scene(path).design
+    cases = _cases(path, [], spec)
+    assert [c.name for c in cases] == ["low", "nominal", "high"]
+    assert sum(c.realisations for c in cases) == spec.realisations
+    empty, loaded = mass_range_kg("container-20ft")
+    for k, case in enumerate(cases):
+        scene = case.scene
+        plan = plan_case(scene, str(path))
+        assert plan.debris_coupling == "one-way" and plan.cell_count < 300_000
+        cell = scene.mesh.cell_size_m
+        assert scene.column.size_x_m / cell >= 2 and min(scene.debris[0].size_m[1:]) / cell >= 1.5
+        assert scene.reservoir.depth_m / cell >= 4
+        # the bore the case asks for sized its reservoir: Stoker's plateau depth above the wet bed
+        assert scene.reservoir.depth_m > scene.inundation.depth_m > scene.bed.wet_depth_m
+        bodies = scene_bodies(scene)
+        column = PlacedColumn(scene.column.x_m, scene.column.y_m, column_for_analysis(scene))
+        half = scene.flume.width_m / 2
+        flume = FlumeBounds((-1.0, scene.column.x_m + 20.0), (-half, half), 0.0)
+        masses = np.array([design_starts(bodies, flume, column, scene.design, k, r, types=debris_types(scene))[0].mass_kg
+                           for r in range(200)])
+        assert masses.min() >= empty and masses.max() <= loaded
+        assert masses.max() - masses.min() > 0.8 * (loaded - empty)  # drawn across the range, not at one mass
+    # the page's ASCE inputs: the catalogue's k_d (the study's Froude-scaled) and the loaded 20-ft mass
+    sources = input_sources(cases[0].scene, spec, [catalogue.debris_type("container-20ft-empty")])
+    assert "Froude-scaled by 40^2" in sources["k_d"] and "container-20ft" in sources["m_d"]
+    assert "rc-square 1 m" in sources["k_s"]

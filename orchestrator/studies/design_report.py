@@ -58,6 +58,7 @@ def asce_values(result, spec: Design, heights_m: np.ndarray) -> dict[str, Any]:
     # docs/catalogue.md: ASCE 7-22's Table 6.11-2 values are not in the tool); else the study's
     k_d = float(spec.debris_stiffness_N_m or max((e.kd_N_m for e in typed), default=SEED_DEBRIS_STIFFNESS_N_M))
     k_s = float(column.stiffness_N_m)
+    sources = input_sources(scene, spec, typed)
     importance = importance_factor(spec.risk_category)
     per_case, best = [], None
     for case in cases:
@@ -74,7 +75,7 @@ def asce_values(result, spec: Design, heights_m: np.ndarray) -> dict[str, Any]:
     out: dict[str, Any] = {"cases": per_case, "mass_kg": mass, "debris_stiffness_N_m": k_d,
                            "structure_stiffness_N_m": k_s, "importance_I_tsu": importance,
                            "risk_category": spec.risk_category, "orientation_C_o": float(spec.orientation_coefficient),
-                           "prototype": bool(spec.prototype), "values": None}
+                           "prototype": bool(spec.prototype), "sources": sources, "values": None}
     if best is None:
         return out
     design = asce7_design(best["u_max_m_s"], mass, k_d, k_s, importance, float(spec.orientation_coefficient),
@@ -95,6 +96,32 @@ def asce_values(result, spec: Design, heights_m: np.ndarray) -> dict[str, Any]:
                height_basis="the highest contact height any realisation struck at" if heights.size
                else "half the column's height (no realisation struck)")
     return out
+
+
+def input_sources(scene, spec: Design, typed: list) -> dict[str, str]:
+    """Where each of F_i's inputs comes from, for the page (u_max's is the case's own basis)."""
+    if spec.debris_stiffness_N_m is not None:
+        k_d = "the scene's design.debris_stiffness_N_m"
+    elif typed:
+        e = max(typed, key=lambda t: t.kd_N_m)
+        k_d = (f"the debris catalogue's for {e.name}: the study's 1:{e.scale:g} container's k_d "
+               f"({SEED_DEBRIS_STIFFNESS_N_M:.3g} N/m) Froude-scaled by {e.scale:g}^2; ASCE 7-22 Table 6.11-2's "
+               "value is not in the tool (docs/catalogue.md)")
+    else:
+        k_d = f"the study's 1:40 container's k_d, {SEED_DEBRIS_STIFFNESS_N_M:.3g} N/m (analytical/asce7.py)"
+    if spec.mass_kg is not None:
+        m_d = "the upper end of the scene's design.mass_kg"
+    elif any(t.family is not None for t in typed):
+        m_d = "the loaded mass of the debris catalogue's " + ", ".join(sorted({t.family for t in typed if t.family}))
+    else:
+        m_d = "the heaviest body's own mass"
+    section = getattr(scene.column, "section", None)
+    k_s = ("the column's MDOF model's lateral stiffness at its top, from its catalogued section "
+           f"({section.kind} {'x'.join(f'{v:g}' for v in section.size_m)} m, docs/catalogue.md)" if section is not None
+           else "the scene's column.stiffness_N_m")
+    c_o = "design.orientation_coefficient (0.65: ASCE 7-22 6.11's value for containers, logs and poles, the default)"
+    return {"k_d": k_d, "m_d": m_d, "k_s": k_s, "C_o": c_o,
+            "I_tsu": f"ASCE 7-22 Table 6.8-1 for the scene's design.risk_category ({spec.risk_category})"}
 
 
 def summarise(result, scene_path, sets: list[str], spec: Design, wall: dict[str, Any]) -> dict[str, Any]:
@@ -230,6 +257,10 @@ def markdown(summary: dict[str, Any]) -> str:
                   f"{asce['debris_stiffness_N_m']:.4g} N/m; {asce['governing']} governs (the lesser); "
                   f"{asce['cap_note']}. Base shear, base moment and top displacement: the code's rectangular pulse "
                   f"on the same MDOF column at {asce['load_height_m']:.3g} m ({asce['height_basis']}).", "",
+                  "Where each input comes from:", "",
+                  f"- u_max: {asce['u_basis']} (two column widths upstream of the face, "
+                  "orchestrator/results/asce_design.py), in the fastest case",
+                  *[f"- {k}: {v}" for k, v in asce["sources"].items()], "",
                   "| demand | with k_s | P(exceed k_s value) | with k_d | P(exceed k_d value) |",
                   "|---|---|---|---|---|"]
         for key, d in summary["demands"].items():
