@@ -26,7 +26,7 @@ from orchestrator.core.jsonio import json_default
 from orchestrator.scene.scenefile import scene_to_dict
 from orchestrator.scene.schema import Scene, Transport
 
-__all__ = ["ID_LENGTH", "LATE_KEYS", "LATE_SECTIONS", "ONE_WAY_ONLY", "case_inputs", "case_key", "same_case",
+__all__ = ["ID_LENGTH", "LATE_BODY_KEYS", "LATE_KEYS", "LATE_SECTIONS", "ONE_WAY_ONLY", "case_inputs", "case_key", "same_case",
            "same_flow"]
 
 #: Length of a sweep member's id (hex digits of :func:`case_key`).
@@ -37,7 +37,12 @@ ONE_WAY_ONLY = {"transport": None, "outputs": ("flow_record_hz",)}
 #: is left out (at auto) only for a scene without debris: with debris, auto picks one-way where a
 #: case made before it ran two-way, so it must count.
 LATE_KEYS = ((("run", "max_delta_t_s"), None), (("run", "stall_limit_s"), None), (("run", "water_balance_limit"), None),
-             (("outputs", "flow_record_hz"), 50.0))
+             (("outputs", "flow_record_hz"), 50.0), (("mesh", "refine_box_m"), None),
+             (("mesh", "refine_cell_size_m"), None), (("column", "section"), None), (("column", "section_area_m2"), None),
+             (("column", "section_second_moment_m4"), None), (("column", "stiffness_factor"), 1.0),
+             (("column", "base_spring_Nm_rad"), None))
+#: Keys of every debris body added after the first runs, with the value they are left out at.
+LATE_BODY_KEYS = (("type", None),)
 #: Scene sections added after the first runs: left out when at their defaults.
 LATE_SECTIONS = {"transport": Transport().model_dump(mode="json"), "inundation": None}
 
@@ -64,6 +69,10 @@ def case_inputs(scene: Scene, coupling: str | None = None) -> dict:
     for (section, key), unhashed in late:
         if isinstance(data.get(section), dict) and key in data[section] and data[section][key] == unhashed:
             data[section].pop(key)
+    for body in data.get("debris") or []:
+        for key, unhashed in LATE_BODY_KEYS:
+            if isinstance(body, dict) and key in body and body[key] == unhashed:
+                body.pop(key)
     for section, default in LATE_SECTIONS.items():
         if section in data and data[section] == default:
             data.pop(section)

@@ -25,7 +25,7 @@ from typing import Any, Literal
 from pydantic import Field, field_validator, model_validator
 
 from analytical.catalogue import container_inertia, debris_type, list_debris
-from analytical.errors import InputError
+from orchestrator.core.errors import InputError
 from analytical.sections import KINDS, MATERIALS, column_section, material, section_properties
 from orchestrator.scene.base import Pos, SceneSection
 
