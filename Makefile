@@ -107,12 +107,17 @@ results-layouts: venv
 
 # make ensemble-1debris [N=200]: the 1-debris scene's one-way flow once (about 5 min of interFoam on
 # 2 cores; reused when run again), then N realisations of perturbed starts through it (docs/ensembles.md).
+# ENS_NAME and ENS_SET run another flow, e.g. the record refined to 3 cm near the column:
+#   make ensemble-1debris ENS_NAME=ensemble-1debris-3cm ENS_SET="--set 'mesh.refine_box_m=[4.3,5.05,-0.16,0.16,0,0.24]' \
+#     --set mesh.refine_cell_size_m=0.03 --set outputs.flow_record_hz=100 --set run.end_time_s=2.6"
 N ?= 200
+ENS_NAME ?= ensemble-1debris
+ENS_SET ?=
 ensemble-1debris: venv openfoam
-	$(VENV)/bin/debrisfoam ensemble cases/1debris.yaml -n $(N) -o runs/ensemble-1debris --force
-	mkdir -p docs/results/ensemble-1debris
-	cp runs/ensemble-1debris/report.md runs/ensemble-1debris/ensemble.json runs/ensemble-1debris/histograms.png \
-	   runs/ensemble-1debris/envelope.png docs/results/ensemble-1debris/
+	$(VENV)/bin/debrisfoam ensemble cases/1debris.yaml -n $(N) -o runs/$(ENS_NAME) --force $(ENS_SET)
+	mkdir -p docs/results/$(ENS_NAME)
+	cp runs/$(ENS_NAME)/report.md runs/$(ENS_NAME)/ensemble.json runs/$(ENS_NAME)/histograms.png \
+	   runs/$(ENS_NAME)/envelope.png docs/results/$(ENS_NAME)/
 
 # make design-street: `debrisfoam design` on cases/design-street.yaml (a 20-ft container onto a
 # 1.0 m RC column, three inundation cases): the three one-way flows (93k-122k cells, reused when run
