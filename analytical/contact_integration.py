@@ -41,7 +41,7 @@ from analytical.impact_bodies import ColumnTarget
 from analytical.impact_results import ImpactHistory
 from analytical.pulses import Tabulated
 
-__all__ = ["ColumnBlock", "ContactState", "NormalIntegrator", "column_blocks"]
+__all__ = ["ColumnBlock", "ContactState", "NormalIntegrator", "column_blocks", "distinct_blocks"]
 
 _dsbmv, _dpbtrs = blas.dsbmv, lapack.dpbtrs
 
@@ -104,6 +104,23 @@ class ContactState:
             self.delta, self.delta_rate = s, vs
 
 
+def distinct_blocks(slots) -> tuple[list, list]:
+    """The distinct column blocks of ``slots`` (per axis: (block, share of its base shear) or None)
+    and the slots as (index into those blocks, share) or None."""
+    blocks, out = [], []
+    for slot in slots:
+        if slot is None:
+            out.append(None)
+            continue
+        block, share = slot
+        index = next((i for i, b in enumerate(blocks) if b is block), None)
+        if index is None:
+            index = len(blocks)
+            blocks.append(block)
+        out.append((index, share))
+    return blocks, out
+
+
 class NormalIntegrator:
     """Newmark (average acceleration) on [column blocks..., body], contact on/off.
 
@@ -116,18 +133,7 @@ class NormalIntegrator:
         self.m = m_eff
         self.k = k
         self.c = c
-        blocks = []  # the distinct column blocks
-        self.slots = []  # per axis: (index into blocks, share of its base shear) or None
-        for slot in slots:
-            if slot is None:
-                self.slots.append(None)
-                continue
-            block, share = slot
-            index = next((i for i, b in enumerate(blocks) if b is block), None)
-            if index is None:
-                index = len(blocks)
-                blocks.append(block)
-            self.slots.append((index, share))
+        blocks, self.slots = distinct_blocks(slots)
         self.blocks = blocks
         # The blocks side by side as one block-diagonal band system (each block's band
         # storage is zero above its first columns, so the bands simply concatenate).

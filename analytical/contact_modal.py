@@ -29,7 +29,7 @@ import numpy as np
 
 from analytical.column import Column
 from analytical.column_fem import column_model
-from analytical.contact_integration import NormalIntegrator, ContactState
+from analytical.contact_integration import ContactState, NormalIntegrator, distinct_blocks
 from analytical.impact_bodies import ColumnTarget
 
 __all__ = ["ModalBlock", "ModalIntegrator", "column_modes", "modal_blocks"]
@@ -86,17 +86,7 @@ class ModalIntegrator(NormalIntegrator):
 
     def __init__(self, m_eff, k, c, slots):
         self.m, self.k, self.c = m_eff, k, c
-        blocks, self.slots = [], []
-        for slot in slots:
-            if slot is None:
-                self.slots.append(None)
-                continue
-            block, share = slot
-            index = next((i for i, b in enumerate(blocks) if b is block), None)
-            if index is None:
-                index = len(blocks)
-                blocks.append(block)
-            self.slots.append((index, share))
+        blocks, self.slots = distinct_blocks(slots)
         if not blocks:
             raise ValueError("ModalIntegrator needs a column block; a rigid obstacle is NormalIntegrator's")
         self.blocks = blocks

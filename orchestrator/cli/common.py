@@ -21,6 +21,7 @@ from orchestrator.core.errors import MissingFeatureError
 from orchestrator.core.jsonio import json_default
 
 __all__ = [
+    "study_folder",
     "EXIT_BAD_INPUT",
     "EXIT_FAILURE",
     "EXIT_OK",
@@ -196,3 +197,16 @@ def emit(result: dict[str, Any], as_json: bool, out=sys.stdout) -> None:
 def missing_feature(what: str, issue: int) -> int:
     """Raise the error of a verb whose stage is not installed (exit 1, naming the tracking issue)."""
     raise MissingFeatureError(f"{what} is not built yet (tracked in issue {issue}); the analytical verbs work today")
+
+
+def study_folder(path: str, force: bool, reused: str, what: str) -> Path:
+    """A study's output folder: new, or holding only its ``reused`` sub-folder (the flows a study
+    runs once and reuses), or anything with --force (the study's files are replaced; ``reused``
+    is still reused where it holds the scene's cases). ``what`` names the study in the message."""
+    out = writable_folder(path, "-o/--out")
+    others = sorted(p.name for p in out.iterdir() if p.name != reused) if out.is_dir() else []
+    if others and not force:
+        raise InputError("-o/--out", f"{out} holds files already ({', '.join(others[:4])}"
+                                     f"{', ...' if len(others) > 4 else ''}): give --force to replace the {what} "
+                                     f"(its {reused}/ is reused), or another folder")
+    return out

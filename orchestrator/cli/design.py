@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 
 from orchestrator.cli.case import YES_HELP
-from orchestrator.cli.common import EXIT_OK, SCENE_HELP, confirm_large, emit, plan_scene, writable_folder
+from orchestrator.cli.common import EXIT_OK, SCENE_HELP, confirm_large, emit, plan_scene, study_folder
 from orchestrator.core.errors import InputError
 from orchestrator.scene.shipped import resolve_scene
 
@@ -20,15 +20,8 @@ __all__ = ["add_design_parser", "cmd_design"]
 
 
 def _design_out(path: str, force: bool) -> Path:
-    """The study's folder: new, or holding only its flows/ (reused), or anything with --force
-    (the study's files are replaced; flows/ is still reused where it holds the scene's cases)."""
-    out = writable_folder(path, "-o/--out")
-    others = sorted(p.name for p in out.iterdir() if p.name != "flows") if out.is_dir() else []
-    if others and not force:
-        raise InputError("-o/--out", f"{out} holds files already ({', '.join(others[:4])}"
-                                     f"{', ...' if len(others) > 4 else ''}): give --force to replace the study "
-                                     "(its flows/ are reused), or another folder")
-    return out
+    """The study's folder: new, or holding only its flows/ (reused), or anything with --force."""
+    return study_folder(path, force, "flows", "study")
 
 
 def cmd_design(args: argparse.Namespace) -> int:

@@ -27,6 +27,7 @@ from orchestrator.cli.common import (
     emit,
     output_path,
     plan_scene,
+    study_folder,
     warn,
     writable_folder,
 )
@@ -155,15 +156,8 @@ def _print_failures(result) -> None:
 
 
 def _ensemble_out(path: str, force: bool) -> Path:
-    """The ensemble's folder: new, or holding only its flow/ (reused), or anything with --force
-    (the ensemble's files are replaced; flow/ is still reused when it holds this scene's case)."""
-    out = writable_folder(path, "-o/--out")
-    others = sorted(p.name for p in out.iterdir() if p.name != "flow") if out.is_dir() else []
-    if others and not force:
-        raise InputError("-o/--out", f"{out} holds files already ({', '.join(others[:4])}"
-                                     f"{', ...' if len(others) > 4 else ''}): give --force to replace the ensemble "
-                                     "(its flow/ is reused), or another folder")
-    return out
+    """The ensemble's folder: new, or holding only its flow/ (reused), or anything with --force."""
+    return study_folder(path, force, "flow", "ensemble")
 
 
 def cmd_ensemble(args: argparse.Namespace) -> int:
