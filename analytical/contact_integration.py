@@ -67,23 +67,25 @@ class ColumnBlock:
         self.size = len(self.b)
 
 
-def column_blocks(target: ColumnTarget, n: np.ndarray) -> tuple[tuple[ColumnBlock, float] | None, ...]:
+def column_blocks(target: ColumnTarget, n: np.ndarray, block_type=None) -> tuple[tuple[ColumnBlock, float] | None, ...]:
     """Per horizontal axis, the column block that axis loads and its share of the block's base
-    shear, or None where ``-n`` has no part along the axis.
+    shear, or None where ``-n`` has no part along the axis. ``block_type``: the block to build
+    (``ColumnBlock``, the default, or another taking (column, height, gain)).
 
     A column that bends alike both ways (a square or circular section) is one model loaded
     by ``g_x f`` and ``g_y f`` from rest, so ``u_y = (g_y / g_x) u_x``: one block with the
     combined gain ``hypot(g_x, g_y)`` carries both exactly, at half the cost, and each axis
     takes the share ``g_i / hypot(g_x, g_y)`` of its base shear.
     """
+    block_type = block_type or ColumnBlock
     gains = [-float(n[axis]) for axis in (0, 1)]
     loaded = [abs(g) > 1e-12 for g in gains]
     if all(loaded) and target.axis_column(0) == target.axis_column(1):
         gain = math.hypot(*gains)
-        block = ColumnBlock(target.axis_column(0), target.height_m, gain)
+        block = block_type(target.axis_column(0), target.height_m, gain)
         return tuple((block, g / gain) for g in gains)
     return tuple(
-        (ColumnBlock(target.axis_column(axis), target.height_m, g), 1.0) if ok else None
+        (block_type(target.axis_column(axis), target.height_m, g), 1.0) if ok else None
         for axis, (g, ok) in enumerate(zip(gains, loaded))
     )
 

@@ -22,14 +22,13 @@ the base shear ``g F - (Phi^T e_M) . (q'' + a0 q')`` (``e_M`` the model's inerti
 
 from __future__ import annotations
 
-import math
 from functools import lru_cache
 
 import numpy as np
 
 from analytical.column import Column
 from analytical.column_fem import column_model
-from analytical.contact_integration import ContactState, NormalIntegrator, distinct_blocks
+from analytical.contact_integration import ContactState, NormalIntegrator, column_blocks, distinct_blocks
 from analytical.impact_bodies import ColumnTarget
 
 __all__ = ["ModalBlock", "ModalIntegrator", "column_modes", "modal_blocks"]
@@ -68,16 +67,7 @@ class ModalBlock:
 def modal_blocks(target: ColumnTarget, n: np.ndarray) -> tuple[tuple[ModalBlock, float] | None, ...]:
     """:func:`~analytical.contact_integration.column_blocks` with modal blocks (the same merging
     of a column that bends alike both ways into one block)."""
-    gains = [-float(n[axis]) for axis in (0, 1)]
-    loaded = [abs(g) > 1e-12 for g in gains]
-    if all(loaded) and target.axis_column(0) == target.axis_column(1):
-        gain = math.hypot(*gains)
-        block = ModalBlock(target.axis_column(0), target.height_m, gain)
-        return tuple((block, g / gain) for g in gains)
-    return tuple(
-        (ModalBlock(target.axis_column(axis), target.height_m, g), 1.0) if ok else None
-        for axis, (g, ok) in enumerate(zip(gains, loaded))
-    )
+    return column_blocks(target, n, ModalBlock)
 
 
 class ModalIntegrator(NormalIntegrator):

@@ -86,7 +86,7 @@ def add_design_parser(verbs) -> None:
     p.add_argument("--workers", type=int, default=None, metavar="N",
                    help="batches at once (default: this machine's cores)")
     p.add_argument("--batch-size", type=int, default=None, metavar="B",
-                   help="realisations stepped together in one model (default 32)")
+                   help="realisations stepped together in one model (default 128)")
     p.add_argument("--set", action="append", metavar="KEY=VALUE", help="scene override (repeatable)")
     p.add_argument("--force", action="store_true", help="replace a study already in DIR (its flows are reused)")
     p.add_argument("--yes", action="store_true", help=YES_HELP)

@@ -188,10 +188,7 @@ def _plots(carries: list[ApproachRun], budget: pd.DataFrame) -> tuple[bytes, byt
     ax.set_ylabel("body speed (m/s)")
     ax.legend(fontsize=7)
     ax.grid(alpha=0.3)
-    speed = io.BytesIO()
-    fig.tight_layout()
-    fig.savefig(speed, dpi=120)
-    plt.close(fig)
+    speed = _png(fig)
     fig, ax = plt.subplots(figsize=(8, 5))
     for term in TERMS_PLOTTED:
         ax.plot(budget["gap_m"], budget[f"{term}_x"], label=term.replace("_", " "))
@@ -200,11 +197,18 @@ def _plots(carries: list[ApproachRun], budget: pd.DataFrame) -> tuple[bytes, byt
     ax.set_ylabel("force along the flume (N)")
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
+    return speed, _png(fig)
+
+
+def _png(fig) -> bytes:
+    """A figure as PNG bytes, closed."""
+    import matplotlib.pyplot as plt
+
     out = io.BytesIO()
     fig.tight_layout()
     fig.savefig(out, dpi=120)
     plt.close(fig)
-    return speed.getvalue(), out.getvalue()
+    return out.getvalue()
 
 
 def main(argv=None) -> None:

@@ -58,7 +58,7 @@ from orchestrator.scene.scenefile import load_scene
 from orchestrator.studies.design_table import DEMANDS, DESIGN_COLUMNS, allocate, case_names, debris_types, mass_range, \
     realisation_demands
 from orchestrator.studies.ensemble import DEFAULT_BATCH_SIZE, EXECUTORS, Perturbation, body_rows, ensemble_flow, \
-    start_clash
+    forget_flow, keep_flow, start_clash
 from orchestrator.studies.sweep.executors import dask_executor
 from orchestrator.transport.batch import run_batch
 from orchestrator.transport.case_transport import scene_settings, transport_setup
@@ -135,23 +135,11 @@ def design_starts(bodies: Sequence[TransportBody], flume: FlumeBounds, column: P
 
 
 # --------------------------------------------------------------------------- the realisations
-_FLOWS: dict[str, FlowField] = {}
-
-
-def _flow(npz: str, flow: FlowField | None = None) -> FlowField:
-    """The flow of ``npz`` in this process: given (the local pool's initializer), or loaded once."""
-    if flow is not None:
-        _FLOWS[npz] = flow
-    if npz not in _FLOWS:
-        _FLOWS[npz] = FlowField.load(npz)
-    return _FLOWS[npz]
-
-
 def design_batch(numbers: Sequence[int], starts: Sequence[list[TransportBody]], flume: FlumeBounds,
                  column: PlacedColumn, t_end_s: float, npz: str, settings: TransportSettings) -> list[dict[str, Any]]:
     """Rows of design.csv (without the case's columns) for realisations ``numbers`` of one case,
     stepped together in one model (module notes)."""
-    flow = _flow(npz)
+    flow = keep_flow(npz)
     if len(starts) == 1:
         results = [run_transport(list(starts[0]), flume, t_end_s, flow=flow, column=column, settings=settings)]
     else:
@@ -183,7 +171,7 @@ def _run_case(case: DesignCase, starts: list[list[TransportBody]], flume: FlumeB
     """Every realisation of one case, in batches, on ``executor``; rows in realisation order."""
     settings = dataclasses.replace(scene_settings(case.scene), first_pulse_only=True)
     npz = str(case.npz)
-    _flow(npz, flow)
+    keep_flow(npz, flow)
     t_end = float(case.scene.run.end_time_s)
     tasks = [(list(range(lo, min(lo + batch_size, len(starts)))), starts[lo:lo + batch_size], flume, column, t_end,
               npz, settings) for lo in range(0, len(starts), batch_size)]
@@ -208,7 +196,7 @@ def _run_case(case: DesignCase, starts: list[list[TransportBody]], flume: FlumeB
             finished(task[0][0], design_batch(*task))
     elif executor == "local":
         with concurrent.futures.ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("fork"),
-                                                    initializer=_flow, initargs=(npz, flow)) as pool:
+                                                    initializer=keep_flow, initargs=(npz, flow)) as pool:
             futures = {pool.submit(design_batch, *task): task[0][0] for task in tasks}
             for future in concurrent.futures.as_completed(futures):
                 collect(futures[future], future)
@@ -288,7 +276,7 @@ def design(scene_path: str | Path, out_dir: str | Path, sets: Sequence[str] = ()
         for row in _run_case(case, starts, flume, column, flow, executor, workers, int(batch_size), advance):
             rows.append({**row, "case": case.name, "case_weight": case.weight,
                          "sample_weight": case.weight / case.realisations})
-        _FLOWS.pop(str(case.npz), None)  # one flow held at a time
+        forget_flow(str(case.npz))  # one flow held at a time
     table = pd.DataFrame(rows, columns=DESIGN_COLUMNS)
     table["struck"] = table["struck"].astype(bool)
     files = {"table": out / "design.csv"}

@@ -115,6 +115,7 @@ __all__ = [
     "ensemble_flow",
     "ensemble_starts",
     "first_strike_fit",
+    "forget_flow", "keep_flow",
     "perturbed_starts",
     "plan_footprint",
     "run_ensemble",
@@ -358,7 +359,7 @@ def first_strike_fit(result: TransportResult, first, column: PlacedColumn | None
 _FLOWS: dict[str, FlowField] = {}
 
 
-def _keep_flow(npz: str, flow: FlowField | None = None) -> FlowField:
+def keep_flow(npz: str, flow: FlowField | None = None) -> FlowField:
     """The flow of ``npz`` in this process: given (the local pool's initializer), or loaded once."""
     if flow is not None:
         _FLOWS[npz] = flow
@@ -367,10 +368,14 @@ def _keep_flow(npz: str, flow: FlowField | None = None) -> FlowField:
     return _FLOWS[npz]
 
 
+def forget_flow(npz: str) -> None:  # a study that holds one flow at a time
+    _FLOWS.pop(npz, None)
+
+
 def run_realisation(number: int, bodies: list[TransportBody], flume: FlumeBounds, column: PlacedColumn | None,
                     t_end_s: float, npz: str, settings: TransportSettings, study_fit: bool = True) -> Realisation:
     """Carry one realisation's bodies through the flow of ``npz`` (loaded once per process)."""
-    flow = _keep_flow(npz)
+    flow = keep_flow(npz)
     result = run_transport(bodies, flume, t_end_s, flow=flow, column=column, settings=settings)
     return _realisation(number, result, bodies, column, flume, study_fit)
 
@@ -395,7 +400,7 @@ def run_realisations(numbers: Sequence[int], starts: Sequence[list[TransportBody
     and pulses plus its own fits."""
     if len(numbers) == 1:
         return [run_realisation(numbers[0], list(starts[0]), flume, column, t_end_s, npz, settings, study_fit)]
-    results = run_batch(starts, flume, t_end_s, flow=_keep_flow(npz), column=column, settings=settings)
+    results = run_batch(starts, flume, t_end_s, flow=keep_flow(npz), column=column, settings=settings)
     return [_realisation(number, result, bodies, column, flume, study_fit)
             for number, result, bodies in zip(numbers, results, starts)]
 
@@ -422,7 +427,7 @@ class EnsembleResult:
 def _open_local(workers: int, npz: str, flow: FlowField):
     """A fork process pool whose workers start with ``flow`` (inherited, not pickled)."""
     return concurrent.futures.ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("fork"),
-                                                  initializer=_keep_flow, initargs=(npz, flow))
+                                                  initializer=keep_flow, initargs=(npz, flow))
 
 
 def run_ensemble(starts: Sequence[list[TransportBody]], flume: FlumeBounds, column: PlacedColumn | None, t_end_s: float,
@@ -442,7 +447,7 @@ def run_ensemble(starts: Sequence[list[TransportBody]], flume: FlumeBounds, colu
     workers = max(1, int(workers or os.cpu_count() or 1))
     settings = dataclasses.replace(settings or TransportSettings(), first_pulse_only=True)
     npz = str(npz)
-    _keep_flow(npz, flow)
+    keep_flow(npz, flow)
     # at most batch_size a model, and no fewer batches than workers (each worker busy)
     size = max(1, min(int(batch_size), math.ceil(len(starts) / workers)))
     tasks = [(list(range(lo, min(lo + size, len(starts)))), [list(b) for b in starts[lo:lo + size]], flume, column,
