@@ -53,8 +53,7 @@ Batches
 (:mod:`orchestrator.transport.batch`: no contact pair between realisations), so the engine's
 per-step work is paid once for all of them; the table is the one-at-a-time one for the same
 seeds (tests/test_ensemble.py). ``study_fit`` False leaves the study's fit out (a design-scale
-ensemble reads the law's pulse; the fit is the like-for-like comparison's and costs more than
-the batched transport of a realisation).
+ensemble reads the law's pulse; the fit costs more than a batched realisation's transport).
 
 Executors
 ---------
@@ -134,23 +133,23 @@ measurement it comes from)."""
 TABLE_COLUMNS = [
     "realisation", "body", "start_x_m", "start_y_m", "start_yaw_deg", "struck", "impact_time_s",
     "impact_velocity_m_s", "impact_speed_m_s", "impact_height_m", "obliquity_deg", "peak_force_N", "duration_s",
-    "impulse_Ns", "peak_base_shear_N", "face_water_level_m", "study_fit_peak_N", "study_fit_duration_s",
-    "study_fit_impulse_Ns", "study_fit_start_s", "study_fit_height_m", "study_fit_height_source", "study_fit_nrmse",
-    "strikes", "wall_time_s", "study_fit_wall_s",
+    "impulse_Ns", "peak_base_shear_N", "effective_mass_kg", "face_water_level_m", "study_fit_peak_N",
+    "study_fit_duration_s", "study_fit_impulse_Ns", "study_fit_start_s", "study_fit_height_m",
+    "study_fit_height_source", "study_fit_nrmse", "strikes", "wall_time_s", "study_fit_wall_s",
 ]
 """ensemble.csv: the start; the first column strike (time, normal velocity of the centre and its
-speed, contact height above the bed, obliquity from the face's normal), the law's pulse (peak
-force, duration, impulse, the column's peak base shear), the water level at the face and the
-study's fit of the base shear (:mod:`orchestrator.results.study_fit`), NaN when not struck; all
-column strikes; the realisation's wall time (stepping, pulses and fits) and its fits' part."""
+speed, contact height above the bed, obliquity from the face's normal), the law's pulse (peak force,
+duration, impulse, the column's peak base shear, the effective mass at the contact along the normal,
+added mass included), the water level at the face and the study's fit of the base shear
+(:mod:`orchestrator.results.study_fit`), NaN when not struck; all column strikes; the wall time."""
 
 TRACK_COLUMNS = ["realisation", "body", "time_s", "x_m", "y_m", "speed_m_s"]
 """tracks.csv: every body's centre in plan view, every output interval (0.01 s)."""
 
 #: The figures ensemble.json states for every struck body (mean, std, min, max, count).
 STATISTICS = ("impact_time_s", "impact_velocity_m_s", "impact_speed_m_s", "impact_height_m", "obliquity_deg",
-              "peak_force_N", "duration_s", "impulse_Ns", "peak_base_shear_N", "face_water_level_m", "study_fit_peak_N",
-              "study_fit_duration_s", "study_fit_impulse_Ns", "study_fit_start_s", "study_fit_height_m",
+              "peak_force_N", "duration_s", "impulse_Ns", "peak_base_shear_N", "effective_mass_kg", "face_water_level_m",
+              "study_fit_peak_N", "study_fit_duration_s", "study_fit_impulse_Ns", "study_fit_start_s", "study_fit_height_m",
               "study_fit_nrmse")
 
 
@@ -317,7 +316,8 @@ def body_rows(result: TransportResult, bodies: Sequence[TransportBody], realisat
         for name, source in (("impact_time_s", "time_s"), ("impact_velocity_m_s", "impact_velocity_m_s"),
                              ("impact_height_m", "height_m"), ("obliquity_deg", "obliquity_deg"),
                              ("peak_force_N", "peak_force_N"), ("duration_s", "duration_s"),
-                             ("impulse_Ns", "impulse_Ns"), ("peak_base_shear_N", "peak_base_shear_N")):
+                             ("impulse_Ns", "impulse_Ns"), ("peak_base_shear_N", "peak_base_shear_N"),
+                             ("effective_mass_kg", "effective_mass_kg")):
             row[name] = float(first[source]) if first is not None else math.nan
         row["impact_speed_m_s"] = (math.hypot(float(first["normal_velocity_in_m_s"]),
                                               float(first["tangential_velocity_in_m_s"]))
