@@ -31,6 +31,7 @@ from pathlib import Path
 from typing import Callable, Sequence
 
 from orchestrator.core.errors import DebrisfoamError
+from orchestrator.case import split_bodies
 from orchestrator.case.folder import BED_LAYER_ZONE, BODIES_DIR
 
 #: OpenFOAM v1912 from Debian: binaries in /usr/bin, project files here.
@@ -278,7 +279,17 @@ def solve_steps(case_dir: str | Path, plan, np: int | None = None) -> list[Step]
     n = plan.decomposition
     ranks = np or int(n[0]) * int(n[1]) * int(n[2])
     steps = []
-    if ranks > 1:
+    if ranks > 1 and split_bodies.needed(len(plan.bodies), ranks):
+        # v1912's overset hangs when two body meshes share a rank (orchestrator/case/split_bodies.py)
+        table = "constant/cellDecomposition"
+        steps.append(Step("decomposePar.cellDist", ("decomposePar", "-cellDist", "-dry-run"),
+                          f"the planned split into {ranks} subdomains, written to 0/cellDist only",
+                          done=lambda case: (Path(case) / split_bodies.DICT).is_file()))
+        steps.append(Step("decomposePar", ("decomposePar", "-force", "-decomposeParDict", split_bodies.DICT),
+                          f"split the case into {ranks} subdomains, every body mesh across two ranks ({table} "
+                          "and the dictionary written by `debrisfoam run` between these two steps)",
+                          done=lambda case: (Path(case) / "processor0").is_dir()))
+    elif ranks > 1:
         steps.append(Step("decomposePar", ("decomposePar",), f"split the case into {ranks} subdomains",
                           done=lambda case: (Path(case) / "processor0").is_dir()))
     steps.append(Step(plan.solver, (plan.solver,), f"the solver on {ranks} core(s)", np=ranks))

@@ -241,15 +241,6 @@ def _placement_warnings(scene: Scene, layout: BodyLayout) -> list[str]:
             warnings.append(
                 f"{body.name}: its overset mesh reaches {' and '.join(outside)} at the start; cells there have no donors"
             )
-    for i, (lo_a, hi_a) in enumerate(layout.boxes):
-        for j in range(i):
-            lo_b, hi_b = layout.boxes[j]
-            if np.all(lo_a < hi_b) and np.all(lo_b < hi_a):
-                warnings.append(
-                    f"the overset meshes of {scene.debris[j].name} and {scene.debris[i].name} overlap at the start: "
-                    "OpenFOAM v1912 may then never finish the overset addressing of the first step (the study's "
-                    "2x3 layout at 4 cm cells: over 17 min; docs/stability.md, six-debris)"
-                )
     return warnings
 
 

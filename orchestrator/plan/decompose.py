@@ -3,7 +3,9 @@
 decomposePar keeps every body mesh whole on one rank whatever the cuts (a
 preserveFaceZones constraint, templates/system/decomposeParDict.j2): it lumps the
 body's cells into one point before cutting, which costs balance where a cut would have
-crossed the body. Cut planes are estimated as cell-count quantiles per axis (hierarchical
+crossed the body. With two or more bodies the runner then moves half of each body mesh to
+the next rank (orchestrator/case/split_bodies.py), because v1912's overset deadlocks when two
+overlapping body meshes share a rank. Cut planes are estimated as cell-count quantiles per axis (hierarchical
 balances cell counts). Candidates are scored by the bodies their cuts cross at the
 start, then the bodies whose path (to the column) they cross, then the
 processor-boundary area.
@@ -103,7 +105,14 @@ def decompose(cores: int, background: BoxGrid, bodies: tuple[BodyPlan, ...], lay
         f"{'xyz'[a]} cut at {', '.join(f'{c:.3g}' for c in cuts[a])} m" for a in range(3) if cuts[a]
     )
     text = f"hierarchical ({cand[0]} {cand[1]} {cand[2]}) over {cores} cores ({where})"
-    if bodies:
+    if len(bodies) >= 2:
+        text += (
+            ": each body mesh on one rank (decomposePar's preserveFaceZones constraint), then half of each "
+            "moved to the next rank (orchestrator/case/split_bodies.py): v1912's overset addressing deadlocks when "
+            "two overlapping body meshes share a rank (docs/stability.md); a split body mesh costs about 19 % per "
+            "step (docs/openfoam-notes.md)"
+        )
+    elif bodies:
         text += (
             f": every body mesh on one rank (decomposePar's preserveFaceZones constraint); "
             f"{len(bodies) - split_now} of {len(bodies)} body meshes start clear of the balanced cuts and "

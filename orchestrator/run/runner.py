@@ -5,7 +5,8 @@
 1. the mesh steps of `foam.mesh_steps` (blockMesh, bodies, mergeMeshes, topoSet,
    setFields, checkMesh), each skipped when its outputs exist;
 2. `decomposePar` (hierarchical, from system/decomposeParDict) when running on more
-   than one rank;
+   than one rank; with two or more body meshes, that split goes through
+   `orchestrator.case.split_bodies` first, so that no body mesh is whole on one rank;
 3. the solver, `mpirun -np N <solver> -parallel`, in *segments*: a segment runs
    from the latest written time until the end time, a stop request (Ctrl-C,
    SIGTERM, `stop_event`) or a contact event. The solver's output goes to
@@ -97,7 +98,7 @@ from pathlib import Path
 from typing import Any, Callable
 
 from orchestrator.core.errors import DebrisfoamError
-from orchestrator.case import bodystate, foam
+from orchestrator.case import bodystate, foam, split_bodies
 from orchestrator.case.folder import EPS_T, PLAN_JSON, SCENE_YAML, CaseFolder, processor_dirs
 from orchestrator.contact.settings import ContactSettings
 from orchestrator.plan.scale import froude_factor
@@ -271,8 +272,13 @@ def _prepare(info: CaseInfo, sup: Supervisor) -> None:
         except foam.StepError:
             pass
     for step in foam.solve_steps(case, info.plan, info.ranks):
-        if step.name == "decomposePar":
-            if not step.done(case):
+        if step.name.startswith("decomposePar"):
+            if step.name == "decomposePar.cellDist" and not step.done(case):
+                _match_decomposition(case, info.ranks, data)
+                sup.run_step(step)
+                data["body_mesh_ranks"] = split_bodies.split(case, info.ranks)
+                continue
+            if step.name == "decomposePar" and not step.done(case) and len(step.argv) == 1:
                 _match_decomposition(case, info.ranks, data)
             sup.run_step(step)
 

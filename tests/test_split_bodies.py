@@ -1,0 +1,79 @@
+"""Several body meshes on several ranks: every body mesh is split across two ranks.
+
+v1912's overset addressing deadlocks when two overlapping body meshes sit whole on one rank
+(orchestrator/case/split_bodies.py has the source lines; docs/stability.md the runs): the rank
+holding them enters a collective the other ranks never reach. tests/data/scenes/three-debris-two-way.yaml
+(the study's 3x1 layout in the tiny flume, body meshes overlapping by 0.06 m) stalled at t = 0 on
+2 ranks with every body whole on one rank; with the split it runs.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+
+import numpy as np
+import pytest
+
+from conftest import ROOT, render_and_run
+from orchestrator.case import foam, split_bodies
+
+SCENE = ROOT / "tests" / "data" / "scenes" / "three-debris-two-way.yaml"
+
+
+def _field(path, values):
+    path.parent.mkdir(parents=True, exist_ok=True)
+    body = "\n".join(str(v) for v in values)
+    path.write_text("FoamFile\n{\n    version 2.0;\n    format ascii;\n    class volScalarField;\n"
+                    f"    object {path.name};\n}}\n\ndimensions [0 0 0 0 0 0 0];\n\n"
+                    f"internalField nonuniform List<scalar>\n{len(values)}\n(\n{body}\n)\n;\n\n"
+                    "boundaryField\n{\n}\n")
+
+
+def test_split_moves_half_of_each_whole_body_mesh_to_the_next_rank(tmp_path):
+    # background 0-5 on ranks 0/1; body 1 whole on rank 1; body 2 whole on rank 0; body 3 split already
+    zone = [0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 3, 3]
+    dist = [0, 0, 0, 1, 1, 1, 1, 1, 1, 1, 0, 0, 0, 0, 1]
+    _field(tmp_path / "0" / "zoneID", zone)
+    _field(tmp_path / "0" / "cellDist", dist)
+    (tmp_path / "constant").mkdir()
+    (tmp_path / "system").mkdir()
+    counts = split_bodies.split(tmp_path, 2)
+    assert counts == {1: [2, 2], 2: [1, 2], 3: [1, 1]}
+    text = (tmp_path / "constant" / "cellDecomposition").read_text()
+    procs = [int(v) for v in text.split("(", 1)[1].split(")", 1)[0].split()]
+    assert procs == [0, 0, 0, 1, 1, 1, 1, 1, 0, 0, 0, 1, 1, 0, 1]  # background and body 3 untouched
+    manual = (tmp_path / split_bodies.DICT).read_text()
+    assert re.search(r"method\s+manual;", manual) and "numberOfSubdomains 2;" in manual
+    assert not (tmp_path / "0" / "cellDist").exists()
+
+
+def test_the_split_is_planned_only_for_two_or_more_bodies_on_two_or_more_ranks():
+    class Plan:
+        decomposition = (2, 1, 1)
+        solver = "overInterDyMFoam"
+
+    plan = Plan()
+    plan.bodies = ("a", "b")
+    names = [s.name for s in foam.solve_steps("case", plan)]
+    assert names[:2] == ["decomposePar.cellDist", "decomposePar"]
+    plan.bodies = ("a",)
+    assert [s.name for s in foam.solve_steps("case", plan)][0] == "decomposePar"
+    plan.bodies = ("a", "b")
+    assert "decomposePar" not in [s.name for s in foam.solve_steps("case", plan, np=1)]
+
+
+@pytest.mark.openfoam
+def test_three_overlapping_body_meshes_get_past_the_first_steps_on_two_ranks(openfoam, tmp_path):
+    case = tmp_path / "three"
+    render_and_run(SCENE, case, "run.end_time_s=0.05")
+    record = json.loads((case / "run.json").read_text())
+    assert record["status"] == "finished"
+    assert {k: len([n for n in v if n > 0]) for k, v in record["body_mesh_ranks"].items()} == {"1": 2, "2": 2, "3": 2}
+    log = "".join(p.read_text() for p in sorted(case.glob("log.overInterDyMFoam*")))
+    steps = len(re.findall(r"^Time = ", log, re.M))
+    # 6 zone pairs (background and three bodies) addressed at every step, none left hanging
+    assert steps >= 5
+    assert len(re.findall("Creating mesh-to-mesh addressing", log)) >= 6 * steps
+    overlaps = np.array([float(v) for v in re.findall(r"Overlap volume: (\S+)", log)])
+    assert (overlaps > 0).sum() >= 5 * steps  # two body pairs overlap besides the background's three
