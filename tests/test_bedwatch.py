@@ -74,6 +74,22 @@ def test_the_columns_ring_the_bodies_kept_on_the_bed_one_point_per_layer(case):
     assert (case / "system" / "controlDict").read_text().count('#include "bodyDepth"') == 1
 
 
+def test_a_point_sampled_in_a_body_mesh_as_well_counts_once(case, tmp_path):
+    # v1912's sets writes a point that lies in a body's overset mesh once per mesh: a still 25 mm
+    # bed read through such a column must still be 25 mm, not twice that
+    plan = json.loads((case / "plan.json").read_text())
+    axis = waterdepth.z_axis(plan, waterdepth._scene(case))
+    wet = axis.z < 0.025
+    rows = [(x, 0.0, z, 1.0 if w else 0.0) for x in (0.1, 0.5) for z, w in zip(axis.z, wet)]
+    rows += [(0.5, 0.0, z, 1.0 if w else 0.0) for z, w in zip(axis.z, wet)]  # x = 0.5: in a body mesh on the other rank too
+    folder = tmp_path / "0.3"
+    folder.mkdir()
+    np.savetxt(folder / "depth_alpha.water.xy", np.array(rows), delimiter="\t")
+    sample = waterdepth.read_sample(folder, axis, 0.3)
+    assert sample.xy.tolist() == [[0.1, 0.0], [0.5, 0.0]]
+    assert sample.depth_m == pytest.approx([0.025, 0.025])
+
+
 def _state(z=0.0375, u=(0.0, 0.0, 0.0)) -> BodyState:
     return BodyState("debris1", 0.0, (0.4, 0.0, z), velocity_m_s=u)
 

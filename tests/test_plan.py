@@ -212,6 +212,27 @@ def test_a_floating_body_on_a_dry_bed_needs_no_bed_layer():
     assert p.bodies[0].grid.holes == frozenset({(1, 1, 1)})
 
 
+@pytest.mark.parametrize("x", [-0.5, 3.2])
+def test_a_floating_bodys_mesh_has_a_plane_at_the_still_water(x):
+    # setFields fills whole cells by their centres: without the plane, the seed's container afloat
+    # had its mesh's waterline row filled 3.7 mm above the background's water and heaved +-1 mm
+    s = case("1debris", "bed.wet_depth_m=0.08", "debris.0.placement=floating", f"debris.0.centre_m=[{x}, 0.0]")
+    b = plan_case(s).bodies[0]
+    water = s.reservoir.depth_m if x < 0 else 0.08
+    assert b.centre_of_mass_m[2] - 0.03 == pytest.approx(water - 0.236 / (998.2 * 0.15 * 0.06))  # at its draft
+    faces = np.asarray(b.grid.planes("z")) + b.centre_of_mass_m[2]
+    assert np.any(np.isclose(faces, water, rtol=0, atol=1e-12))
+    assert max(all_cell_sizes(b.grid.z)) <= s.mesh.cell_size_m * (1 + 1e-9)
+    assert min(all_cell_sizes(b.grid.z)) >= 0.5 * b.cell_size_m
+    # the hole is the body, split at its waterline: both its blocks and nothing else
+    assert {k for _, _, k in b.grid.holes} == {1 + len(b.grid.z) - 4, 2 + len(b.grid.z) - 4}
+    lo = min(b.grid.z[k].start_m for _, _, k in b.grid.holes)
+    hi = max(b.grid.z[k].end_m for _, _, k in b.grid.holes)
+    assert (lo, hi) == (pytest.approx(-0.03), pytest.approx(0.03))
+    # a body resting on the bed keeps its mesh as it was (the gap's planes, BedGap)
+    assert len(plan_case(case("1debris")).bodies[0].grid.z) == 1 + 4 + 1 + 1
+
+
 def plate_inertia(a, b, c, t, rho):
     """Closed box as six plates (parallel-axis theorem): an independent route."""
     plates = []  # ((size x, y, z), centre offset)

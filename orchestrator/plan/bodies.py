@@ -32,6 +32,7 @@ __all__ = [
     "body_plans",
     "hold_until_s",
     "rests_on_bed",
+    "still_water_m",
 ]
 
 #: Cell layers in the gap left under a body resting on the bed (bed_gap).
@@ -170,6 +171,39 @@ def hold_until_s(scene: Scene, body: DebrisBody, gap_m: float = 0.0) -> float:
     return float(brentq(excess, lo, end)) if excess(lo) < 0 else lo
 
 
+def still_water_m(scene: Scene, body: DebrisBody) -> float:
+    """The still-water level where the body starts: the impoundment behind the gate, the wet bed
+    downstream of it (the level the placement puts a floating body's waterline at)."""
+    return float(scene.reservoir.depth_m if body.centre_m[0] < 0 else scene.bed.wet_depth_m)
+
+
+def _split_at(segs: tuple[Segment, ...], level_m: float, max_cell_m: float) -> tuple[Segment, ...]:
+    """``segs`` with a plane at ``level_m`` (body coordinates) when it falls inside one of them.
+
+    setFields fills whole cells by their centres, so the body mesh's own still water is right only
+    where its surface is a plane of that mesh (as the background's is): without the plane, the seed's
+    container afloat at its draft (the waterline 3.7 mm under a 15 mm cell's top face) had the water
+    in its mesh's waterline row filled up to that face, 3.7 mm above the background's, and heaved
+    +-1 mm for 2 s (docs/openfoam-notes.md, "A floating body in still water"). A uniform segment is cut
+    into two uniform ones of cells at most ``max_cell_m``; a graded one into two graded from the
+    size the grading has at the level.
+    """
+    out: list[Segment] = []
+    for s in segs:
+        if not (s.start_m + 1e-4 < level_m < s.end_m - 1e-4):
+            out.append(s)
+            continue
+        if s.cells == 1 or abs(s.grading - 1.0) < 1e-12:
+            size = max(max_cell_m, s.length_m / s.cells)
+            out += [Segment(s.start_m, level_m, max(1, math.ceil((level_m - s.start_m) / size - 1e-9))),
+                    Segment(level_m, s.end_m, max(1, math.ceil((s.end_m - level_m) / size - 1e-9)))]
+        else:
+            first, last = s.cell_sizes_m()
+            mid = first + (last - first) * (level_m - s.start_m) / s.length_m
+            out += [graded_segment(s.start_m, level_m, first, mid), graded_segment(level_m, s.end_m, mid, last)]
+    return tuple(out)
+
+
 def _body_grid(scene: Scene, body: DebrisBody, centre: np.ndarray, layout: BodyLayout) -> BoxGrid:
     """The body's overset mesh in body coordinates, placed on its centre and rotation."""
     h = scene.mesh.cell_size_m
@@ -190,14 +224,19 @@ def _body_grid(scene: Scene, body: DebrisBody, centre: np.ndarray, layout: BodyL
         else:
             before = (graded_segment(-half - margin, -half, h, hb),)
         after = graded_segment(half, half + margin, hb, h)
-        segs_by_axis.append((*before, inner, after))
-    kz = len(segs_by_axis[2]) - 2  # the body's own z segment
+        segs = (*before, inner, after)
+        if d == 2 and not rests_on_bed(body) and abs(rot[2, 2]) > 1 - 1e-9:
+            # a floating upright body's mesh has a plane at the still water (still_water_plane)
+            segs = _split_at(segs, still_water_m(scene, body) - float(centre[2]), hb)
+        segs_by_axis.append(segs)
+    half_z = body.size_m[2] / 2.0
+    own = [k for k, s in enumerate(segs_by_axis[2]) if s.start_m >= -half_z - 1e-12 and s.end_m <= half_z + 1e-12]
     return BoxGrid(
         body.name,
         segs_by_axis[0],
         segs_by_axis[1],
         segs_by_axis[2],
-        frozenset({(1, 1, kz)}),
+        frozenset((1, 1, k) for k in own),
         {**{s: f"{body.name}Overset" for s in _SIDES}, "hole": body.name},
         origin=tuple(float(v) for v in centre),
         rotation=tuple(tuple(float(v) for v in row) for row in rot),

@@ -247,11 +247,17 @@ def read_sample(path: Path, axis: ZAxis, time_s: float) -> Sample | None:
         return None
     if data.size == 0 or data.shape[1] < 4:
         return None
-    # one point per layer; a point outside the mesh (inside the column) is left out
-    keys = np.round(data[:, :2] / (0.01 * axis.cell_m)).astype(np.int64)
-    uniq, inverse = np.unique(keys, axis=0, return_inverse=True)
-    weights = np.clip(data[:, 3], 0.0, 1.0) * axis.dz[axis.layer(data[:, 2])]
-    depth = np.bincount(inverse.ravel(), weights=weights)
+    # one point per layer; a point outside the mesh (inside the column) is left out. A point in a
+    # body's overset mesh as well as the background, the two on different ranks, is written by both
+    # ("seems to be on multiple domains" in the log): its value is their mean, else the column
+    # reads that layer twice (80 mm of still water around a floating container read 160 mm)
+    points = np.round(data[:, :3] / (0.01 * axis.cell_m)).astype(np.int64)
+    points, at_point = np.unique(points, axis=0, return_inverse=True)
+    at_point = at_point.ravel()
+    alpha = np.bincount(at_point, weights=np.clip(data[:, 3], 0.0, 1.0)) / np.bincount(at_point)
+    z = points[:, 2] * 0.01 * axis.cell_m
+    uniq, inverse = np.unique(points[:, :2], axis=0, return_inverse=True)
+    depth = np.bincount(inverse.ravel(), weights=alpha * axis.dz[axis.layer(z)])
     return Sample(time_s, uniq * 0.01 * axis.cell_m, depth)
 
 
