@@ -275,45 +275,39 @@ def hydro_loads(
         added_inertia = np.zeros_like(added_mass)
         ratio = np.full_like(added_mass, c.added_mass_coefficient)
 
-    # Every term is formed at the wet sub-volumes only, in their body's frame (where the
-    # added mass is diagonal and the drag areas are the faces'), summed per body and turned
-    # into the world once per body.
+    # Every term is formed at every sub-volume in its body's frame (where the added mass is
+    # diagonal and the drag areas are the faces'), the dry ones contributing nothing (their
+    # wet volume and fraction are zero; their water is not read), summed per body and turned
+    # into the world once per body: whole (B, N) arrays, no gather of the wet points.
     force = np.zeros((n_bodies, 3))
     moment = np.zeros((n_bodies, 3))
-    wet = np.flatnonzero(frac.reshape(-1) > 0.0)
-    if wet.size:
-        owner = wet // n_pts
-        rot_p = rot[owner]  # (P, 3, 3)
-        world = np.stack([np.asarray(water_velocity_m_s, float).reshape(-1, 3)[wet],
-                          np.asarray(water_acceleration_m_s2, float).reshape(-1, 3)[wet],
-                          pts.reshape(-1, 3)[wet] - com[owner]], axis=1)
-        water, accel, arm = np.moveaxis(np.matmul(world, rot_p), 1, 0)  # R^T x: body frame, (P, 3) each
+    wet = frac > 0.0
+    if np.any(wet):
+        wet3 = wet[:, :, None]
+        world = np.concatenate([np.where(wet3, np.asarray(water_velocity_m_s, float).reshape(pts.shape), 0.0),
+                                np.where(wet3, np.asarray(water_acceleration_m_s2, float).reshape(pts.shape), 0.0),
+                                pts - com[:, None, :]], axis=1)
+        water, accel, arm = np.split(np.matmul(world, rot), 3, axis=1)  # R^T x: body frame, (B, N, 3) each
         motion = np.matmul(np.stack([vel, omega], axis=1), rot)  # (B, 2, 3): v and omega, body frame
-        rel = water - motion[owner, 0] - _cross(motion[owner, 1], arm)  # the water past the body
-        volume = wet_volume.reshape(-1)[wet]
+        rel = water - motion[:, None, 0] - _cross(motion[:, None, 1], arm)  # the water past the body
         # buoyancy (world +z is row 2 of R in the body frame) and (I + diag(C)) Du/Dt
-        f = (1.0 + ratio[owner]) * accel
-        f += c.gravity_m_s2 * rot_p[:, 2, :]
-        f *= (rho * volume)[:, None]
+        f = (1.0 + ratio[:, None, :]) * accel
+        f += c.gravity_m_s2 * rot[:, None, 2, :]
+        f *= (rho * wet_volume)[:, :, None]
         if c.drag_coefficient > 0.0:
             area = np.stack([size[:, 1] * size[:, 2], size[:, 0] * size[:, 2], size[:, 0] * size[:, 1]], axis=1)
-            area = area[owner]
-            share = frac.reshape(-1)[wet]
             if c.drag_area == "projected":
                 # the box's area seen along the relative flow: sum_k A_k |w_k| / |w|
-                seen = np.einsum("pk,pk->p", area, np.abs(rel))  # A_p |w|
-                f += ((0.5 * rho * c.drag_coefficient / n_pts) * (share * seen))[:, None] * rel
+                seen = np.einsum("bk,bnk->bn", area, np.abs(rel))  # A_p |w|
+                f += ((0.5 * rho * c.drag_coefficient / n_pts) * (frac * seen))[:, :, None] * rel
             else:
-                speed = np.sqrt(np.einsum("pk,pk->p", rel, rel))
-                f += (0.5 * rho * c.drag_coefficient / n_pts) * area * (share * speed)[:, None] * rel
-        starts = np.flatnonzero(np.r_[True, owner[1:] != owner[:-1]])  # owner ascends
-        bodies = owner[starts]
-        sums = np.add.reduceat(np.concatenate([f, _cross(arm, f), volume[:, None] * rel], axis=1), starts, axis=0)
-        force[bodies] = sums[:, 0:3]
-        moment[bodies] = sums[:, 3:6]
-        past = np.zeros((n_bodies, 1, 3))
-        past[bodies, 0] = sums[:, 6:9] / sub[bodies, None]  # the volume-weighted mean
-        turned = np.matmul(rot, np.stack([force, moment], axis=2))  # (B, 3, 2)
+                speed = np.sqrt(np.einsum("bnk,bnk->bn", rel, rel))
+                f += (0.5 * rho * c.drag_coefficient / n_pts) * area[:, None, :] * (frac * speed)[:, :, None] * rel
+        sums = np.concatenate([f, _cross(arm, f), wet_volume[:, :, None] * rel], axis=2).sum(axis=1)  # (B, 9)
+        # the volume-weighted mean of the water past each body (none past a dry one)
+        past = np.divide(sums[:, None, 6:9], sub[:, None, None], out=np.zeros((n_bodies, 1, 3)),
+                         where=sub[:, None, None] > 0)
+        turned = np.matmul(rot, np.stack([sums[:, 0:3], sums[:, 3:6]], axis=2))  # (B, 3, 2)
         force, moment = turned[:, :, 0], turned[:, :, 1]
         if c.munk_moment:
             moment += munk_moment(rot, past, sub[:, None], added_mass)
