@@ -235,6 +235,7 @@ def hydro_loads(
     water_acceleration_m_s2,
     coefficients: HydroCoefficients,
     added_mass_tables: np.ndarray | None = None,
+    local_m: np.ndarray | None = None,
 ) -> HydroLoads:
     """Force and moment on B boxes from the water at their N sub-volume centres.
 
@@ -244,8 +245,9 @@ def hydro_loads(
     ``eta_m`` (B, N) the surface above each; ``water_velocity_m_s`` and
     ``water_acceleration_m_s2`` (B, N, 3) there (read only where submerged);
     ``added_mass_tables`` (B, K, 6) each box's :func:`added_mass_table` (made here when not
-    given and ``coefficients.added_mass_coefficient`` is None). Returns :class:`HydroLoads`;
-    see the module notes for each term.
+    given and ``coefficients.added_mass_coefficient`` is None); ``local_m`` (B, N, 3) the
+    sub-volume centres in the body frame if known (``R^T (points - centre)`` otherwise: the
+    same to rounding). Returns :class:`HydroLoads`; see the module notes for each term.
     """
     c = coefficients
     com = np.asarray(centre_of_mass_m, float).reshape(-1, 3)
@@ -278,18 +280,22 @@ def hydro_loads(
     # Every term is formed at every sub-volume in its body's frame (where the added mass is
     # diagonal and the drag areas are the faces'), the dry ones contributing nothing (their
     # wet volume and fraction are zero; their water is not read), summed per body and turned
-    # into the world once per body: whole (B, N) arrays, no gather of the wet points.
+    # into the world once per body: whole (B, N) arrays, each step one array operation.
     force = np.zeros((n_bodies, 3))
     moment = np.zeros((n_bodies, 3))
     wet = frac > 0.0
     if np.any(wet):
-        wet3 = wet[:, :, None]
-        world = np.concatenate([np.where(wet3, np.asarray(water_velocity_m_s, float).reshape(pts.shape), 0.0),
-                                np.where(wet3, np.asarray(water_acceleration_m_s2, float).reshape(pts.shape), 0.0),
-                                pts - com[:, None, :]], axis=1)
-        water, accel, arm = np.split(np.matmul(world, rot), 3, axis=1)  # R^T x: body frame, (B, N, 3) each
-        motion = np.matmul(np.stack([vel, omega], axis=1), rot)  # (B, 2, 3): v and omega, body frame
-        rel = water - motion[:, None, 0] - _cross(motion[:, None, 1], arm)  # the water past the body
+        arm = np.matmul(pts - com[:, None, :], rot) if local_m is None else np.asarray(local_m, float)
+        world = np.concatenate([np.asarray(water_velocity_m_s, float).reshape(pts.shape),
+                                np.asarray(water_acceleration_m_s2, float).reshape(pts.shape)], axis=1)
+        world = np.where(np.concatenate([wet, wet], axis=1)[:, :, None], world, 0.0)
+        water, accel = np.split(np.matmul(world, rot), 2, axis=1)  # R^T x: body frame, (B, N, 3) each
+        v_b, w_b = np.moveaxis(np.matmul(np.stack([vel, omega], axis=1), rot), 1, 0)  # body frame, (B, 3)
+        # the body's velocity at each sub-volume, v + omega x r, as r @ S^T + v (S = [omega]x)
+        spin = np.zeros((n_bodies, 3, 3))
+        spin[:, 0, 1], spin[:, 0, 2], spin[:, 1, 0] = w_b[:, 2], -w_b[:, 1], -w_b[:, 2]
+        spin[:, 1, 2], spin[:, 2, 0], spin[:, 2, 1] = w_b[:, 0], w_b[:, 1], -w_b[:, 0]
+        rel = water - (np.matmul(arm, spin) + v_b[:, None, :])  # the water past the body
         # buoyancy (world +z is row 2 of R in the body frame) and (I + diag(C)) Du/Dt
         f = (1.0 + ratio[:, None, :]) * accel
         f += c.gravity_m_s2 * rot[:, None, 2, :]
@@ -298,16 +304,17 @@ def hydro_loads(
             area = np.stack([size[:, 1] * size[:, 2], size[:, 0] * size[:, 2], size[:, 0] * size[:, 1]], axis=1)
             if c.drag_area == "projected":
                 # the box's area seen along the relative flow: sum_k A_k |w_k| / |w|
-                seen = np.einsum("bk,bnk->bn", area, np.abs(rel))  # A_p |w|
+                seen = np.matmul(np.abs(rel), area[:, :, None])[:, :, 0]  # A_p |w|
                 f += ((0.5 * rho * c.drag_coefficient / n_pts) * (frac * seen))[:, :, None] * rel
             else:
                 speed = np.sqrt(np.einsum("bnk,bnk->bn", rel, rel))
                 f += (0.5 * rho * c.drag_coefficient / n_pts) * area[:, None, :] * (frac * speed)[:, :, None] * rel
-        sums = np.concatenate([f, _cross(arm, f), wet_volume[:, :, None] * rel], axis=2).sum(axis=1)  # (B, 9)
+        total = f.sum(axis=1)
+        torque = _cross(arm, f).sum(axis=1)
         # the volume-weighted mean of the water past each body (none past a dry one)
-        past = np.divide(sums[:, None, 6:9], sub[:, None, None], out=np.zeros((n_bodies, 1, 3)),
+        past = np.divide(np.matmul(wet_volume[:, None, :], rel), sub[:, None, None], out=np.zeros((n_bodies, 1, 3)),
                          where=sub[:, None, None] > 0)
-        turned = np.matmul(rot, np.stack([sums[:, 0:3], sums[:, 3:6]], axis=2))  # (B, 3, 2)
+        turned = np.matmul(rot, np.stack([total, torque], axis=2))  # (B, 3, 2)
         force, moment = turned[:, :, 0], turned[:, :, 1]
         if c.munk_moment:
             moment += munk_moment(rot, past, sub[:, None], added_mass)
