@@ -52,8 +52,9 @@ impulse would have); ``dv = J / m_t``, ``d omega = I^-1 (r x J)``. Through the b
 rotation a tangential impulse also changes the contact point's normal velocity, so with
 friction the normal dynamics see a different mass than ``m_eff``: the *normal mass*
 ``J_n / (v_out - v_in)`` of the combined impulse (Stronge's slip or stick effective mass).
-The normal integration is repeated with that mass until the two agree (one pass without
-friction or without coupling, two or three otherwise), so the force history, the normal
+The normal integration is repeated with that mass until the two agree to 1e-8 (one pass
+without friction or without coupling, two or three otherwise; the first pass takes the mass
+the law's rigid-wall rebound implies, which is within about 1e-3 of it), so the force history, the normal
 impulse, the restitution and the final velocities are one consistent solution. Guards:
 friction may not more than double the normal mass (the rigid-body "jam"), and where the
 kinematic normal condition with friction would create kinetic energy (possible in 3-D) the

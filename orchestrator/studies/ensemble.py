@@ -52,7 +52,7 @@ Batches
 :func:`run_realisations` carries ``batch_size`` realisations in one MuJoCo model
 (:mod:`orchestrator.transport.batch`: no contact pair between realisations), so the engine's
 per-step work is paid once for all of them; the table is the one-at-a-time one for the same
-seeds (tests/test_ensemble.py). ``study_fit`` False leaves the study's fit out (a design-scale
+seeds, the first strikes to rounding (tests/test_ensemble.py). ``study_fit`` False leaves the study's fit out (a design-scale
 ensemble reads the law's pulse; the fit is the like-for-like comparison's and costs more than
 the batched transport of a realisation).
 
