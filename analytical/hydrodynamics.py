@@ -235,6 +235,7 @@ def hydro_loads(
     water_acceleration_m_s2,
     coefficients: HydroCoefficients,
     added_mass_tables: np.ndarray | None = None,
+    local_m: np.ndarray | None = None,
 ) -> HydroLoads:
     """Force and moment on B boxes from the water at their N sub-volume centres.
 
@@ -244,8 +245,9 @@ def hydro_loads(
     ``eta_m`` (B, N) the surface above each; ``water_velocity_m_s`` and
     ``water_acceleration_m_s2`` (B, N, 3) there (read only where submerged);
     ``added_mass_tables`` (B, K, 6) each box's :func:`added_mass_table` (made here when not
-    given and ``coefficients.added_mass_coefficient`` is None). Returns :class:`HydroLoads`;
-    see the module notes for each term.
+    given and ``coefficients.added_mass_coefficient`` is None); ``local_m`` (B, N, 3) the
+    sub-volume centres in the body frame if known (``R^T (points - centre)`` otherwise: the
+    same to rounding). Returns :class:`HydroLoads`; see the module notes for each term.
     """
     c = coefficients
     com = np.asarray(centre_of_mass_m, float).reshape(-1, 3)
@@ -275,45 +277,44 @@ def hydro_loads(
         added_inertia = np.zeros_like(added_mass)
         ratio = np.full_like(added_mass, c.added_mass_coefficient)
 
-    # Every term is formed at the wet sub-volumes only, in their body's frame (where the
-    # added mass is diagonal and the drag areas are the faces'), summed per body and turned
-    # into the world once per body.
+    # Every term is formed at every sub-volume in its body's frame (where the added mass is
+    # diagonal and the drag areas are the faces'), the dry ones contributing nothing (their
+    # wet volume and fraction are zero; their water is not read), summed per body and turned
+    # into the world once per body: whole (B, N) arrays, each step one array operation.
     force = np.zeros((n_bodies, 3))
     moment = np.zeros((n_bodies, 3))
-    wet = np.flatnonzero(frac.reshape(-1) > 0.0)
-    if wet.size:
-        owner = wet // n_pts
-        rot_p = rot[owner]  # (P, 3, 3)
-        world = np.stack([np.asarray(water_velocity_m_s, float).reshape(-1, 3)[wet],
-                          np.asarray(water_acceleration_m_s2, float).reshape(-1, 3)[wet],
-                          pts.reshape(-1, 3)[wet] - com[owner]], axis=1)
-        water, accel, arm = np.moveaxis(np.matmul(world, rot_p), 1, 0)  # R^T x: body frame, (P, 3) each
-        motion = np.matmul(np.stack([vel, omega], axis=1), rot)  # (B, 2, 3): v and omega, body frame
-        rel = water - motion[owner, 0] - _cross(motion[owner, 1], arm)  # the water past the body
-        volume = wet_volume.reshape(-1)[wet]
+    wet = frac > 0.0
+    if np.any(wet):
+        arm = np.matmul(pts - com[:, None, :], rot) if local_m is None else np.asarray(local_m, float)
+        world = np.concatenate([np.asarray(water_velocity_m_s, float).reshape(pts.shape),
+                                np.asarray(water_acceleration_m_s2, float).reshape(pts.shape)], axis=1)
+        world = np.where(np.concatenate([wet, wet], axis=1)[:, :, None], world, 0.0)
+        water, accel = np.split(np.matmul(world, rot), 2, axis=1)  # R^T x: body frame, (B, N, 3) each
+        v_b, w_b = np.moveaxis(np.matmul(np.stack([vel, omega], axis=1), rot), 1, 0)  # body frame, (B, 3)
+        # the body's velocity at each sub-volume, v + omega x r, as r @ S^T + v (S = [omega]x)
+        spin = np.zeros((n_bodies, 3, 3))
+        spin[:, 0, 1], spin[:, 0, 2], spin[:, 1, 0] = w_b[:, 2], -w_b[:, 1], -w_b[:, 2]
+        spin[:, 1, 2], spin[:, 2, 0], spin[:, 2, 1] = w_b[:, 0], w_b[:, 1], -w_b[:, 0]
+        rel = water - (np.matmul(arm, spin) + v_b[:, None, :])  # the water past the body
         # buoyancy (world +z is row 2 of R in the body frame) and (I + diag(C)) Du/Dt
-        f = (1.0 + ratio[owner]) * accel
-        f += c.gravity_m_s2 * rot_p[:, 2, :]
-        f *= (rho * volume)[:, None]
+        f = (1.0 + ratio[:, None, :]) * accel
+        f += c.gravity_m_s2 * rot[:, None, 2, :]
+        f *= (rho * wet_volume)[:, :, None]
         if c.drag_coefficient > 0.0:
             area = np.stack([size[:, 1] * size[:, 2], size[:, 0] * size[:, 2], size[:, 0] * size[:, 1]], axis=1)
-            area = area[owner]
-            share = frac.reshape(-1)[wet]
             if c.drag_area == "projected":
                 # the box's area seen along the relative flow: sum_k A_k |w_k| / |w|
-                seen = np.einsum("pk,pk->p", area, np.abs(rel))  # A_p |w|
-                f += ((0.5 * rho * c.drag_coefficient / n_pts) * (share * seen))[:, None] * rel
+                seen = np.matmul(np.abs(rel), area[:, :, None])[:, :, 0]  # A_p |w|
+                f += ((0.5 * rho * c.drag_coefficient / n_pts) * (frac * seen))[:, :, None] * rel
             else:
-                speed = np.sqrt(np.einsum("pk,pk->p", rel, rel))
-                f += (0.5 * rho * c.drag_coefficient / n_pts) * area * (share * speed)[:, None] * rel
-        starts = np.flatnonzero(np.r_[True, owner[1:] != owner[:-1]])  # owner ascends
-        bodies = owner[starts]
-        sums = np.add.reduceat(np.concatenate([f, _cross(arm, f), volume[:, None] * rel], axis=1), starts, axis=0)
-        force[bodies] = sums[:, 0:3]
-        moment[bodies] = sums[:, 3:6]
-        past = np.zeros((n_bodies, 1, 3))
-        past[bodies, 0] = sums[:, 6:9] / sub[bodies, None]  # the volume-weighted mean
-        turned = np.matmul(rot, np.stack([force, moment], axis=2))  # (B, 3, 2)
+                speed = np.sqrt(np.einsum("bnk,bnk->bn", rel, rel))
+                f += (0.5 * rho * c.drag_coefficient / n_pts) * area[:, None, :] * (frac * speed)[:, :, None] * rel
+        total = f.sum(axis=1)
+        torque = _cross(arm, f).sum(axis=1)
+        # the volume-weighted mean of the water past each body (none past a dry one)
+        past = np.divide(np.matmul(wet_volume[:, None, :], rel), sub[:, None, None], out=np.zeros((n_bodies, 1, 3)),
+                         where=sub[:, None, None] > 0)
+        turned = np.matmul(rot, np.stack([total, torque], axis=2))  # (B, 3, 2)
         force, moment = turned[:, :, 0], turned[:, :, 1]
         if c.munk_moment:
             moment += munk_moment(rot, past, sub[:, None], added_mass)

@@ -52,8 +52,9 @@ impulse would have); ``dv = J / m_t``, ``d omega = I^-1 (r x J)``. Through the b
 rotation a tangential impulse also changes the contact point's normal velocity, so with
 friction the normal dynamics see a different mass than ``m_eff``: the *normal mass*
 ``J_n / (v_out - v_in)`` of the combined impulse (Stronge's slip or stick effective mass).
-The normal integration is repeated with that mass until the two agree (one pass without
-friction or without coupling, two or three otherwise), so the force history, the normal
+The normal integration is repeated with that mass until the two agree to 1e-8 (one pass
+without friction or without coupling, two or three otherwise; the first pass takes the mass
+the law's rigid-wall rebound implies, which is within about 1e-3 of it), so the force history, the normal
 impulse, the restitution and the final velocities are one consistent solution. Guards:
 friction may not more than double the normal mass (the rigid-body "jam"), and where the
 kinematic normal condition with friction would create kinetic energy (possible in 3-D) the
@@ -160,6 +161,9 @@ DEFAULT_CONTACT_DAMPING_RATIO = 0.0
 _STEPS_PER_CONTACT_PERIOD = 400
 #: Default output spacing of the base shear after the contact (s).
 _RESPONSE_DT_S = 1.0e-5
+#: The normal mass the integration runs with and the mass its impulse implies agree to this
+#: (relative); the pulse then is the consistent one to about the same.
+_MASS_TOLERANCE = 1.0e-8
 
 
 # ------------------------------------------------------------------------------ API
@@ -312,7 +316,7 @@ def _resolve(n, compliance, u0, blocks, stiffness, mu, zeta, dt, max_watch):
     # friction; with friction coupled to the normal through the body's rotation, the mass
     # implied by the combined impulse (Stronge's slip/stick effective mass). A few passes
     # make the two consistent (the mass depends on the restitution only through stick).
-    integrator_mass = m_eff
+    integrator_mass = _first_normal_mass(compliance, n, u0, v_in, m_eff, mu, zeta)
     for _ in range(8):
         c = 2.0 * zeta * math.sqrt(k * integrator_mass)
         step = dt
@@ -324,7 +328,7 @@ def _resolve(n, compliance, u0, blocks, stiffness, mu, zeta, dt, max_watch):
         v_out_n = -run["body_velocity"]  # body velocity along -n, back to along +n
         imp = _contact_impulse(compliance, n, u0, v_out_n, mu)
         mass = imp["j_n"] / (v_out_n - v_in)
-        if abs(mass - integrator_mass) <= 1e-10 * integrator_mass:
+        if abs(mass - integrator_mass) <= _MASS_TOLERANCE * integrator_mass:
             break
         integrator_mass = mass
     j = imp["j"]
@@ -338,6 +342,20 @@ def _resolve(n, compliance, u0, blocks, stiffness, mu, zeta, dt, max_watch):
         j_n=imp["j_n"], j_t=imp["j_t"], impulse=j, sticking=imp["sticking"], limited=imp["limited"],
         friction_loss=kinetic_loss - normal_loss, u_out=u_out, obliquity=obliquity, force=run["pulse"],
     )
+
+
+def _first_normal_mass(compliance, n, u0, v_in, m_eff, mu, zeta):
+    """The normal mass the first integration pass runs with: the mass the combined impulse
+    implies for the rebound of the contact law against a rigid wall (``e = exp(-pi zeta /
+    sqrt(1 - zeta^2))``, the linear spring-dashpot's). The normal mass depends on the rebound
+    only weakly (through the direction of the stick impulse), so this guess is already close
+    to the consistent mass and the passes after it only confirm it; ``m_eff`` without friction."""
+    if mu == 0.0:
+        return m_eff
+    guess = -math.exp(-math.pi * zeta / math.sqrt(1.0 - zeta * zeta)) * v_in
+    imp = _contact_impulse(compliance, n, u0, guess, mu)
+    mass = imp["j_n"] / (guess - v_in)
+    return mass if math.isfinite(mass) and mass > 0.0 else m_eff
 
 
 def _contact_impulse(compliance, n, u0, v_target, mu):

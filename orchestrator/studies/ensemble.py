@@ -52,8 +52,8 @@ Batches
 :func:`run_realisations` carries ``batch_size`` realisations in one MuJoCo model
 (:mod:`orchestrator.transport.batch`: no contact pair between realisations), so the engine's
 per-step work is paid once for all of them; the table is the one-at-a-time one for the same
-seeds (tests/test_ensemble.py). ``study_fit`` False leaves the study's fit out (a design-scale
-ensemble reads the law's pulse; the fit costs more than a batched realisation's transport).
+seeds, first strikes to rounding (tests/test_ensemble.py). ``study_fit`` False leaves the study's
+fit out (a design-scale ensemble reads the law's pulse; the fit costs more than the transport).
 
 Executors
 ---------

@@ -144,7 +144,7 @@ class _Forcing:
 
     def __call__(self, t_flow: float, com, rot, vel, omega, active=None):
         """Loads on the bodies ``active`` (indices; all when None), in that order."""
-        if active is not None:
+        if active is not None and len(active) < len(self.names):
             part = _Forcing.__new__(_Forcing)
             part.flow, part.coeffs = self.flow, self.coeffs
             part.size, part.local, part.cell = self.size[active], self.local[active], self.cell[active]
@@ -161,13 +161,18 @@ class _Forcing:
             raise FlowCoverageError(err.field, f"{err.rule} (t = {t_flow:.4g} s; bodies {outside})") from None
         half_z = 0.5 * np.einsum("bk,bk->b", np.abs(rot[:, 2, :]), self.cell)
         wet = submerged_fraction(pts[:, :, 2], half_z[:, None], eta) > 0.0
-        u = np.zeros_like(pts)
-        a = np.zeros_like(pts)
-        if np.any(wet):
-            sample = self.flow.sample(pts[wet], t_flow, eta_m=eta[wet])
-            u[wet] = sample.velocity_m_s
-            a[wet] = sample.material_acceleration_m_s2
-        return hydro_loads(com, rot, vel, omega, self.size, pts, eta, u, a, self.coeffs, self.tables)
+        if np.all(wet):  # the usual case once the water has come: no gather of the wet points
+            sample = self.flow.sample(flat, t_flow, eta_m=eta.reshape(-1))
+            u = sample.velocity_m_s.reshape(pts.shape)
+            a = sample.material_acceleration_m_s2.reshape(pts.shape)
+        else:
+            u = np.zeros_like(pts)
+            a = np.zeros_like(pts)
+            if np.any(wet):
+                sample = self.flow.sample(pts[wet], t_flow, eta_m=eta[wet])
+                u[wet] = sample.velocity_m_s
+                a[wet] = sample.material_acceleration_m_s2
+        return hydro_loads(com, rot, vel, omega, self.size, pts, eta, u, a, self.coeffs, self.tables, self.local)
 
     def outside(self, com, rot, x_range) -> np.ndarray:
         """Bodies (B,) with a sub-volume beyond ``x_range`` (the open ends' x; +-inf if closed)."""

@@ -176,19 +176,19 @@ class FlowField:
             object.__setattr__(self, name, value)
         object.__setattr__(self, "bed_z_m", bed)
         eta = np.array(eta, dtype=float)
-        u = np.array(u)
-        eta.flags.writeable = False
-        u.flags.writeable = False
+        # The velocities are held component by component, (t, 3, x y z): sample() gathers the
+        # corners of each component as one np.take (numpy's multi-index fancy indexing is many
+        # times slower) and blends them with one einsum. ``velocity_m_s`` is a view of it.
+        planes = np.ascontiguousarray(u.reshape(self.t_s.size, -1, 3).transpose(0, 2, 1))
+        u = planes.transpose(0, 2, 1).reshape(u.shape)
+        for a in (eta, planes, u):
+            a.flags.writeable = False
         object.__setattr__(self, "eta_m", eta)
         object.__setattr__(self, "velocity_m_s", u)
         object.__setattr__(self, "meta", dict(self.meta))
         object.__setattr__(self, "_steps", {n: _uniform_step(getattr(self, n)) for n in ("t_s", "x_m", "y_m", "z_m")})
-        # Flat views for the gathers of sample() and surface(): one np.take each (numpy's
-        # multi-index fancy indexing is many times slower); a velocity row (3 values) is
-        # gathered as one opaque item.
         object.__setattr__(self, "_eta_flat", eta.reshape(self.t_s.size, -1))
-        rows = u.reshape(self.t_s.size, -1, 3)
-        object.__setattr__(self, "_rows", rows.view(np.dtype((np.void, 3 * rows.itemsize)))[..., 0])
+        object.__setattr__(self, "_planes", planes)
 
     # ------------------------------------------------------------------ extent
     @property
@@ -232,9 +232,10 @@ class FlowField:
         surface there if already known. Raises :class:`FlowCoverageError` for x, y or t
         outside the record.
 
-        The trilinear interpolant is taken one axis at a time (z, then y, then x) at both
-        frames; its gradient comes from the same differences, and everything is blended
-        linearly in time, in float64 whatever the record's type.
+        The trilinear interpolant is a weighted sum of the cell's 8 corners at both frames (16
+        weights a point, blended linearly in time); the material acceleration is a second
+        weighted sum of the same corners, its weights the interpolant's derivatives in time and
+        along x, y and z (each times the velocity along it), in float64 whatever the record's type.
         """
         p = np.asarray(points_m, dtype=float).reshape(-1, 3)
         eta = self.surface(p[:, 0], p[:, 1], t_s) if eta_m is None else np.asarray(eta_m, float).reshape(-1)
@@ -245,25 +246,23 @@ class FlowField:
         l_, fz = _locate(self.z_m, z, "z", step=self._steps["z_m"])
         nj, nl = self.y_m.size, self.z_m.size
         offsets = (_CORNERS[:, 0] * nj + _CORNERS[:, 1]) * nl + _CORNERS[:, 2]  # (8,)
-        rows = np.take(self._rows[k:k + 2], ((i * nj + j) * nl + l_)[None, :] + offsets[:, None], axis=1)
-        # (frame, x corner, y corner, z corner, P, 3)
-        c = rows[..., None].view(self.velocity_m_s.dtype).reshape(2, 2, 2, 2, -1, 3).astype(float)
-        fx, fy, fz = fx[:, None], fy[:, None], fz[:, None]
-        dz = c[:, :, :, 1] - c[:, :, :, 0]
-        ez = c[:, :, :, 0] + fz * dz  # along z
-        dy = ez[:, :, 1] - ez[:, :, 0]
-        ey = ez[:, :, 0] + fy * dy  # along y
-        dx = ey[:, 1] - ey[:, 0]
-        both = ey[:, 0] + fx * dx  # along x: (2 frames, P, 3)
-        u_t = both[0] * (1.0 - ft) + both[1] * ft
+        # (frame, component, corner, P), corners in _CORNERS' order (x slowest)
+        c = np.take(self._planes[k:k + 2], ((i * nj + j) * nl + l_)[None, :] + offsets[:, None], axis=2)
+        gx, gy, gz = 1.0 - fx, 1.0 - fy, 1.0 - fz
+        w_yz = np.stack([gy * gz, gy * fz, fy * gz, fy * fz])  # the (y, z) corners' weights
+        w = np.concatenate([gx * w_yz, fx * w_yz])  # (8, P)
+        u_t = np.einsum("fcp,fkcp->pk", np.stack([(1.0 - ft) * w, ft * w]), c)
         if not acceleration:
             return FlowSample(eta, u_t, np.zeros_like(u_t))
-        h = (self.x_m[i + 1] - self.x_m[i], self.y_m[j + 1] - self.y_m[j], self.z_m[l_ + 1] - self.z_m[l_])
-        dzy = dz[:, :, 0] + fy * (dz[:, :, 1] - dz[:, :, 0])
-        grad = (dx, dy[:, 0] + fx * (dy[:, 1] - dy[:, 0]), dzy[:, 0] + fx * (dzy[:, 1] - dzy[:, 0]))
-        accel = (both[1] - both[0]) / dt
-        for d in range(3):  # (u . grad) u, the gradient at the blended time
-            accel += (grad[d][0] * (1.0 - ft) + grad[d][1] * ft) * (u_t[:, d] / h[d])[:, None]
+        # d/dt + (u . grad): the corners' weights differentiated along t, x, y and z
+        ax = u_t[:, 0] / (self.x_m[i + 1] - self.x_m[i])
+        ay = u_t[:, 1] / (self.y_m[j + 1] - self.y_m[j])
+        az = u_t[:, 2] / (self.z_m[l_ + 1] - self.z_m[l_])
+        d_yz = np.stack([-gz * ay - gy * az, -fz * ay + gy * az, gz * ay - fy * az, fz * ay + fy * az])
+        d_x = ax * w_yz
+        space = np.concatenate([gx * d_yz - d_x, fx * d_yz + d_x])  # (8, P)
+        w_t = w / dt
+        accel = np.einsum("fcp,fkcp->pk", np.stack([(1.0 - ft) * space - w_t, ft * space + w_t]), c)
         return FlowSample(eta, u_t, accel)
 
     # ------------------------------------------------------------------ files
