@@ -162,7 +162,26 @@ def _modal_weights(model: ColumnModel, height_m: float) -> np.ndarray:
     return c
 
 
-def _modal_block(model: ColumnModel, pulse, times: np.ndarray, weights: np.ndarray, idx: np.ndarray, end) -> np.ndarray:
+class _OneWalk:
+    """One walk over a sampled pulse's samples for all the modes a base shear may take
+    (:func:`~analytical.oscillator.piecewise_linear_response`'s ``walk``): the first call,
+    with every mode, walks their roots; the bands after it read their roots' columns. The
+    recurrence is element-wise, so a column is the same number either way."""
+
+    def __init__(self):
+        self.known: dict = {}
+
+    def __call__(self, r: np.ndarray, carry) -> np.ndarray:
+        kind = r.dtype.kind
+        if kind not in self.known:
+            states = carry(r)
+            self.known[kind] = (states, {v: i for i, v in enumerate(r[:, 0].tolist())})
+        states, column = self.known[kind]
+        return states[[column[v] for v in r[:, 0].tolist()]]
+
+
+def _modal_block(model: ColumnModel, pulse, times: np.ndarray, weights: np.ndarray, idx: np.ndarray, end,
+                 walk=None) -> np.ndarray:
     """``sum_n c_n (q''_n + a0 q'_n)`` over the modes ``idx`` at ``times`` (increasing), N.
 
     A sampled pulse (:class:`~analytical.pulses.Tabulated`) uses the recurrence of
@@ -191,7 +210,7 @@ def _modal_block(model: ColumnModel, pulse, times: np.ndarray, weights: np.ndarr
         # longest ring-down in it.
         n = int(counts.max())
         if n:
-            _, qd, qdd = piecewise_linear_response(pulse.time_s, pulse.force_N, times[:n], omega, zeta)
+            _, qd, qdd = piecewise_linear_response(pulse.time_s, pulse.force_N, times[:n], omega, zeta, walk)
             out[:n] = weights[idx] @ (qdd + a0 * qd)
         return out
     # Group the modes by kind and by the (rounded up to a power of 2) number of samples.
@@ -284,12 +303,17 @@ def _modal_base_shear(model: ColumnModel, pulse, height_m: float, times: np.ndar
     freq = model.frequencies_Hz
     f_cut = _MODAL_FIRST_BAND_HZ
     n_used = min(max(int(np.searchsorted(freq, f_cut, side="right")), 10), n_all)
-    shear = force - _modal_block(model, pulse, times, weights, np.arange(n_used), end)
+    walk = None
+    if isinstance(pulse, Tabulated):  # the samples walked once for every mode (_OneWalk)
+        walk = _OneWalk()
+        piecewise_linear_response(pulse.time_s, pulse.force_N, times[:0], model.circular_frequencies_rad_s,
+                                  model.damping_ratios, walk)
+    shear = force - _modal_block(model, pulse, times, weights, np.arange(n_used), end, walk)
     small = 0
     while n_used < n_all and small < 2:
         f_cut *= 2.0
         n_next = min(max(int(np.searchsorted(freq, f_cut, side="right")), n_used + 1), n_all)
-        block = _modal_block(model, pulse, times, weights, np.arange(n_used, n_next), end)
+        block = _modal_block(model, pulse, times, weights, np.arange(n_used, n_next), end, walk)
         shear -= block
         n_used = n_next
         peak = np.max(np.abs(shear))

@@ -474,7 +474,7 @@ def oscillator_response(pulse, t, omega_rad_s, zeta, derivatives: bool = False):
 # --------------------------------------------------------------------------------------------
 
 
-def piecewise_linear_response(time_s, force_N, t, omega_rad_s, zeta) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def piecewise_linear_response(time_s, force_N, t, omega_rad_s, zeta, walk=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Exact response of unit-mass oscillators to a load linear between samples, any damping.
 
     ``q'' + 2 zeta omega q' + omega^2 q = p(t)``, at rest before ``time_s[0]``; ``p`` is
@@ -503,6 +503,9 @@ def piecewise_linear_response(time_s, force_N, t, omega_rad_s, zeta) -> tuple[np
         Output times (s), 1-D, any order.
     omega_rad_s, zeta:
         1-D arrays of n modes (``omega > 0``, ``zeta >= 0``).
+    walk:
+        None, or ``walk(r, carry)``: the recurrence's states of roots ``r`` (``carry(r)`` walks
+        them); a caller asking for the modes in parts keeps one walk of all (:mod:`analytical.mdof`).
 
     Returns
     -------
@@ -519,7 +522,7 @@ def piecewise_linear_response(time_s, force_N, t, omega_rad_s, zeta) -> tuple[np
     if w.ndim != 1 or w.shape != z.shape or np.any(w <= 0.0) or np.any(z < 0.0):
         raise InputError("omega_rad_s/zeta", "must be 1-D arrays of equal length with omega > 0, zeta >= 0")
     z = np.where(np.abs(z - 1.0) < 1e-9, 1.0 + 1e-9, z)
-    carry = _Carry(ts, fs, tt)
+    carry = _Carry(ts, fs, tt, walk)
     load = carry.load
     q = np.empty((w.size, tt.size))
     qd = np.empty_like(q)
@@ -551,8 +554,8 @@ class _Carry:
     """``y' = r y + p`` for the sampled load ``p``, one row per root ``r`` (real or complex):
     carried exactly over the samples, then evaluated at the output times ``tt``."""
 
-    def __init__(self, ts, fs, tt):
-        self.ts, self.fs = ts, fs
+    def __init__(self, ts, fs, tt, walk=None):
+        self.ts, self.fs, self.walk = ts, fs, walk
         self.h = np.diff(ts)
         self.slope = np.diff(fs) / self.h
         k = np.searchsorted(ts, tt, side="right") - 1  # the interval holding each output time
@@ -567,15 +570,8 @@ class _Carry:
         self.load[self.inside] = fs[self.ki] + self.slope[self.ki] * self.tau
 
     def __call__(self, r: np.ndarray) -> np.ndarray:
-        # The recurrence over the samples, one contiguous row per step; y_0 = 0 (at rest).
-        decay, drive = _interval(r, self.h, self.fs[:-1], self.slope)
-        decay_t, drive_t = decay.T.copy(), drive.T.copy()
-        states = np.zeros((self.ts.size, r.shape[0]), dtype=decay.dtype)
-        for j in range(self.h.size):
-            np.multiply(decay_t[j], states[j], out=states[j + 1])
-            states[j + 1] += drive_t[j]
-        states = states.T
-        out = np.zeros((r.shape[0], self.size), dtype=decay.dtype)
+        states = self.states(r) if self.walk is None else self.walk(r, self.states)
+        out = np.zeros((r.shape[0], self.size), dtype=states.dtype)
         if self.ki.size:
             ki = self.ki
             decay, drive = _interval(r, self.tau, self.fs[ki], self.slope[ki])
@@ -583,6 +579,16 @@ class _Carry:
         if self.since_end.size:
             out[:, self.after] = np.exp(r * self.since_end) * states[:, -1:]
         return out
+
+    def states(self, r: np.ndarray) -> np.ndarray:
+        """The recurrence over the samples, (roots, samples); y_0 = 0 (at rest)."""
+        decay, drive = _interval(r, self.h, self.fs[:-1], self.slope)
+        decay_t, drive_t = decay.T.copy(), drive.T.copy()
+        states = np.zeros((self.ts.size, r.shape[0]), dtype=decay.dtype)
+        for j in range(self.h.size):
+            np.multiply(decay_t[j], states[j], out=states[j + 1])
+            states[j + 1] += drive_t[j]
+        return states.T
 
 
 def _interval(r: np.ndarray, tau: np.ndarray, level: np.ndarray, slope: np.ndarray):

@@ -151,25 +151,28 @@ class _Forcing:
             part.names = [self.names[i] for i in active]
             part.tables = None if self.tables is None else self.tables[active]
             return part(t_flow, com[active], rot[active], vel[active], omega[active])
-        pts = np.matmul(self.local, rot.transpose(0, 2, 1))
+        pts = np.matmul(self.local, rot.transpose(0, 2, 1).copy())  # contiguous: 2-3x faster
         pts += com[:, None, :]
         flat = pts.reshape(-1, 3)
         try:
-            eta = self.flow.surface(flat[:, 0], flat[:, 1], t_flow).reshape(pts.shape[:2])
+            located = self.flow.locate(flat[:, 0], flat[:, 1], t_flow)  # once, for the surface and the sample
+            eta = self.flow.surface(flat[:, 0], flat[:, 1], t_flow, located).reshape(pts.shape[:2])
         except FlowCoverageError as err:
             outside = [n for n, p in zip(self.names, pts) if not self._inside(p)]
             raise FlowCoverageError(err.field, f"{err.rule} (t = {t_flow:.4g} s; bodies {outside})") from None
         half_z = 0.5 * np.einsum("bk,bk->b", np.abs(rot[:, 2, :]), self.cell)
         wet = submerged_fraction(pts[:, :, 2], half_z[:, None], eta) > 0.0
         if np.all(wet):  # the usual case once the water has come: no gather of the wet points
-            sample = self.flow.sample(flat, t_flow, eta_m=eta.reshape(-1))
+            sample = self.flow.sample(flat, t_flow, eta_m=eta.reshape(-1), located=located)
             u = sample.velocity_m_s.reshape(pts.shape)
             a = sample.material_acceleration_m_s2.reshape(pts.shape)
         else:
             u = np.zeros_like(pts)
             a = np.zeros_like(pts)
             if np.any(wet):
-                sample = self.flow.sample(pts[wet], t_flow, eta_m=eta[wet])
+                w = wet.reshape(-1)
+                part = located[:3] + tuple(a[w] for a in located[3:])
+                sample = self.flow.sample(pts[wet], t_flow, eta_m=eta[wet], located=part)
                 u[wet] = sample.velocity_m_s
                 a[wet] = sample.material_acceleration_m_s2
         return hydro_loads(com, rot, vel, omega, self.size, pts, eta, u, a, self.coeffs, self.tables, self.local)

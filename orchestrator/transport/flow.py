@@ -211,26 +211,34 @@ class FlowField:
         k0 = int(k[0])
         return k0, float(frac[0]), float(self.t_s[k0 + 1] - self.t_s[k0])
 
-    def surface(self, x_m, y_m, t_s: float) -> np.ndarray:
-        """Free-surface elevation (m) at plan points ``(x_m, y_m)`` (same shape) at ``t_s``."""
+    def locate(self, x_m, y_m, t_s: float) -> tuple:
+        """Where plan points ``(x_m, y_m)`` (1-D) and ``t_s`` are in the record: ``(k, ft, dt, i,
+        fx, j, fy)``, frame, fraction and frame spacing, then the x and y cells and fractions.
+        :meth:`surface` and :meth:`sample` take it (``located``) instead of finding it again:
+        a caller that reads the surface and then samples below it locates its points once."""
+        i, fx = _locate(self.x_m, np.asarray(x_m, dtype=float), "x", step=self._steps["x_m"])
+        j, fy = _locate(self.y_m, np.asarray(y_m, dtype=float), "y", step=self._steps["y_m"])
+        return (*self._time(t_s), i, fx, j, fy)
+
+    def surface(self, x_m, y_m, t_s: float, located=None) -> np.ndarray:
+        """Free-surface elevation (m) at plan points ``(x_m, y_m)`` (same shape) at ``t_s``
+        (``located``: :meth:`locate` of them, flattened)."""
         x = np.asarray(x_m, dtype=float)
         y = np.asarray(y_m, dtype=float)
-        k, ft, _ = self._time(t_s)
-        i, fx = _locate(self.x_m, x.reshape(-1), "x", step=self._steps["x_m"])
-        j, fy = _locate(self.y_m, y.reshape(-1), "y", step=self._steps["y_m"])
+        k, ft, _, i, fx, j, fy = located or self.locate(x.reshape(-1), y.reshape(-1), t_s)
         nj = self.y_m.size
         q = np.take(self._eta_flat[k:k + 2], (i * nj + j)[None, :] + np.array([0, nj, 1, nj + 1])[:, None], axis=1)
         gx = 1.0 - fx
         corners = (q[:, 0] * gx + q[:, 1] * fx) * (1.0 - fy) + (q[:, 2] * gx + q[:, 3] * fx) * fy
         return (corners[0] * (1.0 - ft) + corners[1] * ft).reshape(x.shape)
 
-    def sample(self, points_m, t_s: float, acceleration: bool = True, eta_m=None) -> FlowSample:
+    def sample(self, points_m, t_s: float, acceleration: bool = True, eta_m=None, located=None) -> FlowSample:
         """Surface, velocity and (with ``acceleration``) material acceleration at ``points_m`` (P, 3).
 
         A point above the local surface is sampled at the surface (z clamped to ``eta``),
         so a partly submerged sub-volume sees the water at the surface. ``eta_m`` (P,): the
-        surface there if already known. Raises :class:`FlowCoverageError` for x, y or t
-        outside the record.
+        surface there if already known; ``located``: :meth:`locate` of the points if known.
+        Raises :class:`FlowCoverageError` for x, y or t outside the record.
 
         The trilinear interpolant is a weighted sum of the cell's 8 corners at both frames (16
         weights a point, blended linearly in time); the material acceleration is a second
@@ -238,10 +246,9 @@ class FlowField:
         along x, y and z (each times the velocity along it), in float64 whatever the record's type.
         """
         p = np.asarray(points_m, dtype=float).reshape(-1, 3)
-        eta = self.surface(p[:, 0], p[:, 1], t_s) if eta_m is None else np.asarray(eta_m, float).reshape(-1)
-        k, ft, dt = self._time(t_s)
-        i, fx = _locate(self.x_m, p[:, 0], "x", step=self._steps["x_m"])
-        j, fy = _locate(self.y_m, p[:, 1], "y", step=self._steps["y_m"])
+        located = located or self.locate(p[:, 0], p[:, 1], t_s)
+        eta = self.surface(p[:, 0], p[:, 1], t_s, located) if eta_m is None else np.asarray(eta_m, float).reshape(-1)
+        k, ft, dt, i, fx, j, fy = located
         z = np.minimum(np.maximum(np.minimum(p[:, 2], eta), max(self.z_m[0], self.bed_z_m)), self.z_m[-1])
         l_, fz = _locate(self.z_m, z, "z", step=self._steps["z_m"])
         nj, nl = self.y_m.size, self.z_m.size
