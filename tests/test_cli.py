@@ -218,8 +218,8 @@ def test_zero_column_damping_is_accepted(model):
 
 
 def test_plan_warnings_reach_the_terminal_and_the_json(tmp_path):
-    """The 2x3 layout's overlapping body meshes on the coupled path (v1912 may never finish their
-    overset addressing) are said on stderr by render, in render --json, and per member by sweep
+    """The planner's warnings on the 2x3 layout's coupled path (its body meshes reach below the bed,
+    the gap's thin layers) are said on stderr by render, in render --json, and per member by sweep
     --dry-run."""
     import json
 
@@ -228,7 +228,7 @@ def test_plan_warnings_reach_the_terminal_and_the_json(tmp_path):
                    *two_way)
     assert proc.returncode == 0, proc.stderr
     lines = [line for line in proc.stderr.splitlines() if line.startswith("debrisfoam: warning: ")]
-    assert lines and all("overlap" in line or "debris" in line for line in lines)
+    assert lines and all("debris" in line or "bed layer" in line for line in lines)
     plan = json.loads((tmp_path / "c" / "plan.json").read_text())
     assert len(lines) == len(plan["warnings"]) > 0
     out = json.loads(run_cli("render", "cases/6debris-2x3.yaml", "-o", str(tmp_path / "d"), "--set",
@@ -240,7 +240,7 @@ def test_plan_warnings_reach_the_terminal_and_the_json(tmp_path):
         "axes:\n  run.debris_coupling: [two-way]\n")
     dry = run_cli("sweep", str(layouts), "--dry-run", "-o", str(tmp_path / "s"))
     assert dry.returncode == 0, dry.stderr
-    assert any(line.startswith("debrisfoam: warning: member ") and "overlap" in line for line in dry.stderr.splitlines())
+    assert any(line.startswith("debrisfoam: warning: member ") and "debris" in line for line in dry.stderr.splitlines())
     clean = run_cli("render", "cases/nodebris.yaml", "-o", str(tmp_path / "n"), "--set", "outputs.preview=false")
     assert clean.returncode == 0 and "warning" not in clean.stderr
 
