@@ -29,6 +29,8 @@ from pathlib import Path
 
 import numpy as np
 
+from orchestrator.core.files import write_text_atomic
+
 __all__ = ["DICT", "needed", "split"]
 
 DICT = "system/decomposeParDict.bodies"  # the manual dictionary, relative to the case
@@ -63,15 +65,16 @@ def split(case: str | Path, ranks: int) -> dict[int, list[int]]:
             proc[cells[cells.size // 2:]] = (proc[cells[0]] + 1) % ranks
         counts[z] = np.bincount(proc[cells], minlength=ranks).tolist()
     body = "\n".join(str(int(p)) for p in proc)
-    (case / _TABLE).write_text(
+    write_text_atomic(case / _TABLE,
         'FoamFile\n{\n    version 2.0;\n    format ascii;\n    class labelList;\n    location "constant";\n'
         f"    object cellDecomposition;\n}}\n\n{proc.size}\n(\n{body}\n)\n")
-    (case / DICT).write_text(
+    (case / "0" / "cellDist").unlink()  # a picture of the split, not a field to run
+    # the dictionary last, atomically: it marks the planned split as done (foam.solve_steps)
+    write_text_atomic(case / DICT,
         "FoamFile\n{\n    version 2.0;\n    format ascii;\n    class dictionary;\n    location \"system\";\n"
         "    object decomposeParDict;\n}\n\n"
         "// written by debrisfoam (orchestrator/case/split_bodies.py): the planned hierarchical split\n"
         "// with every body mesh spread over two ranks (docs/openfoam-notes.md, \"Decomposition\")\n"
         f"numberOfSubdomains {ranks};\n\nmethod          manual;\n\n"
         f"coeffs\n{{\n    dataFile        \"cellDecomposition\";\n}}\n")
-    (case / "0" / "cellDist").unlink()  # a picture of the split, not a field to run
     return counts

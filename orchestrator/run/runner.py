@@ -271,16 +271,14 @@ def _prepare(info: CaseInfo, sup: Supervisor) -> None:
             data["cells"].update({"total": summary.cells, "mesh_ok": summary.ok})
         except foam.StepError:
             pass
-    for step in foam.solve_steps(case, info.plan, info.ranks):
-        if step.name.startswith("decomposePar"):
-            if step.name == "decomposePar.cellDist" and not step.done(case):
-                _match_decomposition(case, info.ranks, data)
-                sup.run_step(step)
-                data["body_mesh_ranks"] = split_bodies.split(case, info.ranks)
-                continue
-            if step.name == "decomposePar" and not step.done(case) and len(step.argv) == 1:
-                _match_decomposition(case, info.ranks, data)
-            sup.run_step(step)
+    steps = [s for s in foam.solve_steps(case, info.plan, info.ranks) if s.name.startswith("decomposePar")]
+    if steps and not steps[0].done(case):  # the planned split follows --np
+        _match_decomposition(case, info.ranks, data)
+    for step in steps:
+        ran = not step.done(case)
+        sup.run_step(step)
+        if ran and step.name == "decomposePar.cellDist":  # every body mesh across two ranks
+            data["body_mesh_ranks"] = split_bodies.split(case, info.ranks)
 
     if info.bodies:  # scene, obstacles, imports: once, before the solver competes for the cores
         t_setup = time.perf_counter()
