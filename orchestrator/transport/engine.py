@@ -171,7 +171,7 @@ class _Forcing:
             a = np.zeros_like(pts)
             if np.any(wet):
                 w = wet.reshape(-1)
-                part = located[:3] + tuple(a[w] for a in located[3:])
+                part = located[:3] + tuple(field[w] for field in located[3:])
                 sample = self.flow.sample(pts[wet], t_flow, eta_m=eta[wet], located=part)
                 u[wet] = sample.velocity_m_s
                 a[wet] = sample.material_acceleration_m_s2
