@@ -195,6 +195,31 @@ def test_classification_of_contacts(body_case):
     assert book.classify(contact(-0.002, 0.1, "bed"), horizon) == "bed"
 
 
+def test_step_cap_lets_no_corner_cross_the_gap_before_the_runner_acts(body_case):
+    """ContactBook.step_cap_s: near the column a body tumbling at 10 rad/s gets steps of
+    gap / ((latency + 1) (u_n + |omega| R)); still, or far from everything, it keeps the
+    case's own largest step."""
+    from orchestrator.run.contact_book import ContactBook
+
+    info = load_case_info(body_case)
+    book = ContactBook(info, ContactSettings(gap_m=0.005, min_impact_speed_m_s=0.05), {}, print)
+    size = np.asarray(info.body_sizes_m["debris1"])
+    radius = 0.5 * float(np.linalg.norm(size))
+    near = (1.15 - 0.5 * size[0] - 0.008, 0.0, 0.1)  # nose 8 mm from the column's face
+    tumbling = _state("debris1", near, (0.3, 0.0, 0.0), omega=(0.0, -10.0, 0.0))
+    cap = book.step_cap_s([tumbling], 3, 0.01)
+    assert cap == pytest.approx(0.005 / (4 * (0.3 + 10.0 * radius)), rel=1e-6)
+    # the corner's travel in the runner's four steps is the gap itself, not ten times it
+    assert 4 * cap * (0.3 + 10.0 * radius) == pytest.approx(0.005)
+    assert book.step_cap_s([_state("debris1", near, (0.0, 0.0, 0.0))], 3, 0.01) is None  # at rest
+    away = _state("debris1", (0.5, 0.0, 0.1), (0.3, 0.0, 0.0), omega=(0.0, -10.0, 0.0))
+    assert book.step_cap_s([away], 3, 0.01) is None  # 0.6 m from the column, mid-channel
+    receding = _state("debris1", near, (-0.3, 0.0, 0.0))
+    assert book.step_cap_s([receding], 3, 0.01) is None  # moving away, not turning
+    fast = _state("debris1", near, (50.0, 0.0, 0.0))
+    assert book.step_cap_s([fast], 3, 0.01) == pytest.approx(1e-4)  # the floor: a hundredth of the case's
+
+
 def test_resting_contact_stops_the_closing_motion(body_case):
     geometry = Geometry(load_case_info(body_case))
     body = _state("debris1", (1.15 - 0.075 + 0.001, 0.02, 0.11), (0.02, 0.01, -0.01), omega=(0.0, 0.3, 0.1))

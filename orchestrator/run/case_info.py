@@ -53,6 +53,8 @@ class CaseInfo:
     adjustable_time_step: bool
     max_courant: float
     delta_t_s: float
+    #: the case's own largest time step (controlDict maxDeltaT; the runner lowers it near contacts)
+    max_delta_t_s: float
     domain_m: tuple[tuple[float, float], ...]
     two_d: bool
     downstream_type: str
@@ -119,6 +121,7 @@ def load_case_info(case_dir: str | Path, np_override: int | None = None) -> Case
         if "adjustTimeStep" in control else False,
         max_courant=float(control["maxCo"]) if "maxCo" in control else 1.0,
         delta_t_s=float(control["deltaT"]),
+        max_delta_t_s=float(plan.get("max_delta_t_s") or control.get("maxDeltaT", control["deltaT"])),
         domain_m=domain,
         two_d=bool(plan.get("two_d", False)),
         downstream_type=str(plan.get("downstream_type", "wall")),

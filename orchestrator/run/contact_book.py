@@ -41,6 +41,8 @@ import dataclasses
 import math
 from typing import Any, Callable, Sequence
 
+import numpy as np
+
 from orchestrator.case import bodystate
 from orchestrator.case.bodystate import BodyState
 from orchestrator.case.folder import EPS_T
@@ -140,6 +142,39 @@ class ContactBook:
         if ahead <= 0.25 * self.settings.gap_m:
             return "resting"
         return None
+
+    def step_cap_s(self, states: Sequence[BodyState], latency_steps: int, max_delta_t_s: float) -> float | None:
+        """The largest deltaT (s) with which the watch sees every contact of `states` in time,
+        or None when the case's own `max_delta_t_s` does.
+
+        The runner acts on a contact `latency_steps` steps after the step that shows it, and
+        sees only the closest point of each pair: a turning body can bring another corner in
+        while that point is still at rest or receding. Within reach of an obstacle, a point of
+        a body moves at most ``u_n + |omega| R`` towards it (``u_n`` the closing speed of the
+        closest point, ``R`` the body's half-diagonal; for two bodies, both), so steps of
+        ``gap / ((latency + 1) (u_n + |omega| R))`` keep every corner out of the obstacle
+        until the runner has stopped the solver: the gap is crossed in no fewer steps than
+        the runner needs. `max_delta_t_s` / 100 is the floor (a stuck body must not stall
+        the run)."""
+        if not states:
+            return None
+        geometry, gap = self.geometry, self.settings.gap_m
+        by_name = {s.name: s for s in states}
+
+        def sweep(name: str) -> float:  # |omega| R of a body (m/s)
+            s = by_name[name]
+            return float(np.linalg.norm(s.angular_velocity_rad_s)) * 0.5 * float(np.linalg.norm(geometry.sizes[name]))
+
+        window = (latency_steps + 1) * max_delta_t_s
+        reach = gap + window * max(s.speed_m_s + sweep(s.name) for s in states)
+        cap = math.inf
+        for c in geometry.contacts(states, reach, bed=False):
+            bound = max(c.approach_m_s, 0.0) + sweep(c.body) + (sweep(c.other) if c.kind == "body" else 0.0)
+            if bound > 0.0 and c.distance_m - gap <= window * bound:  # could reach the gap in one window
+                cap = min(cap, gap / ((latency_steps + 1) * bound))
+        if not cap < max_delta_t_s:
+            return None
+        return max(cap, max_delta_t_s / 100.0)
 
     # ---- at a restart
     def contacts_now(self, states: Sequence[BodyState], horizon_s: float) -> list[Contact]:

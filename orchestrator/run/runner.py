@@ -317,6 +317,8 @@ def _before_segment(info: CaseInfo, sup: Supervisor, reached: float, name: str,
         for body in freed:
             data.setdefault("freed", []).append({"body": body, "time_s": float(name)})
         sup.record.save()
+        states = raised
+    sup.start_states = states
 
 
 def _after_segment(info: CaseInfo, sup: Supervisor, stop: StopFlag, seg: SegmentResult, reached: float,
@@ -380,7 +382,8 @@ def _original_controls(info: CaseInfo) -> CaseInfo:
     seg, own = data.get("segment_control"), data.get("control")
     if seg and own and math.isclose(seg["endTime"], info.end_time_s) and math.isclose(
             seg["writeInterval"], info.write_interval_s):
-        set_control(info.case, stopAt="endTime", endTime=own["endTime"], writeInterval=own["writeInterval"])
+        set_control(info.case, stopAt="endTime", endTime=own["endTime"], writeInterval=own["writeInterval"],
+                    maxDeltaT=info.max_delta_t_s)
         return replace(info, end_time_s=float(own["endTime"]), write_interval_s=float(own["writeInterval"]))
     return info
 

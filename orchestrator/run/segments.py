@@ -135,6 +135,8 @@ class SegmentResult:
     started: str = ""
     command: str = ""
     stopped_for_bed: str | None = None
+    #: the runner's lower maxDeltaT for this segment (ContactBook.step_cap_s), None: the case's
+    max_delta_t_s: float | None = None
 
     def entry(self) -> dict[str, Any]:
         """The segment as run.json's `segments` lists it."""
@@ -146,6 +148,8 @@ class SegmentResult:
         if self.contacts:
             seg["stopped_for"] = [{"body": c.body, "other": c.other, "gap_m": round(c.distance_m, 6),
                                    "closing_m_s": round(c.approach_m_s, 4)} for c in self.contacts]
+        if self.max_delta_t_s is not None:
+            seg["max_delta_t_s"] = float(f"{self.max_delta_t_s:.6g}")
         if self.stopped_for_bed is not None:
             seg["stopped_for_bed"] = self.stopped_for_bed
         if self.diagnosis is not None:

@@ -77,6 +77,8 @@ class Supervisor:
         self.watch = SegmentWatch(info, self.limits, stop, contact, self.book, self.pacing, on_step)
         self.progress: Progress | None = None
         self.last_steps: list[StepRecord] = []
+        #: the bodies' states the next segment starts from (set by the runner at a restart)
+        self.start_states: list[BodyState] = []
         #: wall time spent between segments (scene and obstacles, contacts): the runner's cost
         self.between_s = 0.0
 
@@ -166,19 +168,25 @@ class Supervisor:
             seg_end, seg_interval = segment_span(start_value, end, self.write_interval_s)
         else:  # a fixed deltaT cannot land on the grid times: run to the end as the case says
             seg_end, seg_interval = end, self.write_interval_s
+        max_dt = self.info.max_delta_t_s
+        cap = None
+        if self.start_states and self.contact.enabled and self.info.adjustable_time_step:
+            cap = self.book.step_cap_s(self.start_states, self.pacing.latency_steps, max_dt)
         self.record.data["segment_control"] = {"endTime": seg_end, "writeInterval": seg_interval}
         self.record.save()
         # v1912 may write a time with more digits than timePrecision (it raises the precision
         # to tell close times apart) and then, restarting, look for the shorter name
         set_control(self.case, backdate=True, stopAt="endTime", startFrom="latestTime",
-                    endTime=seg_end, writeInterval=seg_interval,
+                    endTime=seg_end, writeInterval=seg_interval, maxDeltaT=float(f"{cap or max_dt:.6g}"),
                     timePrecision=max(TIME_PRECISION, significant_digits(start_name)))
         try:
             seg = self.watch.run(self._rotate_log(), start_value, start_name, seg_end, progress)
+            seg.max_delta_t_s = cap
             self._record_segment(seg, start_value)
             return seg
         finally:  # the case's own controls back, whatever happened
-            set_control(self.case, stopAt="endTime", endTime=self.end_time_s, writeInterval=self.write_interval_s)
+            set_control(self.case, stopAt="endTime", endTime=self.end_time_s, writeInterval=self.write_interval_s,
+                        maxDeltaT=max_dt)
             self.record.data.pop("segment_control", None)
             self.record.save()
 
