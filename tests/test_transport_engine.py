@@ -293,3 +293,26 @@ def test_a_container_afloat_in_still_water_stays_where_it_is(yaw_deg):
     assert moved < 1e-3
     for angle, start in (("yaw_deg", yaw_deg), ("pitch_deg", 0.0), ("roll_deg", 0.0)):
         assert (track[angle] - start).abs().max() < 1.0, angle
+
+
+def test_the_still_water_before_the_bore_is_skipped_and_changes_nothing():
+    """Ritter's bore (0.3 m, dry bed: its tip runs at 2 sqrt(g h0) = 3.43 m/s) reaches the
+    container's upstream sub-volumes (x = 1.94 m) at 0.566 s. With ``still_start_m_s`` the run
+    begins at the last frame before the water there moves (within two frames of it) and carries
+    the body as the whole run does, to 1e-6 m; a body started moving is not skipped."""
+    flow = FlowField.ritter(0.3, np.linspace(-1.0, 3.0, 81), np.arange(0.0, 1.21, 0.02))
+    body = TransportBody("box", centre_m=(2.0, 0.0, 0.03), **CONTAINER_BOX)
+    whole = run_transport([body], FLUME, 1.2, flow)
+    skipped = run_transport([body], FLUME, 1.2, flow, settings=TransportSettings(still_start_m_s=0.005))
+    arrival = 1.94 / (2.0 * math.sqrt(9.81 * 0.3))
+    begin = skipped.track("box")["time_s"].iloc[0]
+    assert arrival - 0.04 - 0.05 / 3.43 <= begin <= arrival
+    assert skipped.steps < 0.6 * whole.steps
+    a, b = whole.track("box"), skipped.track("box")
+    late = a[a["time_s"] >= begin]
+    assert len(late) == len(b)
+    np.testing.assert_allclose(b[["x_m", "y_m", "z_m"]].to_numpy(), late[["x_m", "y_m", "z_m"]].to_numpy(), atol=1e-6)
+    assert a["x_m"].iloc[-1] - a["x_m"].iloc[0] > 0.3  # the bore carried it
+    moving = TransportBody("box", centre_m=(2.0, 0.0, 0.03), velocity_m_s=(0.1, 0.0, 0.0), **CONTAINER_BOX)
+    run = run_transport([moving], FLUME, 0.2, flow, settings=TransportSettings(still_start_m_s=0.005))
+    assert run.track("box")["time_s"].iloc[0] == 0.0

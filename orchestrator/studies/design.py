@@ -62,7 +62,7 @@ from orchestrator.studies.ensemble import DEFAULT_BATCH_SIZE, EXECUTORS, Perturb
 from orchestrator.studies.sweep.executors import dask_executor
 from orchestrator.transport.batch import run_batch
 from orchestrator.transport.case_transport import scene_settings, transport_setup
-from orchestrator.transport.engine import TransportSettings, run_transport
+from orchestrator.transport.engine import TransportSettings, ensemble_settings, run_transport
 from orchestrator.transport.flow import FlowField
 from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn, TransportBody
 
@@ -169,7 +169,7 @@ def _run_case(case: DesignCase, starts: list[list[TransportBody]], flume: FlumeB
               flow: FlowField, executor: str, workers: int, batch_size: int,
               progress: Callable[[int], None] | None) -> list[dict[str, Any]]:
     """Every realisation of one case, in batches, on ``executor``; rows in realisation order."""
-    settings = dataclasses.replace(scene_settings(case.scene), first_pulse_only=True)
+    settings = ensemble_settings(scene_settings(case.scene))
     npz = str(case.npz)
     keep_flow(npz, flow)
     t_end = float(case.scene.run.end_time_s)

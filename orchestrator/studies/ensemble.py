@@ -97,7 +97,7 @@ from orchestrator.scene.scenefile import load_scene
 from orchestrator.studies.sweep.executors import dask_executor
 from orchestrator.transport.batch import run_batch
 from orchestrator.transport.case_transport import case_flow, scene_settings, transport_setup
-from orchestrator.transport.engine import TransportResult, TransportSettings, run_transport
+from orchestrator.transport.engine import TransportResult, TransportSettings, ensemble_settings, run_transport
 from orchestrator.transport.flow import FlowField
 from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn, TransportBody
 
@@ -445,7 +445,7 @@ def run_ensemble(starts: Sequence[list[TransportBody]], flume: FlumeBounds, colu
     if int(batch_size) < 1:
         raise InputError("--batch-size", f"must be a whole number >= 1, got {batch_size}")
     workers = max(1, int(workers or os.cpu_count() or 1))
-    settings = dataclasses.replace(settings or TransportSettings(), first_pulse_only=True)
+    settings = ensemble_settings(settings or TransportSettings())
     npz = str(npz)
     keep_flow(npz, flow)
     # at most batch_size a model, and no fewer batches than workers (each worker busy)

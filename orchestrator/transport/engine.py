@@ -39,6 +39,7 @@ resolved impacts by event number (``pulses``) and each strike's state before it
 from __future__ import annotations
 
 import dataclasses
+import math
 import time
 from dataclasses import dataclass, field
 
@@ -100,10 +101,31 @@ class TransportSettings:
     min_impact_velocity_m_s: float = 0.05
     first_pulse_only: bool = False
     hydro: HydroCoefficients = field(default_factory=HydroCoefficients)
+    #: None: the run starts at t = 0. A speed (m/s): bodies that all start at rest begin at the
+    #: last record frame up to which the water at every sub-volume of every body moves slower
+    #: than it (:meth:`_Forcing.still_until`; the tracks begin there). A body at rest in its
+    #: start pose (on the bed, or afloat at its draft) in water that slow stays where it is:
+    #: what the skipped steps would compute is that it does not move.
+    still_start_m_s: float | None = None
 
     def __post_init__(self):
         for name in ("output_interval_s", "hydro_interval_s", "max_timestep_s", "separation_s"):
             require_positive(f"transport.{name}", getattr(self, name))
+
+
+#: the ensembles' still-water speed, as a fraction of the slowest approach that counts as an
+#: impact (0.05 m/s at the study's flume, Froude-scaled): 5 mm/s there
+STILL_WATER_FRACTION = 0.1
+
+
+def ensemble_settings(settings: TransportSettings) -> TransportSettings:
+    """``settings`` as the ensembles and the design study run them: only each body's first column
+    strike gets its pulse, and the still water before the flow reaches the bodies is skipped
+    (``still_start_m_s``, unless set: a tenth of ``min_impact_velocity_m_s``)."""
+    still = settings.still_start_m_s
+    if still is None:
+        still = STILL_WATER_FRACTION * settings.min_impact_velocity_m_s
+    return dataclasses.replace(settings, first_pulse_only=True, still_start_m_s=still)
 
 
 @dataclass(frozen=True)
@@ -177,6 +199,21 @@ class _Forcing:
                 a[wet] = sample.material_acceleration_m_s2
         return hydro_loads(com, rot, vel, omega, self.size, pts, eta, u, a, self.coeffs, self.tables, self.local)
 
+    def still_until(self, com, rot, t0: float, t_end: float, speed_m_s: float) -> float:
+        """The last flow time of the record's frames in ``[t0, t0 + t_end]`` up to which the
+        water at every sub-volume of the bodies posed at ``com``, ``rot`` moves slower than
+        ``speed_m_s`` at every frame (``t0`` if it already moves at ``t0``). Between two frames
+        the record's velocity is linear in time, so it is slower than that in between too."""
+        pts = (np.matmul(self.local, rot.transpose(0, 2, 1)) + com[:, None, :]).reshape(-1, 3)
+        frames = self.flow.t_s[(self.flow.t_s >= t0) & (self.flow.t_s <= t0 + t_end)]
+        still = t0
+        for t in frames:
+            u = self.flow.sample(pts, float(t), acceleration=False).velocity_m_s
+            if np.max(np.einsum("pk,pk->p", u, u)) >= speed_m_s * speed_m_s:
+                break
+            still = float(t)
+        return still
+
     def outside(self, com, rot, x_range) -> np.ndarray:
         """Bodies (B,) with a sub-volume beyond ``x_range`` (the open ends' x; +-inf if closed)."""
         pts = com[:, None, :] + np.einsum("bij,bnj->bni", rot, self.local)
@@ -225,10 +262,17 @@ def run_transport(bodies, flume: FlumeBounds, t_end_s: float, flow: FlowField | 
         d.qvel[v + 3:v + 6] = rot.T @ np.asarray(b.angular_velocity_rad_s)  # free joint: body-frame rates
     mujoco.mj_forward(m, d)
 
-    steps = int(round(t_end / dt))
     n_hydro = max(1, int(round(settings.hydro_interval_s / dt)))
     n_out = max(1, int(round(settings.output_interval_s / dt)))
     forcing = _Forcing(flow, bodies, coeffs) if flow is not None else None
+    t_begin = 0.0
+    at_rest = not np.any(d.qvel)
+    if settings.still_start_m_s is not None and forcing is not None and at_rest:
+        xmat = d.xmat[built.body_ids].reshape(-1, 3, 3)
+        still = forcing.still_until(d.xpos[built.body_ids], xmat, t0, t_end, float(settings.still_start_m_s)) - t0
+        t_begin = math.floor(still / (n_out * dt) + 1e-9) * n_out * dt  # on the output grid
+        d.time = t_begin
+    steps = int(round((t_end - t_begin) / dt))
     surface = (lambda x, y, t: flow.surface(x, y, t0 + t)) if flow is not None else None
     book = EventBook(built.geom_owner, built.geom_names, bodies, built.body_ids, built.dof_adr, column,
                      flume.bed_z_m, settings.separation_s, surface, settings.min_impact_velocity_m_s,
