@@ -161,6 +161,19 @@ def test_the_table_holds_each_bodys_first_strike_and_its_pulse(current):
     pd.testing.assert_frame_equal(pooled_table.drop(columns=timings), table.drop(columns=timings))
 
 
+def test_tracks_are_kept_for_the_first_realisations_only(current, monkeypatch):
+    """tracks.csv keeps the first TRACKED_REALISATIONS (2,000) realisations' tracks; the table keeps all."""
+    import orchestrator.studies.ensemble as ens
+
+    flow, npz = current
+    monkeypatch.setattr(ens, "TRACKED_REALISATIONS", 2)
+    starts = ensemble_starts([container()], FLUME, COLUMN, Perturbation(), seed=0, n=3)
+    runs = run_ensemble(starts, FLUME, COLUMN, 0.3, flow, npz, "local", workers=1, study_fit=False)
+    assert [len(r.rows) for r in runs] == [1, 1, 1]
+    assert len(runs[0].tracks) > 10 and len(runs[1].tracks) == len(runs[0].tracks) and runs[2].tracks.empty
+    assert list(runs[2].tracks.columns) == list(runs[0].tracks.columns)
+
+
 def _rows(runs) -> pd.DataFrame:
     return pd.DataFrame([row for r in runs for row in r.rows], columns=TABLE_COLUMNS)
 

@@ -13,8 +13,7 @@
    carried through the one FlowField by :func:`~orchestrator.transport.engine.run_transport`.
 3. **Tables.** ``ensemble.csv`` (one row per realisation and body, :data:`TABLE_COLUMNS`: the
    start, the first column strike and its loads, the number of strikes, the wall time),
-   ``tracks.csv`` (every track's plan position), ``ensemble.json`` (:func:`summarise`) and
-   ``report.md`` with its figures (:mod:`~orchestrator.studies.ensemble_report`).
+   ``tracks.csv`` (plan positions), ``ensemble.json`` (:func:`summarise`), ``report.md`` and figures.
 
 The perturbation (:class:`Perturbation`)
 ----------------------------------------
@@ -144,7 +143,9 @@ added mass included), the water level at the face and the study's fit of the bas
 (:mod:`orchestrator.results.study_fit`), NaN when not struck; all column strikes; the wall time."""
 
 TRACK_COLUMNS = ["realisation", "body", "time_s", "x_m", "y_m", "speed_m_s"]
-"""tracks.csv: every body's centre in plan view, every output interval (0.01 s)."""
+"""tracks.csv: every body's centre in plan view, every output interval (0.01 s), for the first
+:data:`TRACKED_REALISATIONS` realisations (100,000 tracks would be some 30 million rows)."""
+TRACKED_REALISATIONS = 2000
 
 #: The figures ensemble.json states for every struck body (mean, std, min, max, count).
 STATISTICS = ("impact_time_s", "impact_velocity_m_s", "impact_speed_m_s", "impact_height_m", "obliquity_deg",
@@ -386,7 +387,8 @@ def _realisation(number: int, result: TransportResult, bodies: Sequence[Transpor
     wall = result.wall_s + result.pulse_wall_s + sum(r["study_fit_wall_s"] for r in rows)
     for r in rows:
         r["wall_time_s"] = round(float(wall), 4)
-    tracks = result.tracks[["body", "time_s", "x_m", "y_m", "speed_m_s"]].copy()
+    tracks = result.tracks[["body", "time_s", "x_m", "y_m", "speed_m_s"]]
+    tracks = (tracks if number < TRACKED_REALISATIONS else tracks.iloc[:0]).copy()
     tracks.insert(0, "realisation", number)
     return Realisation(number, rows, tracks, wall)
 
@@ -394,10 +396,8 @@ def _realisation(number: int, result: TransportResult, bodies: Sequence[Transpor
 def run_realisations(numbers: Sequence[int], starts: Sequence[list[TransportBody]], flume: FlumeBounds,
                      column: PlacedColumn | None, t_end_s: float, npz: str, settings: TransportSettings,
                      study_fit: bool = True) -> list[Realisation]:
-    """Realisations ``numbers`` (their ``starts``) as one batch, one model stepped for all
-    (:func:`~orchestrator.transport.batch.run_batch`); one alone goes through
-    :func:`run_realisation`. Each realisation's wall time is its share of the batch's stepping
-    and pulses plus its own fits."""
+    """Realisations ``numbers`` (their ``starts``) as one batch (:func:`~orchestrator.transport.batch.run_batch`;
+    one alone: :func:`run_realisation`); each one's wall time is its share of the batch's plus its fits."""
     if len(numbers) == 1:
         return [run_realisation(numbers[0], list(starts[0]), flume, column, t_end_s, npz, settings, study_fit)]
     results = run_batch(starts, flume, t_end_s, flow=keep_flow(npz), column=column, settings=settings)
