@@ -228,6 +228,13 @@ def test_the_page_sets_asce_beside_the_curves(tmp_path):
     # each ASCE input says where it comes from: an untyped body, the study's k_d and its own mass
     assert "- k_d: the study's 1:40 container's k_d, 3.04e+06 N/m" in page and "- m_d: the heaviest body's own mass" in page
     assert "Table 6.8-1 for the scene's design.risk_category (III)" in page
+    assert "mass each body's own" in page  # one mass throughout: nothing was drawn
+    # masses that were drawn (a catalogued body without design.mass_kg) are said with their range
+    table.loc[table.index[::2], "mass_kg"] = 2300.0
+    table.loc[table.index[1::2], "mass_kg"] = 30480.0
+    write_report(tmp_path, DesignResult(table, cases, {}), TINY, [], spec,
+                 {"wall_time_s": 1.0, "flow_phase_wall_s": 0.0, "workers": 1, "executor": "local", "batch_size": 32})
+    assert "empty-to-loaded range (drawn 2,300 to 30,480 kg)" in (tmp_path / "design.md").read_text()
 
 
 # --------------------------------------------------------------------------- the verb

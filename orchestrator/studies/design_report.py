@@ -151,7 +151,7 @@ def summarise(result, scene_path, sets: list[str], spec: Design, wall: dict[str,
                        "realisations": c.realisations, "flow_case": str(c.flow_case),
                        "strike_probability": float(per.loc[per["case"] == c.name, "struck"].mean()),
                        "flow_phase_wall_s": round(c.flow_wall_s, 2)} for c in cases],
-            "draws": {"mass_kg": list(spec.mass_kg) if spec.mass_kg else "each body's own",
+            "draws": {"mass_kg": list(spec.mass_kg) if spec.mass_kg else _masses_drawn(result.table),
                       "heading_deg": list(spec.heading_deg) if spec.heading_deg else "placement tolerance",
                       "start_x_m": list(spec.start_x_m) if spec.start_x_m else None,
                       "start_y_m": list(spec.start_y_m) if spec.start_y_m else None},
@@ -207,6 +207,14 @@ def figure_exceedance(result, summary: dict[str, Any]):
                  "(not a probabilistic tsunami hazard analysis)", fontsize=9)
     fig.tight_layout(rect=(0, 0, 1, 0.96))
     return fig
+
+
+def _masses_drawn(table) -> str:
+    """The mass draw without `design.mass_kg`: a catalogued body's empty-to-loaded range, as drawn."""
+    masses = table["mass_kg"].to_numpy(float)
+    if not len(masses) or masses.min() == masses.max():
+        return "each body's own"
+    return f"each catalogued body's empty-to-loaded range (drawn {masses.min():,.0f} to {masses.max():,.0f} kg)"
 
 
 def _num(value: float | None, digits: int = 4) -> str:
