@@ -408,3 +408,25 @@ def test_a_case_folder_and_a_sweep_member_answer_the_same_case_alike(tmp_path, c
         or (coupling == "two-way" and change == ["run.debris_coupling=two-way"])
     assert holds_case(tmp_path, b) is expected
     assert (member_id(a) == member_id(b)) is expected
+
+
+_WORKER_ENV = """
+import os
+from orchestrator.studies.sweep.executors import dask_executor
+
+def environment(_stop):
+    return os.environ.get("MALLOC_TRIM_THRESHOLD_"), os.environ.get("OMP_NUM_THREADS")
+
+if __name__ == "__main__":
+    with dask_executor(1, None, None) as ex:
+        print(ex.submit(environment, ex.stop, key="env").result())
+"""
+
+
+def test_dask_workers_start_without_the_malloc_trim_threshold():
+    """Distributed's nannies would start workers with MALLOC_TRIM_THRESHOLD_=65536, which halves
+    the transport's speed (orchestrator.studies.sweep.executors.worker_environment); the
+    executor's workers start without it, and keep the rest (one BLAS thread)."""
+    proc = subprocess.run([sys.executable, "-c", _WORKER_ENV], cwd=ROOT, capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    assert proc.stdout.strip() == "(None, '1')"

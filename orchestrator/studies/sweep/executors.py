@@ -87,6 +87,7 @@ def signal_handlers(handlers: dict[int, Any]) -> Iterator[None]:
 def dask_executor(slots: int, scheduler: str | None, cluster_kwargs: dict | None) -> Iterator[Executor]:
     """The Dask scheduler at ``scheduler``, or a LocalCluster of ``slots`` single-threaded
     worker processes (``cluster_kwargs`` override its options)."""
+    import dask
     from distributed import Client, Event, LocalCluster, as_completed
 
     cluster = None
@@ -103,7 +104,7 @@ def dask_executor(slots: int, scheduler: str | None, cluster_kwargs: dict | None
                    "memory_limit": 0, "silence_logs": logging.ERROR}
         options.update(cluster_kwargs or {})
         # Ctrl-C is the parent's: it stops the members through `stop`
-        with signal_handlers({signal.SIGINT: signal.SIG_IGN}):
+        with signal_handlers({signal.SIGINT: signal.SIG_IGN}), dask.config.set(worker_environment()):
             cluster = LocalCluster(**options)
         client = Client(cluster)
         describe = f"dask LocalCluster, {options['n_workers']} worker(s)"
@@ -114,6 +115,21 @@ def dask_executor(slots: int, scheduler: str | None, cluster_kwargs: dict | None
                        as_completed, stop, describe)
     finally:
         _close_dask(client, cluster, stop)
+
+
+def worker_environment() -> dict[str, Any]:
+    """Dask's configuration for the environment its nannies start workers in, without
+    ``MALLOC_TRIM_THRESHOLD_``. Distributed sets it to 64 KiB to hand freed memory back to the
+    system at once; set at all, it also fixes glibc's mmap threshold at its 128 KiB start
+    value, so every temporary array over that size is mapped and unmapped again, page by page.
+    The transport's forcing makes such arrays at every update: measured on the 1-debris
+    record (1,024 realisations, 2 workers), 8.3 realisations a second with it, 17.1 without
+    (the local process pool's rate), the same with it set in a local pool (8.4)."""
+    import dask
+
+    environ = dict(dask.config.get("distributed.nanny.pre-spawn-environ", default={}) or {})
+    environ.pop("MALLOC_TRIM_THRESHOLD_", None)
+    return {"distributed.nanny.pre-spawn-environ": environ}
 
 
 class _DropCancelled(logging.Filter):
