@@ -195,6 +195,30 @@ def test_classification_of_contacts(body_case):
     assert book.classify(contact(-0.002, 0.1, "bed"), horizon) == "bed"
 
 
+def test_a_runner_that_died_mid_segment_leaves_the_cases_own_controls_back(body_case, tmp_path):
+    """A runner killed during a segment left the segment's endTime, writeInterval and its lowered
+    maxDeltaT in controlDict; the next run puts the case's own back (run.json's segment_control
+    and control say which), and a maxDeltaT the user set in controlDict is the case's own."""
+    import shutil
+
+    from orchestrator.run.control import read_control, set_control
+    from orchestrator.run.runner import _original_controls
+
+    case = tmp_path / "case"
+    shutil.copytree(body_case, case)
+    set_control(case, maxDeltaT=0.004)  # the user's own step limit
+    assert load_case_info(case).max_delta_t_s == pytest.approx(0.004)
+    (case / "run.json").write_text(json.dumps({"control": {"endTime": 0.2, "writeInterval": 0.05},
+                                               "segment_control": {"endTime": 0.1, "writeInterval": 0.025,
+                                                                   "maxDeltaT": 0.004}}))
+    set_control(case, endTime=0.1, writeInterval=0.025, maxDeltaT=0.0007)  # a segment's, left behind
+    info = _original_controls(load_case_info(case))
+    control = read_control(case)
+    assert (info.end_time_s, info.write_interval_s, info.max_delta_t_s) == (0.2, 0.05, 0.004)
+    assert (float(control["endTime"]), float(control["writeInterval"]), float(control["maxDeltaT"])) == (0.2, 0.05,
+                                                                                                          0.004)
+
+
 def test_step_cap_lets_no_corner_cross_the_gap_before_the_runner_acts(body_case):
     """ContactBook.step_cap_s: near the column a body tumbling at 10 rad/s gets steps of
     gap / ((latency + 1) (u_n + |omega| R)); still, or far from everything, it keeps the

@@ -121,7 +121,8 @@ def load_case_info(case_dir: str | Path, np_override: int | None = None) -> Case
         if "adjustTimeStep" in control else False,
         max_courant=float(control["maxCo"]) if "maxCo" in control else 1.0,
         delta_t_s=float(control["deltaT"]),
-        max_delta_t_s=float(plan.get("max_delta_t_s") or control.get("maxDeltaT", control["deltaT"])),
+        max_delta_t_s=float(control["maxDeltaT"]) if "maxDeltaT" in control else float(
+            plan.get("max_delta_t_s") or control["deltaT"]),
         domain_m=domain,
         two_d=bool(plan.get("two_d", False)),
         downstream_type=str(plan.get("downstream_type", "wall")),

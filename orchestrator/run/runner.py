@@ -373,7 +373,7 @@ def _finish(info: CaseInfo, sup: Supervisor, reconstruct: str, reached: float, n
 
 
 def _original_controls(info: CaseInfo) -> CaseInfo:
-    """The case's own endTime/writeInterval: a runner that died during a segment left the
+    """The case's own endTime/writeInterval/maxDeltaT: a runner that died during a segment left the
     segment's values in controlDict (run.json says which); otherwise controlDict's (a user
     may have changed endTime to extend a run)."""
     data = CaseFolder(info.case).run_record()
@@ -382,9 +382,11 @@ def _original_controls(info: CaseInfo) -> CaseInfo:
     seg, own = data.get("segment_control"), data.get("control")
     if seg and own and math.isclose(seg["endTime"], info.end_time_s) and math.isclose(
             seg["writeInterval"], info.write_interval_s):
+        max_dt = float(seg.get("maxDeltaT", info.max_delta_t_s))  # the case's own, not a segment's cap
         set_control(info.case, stopAt="endTime", endTime=own["endTime"], writeInterval=own["writeInterval"],
-                    maxDeltaT=info.max_delta_t_s)
-        return replace(info, end_time_s=float(own["endTime"]), write_interval_s=float(own["writeInterval"]))
+                    maxDeltaT=max_dt)
+        return replace(info, end_time_s=float(own["endTime"]), write_interval_s=float(own["writeInterval"]),
+                       max_delta_t_s=max_dt)
     return info
 
 

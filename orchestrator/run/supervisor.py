@@ -172,7 +172,7 @@ class Supervisor:
         cap = None
         if self.start_states and self.contact.enabled and self.info.adjustable_time_step:
             cap = self.book.step_cap_s(self.start_states, self.pacing.latency_steps, max_dt)
-        self.record.data["segment_control"] = {"endTime": seg_end, "writeInterval": seg_interval}
+        self.record.data["segment_control"] = {"endTime": seg_end, "writeInterval": seg_interval, "maxDeltaT": max_dt}
         self.record.save()
         # v1912 may write a time with more digits than timePrecision (it raises the precision
         # to tell close times apart) and then, restarting, look for the shorter name
