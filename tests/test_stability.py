@@ -112,10 +112,11 @@ EXPECTED: dict[str, tuple[str, str]] = {
     # the 2-cell body mesh against the side wall: the lossy contact law keeps it there, and the
     # fringes lose 0.7-0.85 % of the water by the end time (0.6 s), inside the 1 % stop
     "near-side-wall": ("finished", ""),
-    # six overset bodies on 2-cell body meshes: with every body mesh split across the ranks
-    # (orchestrator/case/split_bodies.py) the addressing passes all 21 zone pairs at every step, and
-    # the light floating containers blow up at t = 0.022 s (alpha.water unbounded, then sigFpe; the
-    # same step serially), as 2-cell body meshes do (docs/openfoam-notes.md)
+    # six overset bodies: with every body mesh split across the ranks (orchestrator/case/split_bodies.py)
+    # the addressing passes all 21 zone pairs at every step, and the run blows up at t = 0.022 s
+    # (alpha.water unbounded, then sigFpe; the same step serially): v1912 adds the six sixDoF
+    # solvers' displacements, which multiplies a mesh error by (1 - 6) a step (docs/stability.md,
+    # "Several coupled bodies in one run")
     "six-debris": ("diverged", ""),
 }
 
