@@ -173,8 +173,7 @@ class _Forcing:
             part.names = [self.names[i] for i in active]
             part.tables = None if self.tables is None else self.tables[active]
             return part(t_flow, com[active], rot[active], vel[active], omega[active])
-        pts = np.matmul(self.local, rot.transpose(0, 2, 1).copy())  # contiguous: 2-3x faster
-        pts += com[:, None, :]
+        pts = self._points(com, rot)
         flat = pts.reshape(-1, 3)
         try:
             located = self.flow.locate(flat[:, 0], flat[:, 1], t_flow)  # once, for the surface and the sample
@@ -199,12 +198,18 @@ class _Forcing:
                 a[wet] = sample.material_acceleration_m_s2
         return hydro_loads(com, rot, vel, omega, self.size, pts, eta, u, a, self.coeffs, self.tables, self.local)
 
+    def _points(self, com, rot) -> np.ndarray:
+        """The sub-volume centres in the world (B, N, 3) of bodies posed at ``com``, ``rot``."""
+        pts = np.matmul(self.local, rot.transpose(0, 2, 1).copy())  # contiguous: 2-3x faster
+        pts += com[:, None, :]
+        return pts
+
     def still_until(self, com, rot, t0: float, t_end: float, speed_m_s: float) -> float:
         """The last flow time of the record's frames in ``[t0, t0 + t_end]`` up to which the
         water at every sub-volume of the bodies posed at ``com``, ``rot`` moves slower than
         ``speed_m_s`` at every frame (``t0`` if it already moves at ``t0``). Between two frames
         the record's velocity is linear in time, so it is slower than that in between too."""
-        pts = (np.matmul(self.local, rot.transpose(0, 2, 1)) + com[:, None, :]).reshape(-1, 3)
+        pts = self._points(com, rot).reshape(-1, 3)
         frames = self.flow.t_s[(self.flow.t_s >= t0) & (self.flow.t_s <= t0 + t_end)]
         still = t0
         for t in frames:
