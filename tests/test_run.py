@@ -261,10 +261,11 @@ def test_resting_contact_stops_the_closing_motion(body_case):
 
 def test_contact_book_pins_a_body_pressed_against_the_column_again_and_again(body_case, tmp_path):
     """The book alone (no solver): the same slow contact at restarts 3 ms apart is resting
-    `max_events` times, then pinned; two bodies pressed together are a ContactError."""
+    `max_events` times, then pinned; two bodies pressed together have plastic contacts that set
+    them half the gap apart, and a ContactError only when even that stops the solver every ms."""
     import shutil
 
-    from orchestrator.run.contact_book import ContactBook
+    from orchestrator.run.contact_book import PRESSED_RUNAWAY, ContactBook
     from orchestrator.run.runner import ContactError
 
     case = tmp_path / "case"
@@ -289,12 +290,28 @@ def test_contact_book_pins_a_body_pressed_against_the_column_again_and_again(bod
     book.forget_events_after(0.01)  # a resumed run computing t > 0.01 s again
     assert len(json.loads((case / "contacts.json").read_text())) == 3
 
-    one = _state("debris1", (0.5, 0.0, 0.1))
-    other = _state("debris2", (0.5, 0.06 + 0.001, 0.1), (0.0, -0.02, 0.0))
-    with pytest.raises(ContactError, match="two bodies pressed together"):
-        for k in range(1, settings.max_events + 2):
-            book.resolve_contacts(f"{0.1 + 0.003 * k:g}", [one, other], 0.003)
-    assert k == settings.max_events + 1
+    # two bodies the flow presses together: every contact of the pair plastic and the pair set
+    # half the gap apart, with the pair's momentum kept, even when they close at impact speed
+    one = _state("debris1", (0.5, 0.0, 0.1), (0.0, 0.0, 0.0))
+    other = _state("debris2", (0.5, 0.06 + 0.001, 0.1), (0.0, -0.3, 0.0))
+    for k in range(1, PRESSED_RUNAWAY * settings.max_events + 1):
+        impacts, (a, b) = book.resolve_contacts(f"{0.1 + 0.001 * k:g}", [one, other], 0.001)
+        if k > settings.max_events:
+            assert impacts == 0, k
+            gap = min(c.distance_m for c in book.geometry.contacts([a, b], 0.01, bed=False) if c.kind == "body")
+            assert gap == pytest.approx(0.5 * settings.gap_m, abs=1e-9)
+            assert b.velocity_m_s[1] == pytest.approx(a.velocity_m_s[1])  # plastic: no rebound
+            momentum = a.velocity_m_s[1] + b.velocity_m_s[1]  # equal masses
+            assert momentum == pytest.approx(one.velocity_m_s[1] + other.velocity_m_s[1], abs=1e-12)
+            assert a.centre_of_mass_m[1] + b.centre_of_mass_m[1] == pytest.approx(
+                one.centre_of_mass_m[1] + other.centre_of_mass_m[1], abs=1e-12)
+    events = json.loads((case / "contacts.json").read_text())
+    pair = [e for e in events if e.get("other") == "debris2" or e.get("body") == "debris2"]
+    assert [e.get("pressed", False) for e in pair[settings.max_events:]] == [True] * (
+        (PRESSED_RUNAWAY - 1) * settings.max_events)
+    assert sum("presses debris" in m for m in messages) == 1
+    with pytest.raises(ContactError, match="pressed together harder than event-driven contact can follow"):
+        book.resolve_contacts(f"{0.1 + 0.001 * (k + 1):g}", [one, other], 0.001)
 
 
 def test_contact_book_keeps_a_body_the_flow_pulls_into_the_bed_on_it(body_case, tmp_path):

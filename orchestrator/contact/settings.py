@@ -34,8 +34,10 @@ class ContactSettings:
         into it removed (`contact.clamp_to_bed`).
     max_events / window_s: more than `max_events` contacts of the same pair within
         `window_s` of simulated time is a resting contact, which this event-driven model
-        cannot represent: the body is pinned where it is for the rest of the run (debris
-        held against the column or a wall by the flow); two bodies: ContactError. A body
+        cannot represent as impacts: the body is pinned where it is for the rest of the run
+        (debris held against the column or a wall by the flow); two bodies pressed together
+        (a row of containers the bore pushes into each other) have each contact made
+        plastic while it lasts, the pair set half the gap apart, and the run goes on. A body
         lifted out of the bed more than `max_events` times within `window_s` is kept on
         the bed's plane (`bodystate.rest_on_bed`) until the water measured around it can carry
         it (`orchestrator.run.bedwatch`).

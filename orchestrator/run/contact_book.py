@@ -17,8 +17,11 @@ contact's closing speed, `Contact`). This module adds what the runner needs on t
   solver at once is resolved: impacts by `orchestrator.contact.resolution.resolve`, slow contacts
   (closing slower than `min_impact_speed_m_s`) by a plastic impulse (`resting_contact`),
   a body the flow keeps pressing against an obstacle (more than `max_events` contacts
-  within `window_s`) is pinned there (`bodystate.pin_bodies`); bodies are lifted out
-  of the bed and any overlap left is removed along the contact normal;
+  within `window_s`) is pinned there (`bodystate.pin_bodies`), two bodies it keeps
+  pressing together have every contact made plastic while that lasts; two bodies in a
+  resting contact are set half the gap apart (a position correction that keeps their
+  momentum); bodies are lifted out of the bed and any overlap left is removed along the
+  contact normal;
 - the record: `contacts.json` (every event: impacts, resting contacts, pins),
   `impact_events.csv` (one row per impact) and `contacts/event<n>-force.csv` (and
   `-base-shear.csv` for the column), in the case, written through
@@ -59,7 +62,11 @@ from orchestrator.run.contact_geometry import Contact, Geometry, resting_contact
 from orchestrator.run.errors import ContactError
 from orchestrator.run.monitor import StepRecord
 
-__all__ = ["ContactBook"]
+__all__ = ["ContactBook", "PRESSED_RUNAWAY"]
+
+#: two bodies in contact more than this many times `max_events` within `window_s`, each
+#: contact already plastic and the pair set apart: a ContactError (see `_resting_too_often`)
+PRESSED_RUNAWAY = 4
 
 
 # --------------------------------------------------------------------------- the book
@@ -83,6 +90,8 @@ class ContactBook:
         self._geometry: Geometry | None = None
         #: simulated times of the contacts of each (body, other) pair, within the window
         self._pair_events: dict[tuple[str, str], list[float]] = {}
+        #: body pairs found pressed together (said once)
+        self._pressed_pairs: set[tuple[str, str]] = set()
 
     @property
     def geometry(self) -> Geometry:
@@ -198,16 +207,25 @@ class ContactBook:
         for c in self.contacts_now(states, horizon_s):
             if c.body in done or c.other in done:
                 continue  # one impact per body per restart; a second one is found at the next
-            if self._resting_too_often(c, float(time_name)) and c.kind != "body":
+            pressed = self._resting_too_often(c, float(time_name))
+            if pressed and c.kind != "body":
                 by_name[c.body] = self._pin(time_name, c, by_name[c.body])
                 done.add(c.body)
                 continue
-            if self.classify(c, horizon_s) == "resting":
-                new, impulse = resting_contact(geometry, c, by_name)
+            if pressed or self.classify(c, horizon_s) == "resting":
+                # two bodies are set half the gap apart: left where they touch, the next
+                # closing motion would stop the solver again within a step or two
+                apart = 0.5 * self.settings.gap_m if c.kind == "body" else 0.0
+                new, impulse = resting_contact(geometry, c, by_name, separation_m=apart)
                 before = {k: by_name[k] for k in new}
                 by_name.update(new)
                 done.update({c.body, c.other})
-                self._record_resting(time_name, c, before, new, impulse)
+                self._record_resting(time_name, c, before, new, impulse, pressed=pressed)
+                if pressed and (c.body, c.other) not in self._pressed_pairs:
+                    self._pressed_pairs.add((c.body, c.other))
+                    self.say(f"t = {time_name} s: the flow presses {c.body} and {c.other} together "
+                             f"({self.settings.max_events + 1} contacts within {self.settings.window_s:g} s): "
+                             "their contacts are plastic from now on, not impacts")
                 continue
             result, new = geometry.resolve(c, by_name, self.settings)
             before = {k: by_name[k] for k in new}
@@ -258,14 +276,20 @@ class ContactBook:
 
     def _resting_too_often(self, c: Contact, t: float) -> bool:
         """More than `max_events` contacts of this pair within `window_s`: the flow holds the
-        body against the obstacle (a resting contact the event model cannot represent)."""
+        body against the obstacle or the other body (a resting contact the event model cannot
+        represent as impacts). Against an obstacle the body is then pinned; two bodies are
+        pressed together: each of their contacts is plastic (`resolve_contacts`) while it lasts.
+        More than `PRESSED_RUNAWAY` times `max_events` within the window is a ContactError: the
+        pair would stop the solver every step or two."""
         n = self._count_in_window((c.body, c.other), t)
         if n <= self.settings.max_events:
             return False
-        if c.kind == "body":
+        if c.kind == "body" and n > PRESSED_RUNAWAY * self.settings.max_events:
             raise ContactError(
-                f"{c.body} hit {c.other} {n} times within {self.settings.window_s:g} s of simulated time "
-                f"(t = {t:.6g} s): two bodies pressed together, which event-driven contact cannot model")
+                f"{c.body} and {c.other} stopped the solver {n} times within {self.settings.window_s:g} s of "
+                f"simulated time (t = {t:.6g} s) although each contact was made plastic and the pair set "
+                f"{0.5 * self.settings.gap_m * 1000:g} mm apart: two bodies pressed together harder than "
+                "event-driven contact can follow")
         return True
 
     def _count_in_window(self, key: tuple[str, str], t: float) -> int:
@@ -328,9 +352,10 @@ class ContactBook:
 
     # ---- the record
     def _record_resting(self, time_name: str, c: Contact, before: dict[str, BodyState],
-                        after: dict[str, BodyState], impulse_Ns: float) -> None:
+                        after: dict[str, BodyState], impulse_Ns: float, pressed: bool = False) -> None:
         events = self._read_events()
         event = {"event": len(events) + 1, "type": "resting", "time_s": float(time_name), "body": c.body,
+                 "pressed": pressed,
                  "other": c.other, "kind": c.kind, "gap_m": c.distance_m, "point_m": list(c.point_m),
                  "normal": list(c.normal), "approach_m_s": c.approach_m_s, "impulse_Ns": impulse_Ns,
                  "velocity_in_m_s": list(before[c.body].velocity_m_s),

@@ -117,9 +117,13 @@ class Geometry:
         return state if clamped is c else self.back(clamped, state)
 
 
-def resting_contact(geometry: Geometry, contact: Contact, states: dict[str, BodyState]) -> tuple[dict, float]:
+def resting_contact(geometry: Geometry, contact: Contact, states: dict[str, BodyState],
+                    separation_m: float = 0.0) -> tuple[dict, float]:
     """A slow contact: the impulse through the contact point that stops the closing motion
-    (perfectly plastic, no force history), and any overlap removed along the normal.
+    (perfectly plastic, no force history), and the bodies moved apart along the normal until
+    they are `separation_m` apart (0: only an overlap removed). The move is a position
+    correction: velocities and so momentum are those after the impulse; between two bodies
+    the lighter one moves more, and the pair's centre of mass stays where it was.
     Returns (new states by body, impulse in N s)."""
     n, point = np.asarray(contact.normal), np.asarray(contact.point_m)
     sides = [(contact.body, 1.0)] + ([(contact.other, -1.0)] if contact.kind == "body" else [])
@@ -132,7 +136,7 @@ def resting_contact(geometry: Geometry, contact: Contact, states: dict[str, Body
 
     k = sum(compliance(b) for b in bodies.values())
     j = max(contact.approach_m_s, 0.0) / float(n @ k @ n)  # N s along n, on the body
-    depth = max(-contact.distance_m, 0.0)
+    depth = max(separation_m - contact.distance_m, 0.0)
     total_mass = sum(b.mass_kg for b in bodies.values())
     new = {}
     for name, sign in sides:
