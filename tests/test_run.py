@@ -427,19 +427,24 @@ def test_write_and_restore_states_in_dynamic_mesh_dict(body_case, tmp_path):
 
 def test_latest_time_repairs_an_incomplete_write(tmp_path):
     case = tmp_path / "case"
+    field = "FoamFile\n{\n    class volScalarField;\n}\ninternalField nonuniform List<scalar> 2(1 2);\n\n" \
+            "// ************************************************************************* //\n"
     for p in ("processor0", "processor1"):
-        for t in ("0", "0.05", "0.1"):
+        for t in ("0", "0.05", "0.1", "0.15"):
             d = case / p / t
             (d / "uniform").mkdir(parents=True)
             for f in ("U", "p_rgh", "alpha.water"):
-                (d / f).write_text("x")
+                (d / f).write_text(field)
             if t != "0":
-                (d / "uniform" / "time").write_text("x")
-    (case / "processor1" / "0.1" / "p_rgh").unlink()  # rank 1 was killed while writing
+                (d / "uniform" / "time").write_text(field)
+    # rank 1 was killed while writing 0.15 (a field cut off mid-list) and before 0.1's last file
+    (case / "processor1" / "0.15" / "p_rgh").write_text(field[:70])
+    assert latest_time(case, 2, repair=False) == (0.1, "0.1")
+    (case / "processor1" / "0.1" / "p_rgh").unlink()
     assert latest_time(case, 2, repair=False) == (0.05, "0.05")
-    assert (case / "processor0" / "0.1").is_dir()
+    assert (case / "processor0" / "0.1").is_dir() and (case / "processor0" / "0.15").is_dir()
     assert latest_time(case, 2) == (0.05, "0.05")
-    assert not (case / "processor0" / "0.1").exists()
+    assert not (case / "processor0" / "0.1").exists() and not (case / "processor1" / "0.15").exists()
     assert latest_time(tmp_path / "empty", 2) == (0.0, "0")
 
 

@@ -22,8 +22,26 @@ __all__ = ["MIN_SEGMENT_FRACTION", "latest_time", "remove_times_from", "segment_
 MIN_SEGMENT_FRACTION = 0.1
 
 
+#: the last line OpenFOAM writes into every field file (IOobject::writeEndDivider), ascii and binary
+_END_DIVIDER = b"// ****"
+
+
+def _written_to_the_end(path: Path) -> bool:
+    """Whether a field file ends with OpenFOAM's closing divider line: a kill during the write
+    leaves it cut off mid-list (then the solver stops on "Bad token" when it reads it back).
+    Compressed files are taken as they are (their tail would need the whole file inflated)."""
+    if path.suffix == ".gz":
+        return True
+    with open(path, "rb") as f:
+        f.seek(0, 2)
+        f.seek(max(0, f.tell() - 512))
+        tail = f.read().rstrip()
+    return tail.rsplit(b"\n", 1)[-1].lstrip().startswith(_END_DIVIDER)
+
+
 def _complete(dirs: Sequence[Path]) -> bool:
-    """A written time is complete when every rank wrote it with the same files and uniform/time."""
+    """A written time is complete when every rank wrote it with the same files and uniform/time,
+    each field file written to its end."""
     names = None
     for d in dirs:
         if not (d / "uniform" / "time").is_file() and d.name != "0" and float(d.name) != 0.0:
@@ -32,6 +50,8 @@ def _complete(dirs: Sequence[Path]) -> bool:
         if names is None:
             names = files
         elif files != names:
+            return False
+        if not all(_written_to_the_end(d / name) for name in files):
             return False
     return True
 
