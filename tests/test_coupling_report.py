@@ -117,3 +117,26 @@ def test_the_drag_scan_finds_the_coefficient_that_carried_the_reference_track(tm
         assert at_two == pytest.approx(float(strikes.iloc[0]["time_s"]))
     else:
         assert pd.isna(at_two)
+
+
+def test_a_stopped_two_way_run_is_compared_up_to_where_it_stopped_only_when_asked(tmp_path):
+    """A two-way run interrupted at 0.06 s (before either first strike): refused by default with
+    the flag named; with --allow-stopped the tracks are compared to 0.06 s and the page says why."""
+    one = _one_way(synthetic_case(tmp_path / "one", "pair"))
+    two = _two_way(synthetic_case(tmp_path / "two", "pair"), dx=0.02)
+    summary = two / "results" / "summary.json"
+    summary.write_text(json.dumps({**json.loads(summary.read_text()), "status": "interrupted", "reached_time_s": 0.06}))
+    bodies = pd.read_csv(two / "results" / "bodies.csv")
+    bodies[bodies["time_s"] <= 0.06 + 1e-9].to_csv(two / "results" / "bodies.csv", index=False)
+    impacts = pd.read_csv(two / "results" / "impacts.csv")
+    impacts[impacts["time_s"] <= 0.06].to_csv(two / "results" / "impacts.csv", index=False)
+    with pytest.raises(InputError, match="TWO_WAY.*interrupted.*--allow-stopped"):
+        compare_coupling(one, two)
+    cmp = compare_coupling(one, two, allow_stopped=True)
+    assert cmp.until_s == pytest.approx(0.06)
+    assert "where the two-way run stopped, before its end (interrupted" in cmp.until_reason
+    assert cmp.tracks["time_s"].max() == pytest.approx(0.06) and np.allclose(cmp.tracks["distance_m"], 0.02)
+    proc = run_cli("report", "coupling", str(one), str(two), "--allow-stopped", "-o", str(tmp_path / "page"))
+    assert proc.returncode == 0, proc.stderr
+    text = (tmp_path / "page" / "report.md").read_text()
+    assert "two-way interrupted at t = 0.060 s" in text and "where the two-way run stopped" in text

@@ -263,7 +263,7 @@ def cmd_report_spreading(args: argparse.Namespace) -> int:
 def cmd_report_coupling(args: argparse.Namespace) -> int:
     from orchestrator.report.coupling import compare_coupling, scan_runs, write_coupling_report
 
-    comparison = compare_coupling(args.one_way, args.two_way)
+    comparison = compare_coupling(args.one_way, args.two_way, allow_stopped=args.allow_stopped)
     if args.drag_scan:
         scan_runs(comparison)
     files = write_coupling_report(comparison, output_path(args.out, "-o/--out", args.force, folder=True))
@@ -416,6 +416,9 @@ def add_study_parsers(verbs) -> None:
     p.add_argument("--drag-scan", action="store_true",
                    help="also carry the bodies through the one-way record at several drag coefficients and measure "
                         "each against the two-way track (seconds each)")
+    p.add_argument("--allow-stopped", action="store_true",
+                   help="compare a run that stopped before its end (interrupted, diverged, a contact it could not "
+                        "follow; post-processed as far as it got) up to where it stopped; the page says so")
     p.add_argument("-o", "--out", required=True, help="output folder (report.md, tables, figure)")
     p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
     p.add_argument("--json", action="store_true", help="print JSON")

@@ -69,11 +69,13 @@ class CouplingComparison:
     scan: pd.DataFrame = field(default_factory=pd.DataFrame)
 
 
-def _checked(path: str | Path, coupling: str, argument: str) -> Layout:
+def _checked(path: str | Path, coupling: str, argument: str, allow_stopped: bool = False) -> Layout:
     lay = load_layout(path)
-    if not lay.ok:
+    stopped = allow_stopped and bool(lay.summary) and not lay.bodies.empty
+    if not (lay.ok or stopped):
+        hint = "; --allow-stopped compares it up to where it stopped" if lay.summary and not allow_stopped else ""
         raise InputError(argument, f"{path} has no finished, post-processed run ({lay.status}: "
-                                   f"{lay.error or 'run `debrisfoam post` on it'})")
+                                   f"{lay.error or 'run `debrisfoam post` on it'}{hint})")
     if lay.plan.get("debris_coupling") != coupling:
         raise InputError(argument, f"{path} is a {lay.plan.get('debris_coupling')!r} run, not a {coupling} one")
     return lay
@@ -148,11 +150,13 @@ def _background_cells(lay: Layout) -> int | None:
     return (lay.plan.get("background") or {}).get("cell_count")
 
 
-def compare_coupling(one_way: str | Path, two_way: str | Path) -> CouplingComparison:
+def compare_coupling(one_way: str | Path, two_way: str | Path, allow_stopped: bool = False) -> CouplingComparison:
     """Read both runs and measure the one-way run against the two-way one (module notes).
-    InputError naming the argument when a run is missing, unfinished, of the other coupling, or
-    of other bodies."""
-    runs = {"one-way": _checked(one_way, "one-way", "ONE_WAY"), "two-way": _checked(two_way, "two-way", "TWO_WAY")}
+    InputError naming the argument when a run is missing, unfinished (unless `allow_stopped`
+    and post-processed as far as it got: then the comparison ends where it stopped), of the
+    other coupling, or of other bodies."""
+    runs = {"one-way": _checked(one_way, "one-way", "ONE_WAY", allow_stopped),
+            "two-way": _checked(two_way, "two-way", "TWO_WAY", allow_stopped)}
     if sorted(runs["one-way"].body_names) != sorted(runs["two-way"].body_names):
         raise InputError("TWO_WAY", f"its bodies {runs['two-way'].body_names} are not the one-way run's "
                                     f"{runs['one-way'].body_names}")
@@ -165,6 +169,11 @@ def compare_coupling(one_way: str | Path, two_way: str | Path) -> CouplingCompar
         reason = f"the first strike on the column ({first}, t = {struck[first]:.3f} s)"
     else:
         until_s, reason = min(ends.values()), "the shorter run's end (neither run struck the column)"
+    stopped = {k: lay for k, lay in runs.items() if not lay.ok}
+    if stopped and until_s >= min(ends[k] for k in stopped) - 1e-9:
+        k = min(stopped, key=lambda k: ends[k])
+        reason = (f"where the {k} run stopped, before its end ({stopped[k].status}: "
+                  f"{_stop_reason(stopped[k])})")
     tracks = _differences(runs, until_s)
     cells = [_background_cells(lay) for lay in runs.values()]
     same_mesh = cells[0] is not None and cells[0] == cells[1]
@@ -172,9 +181,16 @@ def compare_coupling(one_way: str | Path, two_way: str | Path) -> CouplingCompar
     return CouplingComparison(runs, until_s, reason, tracks, table, same_mesh)
 
 
+def _stop_reason(lay: Layout) -> str:
+    """Why a run stopped before its end: its runner's error, else the reached time."""
+    error = lay.run.get("error")
+    message = error.get("message") if isinstance(error, dict) else error
+    return str(message or f"reached t = {lay.summary.get('reached_time_s')} s").splitlines()[0]
+
+
 def _row(kind: str, lay: Layout, strike: dict | None, tracks: pd.DataFrame) -> dict[str, Any]:
     base = layout_row(lay)
-    row: dict[str, Any] = {"run": kind, "case": str(lay.case), "cells": lay.summary.get("cells"),
+    row: dict[str, Any] = {"run": kind, "case": str(lay.case), "status": lay.status, "cells": lay.summary.get("cells"),
                            "background_cells": _background_cells(lay), "reached_time_s": lay.summary.get("reached_time_s"),
                            "flow_wall_s": base.get("flow_wall_s"), "flow_cpu_s": base.get("flow_cpu_s"),
                            "transport_wall_s": base.get("transport_wall_s"), "column_strikes": base.get("column_strikes")}
@@ -216,6 +232,8 @@ def markdown(cmp: CouplingComparison, figure: str | None) -> str:
              f"- Background mesh: {figure_text(one.get('background_cells'), ',.0f')} cells one-way, "
              f"{figure_text(two.get('background_cells'), ',.0f')} two-way ("
              + ("the same mesh" if cmp.same_mesh else "different meshes: the comparison mixes mesh and coupling") + ").",
+             f"- Runs: one-way {one.get('status')} at t = {figure_text(one.get('reached_time_s'), '.3f', ' s')}, "
+             f"two-way {two.get('status')} at t = {figure_text(two.get('reached_time_s'), '.3f', ' s')}.",
              f"- The tracks are compared from the start to {cmp.until_reason}: t = {cmp.until_s:.3f} s.", "",
              "## The track until the first strike", "",
              "| | one-way minus two-way |", "|---|---|",
