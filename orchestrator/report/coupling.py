@@ -185,7 +185,14 @@ def _stop_reason(lay: Layout) -> str:
     """Why a run stopped before its end: its runner's error, else the reached time."""
     error = lay.run.get("error")
     message = error.get("message") if isinstance(error, dict) else error
-    return str(message or f"reached t = {lay.summary.get('reached_time_s')} s").splitlines()[0]
+    if not message:
+        return f"reached t = {figure_text(lay.summary.get('reached_time_s'), '.4g', ' s')}"
+    return str(message).splitlines()[0]
+
+
+def _text(value: Any) -> str:
+    """A table cell's text: '-' for a missing value (None or NaN, as pandas gives it)."""
+    return "-" if value is None or (isinstance(value, float) and np.isnan(value)) else str(value)
 
 
 def _row(kind: str, lay: Layout, strike: dict | None, tracks: pd.DataFrame) -> dict[str, Any]:
@@ -244,7 +251,7 @@ def markdown(cmp: CouplingComparison, figure: str | None) -> str:
              f"| yaw difference at t = {cmp.until_s:.3f} s | {figure_text(one.get('dyaw_at_end_deg'), '+.1f', ' deg')} |", "",
              "## The first strike and the cost", "",
              "| | one-way | two-way |", "|---|---|---|",
-             f"| striking body | {one.get('strike_body') or '-'} | {two.get('strike_body') or '-'} |"]
+             f"| striking body | {_text(one.get('strike_body'))} | {_text(two.get('strike_body'))} |"]
     for label, key, fmt, unit in STRIKE_ROWS:
         lines.append(f"| {label} | {figure_text(one.get(key), fmt, unit)} | {figure_text(two.get(key), fmt, unit)} |")
     lines += [f"| cells | {figure_text(one.get('cells'), ',.0f')} | {figure_text(two.get('cells'), ',.0f')} |",
@@ -262,8 +269,12 @@ def markdown(cmp: CouplingComparison, figure: str | None) -> str:
             lines.append(f"| {cd} | {figure_text(r['track_rms_m'], '.3f', ' m')} | {figure_text(r['track_max_m'], '.3f', ' m')} | "
                          f"{figure_text(r['strike_time_s'], '.3f', ' s')} | {figure_text(r['strike_velocity_m_s'], '.2f', ' m/s')} |")
         two_strike = two.get("strike_time_s")
-        lines += ["", f"The two-way run's first strike: {figure_text(two_strike, '.3f', ' s')} at "
-                  f"{figure_text(two.get('strike_impact_velocity_m_s'), '.2f', ' m/s')}.", ""]
+        if figure_text(two_strike) == "-":
+            lines += ["", f"The two-way run did not strike the column up to t = {cmp.until_s:.3f} s: the scan "
+                          "measures the tracks to there.", ""]
+        else:
+            lines += ["", f"The two-way run's first strike: {figure_text(two_strike, '.3f', ' s')} at "
+                          f"{figure_text(two.get('strike_impact_velocity_m_s'), '.2f', ' m/s')}.", ""]
     if figure:
         lines += [f"![tracks]({figure})", "",
                   "The bodies' x and z against time in both runs and the distance between their centres; the "
