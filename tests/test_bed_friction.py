@@ -58,3 +58,9 @@ def test_a_container_sliding_on_the_bed_decelerates_at_mu_g_less_its_buoyancy(op
     assert friction == pytest.approx(expected, rel=FRICTION_BAND - 1)
     # without friction the water's drag alone barely slows it
     assert _deceleration(frictionless) < 0.25 * expected
+    # the friction acts at its centre: 0.1 m off the axis, a force at the origin (v1912's
+    # linearDamper) would have turned it by some 40 degrees by the end (about -0.05 N m on its
+    # 6.6e-4 kg m2); here it keeps its heading
+    turned = np.degrees(np.arctan2(with_friction["q_yx"], with_friction["q_xx"]))
+    assert np.abs(turned).max() < 1.0
+    assert np.abs(with_friction["omega_z_rad_s"]).max() < 0.5

@@ -121,7 +121,18 @@ def test_the_runner_edits_the_bed_constraints_and_the_friction_damper(case):
     assert bodystate.set_bed_friction(case, {"debris1": 2.5}) == ["debris1"]
     assert bodystate.set_bed_friction(case, {"debris1": 2.5}) == []  # unchanged
     text = (case / "constant" / "dynamicMeshDict").read_text()
-    assert "linearDamper" in text and "bedFriction" in text
+    # two zero-stiffness springs through the centre (v1912's linearDamper would act at the origin)
+    assert "linearDamper" not in text and text.count("linearSpring") == 2
+    restraints = dict(bodystate._body_dicts(bodystate._parsed(case / "constant" / "dynamicMeshDict")))["debris1"]
+    centre0 = bodystate.read_body_properties(case)[0].initial_centre_of_mass_m
+    for name, anchor in bodystate.BED_FRICTION_AXES.items():
+        spring = restraints["restraints"][name]
+        assert float(spring["damping"]) == 2.5 and float(spring["stiffness"]) == 0.0
+        assert [float(v) for v in str(spring["refAttachmentPt"]).strip("()").split()] == pytest.approx(centre0)
+        assert [float(v) for v in str(spring["anchor"]).strip("()").split()] == pytest.approx(anchor)
+    assert bodystate.set_bed_friction(case, {"debris1": 2.5}, {"debris1": 0.01}) == ["debris1"]
+    assert bodystate.set_bed_friction(case, {"debris1": 2.5}, {"debris1": 0.01}) == []
+    assert "sphericalAngularDamper" in (case / "constant" / "dynamicMeshDict").read_text()
     assert bodystate.release_holds(case, ["debris1"]) == ["debris1"]
     assert bodystate.bed_constraints(case) == {"debris1": ""}
     assert bodystate.rest_on_bed(case, ["debris1"]) == ["debris1"]
@@ -129,7 +140,8 @@ def test_the_runner_edits_the_bed_constraints_and_the_friction_damper(case):
     assert bodystate.lift_rest_on_bed(case, ["debris1"]) == ["debris1"]
     assert bodystate.set_bed_friction(case, {"debris1": None}) == ["debris1"]
     text = (case / "constant" / "dynamicMeshDict").read_text()
-    assert "linearDamper" not in text and "restOnBedPlane" not in text
+    assert "linearSpring" not in text and "restOnBedPlane" not in text
+    assert "sphericalAngularDamper" in text  # the yaw damper is set (or removed) on its own
 
 
 def test_the_friction_lever_arm_is_the_footprints_mean_distance_from_its_centre():

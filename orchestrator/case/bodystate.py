@@ -515,37 +515,66 @@ def bed_constraints(case_dir: str | Path) -> dict[str, str]:
 
 
 #: The restraints that carry a resting body's sliding bed friction (`set_bed_friction`): along the
-#: bed (a `linearDamper`) and against its yaw (a `sphericalAngularDamper`).
+#: bed (two zero-stiffness `linearSpring` dampers through its centre, along x and along y) and
+#: against its yaw (a `sphericalAngularDamper`).
 BED_FRICTION = "bedFriction"
 BED_FRICTION_YAW = "bedFrictionYaw"
-_DAMPERS = {BED_FRICTION: "linearDamper", BED_FRICTION_YAW: "sphericalAngularDamper"}
+#: the two horizontal dampers' names, and where their anchors are: far out along -x and -y, so
+#: that each pulls along its axis (at 3 m from the flume's axis a 1e5 m spring turns by 3e-5 rad)
+BED_FRICTION_AXES = {BED_FRICTION + "X": (-1e5, 0.0, 0.0), BED_FRICTION + "Y": (0.0, -1e5, 0.0)}
+
+
+def _bed_friction_springs(coeff: float, centre0: Vec) -> dict[str, dict]:
+    """The sliding bed friction as v1912 restraints that act at the body's centre.
+
+    v1912's `linearDamper` gives the force -coeff v but no position, and the motion solver adds a
+    restraint's moment about its centre of rotation as (position - centre) ^ force with the
+    position left at the origin (sixDoFRigidBodyMotion::applyRestraints): a yaw moment
+    coeff (x v_y - y v_x) of a body x metres down the flume. A `linearSpring` sets its position to
+    its attachment point, here the body's centre (`refAttachmentPt` is in the pose the mesh was
+    built in, `centre0`), so the force -damping (r.v) r of a zero-stiffness spring along x and one
+    along y is -coeff v_h with no moment."""
+    return {name: {"sixDoFRigidBodyMotionRestraint": "linearSpring", "anchor": _text(anchor),
+                   "refAttachmentPt": _text(centre0), "stiffness": 0.0, "damping": float(coeff),
+                   "restLength": 1e5}
+            for name, anchor in BED_FRICTION_AXES.items()}
 
 
 def set_bed_friction(case_dir: str | Path, coefficients: dict[str, float | None],
                      yaw: dict[str, float | None] | None = None) -> list[str]:
-    """Set (a number) or remove (None) the friction dampers of the named bodies: `bedFriction`, a
-    force -coeff * velocity on the centre of mass (N s/m), and, for the bodies in `yaw`,
-    `bedFrictionYaw`, a moment -coeff * angular velocity (N m s) (v1912's sixDoF restraints). The
-    runner sizes them to the Coulomb friction of a body sliding on the bed
+    """Set (a number) or remove (None) the friction dampers of the named bodies: a horizontal
+    force -coeff * velocity at the centre of mass (N s/m; `_bed_friction_springs`), and, for the
+    bodies in `yaw`, `bedFrictionYaw`, a moment -coeff * angular velocity (N m s) (v1912's sixDoF
+    restraints). The runner sizes them to the Coulomb friction of a body sliding on the bed
     (`orchestrator.run.bedwatch`). Returns the bodies changed."""
     yaw = yaw or {}
+    centres = {p.name: p.initial_centre_of_mass_m for p in read_body_properties(case_dir)}
 
     def edit(name: str, restraints: dict) -> dict | None:
-        changed = False
-        for key, value in ((BED_FRICTION, coefficients[name]), (BED_FRICTION_YAW, yaw.get(name))):
-            if key == BED_FRICTION_YAW and name not in yaw:
-                continue
-            old = restraints.get(key)
-            if value is None:
-                if old is not None:
-                    del restraints[key]
-                    changed = True
-            elif old is None or not math.isclose(float(old.get("coeff", -1.0)), value, rel_tol=1e-9):
-                restraints[key] = {"sixDoFRigidBodyMotionRestraint": _DAMPERS[key], "coeff": float(value)}
-                changed = True
-        return restraints if changed else None
+        new = {k: v for k, v in restraints.items() if k not in (BED_FRICTION, *BED_FRICTION_AXES)}
+        if coefficients[name] is not None:
+            new.update(_bed_friction_springs(coefficients[name], centres[name]))
+        if name in yaw:
+            new.pop(BED_FRICTION_YAW, None)
+            if yaw[name] is not None:
+                new[BED_FRICTION_YAW] = {"sixDoFRigidBodyMotionRestraint": "sphericalAngularDamper",
+                                         "coeff": float(yaw[name])}
+        return new if _restraint_text(new) != _restraint_text(restraints) else None
 
     return _edit_motion_entry(case_dir, list(coefficients), "restraints", edit)
+
+
+def _restraint_text(restraints: dict) -> dict[str, dict[str, str]]:
+    """Restraints compared by value (numbers to 1e-9 relative, vectors by their text)."""
+    def value(v: Any) -> str:
+        text = " ".join(str(v).split())
+        try:
+            if text.startswith("("):
+                return " ".join(f"{float(x):.9e}" for x in text.strip("()").split())
+            return f"{float(text):.9e}"
+        except ValueError:
+            return text
+    return {k: {kk: value(vv) for kk, vv in dict(v).items()} for k, v in restraints.items()}
 
 
 def set_pimple_entry(case_dir: str | Path, key: str, value: str) -> bool:

@@ -33,8 +33,10 @@ also risen `float_margin_m` above the depth it was put back at (otherwise the sa
 raise it at once). The planner's `hold_until_s` (Ritter's or Chanson's depth at the body reaching
 the draft plus the gap) is an estimate only; the runner goes by what it measures.
 
-**Bed friction.** While a body is constrained to the bed it gets a v1912 `linearDamper`
-restraint (`bodystate.set_bed_friction`): a force -c u on its centre of mass. The runner sets
+**Bed friction.** While a body is constrained to the bed it gets a horizontal damping force
+-c u on its centre of mass (`bodystate.set_bed_friction`: two zero-stiffness v1912 `linearSpring`
+restraints through the centre, along x and y; v1912's `linearDamper` would put the force at the
+origin and add a yaw moment c (x u_y - y u_x)). The runner sets
 c = mu N / max(|u_h|, `FRICTION_FLOOR_M_S`) at every restart, with mu the scene's
 `debris[].contact.bed_friction_coefficient`, u_h the horizontal velocity at the restart and N
 the body's weight less its buoyancy in the measured water (N = m g - rho g A min(d - z_b, H),
