@@ -44,11 +44,11 @@ A its footprint, d the measured depth, z_b its underside, H its height; N >= 0),
 force is Coulomb's mu N against the sliding at the restart's speed. While the body slides, the
 damper's force follows the speed; the runner stops the solver to set c again whenever the
 speed leaves [u0 / `FRICTION_BAND`, u0 * `FRICTION_BAND`] (u0 the speed it was set for), so the
-force stays within 25 % of mu N. Limits: friction acts on the centre of mass only (no torque
-against yaw); N is the one of the last restart (the depth may change within a segment); below
-the floor speed the damper acts as a viscous one (time constant m u_floor / (mu N), 40 ms for
-the study's container on a 15 mm wet bed), so a body never sticks exactly (no static friction);
-each refresh is a solver restart.
+force stays within 25 % of mu N. Limits: N is the one of the last restart (the depth may change
+within a segment); below the floor speed the damper acts as a viscous one (time constant
+m u_floor / (mu N), 40 ms for the study's container on a 15 mm wet bed), so a sliding body comes
+to rest only through the static friction below; each refresh is a solver restart; the yaw is
+resisted separately (below).
 
 **Static friction.** A body at rest on the bed does not move until the fluid's load exceeds what
 friction can bear. The runner holds such a body still (`bodystate.stick_bodies`: sixDoF `point` and
