@@ -262,7 +262,8 @@ def test_resting_contact_stops_the_closing_motion(body_case):
 def test_contact_book_pins_a_body_pressed_against_the_column_again_and_again(body_case, tmp_path):
     """The book alone (no solver): the same slow contact at restarts 3 ms apart is resting
     `max_events` times, then pinned; two bodies pressed together have plastic contacts that set
-    them half the gap apart, and a ContactError only when even that stops the solver every ms."""
+    them the gap apart and stop the solver only at a quarter of the gap until they are two gaps
+    apart, and a ContactError only when even that stops the solver every ms."""
     import shutil
 
     from orchestrator.run.contact_book import PRESSED_RUNAWAY, ContactBook
@@ -291,7 +292,7 @@ def test_contact_book_pins_a_body_pressed_against_the_column_again_and_again(bod
     assert len(json.loads((case / "contacts.json").read_text())) == 3
 
     # two bodies the flow presses together: every contact of the pair plastic and the pair set
-    # half the gap apart, with the pair's momentum kept, even when they close at impact speed
+    # the gap apart, with the pair's momentum kept, even when they close at impact speed
     one = _state("debris1", (0.5, 0.0, 0.1), (0.0, 0.0, 0.0))
     other = _state("debris2", (0.5, 0.06 + 0.001, 0.1), (0.0, -0.3, 0.0))
     for k in range(1, PRESSED_RUNAWAY * settings.max_events + 1):
@@ -299,7 +300,7 @@ def test_contact_book_pins_a_body_pressed_against_the_column_again_and_again(bod
         if k > settings.max_events:
             assert impacts == 0, k
             gap = min(c.distance_m for c in book.geometry.contacts([a, b], 0.01, bed=False) if c.kind == "body")
-            assert gap == pytest.approx(0.5 * settings.gap_m, abs=1e-9)
+            assert gap == pytest.approx(settings.gap_m, abs=1e-9)
             assert b.velocity_m_s[1] == pytest.approx(a.velocity_m_s[1])  # plastic: no rebound
             momentum = a.velocity_m_s[1] + b.velocity_m_s[1]  # equal masses
             assert momentum == pytest.approx(one.velocity_m_s[1] + other.velocity_m_s[1], abs=1e-12)
@@ -310,8 +311,22 @@ def test_contact_book_pins_a_body_pressed_against_the_column_again_and_again(bod
     assert [e.get("pressed", False) for e in pair[settings.max_events:]] == [True] * (
         (PRESSED_RUNAWAY - 1) * settings.max_events)
     assert sum("presses debris" in m for m in messages) == 1
+    # pressed, the pair closing at impact speed within the gap needs no stop until a quarter of it
+    inside = _state("debris2", (0.5, 0.06 + 0.6 * settings.gap_m, 0.1), (0.0, -0.3, 0.0))
+    closing = [c for c in book.geometry.contacts([one, inside], 0.01, bed=False) if c.kind == "body"][0]
+    assert closing.approach_m_s == pytest.approx(0.3) and closing.distance_m < settings.gap_m
+    assert book.classify(closing, 0.0) is None
+    assert book.time_to_act(closing) == pytest.approx(0.35 * settings.gap_m / 0.3)
     with pytest.raises(ContactError, match="pressed together harder than event-driven contact can follow"):
         book.resolve_contacts(f"{0.1 + 0.001 * (k + 1):g}", [one, other], 0.001)
+    # two gaps apart at a restart, the pair's contacts are impacts again
+    far = _state("debris2", (0.5, 0.06 + 2.5 * settings.gap_m, 0.1), (0.0, -0.3, 0.0))
+    book.resolve_contacts("0.5", [one, far], 0.001)
+    assert "are apart: their contacts are impacts again" in messages[-1]
+    near = [c for c in book.geometry.contacts([one, _state("debris2", (0.5, 0.06 + 0.5 * settings.gap_m, 0.1),
+                                                               (0.0, -0.3, 0.0))], 0.01, bed=False)
+            if c.kind == "body"][0]
+    assert book.classify(near, 0.0) == "impact"
 
 
 def test_contact_book_keeps_a_body_the_flow_pulls_into_the_bed_on_it(body_case, tmp_path):

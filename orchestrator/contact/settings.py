@@ -37,7 +37,7 @@ class ContactSettings:
         cannot represent as impacts: the body is pinned where it is for the rest of the run
         (debris held against the column or a wall by the flow); two bodies pressed together
         (a row of containers the bore pushes into each other) have each contact made
-        plastic while it lasts, the pair set half the gap apart, and the run goes on. A body
+        plastic until they are two gaps apart, the pair set the gap apart, and the run goes on. A body
         lifted out of the bed more than `max_events` times within `window_s` is kept on
         the bed's plane (`bodystate.rest_on_bed`) until the water measured around it can carry
         it (`orchestrator.run.bedwatch`).

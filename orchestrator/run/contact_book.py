@@ -18,9 +18,10 @@ contact's closing speed, `Contact`). This module adds what the runner needs on t
   (closing slower than `min_impact_speed_m_s`) by a plastic impulse (`resting_contact`),
   a body the flow keeps pressing against an obstacle (more than `max_events` contacts
   within `window_s`) is pinned there (`bodystate.pin_bodies`), two bodies it keeps
-  pressing together have every contact made plastic while that lasts; two bodies in a
-  resting contact are set half the gap apart (a position correction that keeps their
-  momentum); bodies are lifted out of the bed and any overlap left is removed along the
+  pressing together have every contact made plastic until they are two gaps apart (such a
+  pair is set the whole gap apart and stops the solver again only at a quarter of it); two
+  bodies in any other resting contact are set half the gap apart (a position correction that
+  keeps their momentum); bodies are lifted out of the bed and any overlap left is removed along the
   contact normal;
 - the record: `contacts.json` (every event: impacts, resting contacts, pins),
   `impact_events.csv` (one row per impact) and `contacts/event<n>-force.csv` (and
@@ -72,6 +73,11 @@ PRESSED_RUNAWAY = 4
 # --------------------------------------------------------------------------- the book
 
 
+def _pair(c: Contact) -> tuple[str, str]:
+    """The two names of a contact, sorted: a pair whichever body the contact names first."""
+    return (c.body, c.other) if c.body <= c.other else (c.other, c.body)
+
+
 class ContactBook:
     """The contact bookkeeping of one run (see the module notes).
 
@@ -90,7 +96,8 @@ class ContactBook:
         self._geometry: Geometry | None = None
         #: simulated times of the contacts of each (body, other) pair, within the window
         self._pair_events: dict[tuple[str, str], list[float]] = {}
-        #: body pairs found pressed together (said once)
+        #: body pairs found pressed together (names sorted): their contacts are plastic and
+        #: stop the solver only at a quarter of the gap, until they are two gaps apart again
         self._pressed_pairs: set[tuple[str, str]] = set()
 
     @property
@@ -124,7 +131,7 @@ class ContactBook:
         closing = c.approach_m_s
         if c.kind == "bed":
             limit = -self.settings.bed_sink_m
-        elif closing >= self.settings.min_impact_speed_m_s:
+        elif closing >= self.settings.min_impact_speed_m_s and not self._held_pressed(c):
             limit = self.settings.gap_m
         else:
             limit = 0.25 * self.settings.gap_m
@@ -138,15 +145,16 @@ class ContactBook:
         """What a contact needs before the solver could next stop (`horizon_s`):
 
         "impact": closing at >= min_impact_speed and within the gap; "resting": closing
-        slower, within a quarter of the gap; "bed": sunk more than the bed tolerance
-        into the bed; None: nothing yet."""
+        slower (or a pair pressed together, at any speed), within a quarter of the gap; "bed":
+        sunk more than the bed tolerance into the bed; None: nothing yet."""
         closing = max(c.approach_m_s, 0.0)
         ahead = c.distance_m - closing * horizon_s
         if c.kind == "bed":
             return "bed" if ahead <= -self.settings.bed_sink_m else None
         if closing <= 0:
             return None
-        if closing >= self.settings.min_impact_speed_m_s and ahead <= self.settings.gap_m:
+        if (closing >= self.settings.min_impact_speed_m_s and ahead <= self.settings.gap_m
+                and not self._held_pressed(c)):
             return "impact"
         if ahead <= 0.25 * self.settings.gap_m:
             return "resting"
@@ -212,20 +220,26 @@ class ContactBook:
                 by_name[c.body] = self._pin(time_name, c, by_name[c.body])
                 done.add(c.body)
                 continue
+            pressed = pressed or self._held_pressed(c)
             if pressed or self.classify(c, horizon_s) == "resting":
-                # two bodies are set half the gap apart: left where they touch, the next
-                # closing motion would stop the solver again within a step or two
-                apart = 0.5 * self.settings.gap_m if c.kind == "body" else 0.0
+                # two bodies are set apart: left where they touch, the next closing motion would
+                # stop the solver again within a step or two. A pressed pair is set the whole gap
+                # apart and stops the solver again only at a quarter of it (`classify`): the
+                # flow closes 0.75 of the gap between restarts, not a fraction of a millimetre
+                if c.kind == "body":
+                    apart = self.settings.gap_m if pressed else 0.5 * self.settings.gap_m
+                else:
+                    apart = 0.0
                 new, impulse = resting_contact(geometry, c, by_name, separation_m=apart)
                 before = {k: by_name[k] for k in new}
                 by_name.update(new)
                 done.update({c.body, c.other})
                 self._record_resting(time_name, c, before, new, impulse, pressed=pressed)
-                if pressed and (c.body, c.other) not in self._pressed_pairs:
-                    self._pressed_pairs.add((c.body, c.other))
+                if pressed and _pair(c) not in self._pressed_pairs:
+                    self._pressed_pairs.add(_pair(c))
                     self.say(f"t = {time_name} s: the flow presses {c.body} and {c.other} together "
                              f"({self.settings.max_events + 1} contacts within {self.settings.window_s:g} s): "
-                             "their contacts are plastic from now on, not impacts")
+                             "their contacts are plastic until they are two gaps apart, not impacts")
                 continue
             result, new = geometry.resolve(c, by_name, self.settings)
             before = {k: by_name[k] for k in new}
@@ -255,7 +269,22 @@ class ContactBook:
                 by_name.update(new)
                 self.say(f"{c.body} overlapped {c.other} by {-c.distance_m * 1000:.3g} mm at t = {time_name} s: "
                          "moved out along the contact normal")
+        self._release_pressed(time_name, list(by_name.values()))
         return events, [by_name[n] for n in self.info.body_names]
+
+    def _held_pressed(self, c: Contact) -> bool:
+        """Whether `c` is between two bodies found pressed together and not yet apart."""
+        return c.kind == "body" and _pair(c) in self._pressed_pairs
+
+    def _release_pressed(self, time_name: str, states: Sequence[BodyState]) -> None:
+        """Pressed pairs more than two gaps apart at a restart have impacts again."""
+        if not self._pressed_pairs:
+            return
+        near = {_pair(c) for c in self.geometry.contacts(states, 2.0 * self.settings.gap_m, bed=False)
+                if c.kind == "body"}
+        for pair in sorted(self._pressed_pairs - near):
+            self._pressed_pairs.discard(pair)
+            self.say(f"t = {time_name} s: {pair[0]} and {pair[1]} are apart: their contacts are impacts again")
 
     def after_divergence(self, diagnosis: dict[str, Any], time_name: str, states: Sequence[BodyState]) -> None:
         """Resuming a run the body-speed check stopped (run.json's last `diagnosis`): if the
@@ -288,7 +317,7 @@ class ContactBook:
             raise ContactError(
                 f"{c.body} and {c.other} stopped the solver {n} times within {self.settings.window_s:g} s of "
                 f"simulated time (t = {t:.6g} s) although each contact was made plastic and the pair set "
-                f"{0.5 * self.settings.gap_m * 1000:g} mm apart: two bodies pressed together harder than "
+                f"{self.settings.gap_m * 1000:g} mm apart: two bodies pressed together harder than "
                 "event-driven contact can follow")
         return True
 
