@@ -144,6 +144,29 @@ def test_approach_flow_samples_the_flow_upstream_of_the_face_near_the_column_onl
     assert frozen.t_s is flow.t_s
 
 
+def test_the_engine_carries_a_body_through_an_approach_flow_on_the_moved_points():
+    """The engine locates its points once and hands the location to `surface` and `sample`:
+    through an ApproachFlow that location is the moved points' (Ritter's surface near the face is
+    the one `reach` upstream), and a body carried through a frozen uniform current moves exactly as
+    through the current itself."""
+    ritter = FlowField.ritter(0.4, x_m=np.linspace(-1.0, 3.0, 81), t_s=np.linspace(0.0, 2.0, 41))
+    frozen = ApproachFlow(ritter, 2.0, (-0.1, 0.1), 0.2)
+    x, y = np.array([1.0, 1.95, 1.95]), np.array([0.0, 0.0, 0.5])
+    moved = np.array([1.0, 1.8, 1.95])
+    assert np.allclose(frozen.surface(x, y, 1.5, frozen.locate(x, y, 1.5)), ritter.surface(moved, y, 1.5))
+    assert not np.allclose(ritter.surface(x, y, 1.5), ritter.surface(moved, y, 1.5))
+
+    current = FlowField.uniform_current(0.1, 0.5, x_m=(-1.0, 3.0), y_m=(-0.5, 0.5), t_s=(0.0, 10.0))
+    body = TransportBody("plate", centre_m=(-0.8, 0.0, 0.1), size_m=(0.2, 0.2, 0.02), mass_kg=0.4)
+    settings = TransportSettings(output_interval_s=0.01)
+    bounds = FlumeBounds((-1.0, 3.0), (-0.5, 0.5))
+    plain = run_transport([body], bounds, 1.0, current, settings=settings).track("plate")
+    through = run_transport([body], bounds, 1.0, ApproachFlow(current, -0.55, (-0.1, 0.1), 0.15),
+                            settings=settings).track("plate")
+    assert plain["x_m"].iloc[-1] > -0.7  # it drifted into the frozen stretch (x > -0.7 m)
+    assert np.allclose(through[["x_m", "u_m_s"]].to_numpy(), plain[["x_m", "u_m_s"]].to_numpy(), atol=1e-12)
+
+
 def test_face_distance_is_the_gap_from_the_nose_of_a_yawed_box():
     import pandas as pd
     c, s = np.cos(np.radians(30)), np.sin(np.radians(30))

@@ -68,13 +68,17 @@ class ApproachFlow:
         near = (x > self.x_stop) & (y >= self.y_band[0]) & (y <= self.y_band[1])
         return np.where(near, self.x_stop, x)
 
-    def surface(self, x_m, y_m, t_s):
-        return self._flow.surface(self._moved(x_m, y_m), y_m, t_s)
+    def locate(self, x_m, y_m, t_s):
+        """The record's `locate` of the moved points: what `surface` and `sample` take."""
+        return self._flow.locate(self._moved(x_m, y_m), y_m, t_s)
 
-    def sample(self, points_m, t_s, acceleration=True, eta_m=None):
+    def surface(self, x_m, y_m, t_s, located=None):
+        return self._flow.surface(self._moved(x_m, y_m), y_m, t_s, located=located)
+
+    def sample(self, points_m, t_s, acceleration=True, eta_m=None, located=None):
         p = np.array(points_m, float).reshape(-1, 3)
         p[:, 0] = self._moved(p[:, 0], p[:, 1])
-        return self._flow.sample(p, t_s, acceleration=acceleration, eta_m=eta_m)
+        return self._flow.sample(p, t_s, acceleration=acceleration, eta_m=eta_m, located=located)
 
 
 def thinned(flow: FlowField, rate_hz: float) -> FlowField:
