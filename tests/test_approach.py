@@ -175,3 +175,22 @@ def test_face_distance_is_the_gap_from_the_nose_of_a_yawed_box():
     row.update({f"q_{a}{b}": [rot["xyz".index(a), "xyz".index(b)]] for a in "xyz" for b in "xyz"})
     gap = face_distance(pd.DataFrame(row), (0.15, 0.06, 0.06), 1.2)
     assert gap[0] == pytest.approx(0.2 - (0.075 * c + 0.03 * s))
+
+
+def test_the_approach_page_calls_the_strike_speed_converged_only_when_the_two_finest_cells_agree():
+    """The page's verdict on the cell size near the column: converged when the two finest cell
+    sizes' mean strike speeds differ by at most CONVERGED, named with the default's error."""
+    import pandas as pd
+
+    from orchestrator.studies.approach_report import CONVERGED, _resolution_findings
+
+    def rows(speeds):
+        return pd.DataFrame({"carry": [f"run{k} at 50 Hz" for k in range(len(speeds))],
+                             "record_hz": [50.0] * len(speeds),
+                             "cell_near_column_m": [0.04, 0.03, 0.02][:len(speeds)],
+                             "speed_m_s": speeds})
+
+    agreed = " ".join(_resolution_findings(rows([1.30, 1.60, 1.58])))
+    assert "converged within 5 % at 3 cm" in agreed and "4 cm is -18 % off the finest" in agreed
+    apart = " ".join(_resolution_findings(rows([1.30, 1.60, 1.60 * (1 + 2 * CONVERGED)])))
+    assert "not converged" in apart
