@@ -194,3 +194,36 @@ def test_the_approach_page_calls_the_strike_speed_converged_only_when_the_two_fi
     assert "converged within 5 % at 3 cm" in agreed and "4 cm is -18 % off the finest" in agreed
     apart = " ".join(_resolution_findings(rows([1.30, 1.60, 1.60 * (1 + 2 * CONVERGED)])))
     assert "not converged" in apart
+
+
+def test_a_coupled_run_is_read_as_a_carry_with_its_strike(tmp_path):
+    """A two-way run's tables (bodies.csv, impacts.csv) become a carry: the nose's gap to the face
+    from the track, the strike's total speed from its normal and tangential parts, the track cut
+    at the strike; a run without tables is None."""
+    import shutil
+
+    import pandas as pd
+
+    from orchestrator.studies.approach import coupled_run
+
+    case = tmp_path / "two-way"
+    (case / "results").mkdir(parents=True)
+    shutil.copy(CASE, case / "scene.yaml")
+    assert coupled_run(case, label="c", cell_m=0.04) is None
+    scene = load_scene(CASE)
+    x_face = scene.column.x_m - scene.column.size_x_m / 2
+    t = np.arange(0.0, 1.0, 0.01)
+    x = x_face - 0.6 - 0.075 + 0.6 * t  # the nose reaches the face at t = 1 s
+    eye = {f"q_{a}{b}": float(a == b) for a in "xyz" for b in "xyz"}
+    track = pd.DataFrame({"time_s": t, "body": "debris1", "x_m": x, "y_m": 0.0, "z_m": 0.05,
+                          "speed_m_s": np.where(t > 0.835, 0.5, 0.6), "yaw_deg": 0.0, **eye})
+    track.to_csv(case / "results" / "bodies.csv", index=False)
+    pd.DataFrame({"time_s": [0.9], "body": ["debris1"], "kind": ["column"], "normal_velocity_in_m_s": [0.3],
+                  "tangential_velocity_in_m_s": [0.4], "obliquity_deg": [53.1]}).to_csv(
+        case / "results" / "impacts.csv", index=False)
+    run = coupled_run(case, label="c", cell_m=0.04)
+    assert run.forcing.startswith("two-way") and run.rate_hz == 100
+    assert run.strike.speed_m_s == pytest.approx(0.5) and run.strike.time_s == pytest.approx(0.9)
+    assert run.track["time_s"].max() <= 0.9
+    assert run.track["gap_m"].iloc[0] == pytest.approx(0.6)
+    assert run.strike.slowed_at_gap_m == pytest.approx(0.6 - 0.6 * 0.84)  # the first row 5 % slower

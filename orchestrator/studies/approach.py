@@ -37,10 +37,12 @@ from orchestrator.transport.case_transport import scene_settings, transport_setu
 from orchestrator.transport.engine import run_transport
 from orchestrator.transport.flow import FlowField
 
-__all__ = ["ApproachFlow", "ApproachRun", "Strike", "carry", "face_distance", "strike_of", "thinned"]
+__all__ = ["ApproachFlow", "ApproachRun", "Strike", "carry", "coupled_run", "face_distance", "strike_of", "thinned"]
 
 #: The budget and the plots reach this far upstream of the face (m).
 APPROACH_REACH_M = 0.3
+#: A body has begun to slow for the column once it has lost this share of its speed 0.3 m out.
+SLOWED = 0.05
 
 
 class ApproachFlow:
@@ -104,7 +106,8 @@ def face_distance(track: pd.DataFrame, size_m, x_face_m: float) -> np.ndarray:
 @dataclass(frozen=True)
 class Strike:
     """The first column strike: time (s), total and normal speed (m/s), heading (yaw, deg),
-    obliquity (deg), and the body's speed when its nose was 0.1 and 0.3 m from the face (m/s)."""
+    obliquity (deg), the body's speed when its nose was 0.1 and 0.3 m from the face (m/s), and
+    the nose's distance to the face (m) where the body had first lost `SLOWED` of its speed 0.3 m out."""
 
     time_s: float
     speed_m_s: float
@@ -113,6 +116,7 @@ class Strike:
     obliquity_deg: float
     speed_at_0p1_m_s: float
     speed_at_0p3_m_s: float
+    slowed_at_gap_m: float = float("nan")
 
 
 @dataclass(frozen=True)
@@ -142,8 +146,11 @@ def strike_of(impacts: pd.DataFrame, track: pd.DataFrame) -> Strike | None:
         return float(far.iloc[-1]["speed_m_s"]) if len(far) else float("nan")
 
     normal = float(hit["normal_velocity_in_m_s"])
+    far = speed_at(APPROACH_REACH_M)
+    near = before[(before["gap_m"] < APPROACH_REACH_M) & (before["speed_m_s"] < (1.0 - SLOWED) * far)]
     return Strike(float(hit["time_s"]), float(np.hypot(normal, hit["tangential_velocity_in_m_s"])), normal,
-                  float(then["yaw_deg"]), float(hit["obliquity_deg"]), speed_at(0.1), speed_at(APPROACH_REACH_M))
+                  float(then["yaw_deg"]), float(hit["obliquity_deg"]), speed_at(0.1), far,
+                  float(near.iloc[0]["gap_m"]) if len(near) else float("nan"))
 
 
 def carry(scene_path: Path, flow, *, label: str, cell_m: float, rate_hz: float, forcing: str = "undisturbed",
@@ -172,3 +179,22 @@ def carry(scene_path: Path, flow, *, label: str, cell_m: float, rate_hz: float, 
         table = force_budget(near, flow, body.size_m, body.mass_kg, settings.hydro)
         table = table.assign(gap_m=face_distance(near.iloc[1:-1].reset_index(drop=True), body.size_m, x_face))
     return ApproachRun(label, cell_m, rate_hz, forcing, strike, track), table
+
+
+def coupled_run(case: Path, *, label: str, cell_m: float) -> ApproachRun | None:
+    """A finished or stopped two-way run of the same scene (its results/bodies.csv and impacts.csv,
+    `debrisfoam post`) as a carry: the body in the flow it changes. None if it has no tables."""
+    bodies, impacts = case / "results" / "bodies.csv", case / "results" / "impacts.csv"
+    if not (bodies.is_file() and impacts.is_file()):
+        return None
+    scene = load_scene(case / "scene.yaml")
+    body = scene.debris[0]
+    track = pd.read_csv(bodies)
+    track = track[track["body"] == body.name].reset_index(drop=True)
+    x_face = scene.column.x_m - scene.column.size_x_m / 2
+    track = track.assign(gap_m=face_distance(track, body.size_m, x_face))
+    strike = strike_of(pd.read_csv(impacts).query("body == @body.name"), track)
+    if strike is not None:
+        track = track[track["time_s"] <= strike.time_s].reset_index(drop=True)
+    rate = round(1.0 / float(np.median(np.diff(track["time_s"])))) if len(track) > 2 else float("nan")
+    return ApproachRun(label, cell_m, rate, "two-way (the body in the flow)", strike, track)

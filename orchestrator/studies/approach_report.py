@@ -1,10 +1,11 @@
 """The approach study written out: docs/results/approach/ (``make approach``).
 
-``python -m orchestrator.studies.approach_report [--default runs/1debris] [--runs runs] [-o DIR]``
+``python -m orchestrator.studies.approach_report [--default runs/1debris] [--runs runs] [--coupled runs/1debris-two-way] [-o DIR]``
 
 Reads the one-way flow records it finds (the default case, and the study's own runs under
 ``--runs``: ``approach-4cm-200hz``, ``approach-3cm-box``, ``approach-2cm-box``; a missing one is
-named in the page), carries the container through each (:mod:`orchestrator.studies.approach`)
+named in the page), carries the container through each (:mod:`orchestrator.studies.approach`),
+sets the body of a two-way run of the same scene beside them (``--coupled``, when it has results)
 and writes ``report.md`` (the table), ``approach.csv``, ``speed_vs_gap.png`` (speed against the
 nose's distance to the face, one line a carry) and ``budget.png`` / ``budget.csv`` (the default
 run's forces along the flume over the last 0.3 m).
@@ -22,7 +23,7 @@ import numpy as np
 import pandas as pd
 
 from orchestrator.core.files import write_bytes_atomic, write_text_atomic
-from orchestrator.studies.approach import APPROACH_REACH_M, ApproachFlow, ApproachRun, carry, thinned
+from orchestrator.studies.approach import APPROACH_REACH_M, ApproachFlow, ApproachRun, carry, coupled_run, thinned
 from orchestrator.transport.flow import FlowField
 
 __all__ = ["STUDY_RUNS", "main", "markdown"]
@@ -59,11 +60,13 @@ def _row(run: ApproachRun) -> dict:
         return {**base, "strike_time_s": np.nan}
     return {**base, "strike_time_s": s.time_s, "speed_m_s": s.speed_m_s, "normal_m_s": s.normal_m_s,
             "yaw_deg": s.yaw_deg, "obliquity_deg": s.obliquity_deg, "speed_at_0.1m_m_s": s.speed_at_0p1_m_s,
-            "speed_at_0.3m_m_s": s.speed_at_0p3_m_s}
+            "speed_at_0.3m_m_s": s.speed_at_0p3_m_s, "slowed_at_gap_m": s.slowed_at_gap_m}
 
 
-def run_all(default: Path, runs: Path, say=print) -> tuple[list[ApproachRun], pd.DataFrame, list[str]]:
-    """Every carry of the study, the default's budget, and notes on what was missing."""
+def run_all(default: Path, runs: Path, say=print,
+            coupled: Path | None = None) -> tuple[list[ApproachRun], pd.DataFrame, list[str]]:
+    """Every carry of the study, the default's budget, and notes on what was missing; with
+    ``coupled`` (a two-way run of the default's scene, post-processed) its body beside them."""
     scene = default / "scene.yaml"
     carries, notes = [], []
     flow = _record(default)
@@ -90,6 +93,13 @@ def run_all(default: Path, runs: Path, say=print) -> tuple[list[ApproachRun], pd
             say(f"approach: {name} at {r:g} Hz")
             f = record if r == rate else thinned(record, r)
             carries.append(carry(case / "scene.yaml", f, label=f"{name} at {r:g} Hz", cell_m=cell, rate_hz=r)[0])
+    if coupled is not None:
+        run = coupled_run(coupled, label=f"coupled: {coupled.name}", cell_m=0.04)
+        if run is None:
+            notes.append(f"`{coupled}` has no results/bodies.csv and impacts.csv: no coupled carry "
+                         "(`make case-1debris COUPLING=two-way`, or `debrisfoam post --tables-only` of a stopped run)")
+        else:
+            carries.append(run)
     return carries, budget, notes
 
 
@@ -121,10 +131,12 @@ def markdown(table: pd.DataFrame, notes: list[str], budget: pd.DataFrame) -> str
     hit = table[np.isfinite(table["strike_time_s"])] if "speed_m_s" in table else table.iloc[:0]
     if len(hit):
         undisturbed = hit[hit["forcing"] == "undisturbed"]
-        frozen = hit[hit["forcing"] != "undisturbed"]
+        frozen = hit[hit["forcing"].str.startswith("frozen")]
+        two_way = hit[hit["forcing"].str.startswith("two-way")]
+        one_way = hit[~hit["forcing"].str.startswith("two-way")]
         lines += ["", "## What the spread says", "",
-                  f"Every carry is at {_span(hit['speed_at_0.3m_m_s'])} m/s 0.3 m from the face and "
-                  f"{_span(hit['speed_at_0.1m_m_s'])} m/s 0.1 m from it: the strike speed is decided in the last 0.1 m, inside the column's stagnation "
+                  f"Every one-way carry is at {_span(one_way['speed_at_0.3m_m_s'])} m/s 0.3 m from the face and "
+                  f"{_span(one_way['speed_at_0.1m_m_s'])} m/s 0.1 m from it: the strike speed is decided in the last 0.1 m, inside the column's stagnation "
                   "zone. "
                   + (f"With the undisturbed flow at the sub-volumes (the model's forcing) the records give "
                      f"{_span(undisturbed['speed_m_s'])} m/s "
@@ -137,8 +149,11 @@ def markdown(table: pd.DataFrame, notes: list[str], budget: pd.DataFrame) -> str
                   "decelerating with the stagnation flow) take the body's speed away, while drag still pushes it "
                   "forward. A floating body of its own displacement, as this one nearly is, follows a water parcel "
                   "into the stagnation point; a 0.15 m body that fills the gap it closes changes that flow, which "
-                  "a one-way record cannot hold. Until a coupled reference resolves the gap, the one-way strike "
-                  "speed is uncertain by the range between the undisturbed forcing and the frozen approach flow.", ""]
+                  "a one-way record cannot hold. "
+                  + ("Whether it does is what the coupled body (below) shows." if len(two_way) else
+                     "Until a coupled reference resolves the gap, the one-way strike speed is uncertain by the "
+                     "range between the undisturbed forcing and the frozen approach flow."), ""]
+        lines += _coupled_findings(two_way, hit[hit["carry"].str.startswith("default")])
         lines += _resolution_findings(undisturbed)
     lines += ["", "![speed against the gap to the face](speed_vs_gap.png)", "",
               "## The force budget of the default carry", "",
@@ -154,6 +169,28 @@ def markdown(table: pd.DataFrame, notes: list[str], budget: pd.DataFrame) -> str
     if notes:
         lines += ["## Not run", ""] + [f"- {n}" for n in notes] + [""]
     return "\n".join(lines)
+
+
+def _coupled_findings(two_way: pd.DataFrame, default: pd.DataFrame) -> list[str]:
+    """The coupled body (the same 4 cm background) beside the default carry: where they differ."""
+    if two_way.empty or default.empty:
+        return []
+    c, d = two_way.iloc[0], default.iloc[0]
+
+    def loss(r) -> float:  # the share of the speed 0.1 m out lost by the strike
+        return 1.0 - r["speed_m_s"] / r["speed_at_0.1m_m_s"]
+
+    return [f"- The coupled body ({c['carry']}, the same background mesh, the body changing the flow): "
+            f"{c['speed_at_0.3m_m_s']:.2f} m/s 0.3 m out, {c['speed_at_0.1m_m_s']:.2f} m/s 0.1 m out, "
+            f"{c['speed_m_s']:.2f} m/s at the strike, against the default carry's {d['speed_at_0.3m_m_s']:.2f}, "
+            f"{d['speed_at_0.1m_m_s']:.2f} and {d['speed_m_s']:.2f} m/s. Over the last 0.1 m the coupled body "
+            f"loses {loss(c) * 100:.0f} % of its speed and the one-way one {loss(d) * 100:.0f} %"
+            + (" (a like share: the strike speeds differ by what the bodies carried into the stagnation zone)"
+               if abs(loss(c) - loss(d)) < 0.05 else "")
+            + f". The coupled body has lost 5 % of its speed 0.3 m out by {c['slowed_at_gap_m']:.3f} m from the "
+            f"face, the one-way one by {d['slowed_at_gap_m']:.3f} m"
+            + (": the water the coupled body pushes into the gap it closes slows it further out."
+               if c["slowed_at_gap_m"] > d["slowed_at_gap_m"] + 0.02 else "."), ""]
 
 
 def _resolution_findings(undisturbed: pd.DataFrame) -> list[str]:
@@ -195,7 +232,9 @@ def _plots(carries: list[ApproachRun], budget: pd.DataFrame) -> tuple[bytes, byt
     fig, ax = plt.subplots(figsize=(8, 5))
     for run in carries:
         near = run.track[run.track["gap_m"] <= 0.6]
-        ax.plot(near["gap_m"], near["speed_m_s"], label=run.label)
+        coupled = run.forcing.startswith("two-way")
+        ax.plot(near["gap_m"], near["speed_m_s"], label=run.label, color="k" if coupled else None,
+                linestyle="--" if coupled else "-", linewidth=2 if coupled else 1.5)
     ax.axhspan(1.47, 1.73, color="0.85", label="study: 1.60 +- 0.13 m/s")
     ax.invert_xaxis()
     ax.set_xlabel("nose's distance to the column's face (m)")
@@ -229,9 +268,12 @@ def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--default", type=Path, default=Path("runs/1debris"))
     parser.add_argument("--runs", type=Path, default=Path("runs"))
+    parser.add_argument("--coupled", type=Path, default=Path("runs/1debris-two-way"),
+                        help="a two-way run of the default's scene to set beside the carries (if it has results)")
     parser.add_argument("-o", "--out", type=Path, default=Path("docs/results/approach"))
     args = parser.parse_args(argv)
-    carries, budget, notes = run_all(args.default, args.runs, say=lambda m: print(m, file=sys.stderr))
+    carries, budget, notes = run_all(args.default, args.runs, say=lambda m: print(m, file=sys.stderr),
+                                     coupled=args.coupled)
     table = pd.DataFrame([_row(r) for r in carries])
     args.out.mkdir(parents=True, exist_ok=True)
     write_text_atomic(args.out / "approach.csv", table.to_csv(index=False, float_format="%.6g"))
