@@ -153,6 +153,16 @@ def strike_of(impacts: pd.DataFrame, track: pd.DataFrame) -> Strike | None:
                   float(near.iloc[0]["gap_m"]) if len(near) else float("nan"))
 
 
+def _to_strike(track: pd.DataFrame, impacts: pd.DataFrame, size_m, x_face_m: float
+               ) -> tuple[pd.DataFrame, Strike | None]:
+    """A body's track with the nose's gap to the face (``gap_m``), cut at its first column strike."""
+    track = track.assign(gap_m=face_distance(track, size_m, x_face_m))
+    strike = strike_of(impacts, track)
+    if strike is not None:
+        track = track[track["time_s"] <= strike.time_s].reset_index(drop=True)
+    return track, strike
+
+
 def carry(scene_path: Path, flow, *, label: str, cell_m: float, rate_hz: float, forcing: str = "undisturbed",
           end_time_s: float | None = None, output_interval_s: float = 0.002,
           budget: bool = False) -> tuple[ApproachRun, pd.DataFrame | None]:
@@ -166,12 +176,8 @@ def carry(scene_path: Path, flow, *, label: str, cell_m: float, rate_hz: float, 
     t_end = float(end_time_s or min(scene.run.end_time_s, flow.t_s[-1] - flow.t_s[0]))
     result = run_transport(bodies, flume, t_end, flow=flow, column=column, settings=settings)
     body = bodies[0]
-    track = result.track(body.name)
     x_face = scene.column.x_m - scene.column.size_x_m / 2
-    track = track.assign(gap_m=face_distance(track, body.size_m, x_face))
-    strike = strike_of(result.impacts, track)
-    if strike is not None:
-        track = track[track["time_s"] <= strike.time_s].reset_index(drop=True)
+    track, strike = _to_strike(result.track(body.name), result.impacts, body.size_m, x_face)
     table = None
     if budget:
         near = track[track["gap_m"] <= APPROACH_REACH_M + 0.05]
@@ -189,12 +195,8 @@ def coupled_run(case: Path, *, label: str, cell_m: float) -> ApproachRun | None:
         return None
     scene = load_scene(case / "scene.yaml")
     body = scene.debris[0]
-    track = pd.read_csv(bodies)
-    track = track[track["body"] == body.name].reset_index(drop=True)
-    x_face = scene.column.x_m - scene.column.size_x_m / 2
-    track = track.assign(gap_m=face_distance(track, body.size_m, x_face))
-    strike = strike_of(pd.read_csv(impacts).query("body == @body.name"), track)
-    if strike is not None:
-        track = track[track["time_s"] <= strike.time_s].reset_index(drop=True)
+    track = pd.read_csv(bodies).query("body == @body.name").reset_index(drop=True)
+    track, strike = _to_strike(track, pd.read_csv(impacts).query("body == @body.name"), body.size_m,
+                               scene.column.x_m - scene.column.size_x_m / 2)
     rate = round(1.0 / float(np.median(np.diff(track["time_s"])))) if len(track) > 2 else float("nan")
     return ApproachRun(label, cell_m, rate, "two-way (the body in the flow)", strike, track)
