@@ -66,8 +66,9 @@ def test_record_axis_takes_the_cell_centres_inside_the_span_only():
 
 
 def test_the_1debris_plan_with_a_2cm_box_refines_the_mesh_and_the_record_there_and_nothing_without():
-    plain = plan_case(load_scene(CASE, ["run.end_time_s=2.5"]))
-    boxed = plan_case(load_scene(CASE, ["run.end_time_s=2.5", BOX, "mesh.refine_cell_size_m=0.02"]))
+    plain = plan_case(load_scene(CASE, ["run.end_time_s=2.5", "mesh.column_approach_cell_size_m=null"]))
+    boxed = plan_case(load_scene(CASE, ["run.end_time_s=2.5", BOX, "mesh.refine_cell_size_m=0.02",
+                                        "mesh.column_approach_cell_size_m=null"]))
     assert plain.background.cell_count() < boxed.background.cell_count() < 2.5 * plain.background.cell_count()
     x = np.array(boxed.flow_record.x_m)
     inside = x[(x > 4.32) & (x < 5.03)]
@@ -76,9 +77,36 @@ def test_the_1debris_plan_with_a_2cm_box_refines_the_mesh_and_the_record_there_a
     assert "refine_box" in boxed.reasons and "refine_box" not in plain.reasons
 
 
+def test_the_column_approach_box_is_the_1debris_box_and_follows_the_column():
+    """mesh.column_approach_cell_size_m puts the box the approach study measured (x 4.3..5.05,
+    y -0.16..0.16, z 0..0.24 m) at the 1-debris column, moves with the column and scales with the scene."""
+    from orchestrator.plan.refine import refinement
+    scene = load_scene(CASE)
+    box, cell, field = refinement(scene)
+    assert box == pytest.approx((4.3, 5.05, -0.16, 0.16, 0.0, 0.24)) and cell == 0.03
+    assert field == "mesh.column_approach_cell_size_m"
+    explicit = load_scene(CASE, [BOX, "mesh.refine_cell_size_m=0.03", "mesh.column_approach_cell_size_m=null"])
+    assert plan_case(scene).background.cell_count() == plan_case(explicit).background.cell_count()
+    moved, _, _ = refinement(load_scene(CASE, ["column.x_m=4.0", "column.y_m=0.2"]))
+    assert moved == pytest.approx((3.3, 4.05, 0.04, 0.36, 0.0, 0.24))
+    proto, cell, _ = refinement(load_scene(CASE.parent / "prototype-1debris.yaml"))
+    assert proto == pytest.approx(tuple(40 * v for v in box)) and cell == pytest.approx(40 * 0.03)
+
+
+def test_a_column_approach_size_no_finer_than_the_mesh_is_no_box_with_a_warning_and_two_boxes_are_bad_input():
+    from orchestrator.plan.refine import refinement
+    from orchestrator.scene.validation import plausibility_warnings
+    coarse = load_scene(CASE, ["mesh.cell_size_m=0.03"])
+    assert refinement(coarse) is None and "refine_box" not in plan_case(coarse).reasons
+    assert any("mesh.column_approach_cell_size_m" in w for w in plausibility_warnings(coarse))
+    assert not any("column_approach" in w for w in plausibility_warnings(load_scene(CASE)))
+    with pytest.raises(InputError, match="mesh.column_approach_cell_size_m"):
+        load_scene(CASE, [BOX, "mesh.refine_cell_size_m=0.03"])
+
+
 def test_a_refine_box_without_its_cell_size_is_bad_input_naming_the_field():
     with pytest.raises(InputError, match="mesh.refine_cell_size_m"):
-        load_scene(CASE, [BOX])
+        load_scene(CASE, [BOX, "mesh.column_approach_cell_size_m=null"])
 
 
 def _floating_in_a_current():
@@ -191,7 +219,7 @@ def test_the_approach_page_calls_the_strike_speed_converged_only_when_the_two_fi
                              "speed_m_s": speeds})
 
     agreed = " ".join(_resolution_findings(rows([1.30, 1.60, 1.58])))
-    assert "converged within 5 % at 3 cm" in agreed and "4 cm is -18 % off the finest" in agreed
+    assert "converged within 5 % at 3 cm" in agreed and "and 4 cm is -18 % off the finest" in agreed
     apart = " ".join(_resolution_findings(rows([1.30, 1.60, 1.60 * (1 + 2 * CONVERGED)])))
     assert "not converged" in apart
 

@@ -342,7 +342,7 @@ def test_a_shipped_scene_by_name_from_another_folder(tmp_path):
         return json.loads(proc.stdout)
 
     out = validate("1debris")
-    assert out["scene"].endswith("1debris.yaml") and out["planned_cells"] == 135869
+    assert out["scene"].endswith("1debris.yaml") and out["planned_cells"] == 181500
     assert validate("hard/glancing")["name"] == "hard-glancing"
     (tmp_path / "1debris").write_text((ROOT / "cases" / "nodebris.yaml").read_text())
     assert validate("1debris")["name"] == "nodebris"  # the user's file

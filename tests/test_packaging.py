@@ -112,7 +112,7 @@ def test_the_installed_wheel_names_its_scenes_and_sweeps_from_any_folder(wheel, 
 
     render = debrisfoam("render", "1debris", "-o", "case", "--json")
     assert render.returncode == 0, render.stderr
-    assert json.loads(render.stdout)["planned_cells"] == 135869
+    assert json.loads(render.stdout)["planned_cells"] == 181500
     assert (work / "case" / "system" / "controlDict").is_file()
     assert "name: 1debris" in (work / "case" / "scene.yaml").read_text()
 

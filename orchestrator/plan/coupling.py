@@ -37,7 +37,7 @@ import numpy as np
 
 from orchestrator.plan.domain import RUNUP_BLOCKAGE, Domain
 from orchestrator.plan.grading import cell_edges
-from orchestrator.plan.refine import record_axis, refine_span
+from orchestrator.plan.refine import record_axis, refine_span, refinement
 from orchestrator.plan.grid import BoxGrid
 from orchestrator.plan.model import FlowRecordPlan
 from orchestrator.scene.geometry import body_rotation
@@ -139,9 +139,10 @@ def choose_coupling(scene: Scene, reasons: dict[str, str], warnings: list[str]) 
 
 def _refined_record(scene: Scene, background: BoxGrid, xs: np.ndarray, ys: np.ndarray):
     """The record's x and y samples with the refinement box's cell centres inside it (plan/refine.py)."""
-    box = scene.mesh.refine_box_m
-    if box is None:
+    refined = refinement(scene)
+    if refined is None:
         return xs, ys
+    box = refined[0]
     cx, cy = (0.5 * (e[:-1] + e[1:]) for e in (cell_edges(background.x), cell_edges(background.y)))
     return record_axis(xs, cx, refine_span(box, 0)), record_axis(ys, cy, refine_span(box, 1))
 
@@ -193,7 +194,7 @@ def flow_record_plan(scene: Scene, background: BoxGrid, domain: Domain, reasons:
         f"{margin:.3g} m margin: the largest body's diagonal and two cells, to the domain's downstream end: the "
         "record's ends are walls for the bodies, so it reaches past the column as far as the flow is modelled), the full width every "
         f"{step_y:.4g} m"
-        + (" (at the cell centres inside mesh.refine_box_m)" if scene.mesh.refine_box_m is not None else "")
+        + (" (at the cell centres inside the refinement box)" if refinement(scene) is not None else "")
         + (f" ({k} cell sizes: at most {RECORD_MAX_POINTS} points)" if k > 1 else "")
         + f", z at the background's {zc.size} cell centres from the bed to the domain's top {faces[-1]:.3g} m "
         "(no water is higher), so sum(alpha dz) is each cell column's water; "

@@ -22,7 +22,7 @@ import numpy as np
 from orchestrator.plan.bodies import BedGap
 from orchestrator.plan.domain import Domain, column_spans_width
 from orchestrator.plan.grid import BoxGrid, Segment, graded_segment
-from orchestrator.plan.refine import refine_axis, refine_span
+from orchestrator.plan.refine import refine_axis, refine_span, refinement
 from orchestrator.scene.schema import Scene
 
 __all__ = [
@@ -171,20 +171,20 @@ def _wanted_planes(scene: Scene, domain: Domain, gap: BedGap | None, warnings: l
 def _refined(scene: Scene, fine, axes, two_d: bool, reasons: dict[str, str]):
     """The three axes' segments with the scene's refinement box, if any (:mod:`orchestrator.plan.refine`)."""
     mesh = scene.mesh
-    if mesh.refine_box_m is None or mesh.refine_cell_size_m is None:
+    refined = refinement(scene)
+    if refined is None:
         return axes
+    b, h_fine, field = refined
     out = []
     for i, (name, segs) in enumerate(zip("xyz", axes)):
         if name == "y" and two_d:
             out.append(segs)
             continue
-        span = refine_span(mesh.refine_box_m, i)
-        out.append(refine_axis(segs, span, fine[i], mesh.cell_size_m, mesh.refine_cell_size_m, mesh.growth_ratio,
-                               name))
-    b = mesh.refine_box_m
+        out.append(refine_axis(segs, refine_span(b, i), fine[i], mesh.cell_size_m, h_fine, mesh.growth_ratio,
+                               name, field))
     reasons["refine_box"] = (
-        f"cells of {mesh.refine_cell_size_m:g} m in x {b[0]:g}..{b[1]:g}, y {b[2]:g}..{b[3]:g}, z {b[4]:g}..{b[5]:g} m "
-        f"(mesh.refine_box_m), growing by {mesh.growth_ratio:g} a cell to {mesh.cell_size_m:g} m around it; the "
+        f"cells of {h_fine:g} m in x {b[0]:g}..{b[1]:g}, y {b[2]:g}..{b[3]:g}, z {b[4]:g}..{b[5]:g} m "
+        f"({field}), growing by {mesh.growth_ratio:g} a cell to {mesh.cell_size_m:g} m around it; the "
         "block grid refines the slabs through the box along each axis")
     return tuple(out)
 

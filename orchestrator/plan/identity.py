@@ -38,7 +38,8 @@ ONE_WAY_ONLY = {"transport": None, "outputs": ("flow_record_hz",)}
 #: case made before it ran two-way, so it must count.
 LATE_KEYS = ((("run", "max_delta_t_s"), None), (("run", "stall_limit_s"), None), (("run", "water_balance_limit"), None),
              (("outputs", "flow_record_hz"), 50.0), (("mesh", "refine_box_m"), None),
-             (("mesh", "refine_cell_size_m"), None), (("column", "section"), None), (("column", "section_area_m2"), None),
+             (("mesh", "refine_cell_size_m"), None),
+             (("mesh", "column_approach_cell_size_m"), None), (("column", "section"), None), (("column", "section_area_m2"), None),
              (("column", "section_second_moment_m4"), None), (("column", "stiffness_factor"), 1.0),
              (("column", "base_spring_Nm_rad"), None))
 #: Keys of every debris body added after the first runs, with the value they are left out at.

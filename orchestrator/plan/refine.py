@@ -14,6 +14,15 @@ The box and its transitions must lie inside the fine region, whose cells are uni
 ``mesh.cell_size_m``: the transitions then split only uniform segments, and a box outside the
 region (where cells already grow) is an input error naming ``mesh.refine_box_m``.
 
+``mesh.column_approach_cell_size_m`` places the box at the column instead (:func:`refinement`), so it
+follows the column when the column moves and scales with the scene: from four lengths of the
+longest body upstream of the column's upstream face (the strike speed is decided over the last
+0.1 m before the face, docs/results/approach/, and the box's transition starts upstream of that) to a
+quarter of the column's depth past its centre (the box ends inside the column's hole), across the
+column's width and the widest body's width either side (a body that strikes it passes there), from
+the bed to 0.6 of the impoundment depth (above the bore and the body). For the 1-debris scene that is
+x 4.3..5.05, y -0.16..0.16, z 0..0.24 m.
+
 The one-way flow record follows the box: its x and y samples inside the box's span are the
 background's cell centres there, so a finer flow is recorded at its own resolution
 (:func:`record_axis`).
@@ -28,9 +37,33 @@ import numpy as np
 from orchestrator.core.errors import InputError
 from orchestrator.plan.grid import Segment, graded_segment
 
-__all__ = ["record_axis", "refine_axis", "refine_span", "transition_m"]
+__all__ = ["record_axis", "refine_axis", "refine_span", "refinement", "transition_m"]
 
 _FIELD = "mesh.refine_box_m"
+
+
+#: The column-approach box: body lengths upstream of the face, share of the impoundment depth.
+APPROACH_BODY_LENGTHS = 4.0
+APPROACH_DEPTH_SHARE = 0.6
+
+
+def refinement(scene) -> tuple[tuple[float, ...], float, str] | None:
+    """The scene's refinement box, its cell size and the field that set it; None without one (or
+    with a column-approach cell size no finer than the mesh's, a warning at validation)."""
+    mesh = scene.mesh
+    if mesh.refine_box_m is not None and mesh.refine_cell_size_m is not None:
+        return tuple(mesh.refine_box_m), mesh.refine_cell_size_m, _FIELD
+    h = mesh.column_approach_cell_size_m
+    col = scene.column
+    if h is None or h >= mesh.cell_size_m or col is None:
+        return None
+    length = max((max(b.size_m) for b in scene.debris), default=0.0)
+    width = max((min(b.size_m[:2]) for b in scene.debris), default=0.0)
+    face = col.x_m - col.size_x_m / 2
+    box = (face - APPROACH_BODY_LENGTHS * length, col.x_m + col.size_x_m / 4,
+           col.y_m - col.size_y_m / 2 - width, col.y_m + col.size_y_m / 2 + width,
+           0.0, APPROACH_DEPTH_SHARE * scene.reservoir.depth_m)
+    return tuple(round(v, 9) for v in box), h, "mesh.column_approach_cell_size_m"
 
 
 def transition_m(h: float, h_fine: float, growth: float) -> float:
@@ -46,7 +79,8 @@ def refine_span(box: tuple[float, ...] | None, axis: int) -> tuple[float, float]
 
 
 def refine_axis(segs: tuple[Segment, ...], span: tuple[float, float], fine: tuple[float, float],
-                h: float, h_fine: float, growth: float, axis_name: str = "x") -> tuple[Segment, ...]:
+                h: float, h_fine: float, growth: float, axis_name: str = "x",
+                field: str = _FIELD) -> tuple[Segment, ...]:
     """``segs`` with cells of ``h_fine`` in ``span`` and graded transitions to ``h`` either side.
 
     ``fine`` is the fine region along this axis (cells of ``h``); the span and its transitions
@@ -56,16 +90,16 @@ def refine_axis(segs: tuple[Segment, ...], span: tuple[float, float], fine: tupl
     if not (h_fine < h):
         raise InputError("mesh.refine_cell_size_m", f"{h_fine:g} m must be finer than mesh.cell_size_m ({h:g} m)")
     if not lo < hi:
-        raise InputError(_FIELD, f"along {axis_name} the box's end {hi:g} m must exceed its start {lo:g} m")
+        raise InputError(field, f"along {axis_name} the box's end {hi:g} m must exceed its start {lo:g} m")
     lo, hi = max(lo, g_lo), min(hi, g_hi)
     if not lo < hi:
-        raise InputError(_FIELD, f"along {axis_name} the box lies outside the domain ({g_lo:g}..{g_hi:g} m)")
+        raise InputError(field, f"along {axis_name} the box lies outside the domain ({g_lo:g}..{g_hi:g} m)")
     tr = transition_m(h, h_fine, growth)
     t_lo, t_hi = max(g_lo, lo - tr), min(g_hi, hi + tr)
     tol = 1e-9
     if (t_lo < fine[0] - tol and t_lo > g_lo + tol) or (t_hi > fine[1] + tol and t_hi < g_hi - tol):
         raise InputError(
-            _FIELD, f"along {axis_name} the box {span[0]:g}..{span[1]:g} m with its {tr:.3g} m transitions "
+            field, f"along {axis_name} the box {span[0]:g}..{span[1]:g} m with its {tr:.3g} m transitions "
             f"({t_lo:.4g}..{t_hi:.4g} m) must lie inside the fine region {fine[0]:.4g}..{fine[1]:.4g} m")
     old = [segs[0].start_m] + [s.end_m for s in segs]
     planes = list(old)

@@ -359,6 +359,11 @@ class Mesh(SceneSection):
         "one-way flow record samples it at its cell centres (orchestrator/plan/refine.py); null = none (m)")
     refine_cell_size_m: float | None = Field(
         None, gt=0, description="cell size inside refine_box_m, finer than cell_size_m (m); null = none")
+    column_approach_cell_size_m: float | None = Field(
+        None, gt=0, description="cells of this size where bodies close on the column: a refinement box that "
+        "follows the column, from four lengths of the longest body upstream of its upstream face to a quarter of "
+        "its depth past its centre, across its width and the widest body's width either side, from the bed to 0.6 "
+        "of the impoundment depth (orchestrator/plan/refine.py); no finer than cell_size_m: no box; null = none (m)")
     trim_domain: bool = Field(
         True,
         description="false: model the whole reservoir, the whole flume to its downstream end and its full height, "

@@ -1,12 +1,13 @@
 """The approach study written out: docs/results/approach/ (``make approach``).
 
-``python -m orchestrator.studies.approach_report [--default runs/1debris] [--runs runs] [--coupled runs/1debris-two-way] [-o DIR]``
+``python -m orchestrator.studies.approach_report [--default runs/1debris] [--runs runs] [--coupled RUN ...] [-o DIR]``
 
 Reads the one-way flow records it finds (the default case, and the study's own runs under
-``--runs``: ``approach-4cm-200hz``, ``approach-3cm-box``, ``approach-2cm-box``; a missing one is
-named in the page), carries the container through each (:mod:`orchestrator.studies.approach`),
-sets the body of a two-way run of the same scene beside them (``--coupled``, when it has results)
-and writes ``report.md`` (the table), ``approach.csv``, ``speed_vs_gap.png`` (speed against the
+``--runs``: ``1debris-4cm``, ``approach-4cm-200hz``, ``approach-3cm-box``, ``approach-2cm-box``; a
+missing one is named in the page), carries the container through each
+(:mod:`orchestrator.studies.approach`), sets the bodies of two-way runs of the same scene beside
+them (``--coupled``, those with results; each is compared with the one-way carry on its own cell
+size near the column) and writes ``report.md`` (the table), ``approach.csv``, ``speed_vs_gap.png`` (speed against the
 nose's distance to the face, one line a carry) and ``budget.png`` / ``budget.csv`` (the default
 run's forces along the flume over the last 0.3 m).
 """
@@ -30,6 +31,7 @@ __all__ = ["STUDY_RUNS", "main", "markdown"]
 
 #: The study's own flow runs (folder under --runs: finest cell near the column, record rate, how made).
 STUDY_RUNS = {
+    "1debris-4cm": (0.04, 50.0, "--set mesh.column_approach_cell_size_m=null"),
     "approach-4cm-200hz": (0.04, 200.0, "--set outputs.flow_record_hz=200 --set run.end_time_s=2.6 "
                                         "--set run.max_delta_t_s=0.005"),
     "approach-3cm-box": (0.03, 100.0, "--set 'mesh.refine_box_m=[4.3,5.05,-0.16,0.16,0,0.24]' "
@@ -48,6 +50,20 @@ TERMS_PLOTTED = ("froude_krylov", "added_mass_flow", "drag", "contact", "inertia
 CONVERGED = 0.05
 
 
+#: Two-way runs of the 1-debris scene set beside the carries when they have results: the coupled
+#: reference on the 4 cm background and on the default's (3 cm near the column).
+COUPLED_RUNS = (Path("runs/1debris-two-way"), Path("runs/coupling-1debris-3cm/two-way"))
+
+
+def near_column_cell_m(scene: Path) -> float:
+    """The finest cell where the body closes on the column: the refinement box's, or the mesh's."""
+    from orchestrator.plan.refine import refinement
+    from orchestrator.scene.scenefile import load_scene
+    loaded = load_scene(scene)
+    refined = refinement(loaded)
+    return refined[1] if refined is not None else loaded.mesh.cell_size_m
+
+
 def _record(case: Path) -> FlowField | None:
     npz = case / "results" / "flow_record.npz"
     return FlowField.load(npz) if npz.is_file() else None
@@ -64,23 +80,25 @@ def _row(run: ApproachRun) -> dict:
 
 
 def run_all(default: Path, runs: Path, say=print,
-            coupled: Path | None = None) -> tuple[list[ApproachRun], pd.DataFrame, list[str]]:
+            coupled: tuple[Path, ...] = ()) -> tuple[list[ApproachRun], pd.DataFrame, list[str]]:
     """Every carry of the study, the default's budget, and notes on what was missing; with
-    ``coupled`` (a two-way run of the default's scene, post-processed) its body beside them."""
+    ``coupled`` (two-way runs of the default's scene, post-processed) their bodies beside them."""
     scene = default / "scene.yaml"
     carries, notes = [], []
     flow = _record(default)
     if flow is None:
         raise SystemExit(f"{default}: no results/flow_record.npz (run make case-1debris first)")
-    run, budget = carry(scene, flow, label="default (4 cm, 50 Hz)", cell_m=0.04, rate_hz=50.0, budget=True)
-    carries.append(run)
     from orchestrator.scene.scenefile import load_scene
+    cell_m, rate_hz = near_column_cell_m(scene), load_scene(scene).outputs.flow_record_hz
+    run, budget = carry(scene, flow, label=f"default ({cell_m * 100:g} cm near the column, {rate_hz:g} Hz)",
+                        cell_m=cell_m, rate_hz=rate_hz, budget=True)
+    carries.append(run)
     col = load_scene(scene).column
     x_face = col.x_m - col.size_x_m / 2
     for reach in FROZEN_REACHES_M:
         frozen = ApproachFlow(flow, x_face, (col.y_m - col.size_y_m / 2, col.y_m + col.size_y_m / 2), reach)
-        carries.append(carry(scene, frozen, label=f"approach flow frozen {reach:g} m from the face", cell_m=0.04,
-                             rate_hz=50.0, forcing=f"frozen at {reach:g} m")[0])
+        carries.append(carry(scene, frozen, label=f"approach flow frozen {reach:g} m from the face", cell_m=cell_m,
+                             rate_hz=rate_hz, forcing=f"frozen at {reach:g} m")[0])
     for name, (cell, rate, how) in STUDY_RUNS.items():
         case = runs / name
         record = _record(case)
@@ -93,10 +111,13 @@ def run_all(default: Path, runs: Path, say=print,
             say(f"approach: {name} at {r:g} Hz")
             f = record if r == rate else thinned(record, r)
             carries.append(carry(case / "scene.yaml", f, label=f"{name} at {r:g} Hz", cell_m=cell, rate_hz=r)[0])
-    if coupled is not None:
-        run = coupled_run(coupled, label=f"coupled: {coupled.name}", cell_m=0.04)
+    for case in coupled:
+        run = None
+        if (case / "scene.yaml").is_file():
+            name = case.name if case.name != "two-way" else case.parent.name
+            run = coupled_run(case, label=f"coupled: {name}", cell_m=near_column_cell_m(case / "scene.yaml"))
         if run is None:
-            notes.append(f"`{coupled}` has no results/bodies.csv and impacts.csv: no coupled carry "
+            notes.append(f"`{case}` has no scene.yaml, results/bodies.csv and impacts.csv: no coupled carry "
                          "(`make case-1debris COUPLING=two-way`, or `debrisfoam post --tables-only` of a stopped run)")
         else:
             carries.append(run)
@@ -153,7 +174,8 @@ def markdown(table: pd.DataFrame, notes: list[str], budget: pd.DataFrame) -> str
                   + ("Whether it does is what the coupled body (below) shows." if len(two_way) else
                      "Until a coupled reference resolves the gap, the one-way strike speed is uncertain by the "
                      "range between the undisturbed forcing and the frozen approach flow."), ""]
-        lines += _coupled_findings(two_way, hit[hit["carry"].str.startswith("default")])
+        for _, c in two_way.iterrows():
+            lines += _coupled_findings(c, undisturbed[undisturbed["cell_near_column_m"] == c["cell_near_column_m"]])
         lines += _resolution_findings(undisturbed)
     lines += ["", "![speed against the gap to the face](speed_vs_gap.png)", "",
               "## The force budget of the default carry", "",
@@ -171,18 +193,21 @@ def markdown(table: pd.DataFrame, notes: list[str], budget: pd.DataFrame) -> str
     return "\n".join(lines)
 
 
-def _coupled_findings(two_way: pd.DataFrame, default: pd.DataFrame) -> list[str]:
-    """The coupled body (the same 4 cm background) beside the default carry: where they differ."""
-    if two_way.empty or default.empty:
+def _coupled_findings(c: pd.Series, one_way: pd.DataFrame) -> list[str]:
+    """A coupled body beside the first undisturbed one-way carry at its cell size near the column
+    (the same background mesh): where they differ."""
+    if one_way.empty:
         return []
-    c, d = two_way.iloc[0], default.iloc[0]
+    d = one_way.iloc[0]
 
     def loss(r) -> float:  # the share of the speed 0.1 m out lost by the strike
         return 1.0 - r["speed_m_s"] / r["speed_at_0.1m_m_s"]
 
-    return [f"- The coupled body ({c['carry']}, the same background mesh, the body changing the flow): "
+    return [f"- The coupled body ({c['carry']}, {c['cell_near_column_m'] * 100:g} cm near the column, the body "
+            f"changing the flow): "
             f"{c['speed_at_0.3m_m_s']:.2f} m/s 0.3 m out, {c['speed_at_0.1m_m_s']:.2f} m/s 0.1 m out, "
-            f"{c['speed_m_s']:.2f} m/s at the strike, against the default carry's {d['speed_at_0.3m_m_s']:.2f}, "
+            f"{c['speed_m_s']:.2f} m/s at the strike ({(c['speed_m_s'] / d['speed_m_s'] - 1) * 100:+.0f} %), "
+            f"against the one-way carry {d['carry']}'s {d['speed_at_0.3m_m_s']:.2f}, "
             f"{d['speed_at_0.1m_m_s']:.2f} and {d['speed_m_s']:.2f} m/s. Over the last 0.1 m the coupled body "
             f"loses {loss(c) * 100:.0f} % of its speed and the one-way one {loss(d) * 100:.0f} %"
             + (" (a like share: the strike speeds differ by what the bodies carried into the stagnation zone)"
@@ -216,7 +241,7 @@ def _resolution_findings(undisturbed: pd.DataFrame) -> list[str]:
                      f"{last / means.iloc[1] * 100:+.1f} %")
         if abs(last) <= CONVERGED * means.iloc[1]:
             text += (f": the strike speed is converged within {CONVERGED * 100:g} % at "
-                     f"{means.index[1] * 100:g} cm near the column, and the default's "
+                     f"{means.index[1] * 100:g} cm near the column, and "
                      f"{means.index[-1] * 100:g} cm is {(means.iloc[-1] / means.iloc[0] - 1) * 100:+.0f} % off "
                      "the finest.")
         else:
@@ -268,12 +293,12 @@ def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--default", type=Path, default=Path("runs/1debris"))
     parser.add_argument("--runs", type=Path, default=Path("runs"))
-    parser.add_argument("--coupled", type=Path, default=Path("runs/1debris-two-way"),
-                        help="a two-way run of the default's scene to set beside the carries (if it has results)")
+    parser.add_argument("--coupled", type=Path, nargs="*", default=list(COUPLED_RUNS),
+                        help="two-way runs of the default's scene to set beside the carries (those with results)")
     parser.add_argument("-o", "--out", type=Path, default=Path("docs/results/approach"))
     args = parser.parse_args(argv)
     carries, budget, notes = run_all(args.default, args.runs, say=lambda m: print(m, file=sys.stderr),
-                                     coupled=args.coupled)
+                                     coupled=tuple(args.coupled))
     table = pd.DataFrame([_row(r) for r in carries])
     args.out.mkdir(parents=True, exist_ok=True)
     write_text_atomic(args.out / "approach.csv", table.to_csv(index=False, float_format="%.6g"))
