@@ -130,6 +130,25 @@ def current(tmp_path_factory):
     return flow, flow.save(tmp_path_factory.mktemp("flow") / "flow_record.npz")
 
 
+def test_a_study_fit_height_loads_every_fit_there_and_the_same_base_shear_then_reads_another_pulse(current):
+    """--study-fit-height: the fit loaded at the height given, not at the face's water level; the
+    same base shear fitted elsewhere on the column reads another peak (this short test column's base
+    shear per newton loaded differs by more than 5 % between 0.1 and 0.25 m)."""
+    flow, npz = current
+    starts = ensemble_starts([container()], FLUME, COLUMN, Perturbation(), seed=0, n=2)
+    tables = [pd.DataFrame([row for r in run_ensemble(starts, FLUME, COLUMN, 1.3, flow, npz, "local", workers=1,
+                                                      study_fit=fit) for row in r.rows], columns=TABLE_COLUMNS)
+              for fit in (True, 0.25)]
+    face, high = (t[t["struck"]] for t in tables)
+    assert len(face) >= 1 and list(face["realisation"]) == list(high["realisation"])
+    assert (high["study_fit_height_source"] == "set by --study-fit-height").all()
+    assert high["study_fit_height_m"].to_numpy() == pytest.approx(0.25)
+    assert face["study_fit_height_m"].to_numpy() == pytest.approx(0.1)
+    ratio = high["study_fit_peak_N"].to_numpy() / face["study_fit_peak_N"].to_numpy()
+    assert (np.abs(ratio - 1.0) > 0.05).all()
+    assert high["peak_base_shear_N"].to_numpy() == pytest.approx(face["peak_base_shear_N"].to_numpy())
+
+
 def test_the_table_holds_each_bodys_first_strike_and_its_pulse(current):
     flow, npz = current
     starts = ensemble_starts([container()], FLUME, COLUMN, Perturbation(), seed=0, n=3)
@@ -313,6 +332,8 @@ def test_the_report_draws_the_histograms_and_the_envelope(tmp_path):
     (["-n", "2", "--workers", "0"], "--workers"),
     (["-n", "2", "--yaw-sigma", "-3"], "--yaw-sigma"),
     (["-n", "2", "--set", "run.debris_coupling=two-way"], "run.debris_coupling"),
+    (["-n", "2", "--study-fit-height", "0"], "--study-fit-height"),
+    (["-n", "2", "--study-fit-height", "0.4", "--no-study-fit"], "--study-fit-height"),
 ])
 def test_bad_input_is_exit_2_naming_the_flag(tmp_path, args, flag):
     proc = run_cli("ensemble", str(TINY), "-o", str(tmp_path / "ens"), *args)

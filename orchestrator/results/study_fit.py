@@ -56,7 +56,7 @@ COMPARISON_ROWS = [
 study's measured speed (1.60 +- 0.13 m/s), the study-fit pulse against Table 2's MDOF row."""
 
 #: Where a fit's load height came from, best first.
-HEIGHT_SOURCES = ("face gauge", "flow at the face", "contact height")
+HEIGHT_SOURCES = ("face gauge", "flow at the face", "contact height", "set by --study-fit-height")
 
 
 def base_shear_path(case: Path, force_history: str) -> Path:
@@ -93,7 +93,7 @@ def study_fit_figures(time_s, shear_x_N, shear_y_N, normal, column, height_m: fl
     out = {"study_fit_peak_N": math.nan, "study_fit_duration_s": math.nan, "study_fit_impulse_Ns": math.nan,
            "study_fit_start_s": math.nan, "study_fit_height_m": float(height_m), "study_fit_height_source": source,
            "study_fit_rmse_N": math.nan, "study_fit_nrmse": math.nan, "study_fit_note": ""}
-    if source == HEIGHT_SOURCES[-1]:
+    if source == HEIGHT_SOURCES[2]:
         out["study_fit_note"] = "no water level at the face known: loaded at the contact height"
     try:
         fit = fit_like_the_study(time_s, strike_component(shear_x_N, shear_y_N, normal), height_m, column)

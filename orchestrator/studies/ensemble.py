@@ -331,12 +331,11 @@ def body_rows(result: TransportResult, bodies: Sequence[TransportBody], realisat
 
 
 def first_strike_fit(result: TransportResult, first, column: PlacedColumn | None, bed_z_m: float,
-                     fit: bool = True) -> dict[str, Any]:
-    """The water level at the face and the study's fit of the base shear of a first strike (a
-    row of the engine's impacts table, or None): its pulse's base-shear history (what the one-way
-    case writes to contacts/eventNNNN-base-shear.csv) fitted at the level the engine read from
-    the flow beside the face, else at the contact height
-    (:func:`~orchestrator.results.study_fit.study_fit_figures`); ``fit`` False: the level only."""
+                     fit: bool | float = True) -> dict[str, Any]:
+    """The water level at the face and the study's fit of a first strike's (a row of the engine's
+    impacts table, or None) base shear (contacts/eventNNNN-base-shear.csv one-way) loaded at that
+    level, else at the contact height (:func:`~orchestrator.results.study_fit.study_fit_figures`);
+    ``fit`` False: the level only; a height in metres (``--study-fit-height``): loaded there."""
     out = {"face_water_level_m": math.nan, "study_fit_height_source": ""}
     pulse = result.pulses.get(int(first["event"])) if first is not None else None
     if pulse is None or pulse.base_shear is None or column is None:
@@ -347,8 +346,9 @@ def first_strike_fit(result: TransportResult, first, column: PlacedColumn | None
         out["face_water_level_m"] = level
     else:
         height, source = float(first["height_m"]), HEIGHT_SOURCES[2]
-    if not fit:
+    if fit is False:
         return out
+    height, source = (height, source) if fit is True else (float(fit), HEIGHT_SOURCES[3])
     shear = pulse.base_shear
     shear_y = pulse.base_shear_y.response_N if pulse.base_shear_y is not None else None
     normal = (float(first["normal_x"]), float(first["normal_y"]), float(first["normal_z"]))
@@ -551,12 +551,12 @@ def ensemble(scene_path: str | Path, out_dir: str | Path, n: int, seed: int = 0,
              sets: Sequence[str] = (), workers: int | None = None, perturbation: Perturbation | None = None,
              settings: TransportSettings | None = None, progress: Callable[[int, int], None] | None = None,
              quiet: bool = False, say: Callable[[str], None] = print, confirmed: bool = False,
-             batch_size: int = DEFAULT_BATCH_SIZE, study_fit: bool = True) -> EnsembleResult:
+             batch_size: int = DEFAULT_BATCH_SIZE, study_fit: bool | float = True) -> EnsembleResult:
     """``debrisfoam ensemble``: the flow into ``out_dir/flow`` (or reused), ``n`` realisations,
     then ensemble.csv, tracks.csv, ensemble.json and report.md in ``out_dir`` (module notes).
     ``confirmed``: render the flow even over the resource guard's soft limits
     (:func:`~orchestrator.pipeline.render_from_file`). ``batch_size`` realisations share a model
-    (:func:`run_realisations`); ``study_fit`` False leaves the study's fit out (module notes)."""
+    (:func:`run_realisations`); ``study_fit`` False leaves the study's fit out, a height loads it there."""
     from orchestrator.studies.ensemble_report import write_report
 
     if int(n) <= 0:
@@ -588,7 +588,7 @@ def ensemble(scene_path: str | Path, out_dir: str | Path, n: int, seed: int = 0,
                    realisations_wall_s=round(float(summary["wall_time_s"]) - flow_wall_s, 2))
     summary.update(scene=str(scene_path), overrides=list(sets), flow_case=str(case), flow_record=str(npz),
                    end_time_s=t_end, seed=int(seed), executor=executor,
-                   workers=int(workers or os.cpu_count() or 1), batch_size=int(batch_size), study_fit=bool(study_fit),
+                   workers=int(workers or os.cpu_count() or 1), batch_size=int(batch_size), study_fit=study_fit,
                    perturbation=perturbation.to_dict(),
                    pulses="the first column strike of each body (later strikes counted, without a pulse)")
     files = {"table": out / "ensemble.csv", "tracks": out / "tracks.csv", "summary": out / "ensemble.json"}
