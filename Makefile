@@ -107,9 +107,8 @@ results-layouts: venv
 
 # make ensemble-1debris [N=200]: the 1-debris scene's one-way flow once (about 5 min of interFoam on
 # 2 cores; reused when run again), then N realisations of perturbed starts through it (docs/ensembles.md).
-# ENS_NAME and ENS_SET run another flow, e.g. the record refined to 3 cm near the column:
-#   make ensemble-1debris ENS_NAME=ensemble-1debris-3cm ENS_SET="--set 'mesh.refine_box_m=[4.3,5.05,-0.16,0.16,0,0.24]' \
-#     --set mesh.refine_cell_size_m=0.03 --set outputs.flow_record_hz=100 --set run.end_time_s=2.6"
+# ENS_NAME and ENS_SET run another flow, e.g. 4 cm cells at the column too (docs/ensembles.md):
+#   make ensemble-1debris ENS_NAME=ensemble-1debris-4cm ENS_SET="--set mesh.column_approach_cell_size_m=null"
 N ?= 200
 ENS_NAME ?= ensemble-1debris
 ENS_SET ?=

@@ -138,8 +138,10 @@ def test_a_study_fit_height_loads_every_fit_there_and_the_same_base_shear_then_r
     starts = ensemble_starts([container()], FLUME, COLUMN, Perturbation(), seed=0, n=2)
     tables = [pd.DataFrame([row for r in run_ensemble(starts, FLUME, COLUMN, 1.3, flow, npz, "local", workers=1,
                                                       study_fit=fit) for row in r.rows], columns=TABLE_COLUMNS)
-              for fit in (True, 0.25)]
-    face, high = (t[t["struck"]] for t in tables)
+              for fit in (True, 0.25, "contact")]
+    face, high, contact = (t[t["struck"]] for t in tables)
+    assert (contact["study_fit_height_source"] == "contact height").all()
+    assert contact["study_fit_height_m"].to_numpy() == pytest.approx(contact["impact_height_m"].to_numpy())
     assert len(face) >= 1 and list(face["realisation"]) == list(high["realisation"])
     assert (high["study_fit_height_source"] == "set by --study-fit-height").all()
     assert high["study_fit_height_m"].to_numpy() == pytest.approx(0.25)
@@ -333,6 +335,7 @@ def test_the_report_draws_the_histograms_and_the_envelope(tmp_path):
     (["-n", "2", "--yaw-sigma", "-3"], "--yaw-sigma"),
     (["-n", "2", "--set", "run.debris_coupling=two-way"], "run.debris_coupling"),
     (["-n", "2", "--study-fit-height", "0"], "--study-fit-height"),
+    (["-n", "2", "--study-fit-height", "top"], "--study-fit-height"),
     (["-n", "2", "--study-fit-height", "0.4", "--no-study-fit"], "--study-fit-height"),
 ])
 def test_bad_input_is_exit_2_naming_the_flag(tmp_path, args, flag):

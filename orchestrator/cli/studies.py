@@ -10,6 +10,7 @@ nothing. A sweep with failed members exits 1 and lists them; an interrupted one 
 from __future__ import annotations
 
 import argparse
+import math
 import json
 import sys
 from pathlib import Path
@@ -160,15 +161,22 @@ def _ensemble_out(path: str, force: bool) -> Path:
     return study_folder(path, force, "flow", "ensemble")
 
 
-def _study_fit(args: argparse.Namespace) -> bool | float:
-    """--no-study-fit: False; --study-fit-height M: M (> 0 m); else True."""
+def _study_fit(args: argparse.Namespace) -> bool | float | str:
+    """--no-study-fit: False; --study-fit-height M: M (> 0 m) or "contact"; else True."""
     if args.study_fit_height is None:
         return not args.no_study_fit
     if args.no_study_fit:
         raise InputError("--study-fit-height", "has no fit to load with --no-study-fit")
-    if not args.study_fit_height > 0:
-        raise InputError("--study-fit-height", f"must be a height above the bed > 0 m, got {args.study_fit_height:g}")
-    return float(args.study_fit_height)
+    if args.study_fit_height == "contact":
+        return "contact"
+    try:
+        height = float(args.study_fit_height)
+    except ValueError:
+        height = math.nan
+    if not height > 0:
+        raise InputError("--study-fit-height", f"must be a height above the bed > 0 m or 'contact', got "
+                         f"{args.study_fit_height!r}")
+    return height
 
 
 def cmd_ensemble(args: argparse.Namespace) -> int:
@@ -356,9 +364,10 @@ def add_study_parsers(verbs) -> None:
     p.add_argument("--no-study-fit", action="store_true",
                    help="leave out the study's fit of each first strike (about 0.27 s of CPU a strike): for "
                         "design-scale ensembles; the like-for-like comparison then has no pulse rows")
-    p.add_argument("--study-fit-height", type=float, default=None, metavar="M",
-                   help="load the study's fit at M above the bed instead of the water level at the face the "
-                        "flow gives at each strike (the study's own load heights: 0.16-0.50 m, mean 0.40)")
+    p.add_argument("--study-fit-height", default=None, metavar="M",
+                   help="load the study's fit at M above the bed, or at each strike's contact point ('contact'), "
+                        "instead of the water level at the face the flow gives at each strike (the study's own "
+                        "load heights: 0.16-0.50 m, mean 0.40)")
     p.add_argument("--position-sigma", type=float, default=None, metavar="FRACTION",
                    help="standard deviation of the start's x and y offsets over the body's length (default 0.25)")
     p.add_argument("--yaw-sigma", type=float, default=None, metavar="DEG",

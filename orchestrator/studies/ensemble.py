@@ -331,24 +331,22 @@ def body_rows(result: TransportResult, bodies: Sequence[TransportBody], realisat
 
 
 def first_strike_fit(result: TransportResult, first, column: PlacedColumn | None, bed_z_m: float,
-                     fit: bool | float = True) -> dict[str, Any]:
+                     fit: bool | float | str = True) -> dict[str, Any]:
     """The water level at the face and the study's fit of a first strike's (a row of the engine's
     impacts table, or None) base shear (contacts/eventNNNN-base-shear.csv one-way) loaded at that
     level, else at the contact height (:func:`~orchestrator.results.study_fit.study_fit_figures`);
-    ``fit`` False: the level only; a height in metres (``--study-fit-height``): loaded there."""
+    ``fit`` False: the level only; a height (m) or "contact" (``--study-fit-height``): loaded there."""
     out = {"face_water_level_m": math.nan, "study_fit_height_source": ""}
     pulse = result.pulses.get(int(first["event"])) if first is not None else None
     if pulse is None or pulse.base_shear is None or column is None:
         return out
     level = float(first["face_water_level_m"]) - bed_z_m
-    if math.isfinite(level):
-        height, source = level, HEIGHT_SOURCES[1]
-        out["face_water_level_m"] = level
-    else:
-        height, source = float(first["height_m"]), HEIGHT_SOURCES[2]
+    height, source = (level, HEIGHT_SOURCES[1]) if math.isfinite(level) else (float(first["height_m"]), HEIGHT_SOURCES[2])
+    out["face_water_level_m"] = level if math.isfinite(level) else math.nan
     if fit is False:
         return out
-    height, source = (height, source) if fit is True else (float(fit), HEIGHT_SOURCES[3])
+    if fit is not True:  # --study-fit-height
+        height, source = (float(first["height_m"]), HEIGHT_SOURCES[2]) if fit == "contact" else (fit, HEIGHT_SOURCES[3])
     shear = pulse.base_shear
     shear_y = pulse.base_shear_y.response_N if pulse.base_shear_y is not None else None
     normal = (float(first["normal_x"]), float(first["normal_y"]), float(first["normal_z"]))
@@ -551,7 +549,7 @@ def ensemble(scene_path: str | Path, out_dir: str | Path, n: int, seed: int = 0,
              sets: Sequence[str] = (), workers: int | None = None, perturbation: Perturbation | None = None,
              settings: TransportSettings | None = None, progress: Callable[[int, int], None] | None = None,
              quiet: bool = False, say: Callable[[str], None] = print, confirmed: bool = False,
-             batch_size: int = DEFAULT_BATCH_SIZE, study_fit: bool | float = True) -> EnsembleResult:
+             batch_size: int = DEFAULT_BATCH_SIZE, study_fit: bool | float | str = True) -> EnsembleResult:
     """``debrisfoam ensemble``: the flow into ``out_dir/flow`` (or reused), ``n`` realisations,
     then ensemble.csv, tracks.csv, ensemble.json and report.md in ``out_dir`` (module notes).
     ``confirmed``: render the flow even over the resource guard's soft limits
