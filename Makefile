@@ -16,7 +16,7 @@ CASE_SET := $(if $(CELL),--set mesh.cell_size_m=$(CELL),) $(if $(COUPLING),--set
 
 help:
 	@echo "make venv                   the Python environment only (.venv, the package installed editable)"
-	@echo "make case-1debris [CELL=m] [COUPLING=two-way]  the study's 1-debris scene, end to end (one-way: about 4 min on 2 idle cores; two-way: about 2 h)"
+	@echo "make case-1debris [CELL=m] [COUPLING=two-way]  the study's 1-debris scene, end to end (one-way: about 5 min on 2 idle cores; two-way: about 2 h)"
 	@echo "make results-1debris        after it: its table, plots and summary to docs/results/case-1debris/"
 	@echo "make prototype-1debris      the 1-debris scene at 40:1 one-way (about as long as case-1debris), beside the lab run Froude-scaled (docs/results/prototype-1debris/)"
 	@echo "make design-street          debrisfoam design on the street scene: 3 flows and 2000 realisations (runs/design-street, docs/results/design-street)"
@@ -174,8 +174,10 @@ speed-error-debris: venv openfoam
 # the tracks' difference, the strikes and the cost side by side in docs/results/coupling/.
 # A finished run is reused (run it again to resume); runs/coupling/two-way is the 4 cm member of
 # make speed-error-debris, which a copy of that member serves. Another scene:
-#   make compare-coupling COMPARE_SCENE=cases/1debris.yaml COMPARE_SET= COMPARE_NAME=coupling-1debris
-# (the study's own layout, 3.5 s: about 2 h two-way, 45 min of it to the strike).
+#   make compare-coupling COMPARE_SCENE=cases/1debris.yaml COMPARE_SET="--set run.end_time_s=2.5" \
+#     COMPARE_NAME=coupling-1debris-3cm
+# (the study's own layout on its default mesh to just past the strike: 31 min two-way, 4 min one-way;
+# docs/results/coupling-1debris at 4 cm throughout: add --set mesh.column_approach_cell_size_m=null).
 COMPARE_SCENE ?= cases/hard/short-flume.yaml
 COMPARE_SET   ?= --set run.end_time_s=2.1
 COMPARE_NAME  ?= coupling
