@@ -22,7 +22,7 @@ help:
 	@echo "make design-street          debrisfoam design on the street scene: 3 flows and 2000 realisations (runs/design-street, docs/results/design-street)"
 	@echo "make ensemble-1debris [N=200] the 1-debris flow once, N perturbed starts through it (runs/ensemble-1debris, docs/results/ensemble-1debris)"
 	@echo "make spreading              one-way ensembles of the 1-debris scene and the 3- and 6-container layouts, their tracks against measured spreading (docs/results/spreading)"
-	@echo "make case-layouts           the study's four debris layouts one-way (about 25 min on 2 cores), then results-layouts"
+	@echo "make case-layouts           the study's four debris layouts one-way (about 27 min on 2 idle cores), then results-layouts"
 	@echo "make results-layouts        after it: the layouts side by side to docs/results/layouts/"
 	@echo "make sweep SWEEP=mesh-study a sweep from cases/sweeps/ (runs/sweeps/<name>; run again to resume)"
 	@echo "make speed-error            mesh study + hand-made baseline, then the speed-against-error report"

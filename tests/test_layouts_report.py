@@ -170,6 +170,11 @@ def test_flow_agreement_measures_each_layout_against_the_first(tmp_path):
 def test_a_sweep_folder_gives_its_members_in_member_order_and_names_a_failure(tmp_path):
     sweep = synthetic_sweep(tmp_path)
     assert [p.name for p in find_runs([sweep])] == ["bbb", "aaa", "ccc"]
+    # sweep.json's member list, when it has one, names the members: a folder an earlier form of the
+    # sweep left there (its scenes since changed, so its id too) is not read
+    listed = [{"member": k, "id": i} for k, i in enumerate(("bbb", "ccc"), 1)]
+    (sweep / "sweep.json").write_text(json.dumps({"name": "layouts", "members": listed}))
+    assert [p.name for p in find_runs([sweep])] == ["bbb", "ccc"]
     failed = load_layout(sweep / "ccc")
     assert not failed.ok and failed.status == "failed"
     assert "status 1" in failed.error and failed.log.endswith("ccc/log.interFoam")

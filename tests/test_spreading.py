@@ -201,3 +201,13 @@ def test_missing_ensemble_file_is_bad_input_naming_it(tmp_path):
     proc = run_cli("report", "spreading", str(ens), "-o", str(tmp_path / "page"))
     assert proc.returncode == 2
     assert "tracks.csv" in proc.stderr
+
+
+def test_the_page_says_how_the_tracks_spread_against_the_flow_they_travel_in():
+    """The tracks' std / run against the flow's RMS v / u: of the order (within a factor of 2),
+    more (the bodies' own spread), or less (they do not follow the flow's turning)."""
+    from orchestrator.studies.spreading_report import _flow_against_tracks
+    assert "of the order" in _flow_against_tracks(0.006, 0.008)
+    assert "3.0 times more" in _flow_against_tracks(0.01, 0.03)
+    assert "4.8 times less" in _flow_against_tracks(0.0287, 0.006) and "of the order" not in _flow_against_tracks(0.0287, 0.006)
+    assert _flow_against_tracks(None, 0.01) == "."

@@ -130,17 +130,21 @@ def _csv(path: Path) -> pd.DataFrame:
 
 
 def find_runs(paths) -> list[Path]:
-    """The case folders of RUNS: each path itself, or a sweep folder's members in member order."""
+    """The case folders of RUNS: each path itself, or a sweep folder's members in member order
+    (those sweep.json lists, when it lists them: a folder left by an earlier form of the sweep,
+    whose scenes have since changed, is not one of its members)."""
     out: list[Path] = []
     for raw in paths:
         path = Path(raw)
         if not path.is_dir():
             raise InputError("RUNS", "not a folder", str(path))
         if (path / SWEEP_JSON).is_file():
+            listed = json.loads((path / SWEEP_JSON).read_text()).get("members")
+            ids = {str(m["id"]) for m in listed} if listed else None
             members = []
             for m in path.iterdir():
                 record = m / MEMBER_JSON
-                if record.is_file():
+                if record.is_file() and (ids is None or m.name in ids):
                     members.append((json.loads(record.read_text()).get("member", 0), m))
             if not members:
                 raise InputError("RUNS", "a sweep folder without members (run the sweep first)", str(path))

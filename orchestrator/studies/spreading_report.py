@@ -311,6 +311,9 @@ def _flow_against_tracks(flow_ratio, track_ratio) -> str:
     if not flow_ratio or track_ratio is None or not math.isfinite(track_ratio):
         return "."
     times = track_ratio / flow_ratio
+    if times < 0.5:
+        return (f", against the tracks' std / run of {track_ratio:.3f} ({1.0 / times:.1f} times less): the bodies "
+                "spread less than the flow along their path turns.")
     if times <= 2.0:
         return f": of the order of the tracks' std / run ({track_ratio:.3f}); the bodies go where the flow takes them."
     return (f", against the tracks' std / run of {track_ratio:.3f} ({times:.1f} times more): the rest of the spread "
