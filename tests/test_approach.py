@@ -100,6 +100,8 @@ def test_a_column_approach_size_no_finer_than_the_mesh_is_no_box_with_a_warning_
     assert refinement(coarse) is None and "refine_box" not in plan_case(coarse).reasons
     assert any("mesh.column_approach_cell_size_m" in w for w in plausibility_warnings(coarse))
     assert not any("column_approach" in w for w in plausibility_warnings(load_scene(CASE)))
+    columnless = load_scene(CASE, ["column=null", "gauges=[]"])  # an inherited box with no column: no box, a warning
+    assert refinement(columnless) is None and any("no column" in w for w in plausibility_warnings(columnless))
     with pytest.raises(InputError, match="mesh.column_approach_cell_size_m"):
         load_scene(CASE, [BOX, "mesh.refine_cell_size_m=0.03"])
 

@@ -224,7 +224,10 @@ def plausibility_warnings(scene: Scene) -> list[str]:
             out.append(f"debris {body.name!r}: bulk density {rho:.4g} kg/m3 ({rho / water:.3g} x the water's) is "
                        f"outside {lo:g}-{hi:,.0f} kg/m3: check its mass_kg and size_m")
     approach = scene.mesh.column_approach_cell_size_m
-    if approach is not None and approach >= scene.mesh.cell_size_m:
+    if approach is not None and scene.column is None:
+        out.append("mesh.column_approach_cell_size_m is set but the scene has no column: the mesh has no "
+                   "refinement box")
+    elif approach is not None and approach >= scene.mesh.cell_size_m:
         out.append(f"mesh.column_approach_cell_size_m ({approach:g} m) is no finer than mesh.cell_size_m "
                    f"({scene.mesh.cell_size_m:g} m): the mesh has no refinement box at the column")
     return out
@@ -321,8 +324,6 @@ def _check_refine_box(scene: Scene, source: str | None) -> None:
         if mesh.refine_box_m is not None:
             raise InputError("mesh.column_approach_cell_size_m", "one refinement box at a time: set "
                              "mesh.refine_box_m and mesh.refine_cell_size_m to null, or this to null", source)
-        if scene.column is None:
-            raise InputError("mesh.column_approach_cell_size_m", "the scene has no column to refine towards", source)
 
 
 def _check_mesh_top(scene: Scene, source: str | None) -> None:
