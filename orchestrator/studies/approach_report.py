@@ -51,8 +51,9 @@ CONVERGED = 0.05
 
 
 #: Two-way runs of the 1-debris scene set beside the carries when they have results: the coupled
-#: reference on the 4 cm background and on the default's (3 cm near the column).
-COUPLED_RUNS = (Path("runs/1debris-two-way"), Path("runs/coupling-1debris-3cm/two-way"))
+#: reference on the 4 cm background, on the default's (3 cm near the column) and with 2 cm there.
+COUPLED_RUNS = (Path("runs/1debris-two-way"), Path("runs/coupling-1debris-3cm/two-way"),
+                Path("runs/coupling-1debris-2cm/two-way"))
 
 
 def near_column_cell_m(scene: Path) -> float:
