@@ -320,10 +320,9 @@ def _check_refine_box(scene: Scene, source: str | None) -> None:
     if mesh.refine_cell_size_m is not None and mesh.refine_cell_size_m >= mesh.cell_size_m:
         raise InputError("mesh.refine_cell_size_m", f"{mesh.refine_cell_size_m:g} m must be finer than "
                          f"mesh.cell_size_m ({mesh.cell_size_m:g} m)", source)
-    if mesh.column_approach_cell_size_m is not None:
-        if mesh.refine_box_m is not None:
-            raise InputError("mesh.column_approach_cell_size_m", "one refinement box at a time: set "
-                             "mesh.refine_box_m and mesh.refine_cell_size_m to null, or this to null", source)
+    if mesh.column_approach_cell_size_m is not None and mesh.refine_box_m is not None:
+        raise InputError("mesh.column_approach_cell_size_m", "one refinement box at a time: set "
+                         "mesh.refine_box_m and mesh.refine_cell_size_m to null, or this to null", source)
 
 
 def _check_mesh_top(scene: Scene, source: str | None) -> None:

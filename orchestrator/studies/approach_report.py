@@ -56,13 +56,12 @@ COUPLED_RUNS = (Path("runs/1debris-two-way"), Path("runs/coupling-1debris-3cm/tw
                 Path("runs/coupling-1debris-2cm/two-way"))
 
 
-def near_column_cell_m(scene: Path) -> float:
-    """The finest cell where the body closes on the column: the refinement box's, or the mesh's."""
+def near_column_cell_m(scene) -> float:
+    """The finest cell where the body closes on the column (a loaded scene): the refinement box's, or
+    the mesh's."""
     from orchestrator.plan.refine import refinement
-    from orchestrator.scene.scenefile import load_scene
-    loaded = load_scene(scene)
-    refined = refinement(loaded)
-    return refined[1] if refined is not None else loaded.mesh.cell_size_m
+    refined = refinement(scene)
+    return refined[1] if refined is not None else scene.mesh.cell_size_m
 
 
 def _record(case: Path) -> FlowField | None:
@@ -90,11 +89,12 @@ def run_all(default: Path, runs: Path, say=print,
     if flow is None:
         raise SystemExit(f"{default}: no results/flow_record.npz (run make case-1debris first)")
     from orchestrator.scene.scenefile import load_scene
-    cell_m, rate_hz = near_column_cell_m(scene), load_scene(scene).outputs.flow_record_hz
+    loaded = load_scene(scene)
+    cell_m, rate_hz = near_column_cell_m(loaded), loaded.outputs.flow_record_hz
     run, budget = carry(scene, flow, label=f"default ({cell_m * 100:g} cm near the column, {rate_hz:g} Hz)",
                         cell_m=cell_m, rate_hz=rate_hz, budget=True)
     carries.append(run)
-    col = load_scene(scene).column
+    col = loaded.column
     x_face = col.x_m - col.size_x_m / 2
     for reach in FROZEN_REACHES_M:
         frozen = ApproachFlow(flow, x_face, (col.y_m - col.size_y_m / 2, col.y_m + col.size_y_m / 2), reach)
@@ -116,7 +116,8 @@ def run_all(default: Path, runs: Path, say=print,
         run = None
         if (case / "scene.yaml").is_file():
             name = case.name if case.name != "two-way" else case.parent.name
-            run = coupled_run(case, label=f"coupled: {name}", cell_m=near_column_cell_m(case / "scene.yaml"))
+            run = coupled_run(case, label=f"coupled: {name}",
+                              cell_m=near_column_cell_m(load_scene(case / "scene.yaml")))
         if run is None:
             notes.append(f"`{case}` has no scene.yaml, results/bodies.csv and impacts.csv: no coupled carry "
                          "(`make case-1debris COUPLING=two-way`, or `debrisfoam post --tables-only` of a stopped run)")
