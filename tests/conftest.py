@@ -33,6 +33,18 @@ def render_and_run(scene: Path, case: Path, *sets: str) -> dict:
     return json.loads((case / "plan.json").read_text())
 
 
+def solvers_kept(case: Path):
+    """The runner's default contact settings for ``case``, except that the bodies' motion solvers
+    run even while every body is held still (`ContactSettings.hold_still_solvers` off): for tests
+    of what v1912's own six-DoF constraints do."""
+    from orchestrator.contact.settings import ContactSettings
+    from orchestrator.plan.scale import froude_factor
+    from orchestrator.run.runner import load_case_info
+
+    depth = load_case_info(case).water_depth_m
+    return ContactSettings(hold_still_solvers=False).froude_scaled(froude_factor(depth) if depth > 0 else 1.0)
+
+
 def cli_json(*args: str) -> dict:
     proc = run_cli(*args, "--json")
     assert proc.returncode == 0, proc.stderr

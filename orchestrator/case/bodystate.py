@@ -62,6 +62,7 @@ DYNAMIC_MESH_DICT = Path("constant") / "dynamicMeshDict"
 STATE_FILE = Path("uniform") / "sixDoFRigidBodyMotionState"
 RECORD_FILE = "bodystate.json"
 _COEFFS = "sixDoFRigidBodyMotionCoeffs"
+HELD_SOLVERS = "heldSolvers"  # the solvers while every body is held still (orchestrator.case.held)
 _IDENTITY = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
 
 Vec = tuple[float, float, float]
@@ -192,7 +193,7 @@ def _vec(value: Any, default: Sequence[float] | None = None) -> tuple[float, ...
 
 
 def _body_dicts(parsed) -> list[tuple[str, Any]]:
-    solvers = parsed["solvers"] if "solvers" in parsed else None
+    solvers = next((parsed[k] for k in ("solvers", HELD_SOLVERS) if k in parsed and parsed[k]), None)
     if solvers is None:
         if _COEFFS in parsed:  # a single-body dictionary without `solvers`
             return [("body", parsed[_COEFFS])]
@@ -314,7 +315,7 @@ def _record_path(case_dir: str | Path) -> Path:
     return Path(case_dir) / RECORD_FILE
 
 
-def _read_record(case_dir: str | Path) -> dict[str, Any]:
+def read_record(case_dir: str | Path) -> dict[str, Any]:
     path = _record_path(case_dir)
     if not path.is_file():
         return {}
@@ -324,14 +325,14 @@ def _read_record(case_dir: str | Path) -> dict[str, Any]:
 def record_states(case_dir: str | Path, time_name: str, states: Sequence[BodyState], source: str) -> None:
     """Remember the states a restart at `time_name` uses, and where they came from
     ("log": the solver's report; "contact": an impact model's rebound)."""
-    record = _read_record(case_dir)
+    record = read_record(case_dir)
     record[time_name] = {"source": source, "bodies": [s.to_dict() for s in states]}
     write_text_atomic(_record_path(case_dir), json.dumps(record, indent=1))
 
 
 def recorded_states(case_dir: str | Path, time_name: str) -> tuple[list[BodyState], str] | None:
     """The states recorded for a restart at `time_name` and their source, or None."""
-    entry = _read_record(case_dir).get(time_name)
+    entry = read_record(case_dir).get(time_name)
     if entry is None:
         return None
     return [BodyState.from_dict(b) for b in entry["bodies"]], str(entry["source"])
@@ -340,7 +341,7 @@ def recorded_states(case_dir: str | Path, time_name: str) -> tuple[list[BodyStat
 def forget_after(case_dir: str | Path, time_s: float) -> None:
     """Drop the records of restarts later than `time_s` (a run going back to `time_s`
     will compute that stretch again; its old states must not be reused)."""
-    record = _read_record(case_dir)
+    record = read_record(case_dir)
     keep = {k: v for k, v in record.items() if float(k) <= time_s * (1 + 1e-12) + 1e-12}
     if len(keep) != len(record):
         write_text_atomic(_record_path(case_dir), json.dumps(keep, indent=1))
@@ -596,3 +597,4 @@ def pinned_bodies(case_dir: str | Path) -> set[str]:
     path = Path(case_dir) / DYNAMIC_MESH_DICT
     return {name for name, coeffs in _body_dicts(_parsed(path))
             if "pinnedPoint" in (coeffs.get("constraints") or {})}
+

@@ -62,6 +62,11 @@ class ContactSettings:
         pinned body loses water into the background's fringe at about 1 % a second; the
         adjustment cut that to 0.4-0.5 % (docs/openfoam-notes.md, "Water balance"). It stays off while
         any body moves: around a body sliding fast along the bed it created water.
+    hold_still_solvers: while every body is held still (stuck on the bed by static friction, or
+        pinned at an obstacle), set their motion solvers aside (`held.hold_solvers`): v1912
+        then builds the overset addressing once a segment instead of at every time step, which
+        was 90 % of a step's cost for three containers on the bed (benchmarks/held_solvers.md).
+        The flow sees the same still meshes; off only to measure what it saves.
     """
 
     enabled: bool = True
@@ -74,6 +79,7 @@ class ContactSettings:
     bed_runaway_m_s: float = 1.0
     added_mass_coefficient: float | None = None
     adjust_phi_when_pinned: bool = True
+    hold_still_solvers: bool = True
     float_margin_m: float = 0.005
     bed_friction: bool = True
     impact: dict = field(default_factory=dict)

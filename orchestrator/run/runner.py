@@ -57,6 +57,13 @@ the bed (lifted back), overlaps (removed along the contact normal). The runner t
 writes every body's new state (`bodystate.prepare_restart`: v1912 keeps one body's
 state only) and resumes.
 
+Bodies held still: while every body is stuck on the bed by static friction or pinned at an
+obstacle, the runner sets their motion solvers aside for the segment (`held.hold_solvers`,
+`ContactSettings.hold_still_solvers`): v1912 then builds the overset addressing once instead of
+at every step. The log then reports no body; each step is given the held states (so bodies.csv,
+the bed watch and the contact book see them as before), and the times such a segment wrote get
+the motion files v1912 did not write (`held.fill_motion_files`) before the solvers come back.
+
 Files the runner writes in the case: `run.json`; `log.<step>` (and `log.<solver>.<k>`
 for earlier segments); `bodies.csv` (every body's state at every time step: time_s,
 body, x_m.., u_m_s.., omega_*_rad_s, the orientation q_xx..q_zz); `bodystate.json`
@@ -98,7 +105,8 @@ from pathlib import Path
 from typing import Any, Callable
 
 from orchestrator.core.errors import DebrisfoamError
-from orchestrator.case import bodystate, foam, split_bodies
+from orchestrator.case import bodystate, foam, held, split_bodies
+from orchestrator.case.held import still_state
 from orchestrator.case.folder import EPS_T, PLAN_JSON, SCENE_YAML, CaseFolder, processor_dirs
 from orchestrator.contact.settings import ContactSettings
 from orchestrator.plan.scale import froude_factor
@@ -319,6 +327,25 @@ def _before_segment(info: CaseInfo, sup: Supervisor, reached: float, name: str,
         sup.record.save()
         states = raised
     sup.start_states = states
+    _hold_still(info, sup, states, name)
+
+
+def _hold_still(info: CaseInfo, sup: Supervisor, states: list, name: str) -> None:
+    """Every body held still (stuck on the bed or pinned at an obstacle): set their motion
+    solvers aside for the segment (`held.hold_solvers`: v1912 then builds the overset
+    addressing once instead of every step) and report their states to the watch; otherwise put
+    the solvers back."""
+    if not info.bodies:
+        return
+    all_held = (sup.contact.hold_still_solvers and bool(states)
+                and held.still_bodies(info.case) >= {s.name for s in states})
+    if sup.watch.held is not None or held.solvers_held(info.case):  # (or resumed while held)
+        held.fill_motion_files(info.case)  # the times written while held lack the motion files
+    if held.hold_solvers(info.case, all_held):
+        sup.say(f"t = {name} s: " + ("every body held still: their motion solvers set aside until one moves"
+                                     if all_held else "a body moves again: motion solvers back"))
+    sup.watch.held = tuple(still_state(s) for s in states) if all_held else None
+    sup.record.data["held_segments"] = sup.record.data.get("held_segments", 0) + int(all_held)
 
 
 def _after_segment(info: CaseInfo, sup: Supervisor, stop: StopFlag, seg: SegmentResult, reached: float,
@@ -356,6 +383,9 @@ def _finish(info: CaseInfo, sup: Supervisor, reconstruct: str, reached: float, n
     case, data = info.case, sup.record.data
     if info.bodies:
         _assert_outside(info, case, name, sup)
+        if sup.watch.held is not None:  # the last segment held every body still: the case as a moving one again
+            held.fill_motion_files(case)
+            held.hold_solvers(case, False)
     if info.ranks > 1 and reconstruct != "none":
         step = foam.Step("reconstructPar", ("reconstructPar",), "gather the time directories")
         extra = ["-latestTime"] if reconstruct == "latest" else []

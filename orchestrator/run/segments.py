@@ -31,6 +31,7 @@ from pathlib import Path
 from typing import Any, Callable
 
 from orchestrator.case import foam
+from orchestrator.case.bodystate import BodyState
 from orchestrator.case.folder import EPS_T
 from orchestrator.case.outputs import read_water_balance
 from orchestrator.run.bedwatch import BedWatch
@@ -217,6 +218,9 @@ class SegmentWatch:
         self.pacing = pacing
         self.on_step = on_step
         self.bedwatch: BedWatch | None = None
+        #: the bodies' states while every body is held still and their motion solvers are set
+        #: aside (`held.hold_solvers`): the log then reports no body, and each step gets these
+        self.held: tuple[BodyState, ...] | None = None
 
     def run(self, log: Path, start_value: float, start_name: str, seg_end: float,
             progress: Progress) -> SegmentResult:
@@ -309,6 +313,9 @@ class _Segment:
         elif self.diag is None and rc is None and not self.killed:
             self.diag = self._stall(now_ - self.last_output)
         new = self.parser.feed(lines)
+        if new and self.w.held:
+            new = [s if s.bodies else replace(s, bodies=tuple(replace(b, time_s=s.time_s) for b in self.w.held))
+                   for s in new]
         if new:
             self.steps.extend(new)
             self.arrivals.append((time.perf_counter(), len(self.steps)))

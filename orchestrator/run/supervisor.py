@@ -14,10 +14,10 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
-from dataclasses import asdict
+from dataclasses import asdict, replace
 from typing import Callable, Sequence
 
-from orchestrator.case import bodystate, foam
+from orchestrator.case import bodystate, foam, held
 from orchestrator.case.bodystate import BodyState
 from orchestrator.case.folder import EPS_T
 from orchestrator.case.outputs import WATER_BALANCE_TOLERANCE
@@ -140,6 +140,12 @@ class Supervisor:
             states, source = recorded
         else:
             states, source = self._reported_states(start_name), "log"
+            before = held.recorded_before(self.case, start_name) if states is None else None
+            if before is not None and held.solvers_held(self.case):
+                # written while every body was held still (a run resumed after a stop): no solver
+                # reported them, and they have not moved since the restart that held them
+                states = [held.still_state(replace(b, time_s=float(start_name))) for b in before[0]]
+                source = f"held since t = {before[1]} s"
             if states is None:
                 raise RunError(f"cannot restore the bodies' states at t = {start_name} s: no solver log reports "
                                f"them (v1912 keeps only the first body's state); restart from an earlier time "
