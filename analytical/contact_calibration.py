@@ -74,7 +74,10 @@ __all__ = [
     "Population",
     "Scatter",
     "UnitFigures",
+    "VELOCITY_HEAD_M",
     "calibrate",
+    "contact_drop",
+    "lowered",
     "scatter",
     "strike_population",
     "table2_standard_errors",
@@ -184,6 +187,47 @@ def unit_figures(law: ContactLaw, population: Population, column: Column | None 
                      r.impulse_Ns, r.restitution, r.effective_mass_kg))
     a = np.array(rows)
     return UnitFigures(law, population, *(a[:, j] for j in range(a.shape[1])))
+
+
+#: The velocity head at the study's mean strike speed, u^2 / (2 g) at 1.60 m/s (m): how far the water
+#: stands up at a stagnation point above the approaching free surface (Bernoulli), and so about how far
+#: a container afloat in the approaching flow meets the column below the water level at its face.
+VELOCITY_HEAD_M = SEED_IMPACT_VELOCITY_M_S[0] ** 2 / (2.0 * 9.80665)
+
+
+def lowered(population: Population, drop_m: float) -> Population:
+    """The same strikes with every contact ``drop_m`` lower on the column and the load point (the
+    water level at the face) where it was: a container carried afloat meets the column at the
+    approaching flow's surface, below the run-up at the face. No contact goes below half the
+    container's height (a container on the bed)."""
+    drop = float(drop_m)
+    if not math.isfinite(drop) or drop < 0.0:
+        raise InputError("drop_m", f"must be >= 0 m, got {drop_m}")
+    floor = SEED_CONTAINER_SIZE_M[2] / 2.0
+    contact = np.maximum(population.contact_height_m - drop, floor)
+    return Population(population.water_level_m, contact, population.lateral_offset_m,
+                      population.vertical_offset_m, population.obliquity_deg)
+
+
+def contact_drop(law: ContactLaw, population: Population, drops_m=(0.0, 0.05, 0.10, VELOCITY_HEAD_M),
+                 column: Column | None = None, level: UnitFigures | None = None) -> list[dict]:
+    """What the study's fit of ``law``'s strikes reads when each contact lies ``drop`` below the
+    load point (:func:`lowered`): per drop, the population's means at 1.60 m/s, their z-scores
+    against Table 2 and the chi-square of the three (the law held, so 3 degrees of freedom).
+    ``level``: the same law's figures over ``population`` already struck (used for a drop of 0)."""
+    targets = {k: SEED_TABLE2_MDOF[k][0] for k in FIGURES}
+    rows = []
+    for drop in drops_m:
+        figures = (level if level is not None and drop == 0.0
+                   else unit_figures(law, lowered(population, drop), column))
+        means = figures.means()
+        se = table2_standard_errors(means)
+        z = {k: (means[k] - targets[k]) / se[k] for k in FIGURES}
+        chi2 = float(sum(v * v for v in z.values()))
+        rows.append({"drop_m": float(drop), "means": means, "z": z, "chi2": chi2,
+                     "p_value": float(chi2_dist.sf(chi2, len(FIGURES))),
+                     "duration_std_s": float(np.std(figures.fit_duration_s, ddof=1))})
+    return rows
 
 
 # ------------------------------------------------------------------------------ the fit
