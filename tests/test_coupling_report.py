@@ -66,6 +66,14 @@ def test_the_tracks_differ_by_the_offset_until_the_first_strike(tmp_path):
     assert cmp.same_mesh
     strikes = cmp.table.set_index("run")["strike_time_s"]
     assert strikes.to_dict() == pytest.approx({"one-way": 0.10, "two-way": 0.08})
+    # each body alone: the same offset, and its own first strike in each run
+    per = cmp.per_body.set_index("body")
+    assert list(per.index) == ["debris1", "debris2"]
+    assert np.allclose(per["track_rms_m"], 0.05) and np.allclose(per["dx_at_end_m"], -0.03)
+    assert np.allclose(per["dyaw_at_end_deg"], -10.0)
+    first = pd.read_csv(Path(one) / "results" / "impacts.csv").groupby("body")["time_s"].min()
+    for body in per.index:
+        assert per.loc[body, "one_way_strike_time_s"] == pytest.approx(first.get(body, np.nan), nan_ok=True)
 
 
 def test_the_page_and_the_verb(tmp_path):
@@ -75,10 +83,12 @@ def test_the_page_and_the_verb(tmp_path):
     text = files["report"].read_text()
     assert "| centre distance, largest | 0.030 m |" in text
     assert "the same mesh" in text and "![tracks](coupling.png)" in text
+    assert "## Each body" in text and "| debris2 | 0.030 m |" in text
+    assert (tmp_path / "page" / "bodies.csv").exists()
     assert files["figure"].stat().st_size > 10_000
     proc = run_cli("report", "coupling", str(one), str(two), "-o", str(tmp_path / "cli"), "--json")
     assert proc.returncode == 0, proc.stderr
-    assert set(json.loads(proc.stdout)) == {"coupling", "track_difference", "figure", "report"}
+    assert set(json.loads(proc.stdout)) == {"coupling", "track_difference", "bodies", "figure", "report"}
 
 
 def test_runs_of_the_wrong_coupling_or_unfinished_are_refused_by_argument(tmp_path):

@@ -13,6 +13,10 @@ mesh, and writes into DIR:
     The two runs' figures, a row each: the track difference up to the first strike (RMS, largest,
     at the strike), the first strike on the column (time, body, velocity, obliquity, height, the
     water level at the column's face, pulse, base shear), cells and wall times.
+``bodies.csv``
+    Per body: its track difference up to the comparison's end (RMS, largest, at the end, the yaw
+    apart there) and its own first column strike in each run (time, velocity): how one-way
+    multi-body transport follows each coupled body, not only the first to strike.
 ``drag_scan.csv``
     The one-way transport carried again through the one-way run's own record at several drag
     coefficients (``transport.drag_coefficient``), each against the two-way track up to the
@@ -65,6 +69,8 @@ class CouplingComparison:
     tracks: pd.DataFrame
     table: pd.DataFrame
     same_mesh: bool
+    #: per body: track difference and each run's first column strike (:func:`_per_body`)
+    per_body: pd.DataFrame = field(default_factory=pd.DataFrame)
     #: the drag-coefficient scan (:func:`drag_scan`); empty until run
     scan: pd.DataFrame = field(default_factory=pd.DataFrame)
 
@@ -109,6 +115,28 @@ def _differences(runs: dict[str, Layout], until_s: float) -> pd.DataFrame:
             rows.append(_track_differences(one, two, body, until_s))
     return pd.concat(rows, ignore_index=True) if rows else pd.DataFrame(
         columns=["time_s", "body", "dx_m", "dy_m", "dz_m", "distance_m", "dyaw_deg"])
+
+
+def _per_body(runs: dict[str, Layout], tracks: pd.DataFrame) -> pd.DataFrame:
+    """A row per body: its one-way centre's distance from the two-way one up to the comparison's
+    end (RMS, largest, at the end), the x and yaw apart there, and its own first column strike
+    in each run (time and impact velocity; NaN when it did not strike)."""
+    rows = []
+    for body, d in tracks.groupby("body", sort=False):
+        d = d.sort_values("time_s")
+        last = d.iloc[-1]
+        row: dict[str, Any] = {"body": body, "track_rms_m": float(np.sqrt(np.mean(d["distance_m"] ** 2))),
+                               "track_max_m": float(d["distance_m"].max()), "track_at_end_m": float(last["distance_m"]),
+                               "dx_at_end_m": float(last["dx_m"]), "dyaw_at_end_deg": float(last["dyaw_deg"])}
+        for kind, lay in runs.items():
+            strikes = lay.strikes
+            own = strikes[strikes["body"] == body] if "body" in strikes else strikes.iloc[0:0]
+            tag = kind.replace("-", "_")
+            row[f"{tag}_strike_time_s"] = float(own["time_s"].iloc[0]) if len(own) else float("nan")
+            row[f"{tag}_strike_velocity_m_s"] = (float(own["impact_velocity_m_s"].iloc[0]) if len(own)
+                                                 else float("nan"))
+        rows.append(row)
+    return pd.DataFrame(rows)
 
 
 def drag_scan(scene, flow: FlowField, two_way_tracks: dict[str, pd.DataFrame], until_s: float, end_s: float,
@@ -178,7 +206,7 @@ def compare_coupling(one_way: str | Path, two_way: str | Path, allow_stopped: bo
     cells = [_background_cells(lay) for lay in runs.values()]
     same_mesh = cells[0] is not None and cells[0] == cells[1]
     table = pd.DataFrame([_row(k, lay, strikes[k], tracks) for k, lay in runs.items()])
-    return CouplingComparison(runs, until_s, reason, tracks, table, same_mesh)
+    return CouplingComparison(runs, until_s, reason, tracks, table, same_mesh, _per_body(runs, tracks))
 
 
 def _stop_reason(lay: Layout) -> str:
@@ -230,6 +258,26 @@ STRIKE_ROWS = (
 )
 
 
+def _per_body_lines(cmp: CouplingComparison) -> list[str]:
+    """The per-body table (several bodies only)."""
+    lines = ["## Each body", "",
+             f"Each body's one-way centre against its two-way one up to t = {cmp.until_s:.3f} s (the comparison's "
+             "end), and its own first strike on the column in each run (`bodies.csv`).", "",
+             "| body | centre distance, RMS | largest | at the end | x apart at the end (+: one-way ahead) | "
+             "yaw apart at the end | first strike, one-way | first strike, two-way |",
+             "|---|---|---|---|---|---|---|---|"]
+    for r in cmp.per_body.to_dict("records"):
+        strikes = []
+        for tag in ("one_way", "two_way"):
+            t = figure_text(r[f"{tag}_strike_time_s"], ".3f", " s")
+            strikes.append(t if t == "-" else f"{t} at {figure_text(r[f'{tag}_strike_velocity_m_s'], '.2f', ' m/s')}")
+        lines.append(f"| {r['body']} | {figure_text(r['track_rms_m'], '.3f', ' m')} | "
+                     f"{figure_text(r['track_max_m'], '.3f', ' m')} | {figure_text(r['track_at_end_m'], '.3f', ' m')} | "
+                     f"{figure_text(r['dx_at_end_m'], '+.3f', ' m')} | {figure_text(r['dyaw_at_end_deg'], '+.1f', ' deg')} | "
+                     f"{strikes[0]} | {strikes[1]} |")
+    return lines + [""]
+
+
 def markdown(cmp: CouplingComparison, figure: str | None) -> str:
     one, two = (cmp.table.set_index("run").loc[k].to_dict() for k in RUNS)
     lines = ["# One-way against two-way", "",
@@ -258,6 +306,8 @@ def markdown(cmp: CouplingComparison, figure: str | None) -> str:
               f"| flow solver wall time (master rank's CPU) | {minutes_text(one.get('flow_wall_s'))} "
               f"({minutes_text(one.get('flow_cpu_s'))}) | {minutes_text(two.get('flow_wall_s'))} ({minutes_text(two.get('flow_cpu_s'))}) |",
               f"| transport wall time | {figure_text(one.get('transport_wall_s'), '.1f', ' s')} | - |", ""]
+    if len(cmp.per_body) > 1:
+        lines += _per_body_lines(cmp)
     if not cmp.scan.empty:
         lines += ["## The drag coefficient", "",
                   "The one-way transport carried again through the same record at other drag coefficients "
@@ -311,6 +361,7 @@ def write_coupling_report(cmp: CouplingComparison, out_dir: str | Path) -> dict[
     out.mkdir(parents=True, exist_ok=True)
     written = {"coupling": write_table(cmp.table, out / "coupling.csv"),
                "track_difference": write_table(cmp.tracks, out / "track_difference.csv"),
+               **({"bodies": write_table(cmp.per_body, out / "bodies.csv")} if len(cmp.per_body) > 1 else {}),
                **({"drag_scan": write_table(cmp.scan, out / "drag_scan.csv")} if not cmp.scan.empty else {}),
                "figure": _figure(cmp, out / "coupling.png")}
     written["report"] = write_text_atomic(out / "report.md", markdown(cmp, written["figure"].name))
