@@ -334,7 +334,9 @@ class NormalIntegrator:
                     record(t, st, 0.0)
                     f = self._equilibrate(st, contact)
                     contacts += 1
-                    if f != 0.0:  # a force jump (dashpot): keep the sample times increasing
+                    # Only a dashpot makes the force jump at the touch; undamped, f is the
+                    # spring's rounding residue and a second sample would only add noise.
+                    if self.c > 0.0 and f != 0.0:  # keep the sample times increasing
                         t += 1e-9 * dt
                         record(t, st, f)
                 continue
