@@ -184,8 +184,9 @@ COMPARE_NAME  ?= coupling
 compare-coupling: venv openfoam
 	-$(NICE) $(VENV)/bin/debrisfoam case $(COMPARE_SCENE) $(COMPARE_SET) --set run.debris_coupling=two-way -o runs/$(COMPARE_NAME)/two-way
 	-$(NICE) $(VENV)/bin/debrisfoam case $(COMPARE_SCENE) $(COMPARE_SET) --set run.debris_coupling=one-way -o runs/$(COMPARE_NAME)/one-way
-	@# a run that stopped early is post-processed as far as it got and compared up to there (the page says so)
-	-@for r in two-way one-way; do test -f runs/$(COMPARE_NAME)/$$r/results/summary.json || \
+	@# a run that stopped early is post-processed as far as it got and compared up to there (the page
+	@# says so); a summary older than the run's record (run.json) is from an earlier stop and is redone
+	-@for r in two-way one-way; do test runs/$(COMPARE_NAME)/$$r/results/summary.json -nt runs/$(COMPARE_NAME)/$$r/run.json || \
 	  $(VENV)/bin/debrisfoam post --tables-only runs/$(COMPARE_NAME)/$$r; done
 	$(VENV)/bin/debrisfoam report coupling runs/$(COMPARE_NAME)/one-way runs/$(COMPARE_NAME)/two-way --drag-scan --allow-stopped -o docs/results/$(COMPARE_NAME) --force
 
