@@ -123,7 +123,7 @@ def test_the_runner_edits_the_bed_constraints_and_the_friction_damper(case):
     text = (case / "constant" / "dynamicMeshDict").read_text()
     # two zero-stiffness springs through the centre (v1912's linearDamper would act at the origin)
     assert "linearDamper" not in text and text.count("linearSpring") == 2
-    restraints = dict(bodystate._body_dicts(bodystate._parsed(case / "constant" / "dynamicMeshDict")))["debris1"]
+    restraints = dict(bodystate._body_dicts(bodystate.parsed_dict(case / "constant" / "dynamicMeshDict")))["debris1"]
     centre0 = bodystate.read_body_properties(case)[0].initial_centre_of_mass_m
     for name, anchor in bodystate.BED_FRICTION_AXES.items():
         spring = restraints["restraints"][name]

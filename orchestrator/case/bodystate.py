@@ -174,7 +174,8 @@ def write_dictionary(parsed, path: str | Path | None = None) -> None:
         raise
 
 
-def _parsed(path: Path):
+def parsed_dict(path: Path):
+    """An OpenFOAM dictionary file, parsed (PyFoam)."""
     from PyFoam.RunDictionary.ParsedParameterFile import ParsedParameterFile
 
     return ParsedParameterFile(str(path))
@@ -207,7 +208,7 @@ def read_body_properties(case_dir: str | Path) -> list[BodyProperties]:
     if not path.is_file():
         return []
     bodies = []
-    for name, c in _body_dicts(_parsed(path)):
+    for name, c in _body_dicts(parsed_dict(path)):
         centre = _vec(c.get("initialCentreOfMass"), _vec(c["centreOfMass"]))
         orient = _vec(c.get("initialOrientation"), _vec(c.get("orientation"), _IDENTITY))
         bodies.append(BodyProperties(name, float(c["mass"]), _vec(c["momentOfInertia"]), centre, orient))
@@ -246,7 +247,7 @@ def coefficient_states(case_dir: str | Path, time_s: float = 0.0) -> list[BodySt
     path = Path(case_dir) / DYNAMIC_MESH_DICT
     props = {p.name: p for p in read_body_properties(case_dir)}
     states = []
-    for name, c in _body_dicts(_parsed(path)):
+    for name, c in _body_dicts(parsed_dict(path)):
         p = props[name]
         q = np.asarray(_vec(c.get("orientation"), _IDENTITY)).reshape(3, 3)
         pi = np.asarray(_vec(c.get("angularMomentum"), (0.0, 0.0, 0.0)))
@@ -265,7 +266,7 @@ def write_states(case_dir: str | Path, states: Sequence[BodyState]) -> None:
     Raises KeyError naming a body that the dictionary does not have.
     """
     path = Path(case_dir) / DYNAMIC_MESH_DICT
-    parsed = _parsed(path)
+    parsed = parsed_dict(path)
     coeffs = dict(_body_dicts(parsed))
     props = {p.name: p for p in read_body_properties(case_dir)}
     for state in states:
@@ -295,7 +296,7 @@ def state_file_paths(case_dir: str | Path, time_name: str) -> list[Path]:
 
 def read_state_file(path: str | Path) -> dict[str, tuple[float, ...]]:
     """The state OpenFOAM wrote (the first body's): centreOfRotation, orientation, velocity..."""
-    parsed = _parsed(Path(path))
+    parsed = parsed_dict(Path(path))
     return {str(k): _vec(parsed[k]) for k in parsed.content.keys()
             if k in ("centreOfRotation", "orientation", "velocity", "acceleration", "angularMomentum", "torque")}
 
@@ -377,7 +378,7 @@ def _edit_motion_entry(case_dir: str | Path, names, key: str,
     if not names:
         return []
     path = Path(case_dir) / DYNAMIC_MESH_DICT
-    parsed = _parsed(path)
+    parsed = parsed_dict(path)
     changed = []
     for name, coeffs in _body_dicts(parsed):
         if name not in names:
@@ -500,7 +501,7 @@ def unstick_bodies(case_dir: str | Path, names: Sequence[str]) -> list[str]:
 
 def stuck_bodies(case_dir: str | Path) -> set[str]:
     """The bodies held by static friction now (`stick_bodies`)."""
-    return {name for name, coeffs in _body_dicts(_parsed(Path(case_dir) / DYNAMIC_MESH_DICT))
+    return {name for name, coeffs in _body_dicts(parsed_dict(Path(case_dir) / DYNAMIC_MESH_DICT))
             if STICK_KEYS[0] in (coeffs.get("constraints") or {})}
 
 
@@ -508,7 +509,7 @@ def bed_constraints(case_dir: str | Path) -> dict[str, str]:
     """How the runner keeps each body on the bed now: "pinned", "hold" (the planner's initial
     hold), "rest" (`rest_on_bed`) or "" (free)."""
     out = {}
-    for name, coeffs in _body_dicts(_parsed(Path(case_dir) / DYNAMIC_MESH_DICT)):
+    for name, coeffs in _body_dicts(parsed_dict(Path(case_dir) / DYNAMIC_MESH_DICT)):
         keys = set((coeffs.get("constraints") or {}).keys())
         out[name] = ("pinned" if "pinnedPoint" in keys else "hold" if "holdOnBedPlane" in keys
                      else "rest" if REST_ON_BED in keys else "")
@@ -583,7 +584,7 @@ def set_pimple_entry(case_dir: str | Path, key: str, value: str) -> bool:
     solver reads when it (re)starts. Returns False if it already had that value (or the case
     has no PIMPLE dictionary)."""
     path = Path(case_dir) / "system" / "fvSolution"
-    parsed = _parsed(path)
+    parsed = parsed_dict(path)
     pimple = parsed["PIMPLE"] if "PIMPLE" in parsed else None
     if pimple is None or str(pimple.get(key, "")).lower() == value.lower():
         return False
@@ -595,6 +596,5 @@ def set_pimple_entry(case_dir: str | Path, key: str, value: str) -> bool:
 def pinned_bodies(case_dir: str | Path) -> set[str]:
     """The bodies that `pin_bodies` froze."""
     path = Path(case_dir) / DYNAMIC_MESH_DICT
-    return {name for name, coeffs in _body_dicts(_parsed(path))
+    return {name for name, coeffs in _body_dicts(parsed_dict(path))
             if "pinnedPoint" in (coeffs.get("constraints") or {})}
-

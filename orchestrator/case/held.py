@@ -19,19 +19,15 @@ from orchestrator.case.bodystate import (
     DYNAMIC_MESH_DICT,
     HELD_SOLVERS,
     BodyState,
+    parsed_dict,
     pinned_bodies,
     read_record,
     recorded_states,
     stuck_bodies,
     write_dictionary,
 )
+from orchestrator.case.folder import processor_dirs, time_names
 from orchestrator.core.files import write_text_atomic
-
-
-def _parsed(path: Path):
-    from PyFoam.RunDictionary.ParsedParameterFile import ParsedParameterFile
-
-    return ParsedParameterFile(str(path))
 
 __all__ = ["MOTION_FILES", "fill_motion_files", "hold_solvers", "recorded_before", "solvers_held",
            "still_bodies", "still_state"]
@@ -59,7 +55,7 @@ def hold_solvers(case_dir: str | Path, held: bool) -> bool:
     path = Path(case_dir) / DYNAMIC_MESH_DICT
     if not path.is_file():
         return False
-    parsed = _parsed(path)
+    parsed = parsed_dict(path)
     parked = HELD_SOLVERS in parsed
     if bool(held) == parked or (held and not ("solvers" in parsed and parsed["solvers"])):
         return False
@@ -71,16 +67,6 @@ def hold_solvers(case_dir: str | Path, held: bool) -> bool:
         del parsed[HELD_SOLVERS]
     write_dictionary(parsed, path)
     return True
-
-
-def _time_dirs(root: Path) -> list[tuple[float, Path]]:
-    out = []
-    for d in root.iterdir() if root.is_dir() else ():
-        try:
-            out.append((float(d.name), d))
-        except ValueError:
-            continue
-    return sorted(out)
 
 
 #: What a time written while the motion solvers were set aside lacks: the six-DoF solvers'
@@ -97,12 +83,12 @@ def fill_motion_files(case_dir: str | Path) -> list[Path]:
     case's root and each processor folder)."""
     case = Path(case_dir)
     written = []
-    for root in [case, *sorted(case.glob("processor*"))]:
-        times = _time_dirs(root)
+    for root in [case, *processor_dirs(case)]:
+        times = time_names(root)
         for name in MOTION_FILES:
             last = None
-            for _, d in times:
-                f = d / name
+            for _, t in times:
+                f = root / t / name
                 if f.is_file():
                     last = f
                 elif last is not None:
@@ -115,7 +101,7 @@ def fill_motion_files(case_dir: str | Path) -> list[Path]:
 def solvers_held(case_dir: str | Path) -> bool:
     """Whether the bodies' motion solvers are set aside now (`hold_solvers`)."""
     path = Path(case_dir) / DYNAMIC_MESH_DICT
-    return path.is_file() and HELD_SOLVERS in _parsed(path)
+    return path.is_file() and HELD_SOLVERS in parsed_dict(path)
 
 
 def still_state(state: BodyState) -> BodyState:
