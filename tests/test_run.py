@@ -150,6 +150,40 @@ def _state(name, centre, velocity=(0.0, 0.0, 0.0), yaw_deg=0.0, omega=(0.0, 0.0,
     return BodyState(name, 0.1, tuple(centre), (c, -s, 0, s, c, 0, 0, 0, 1), tuple(velocity), tuple(omega))
 
 
+def test_a_train_of_pressed_bodies_is_set_apart_at_one_restart(tmp_path):
+    """Three bodies end to end, both pairs pressed together: one restart sets both pairs the gap
+    apart, the train's momentum and centre kept, and leaves no pair to stop the solver at once.
+    One contact per body per restart set the middle body into its other neighbour instead."""
+    from orchestrator.run.contact_book import ContactBook
+
+    case = render(tmp_path, "train", scene([{"name": f"debris{k}", "centre_m": [0.3 + 0.16 * k, 0.0]}
+                                            for k in (1, 2, 3)], wet_depth_m=0.1))
+    settings = ContactSettings()
+    messages = []
+    book = ContactBook(load_case_info(case), settings, {}, messages.append)
+
+    def train(first_gap, second_gap):  # end to end along x, the rear body the fastest
+        x2 = 0.5 + 0.15 + first_gap
+        return [_state("debris1", (0.5, 0.0, 0.1), (0.9, 0.0, 0.0)), _state("debris2", (x2, 0.0, 0.1), (0.7, 0.0, 0.0)),
+                _state("debris3", (x2 + 0.15 + second_gap, 0.0, 0.1), (0.5, 0.0, 0.0))]
+
+    for k in range(1, 2 * settings.max_events + 3):  # the pairs close in turn, until both are pressed
+        closer = (0.001, 0.004) if k % 2 else (0.004, 0.001)
+        book.resolve_contacts(f"{0.1 + 0.001 * k:g}", train(*closer), 0.001)
+    assert sum(m.count("presses") for m in messages) == 2
+    train = train(0.001, 0.001)
+    _, states = book.resolve_contacts("0.2", train, 0.001)
+    gaps = sorted(c.distance_m for c in book.geometry.contacts(states, 0.02, bed=False) if c.kind == "body")
+    assert gaps == pytest.approx([settings.gap_m] * 2, abs=0.1 * settings.gap_m)
+    assert not book.contacts_now(states, 0.001)  # nothing stops the next segment at once
+    u = [s.velocity_m_s[0] for s in states]
+    # plastic: what closing motion is left is slower than an impact (0.9, 0.7, 0.5 m/s came in)
+    assert max(u[0] - u[1], u[1] - u[2]) < settings.min_impact_speed_m_s, u
+    assert sum(u) == pytest.approx(0.9 + 0.7 + 0.5, abs=1e-9)  # equal masses: momentum kept
+    assert sum(s.centre_of_mass_m[0] for s in states) == pytest.approx(sum(s.centre_of_mass_m[0] for s in train),
+                                                                       abs=1e-12)
+
+
 def test_contacts_carry_closing_speeds(body_case):
     """The runner's view of orchestrator.contact.geometry: distances, normals and closing speeds."""
     geometry = Geometry(load_case_info(body_case))

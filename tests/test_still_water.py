@@ -24,7 +24,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from conftest import ROOT, render_and_run
+from conftest import ROOT, render_and_run, run_cli
 
 SCENE = ROOT / "tests" / "data" / "scenes" / "still-water-resting.yaml"
 FLOATING = ROOT / "tests" / "data" / "scenes" / "still-water-floating.yaml"
@@ -72,3 +72,39 @@ def test_a_container_afloat_in_still_water_keeps_its_draft_place_and_heading_two
     # upright is unstable in roll (GM = -5.4 mm): a tilt grows about 1e5-fold in 2 s, so this bounds
     # what the set-up seeds it with; measured 0.03 degrees, 2.2 with the waterline row too high
     assert tilt.max() < 1.0  # degrees
+
+
+@pytest.mark.openfoam
+def test_a_container_set_two_millimetres_aside_between_segments_stays_where_it_was_set(openfoam, tmp_path):
+    """The runner moves bodies between segments (pressed pairs set a gap apart, overlaps removed,
+    bodies lifted out of the bed). Its mesh points follow the new pose at the restart time
+    (orchestrator.case.bodypoints), so the solver's first step does not make the move as mesh motion:
+    made in one step, 2 mm sideways threw this container back at 0.017 m/s and 0.7 mm in 0.08 s."""
+    import dataclasses
+    import threading
+
+    from orchestrator.case import bodystate
+    from orchestrator.case.folder import processor_dirs, time_names
+    from orchestrator.run.errors import RunInterrupted
+    from orchestrator.run.run_json import states_in_logs
+    from orchestrator.run.runner import run_case
+
+    case = tmp_path / "aside"
+    proc = run_cli("render", str(FLOATING), "-o", str(case), "--set", "run.end_time_s=0.2")
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    stop = threading.Event()
+    with pytest.raises(RunInterrupted):
+        run_case(case, quiet=True, stop_event=stop, on_step=lambda step: step.time_s >= 0.1 and stop.set())
+    time_name = time_names(processor_dirs(case)[0])[-1][1]
+    (state,) = states_in_logs(case, "overInterDyMFoam", ["debris1"], time_name)
+    aside = np.asarray(state.centre_of_mass_m) + (0.0, 0.002, 0.0)
+    bodystate.prepare_restart(case, time_name, [dataclasses.replace(state, centre_of_mass_m=tuple(aside))], "test")
+    run_case(case, quiet=True)
+
+    track = pd.read_csv(case / "bodies.csv")
+    after = track[track["time_s"] > float(time_name) + 1e-9]
+    assert after["time_s"].max() == pytest.approx(0.2, abs=0.01)
+    speed = np.sqrt(after["u_m_s"] ** 2 + after["v_m_s"] ** 2 + after["w_m_s"] ** 2)
+    assert speed.max() < 2e-3  # m/s; measured 4.6e-4 (0.017 with the move made by the solver)
+    assert (after["y_m"] - aside[1]).abs().max() < 1e-4  # m; measured 3e-12 (0.7 mm)
+    assert json.loads((case / "run.json").read_text())["points_moved"] == 1

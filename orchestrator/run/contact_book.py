@@ -63,11 +63,13 @@ from orchestrator.run.contact_geometry import Contact, Geometry, resting_contact
 from orchestrator.run.errors import ContactError
 from orchestrator.run.monitor import StepRecord
 
-__all__ = ["ContactBook", "PRESSED_RUNAWAY"]
+__all__ = ["ContactBook", "PRESSED_PASSES", "PRESSED_RUNAWAY"]
 
 #: two bodies in contact more than this many times `max_events` within `window_s`, each
 #: contact already plastic and the pair set apart: a ContactError (see `_resting_too_often`)
 PRESSED_RUNAWAY = 4
+#: pressed pairs of a train set apart at one restart, at most (`ContactBook._separate_pressed`)
+PRESSED_PASSES = 8
 
 
 # --------------------------------------------------------------------------- the book
@@ -263,6 +265,7 @@ class ContactBook:
                     elif lifts > self.settings.max_events:
                         self._rest_on_bed(time_name, lifted, f"it was lifted out of the bed {lifts} times within "
                                                              f"{self.settings.window_s:g} s")
+        self._separate_pressed(time_name, by_name)
         for c in geometry.contacts(list(by_name.values()), 0.0, bed=False):
             if c.distance_m < 0:  # never restart a body inside the column, a wall or another body
                 new, _ = resting_contact(geometry, dataclasses.replace(c, approach_m_s=0.0), by_name)
@@ -271,6 +274,27 @@ class ContactBook:
                          "moved out along the contact normal")
         self._release_pressed(time_name, list(by_name.values()))
         return events, [by_name[n] for n in self.info.body_names]
+
+    def _separate_pressed(self, time_name: str, by_name: dict[str, BodyState]) -> None:
+        """Pressed pairs that share a body, set apart together: a train of bodies the flow presses
+        end to end. Setting one pair the gap apart moves their shared body into its other
+        neighbour, which one contact per body per restart would leave for the next restart,
+        three steps later (the 3x1 layout two-way: each restart set one pair apart and closed
+        the other). Up to `PRESSED_PASSES` times, the closest pressed pair nearer than 0.9 of the gap
+        is made plastic and set the gap apart, and the distances are measured again (Gauss-Seidel
+        over the chain: the closing motions end in the train's common velocity along each normal)."""
+        if not self._pressed_pairs:
+            return
+        for _ in range(PRESSED_PASSES):
+            close = [c for c in self.geometry.contacts(list(by_name.values()), 0.9 * self.settings.gap_m, bed=False)
+                     if self._held_pressed(c)]
+            if not close:
+                return
+            c = min(close, key=lambda c: c.distance_m)  # then measured again: it moves a neighbour
+            new, impulse = resting_contact(self.geometry, c, by_name, separation_m=self.settings.gap_m)
+            before = {k: by_name[k] for k in new}
+            by_name.update(new)
+            self._record_resting(time_name, c, before, new, impulse, pressed=True)
 
     def _held_pressed(self, c: Contact) -> bool:
         """Whether `c` is between two bodies found pressed together and not yet apart."""

@@ -106,6 +106,7 @@ from typing import Any, Callable
 
 from orchestrator.core.errors import DebrisfoamError
 from orchestrator.case import bodystate, foam, held, split_bodies
+from orchestrator.case.bodypoints import BodyPoints
 from orchestrator.case.held import still_state
 from orchestrator.case.folder import EPS_T, PLAN_JSON, SCENE_YAML, CaseFolder, processor_dirs
 from orchestrator.contact.settings import ContactSettings
@@ -326,8 +327,31 @@ def _before_segment(info: CaseInfo, sup: Supervisor, reached: float, name: str,
             data.setdefault("freed", []).append({"body": body, "time_s": float(name)})
         sup.record.save()
         states = raised
+    if states:
+        _points_follow(info, sup, name, states)
     sup.start_states = states
     _hold_still(info, sup, states, name)
+
+
+def _points_follow(info: CaseInfo, sup: Supervisor, name: str, states: list) -> None:
+    """The body meshes' points written at `name` put where the restart's states put the bodies
+    (`BodyPoints.follow`): a body the contact book or the bed watch moved would otherwise make
+    the whole move in the solver's first step, as mesh motion the water answers."""
+    t_between = time.perf_counter()
+    if sup.body_points is None:
+        try:
+            sup.body_points = BodyPoints.for_case(info.case)
+        except (OSError, ValueError) as exc:
+            sup.body_points = False
+            sup.say(f"the body meshes' points cannot follow their bodies ({exc}): a body the runner moves at a "
+                    "restart makes that move in the solver's first step")
+    if not sup.body_points:
+        return
+    moved = sup.body_points.follow(name, states)
+    if moved:
+        data = sup.record.data
+        data["points_moved"] = data.get("points_moved", 0) + len(moved)
+    sup.between_s += time.perf_counter() - t_between
 
 
 def _hold_still(info: CaseInfo, sup: Supervisor, states: list, name: str) -> None:

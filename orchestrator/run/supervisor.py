@@ -18,6 +18,7 @@ from dataclasses import asdict, replace
 from typing import Callable, Sequence
 
 from orchestrator.case import bodystate, foam, held
+from orchestrator.case.bodypoints import BodyPoints
 from orchestrator.case.bodystate import BodyState
 from orchestrator.case.folder import EPS_T
 from orchestrator.case.outputs import WATER_BALANCE_TOLERANCE
@@ -81,6 +82,9 @@ class Supervisor:
         self.start_states: list[BodyState] = []
         #: wall time spent between segments (scene and obstacles, contacts): the runner's cost
         self.between_s = 0.0
+        #: the body meshes' points, found at the first restart that has bodies (BodyPoints; False:
+        #: the case's meshes do not show them, and restarts leave the points where the solver wrote them)
+        self.body_points: BodyPoints | bool | None = None
 
     @property
     def bedwatch(self) -> BedWatch | None:
