@@ -136,7 +136,7 @@ def test_body_grid_patches_and_hole():
     p = plan_case(case("3debris-1x3"))
     for b in p.bodies:  # resting bodies: the hole is the body's block, above the gap's four rows
         assert b.grid.holes == frozenset({(1, 1, len(b.grid.z) - 2)})
-        assert len(b.grid.z) == 1 + 4 + 1 + 1
+        assert len(b.grid.z) == 4 + 1 + 1  # several resting bodies: nothing below the bed (meshes_stop_at_bed)
         faces = b.grid.boundary_faces()
         assert set(faces) == {f"{b.name}Overset", b.name}
         assert len(faces[b.name]) > 0
@@ -204,6 +204,34 @@ def test_a_resting_body_stands_on_a_gap_whose_layers_both_meshes_share(wet):
     # released when the water reaches its draft above the gap (26 mm + gap), later than without it
     assert b.hold_until_s > _hold_until_s(s, s.debris[0], 0.0)
     assert any("bed layer" in w for w in p.warnings) == (layer < 0.2 * s.mesh.cell_size_m)
+
+
+@pytest.mark.parametrize("name", ["3debris-3x1", "3debris-1x3", "6debris-2x3"])
+def test_the_meshes_of_several_resting_bodies_end_at_the_bed(name):
+    """Below the bed two body meshes can take donors only from each other: in the 3x1 and 1x3 layouts
+    two-way such cells reached 4.8e4 and 340 m/s and the time step collapsed (plan.meshes_stop_at_bed).
+    With several resting bodies each mesh's lowest plane is the bed, under the gap's four layers."""
+    p = plan_case(case(name, "run.debris_coupling=two-way"))
+    assert len(p.bodies) >= 3
+    layer = p.bed_gap_m / 4
+    for b in p.bodies:
+        faces = np.asarray(b.grid.planes("z")) + b.centre_of_mass_m[2]
+        assert faces[0] == pytest.approx(0.0, abs=1e-12)
+        assert np.allclose(faces[:5], layer * np.arange(5))
+    assert not any("below the bed" in w for w in p.warnings)
+    assert "ends at the bed" in p.reasons["bed_gap"]
+
+
+def test_a_single_resting_body_keeps_its_margin_below_the_bed():
+    s = case("1debris", "run.debris_coupling=two-way")
+    p = plan_case(s)
+    (b,) = p.bodies
+    bottom = b.grid.planes("z")[0] + b.centre_of_mass_m[2]
+    margin = s.mesh.body_margin_cells * s.mesh.cell_size_m
+    assert bottom == pytest.approx(b.centre_of_mass_m[2] - b.size_m[2] / 2 - margin)
+    assert bottom < -p.bed_gap_m
+    assert "ends at the bed" not in p.reasons["bed_gap"]
+    assert any("below the bed" in w for w in p.warnings)
 
 
 def test_a_floating_body_on_a_dry_bed_needs_no_bed_layer():

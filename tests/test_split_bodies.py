@@ -96,5 +96,12 @@ def test_three_overlapping_body_meshes_get_past_the_first_steps_on_two_ranks(ope
     assert (overlaps > 0).sum() >= 5 * steps  # two body pairs overlap besides the background's three
     assert all(f"Applying solid body motion to cellZone debris{k}" in log for k in (1, 2, 3))
     assert record["reached_time_s"] == pytest.approx(0.2)
+    # the three resting bodies' meshes end at the bed: none reaches below it, where two body meshes
+    # would take their donors from each other (plan.meshes_stop_at_bed)
+    from orchestrator.case.bodypoints import read_points
+
+    for k in (1, 2, 3):
+        z = read_points(case / "bodies" / f"debris{k}" / "constant" / "polyMesh" / "points")[:, 2]
+        assert z.min() == pytest.approx(0.0, abs=1e-9)
     for rank in (0, 1):
         assert _largest_mesh_flux(case / f"processor{rank}" / "0.2" / "meshPhi") < 1e-15

@@ -31,6 +31,7 @@ __all__ = [
     "body_layout",
     "body_plans",
     "hold_until_s",
+    "meshes_stop_at_bed",
     "rests_on_bed",
     "still_water_m",
 ]
@@ -75,6 +76,8 @@ class BodyLayout:
     boxes: tuple[tuple[np.ndarray, np.ndarray], ...]
     margin_m: float
     gap: BedGap | None
+    #: whether the meshes of upright resting bodies end at the bed (:func:`meshes_stop_at_bed`)
+    stop_at_bed: bool = False
 
     @property
     def lift_m(self) -> float:
@@ -123,20 +126,46 @@ def bed_gap(scene: Scene, h: float) -> BedGap | None:
     return BedGap(layer)
 
 
+def meshes_stop_at_bed(scene: Scene) -> bool:
+    """Whether the meshes of upright resting bodies end at the bed instead of reaching a margin below it.
+
+    Below the bed a body mesh has no background donor. With one body there, its cells are a dead end;
+    with two or more, their meshes overlap below the bed wherever the bodies come within two margins of
+    each other, and there v1912's cellVolumeWeight takes each mesh's donors from the other (it prefers
+    the nearest zone number, and there is no other). In the study's 3x1 and 1x3 layouts two-way the
+    velocities in those cells grew to 4.8e4 m/s (3x1, 2.0887 s) and 340 m/s (1x3, 1.9708 s), every cell
+    faster than 10 m/s was below the bed, and the time step collapsed to 1e-6 s and less at a Courant
+    number held at 2.7-2.8 (docs/stability.md, "Several coupled bodies"). So with two or more resting
+    bodies each resting body's mesh starts at the bed plane: its lowest gap layer is then its edge.
+    A single body keeps the margin below the bed (its validated pages were measured with it).
+    """
+    return sum(rests_on_bed(b) for b in scene.debris) >= 2
+
+
 def body_layout(scene: Scene) -> BodyLayout:
     """Each body's modelled centre and the AABB of its overset mesh (scene coordinates)."""
     h = scene.mesh.cell_size_m
     margin = scene.mesh.body_margin_cells * h
     gap = bed_gap(scene, h)
     lift = gap.height_m if gap is not None else 0.0
+    stop = meshes_stop_at_bed(scene)
     centres, boxes = [], []
     for body in scene.debris:
         rot = body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg)
         ext = np.abs(rot) @ (np.asarray(body.size_m) / 2.0 + margin)
         c = np.asarray(body.centre_m, float) + (0.0, 0.0, lift if rests_on_bed(body) else 0.0)
+        lo, hi = c - ext, c + ext
+        if stop and _cut_at_bed(body):
+            lo[2] = 0.0
         centres.append(c)
-        boxes.append((c - ext, c + ext))
-    return BodyLayout(tuple(centres), tuple(boxes), margin, gap)
+        boxes.append((lo, hi))
+    return BodyLayout(tuple(centres), tuple(boxes), margin, gap, stop)
+
+
+def _cut_at_bed(body: DebrisBody) -> bool:
+    """An upright resting body: its mesh shares the gap's planes (BedGap) and may end at the bed."""
+    rot = body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg)
+    return rests_on_bed(body) and abs(rot[2, 2]) > 1 - 1e-9
 
 
 def hold_until_s(scene: Scene, body: DebrisBody, gap_m: float = 0.0) -> float:
@@ -214,13 +243,15 @@ def _body_grid(scene: Scene, body: DebrisBody, centre: np.ndarray, layout: BodyL
     for d in range(3):
         half = body.size_m[d] / 2.0
         inner = Segment(-half, half, max(1, math.ceil(2 * half / hb - 1e-9)))
-        if d == 2 and rests_on_bed(body) and gap is not None and abs(rot[2, 2]) > 1 - 1e-9:
+        if d == 2 and _cut_at_bed(body) and gap is not None:
             # an upright resting body's mesh shares the gap's planes (BedGap)
             bed = -half - gap.height_m
             rows = tuple(Segment(bed + k * gap.layer_m, bed + (k + 1) * gap.layer_m, 1) for k in range(gap.layers))
-            # below the bed: holes while the body rests, water under it once it floats
-            below = (graded_segment(min(-half - margin, bed - h), bed, h, hb),)
-            before = below + rows
+            if layout.stop_at_bed:
+                before = rows  # nothing below the bed for another body's mesh to meet (meshes_stop_at_bed)
+            else:
+                # below the bed: holes while the body rests, water under it once it floats
+                before = (graded_segment(min(-half - margin, bed - h), bed, h, hb), *rows)
         else:
             before = (graded_segment(-half - margin, -half, h, hb),)
         after = graded_segment(half, half + margin, hb, h)
@@ -308,6 +339,9 @@ def body_plans(scene: Scene, layout: BodyLayout, reasons: dict[str, str], warnin
             "one mesh over the other's wall-adjacent cells, so a body standing on the bed has no valid cell "
             "under it and its underside keeps a stale pressure (it never floats: docs/stability.md); "
             "the runner's bed stays the flume's: a released body that settles again sinks into the gap"
+            + ("; with several resting bodies each one's mesh ends at the bed, so that no two body meshes meet "
+               "below it, where each would take its donors from the other (meshes_stop_at_bed)"
+               if layout.stop_at_bed else "")
         )
     reasons["bodies"] = (
         f"{len(bodies)} overset body mesh(es): each box extends {scene.mesh.body_margin_cells} finest cells "
