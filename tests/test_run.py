@@ -184,6 +184,55 @@ def test_a_train_of_pressed_bodies_is_set_apart_at_one_restart(tmp_path):
                                                                        abs=1e-12)
 
 
+def test_a_resumed_run_remembers_which_bodies_the_flow_presses_together(tmp_path):
+    """A run resumed by a new process goes on as the uninterrupted one would: its contact book
+    reads the pressed pairs and the recent contacts back from contacts.json. Two bodies pressed
+    together before the stop stay plastic after it (no rebound), where a book that forgot them
+    had impacts with restitution again, and the next restart sets them apart exactly as the
+    book that never stopped does."""
+    import shutil
+
+    from orchestrator.run.contact_book import ContactBook
+
+    case = render(tmp_path, "train", scene([{"name": f"debris{k}", "centre_m": [0.3 + 0.16 * k, 0.0]}
+                                            for k in (1, 2)], wet_depth_m=0.1))
+    settings = ContactSettings()
+    messages = []
+    running = ContactBook(load_case_info(case), settings, {}, messages.append)
+
+    def pair(gap, closing):  # end to end along x, the rear body closing at impact speed
+        return [_state("debris1", (0.5, 0.0, 0.1), (0.7 + closing, 0.0, 0.0)),
+                _state("debris2", (0.5 + 0.15 + gap, 0.0, 0.1), (0.7, 0.0, 0.0))]
+
+    k = 0
+    while not any("presses" in m for m in messages):
+        k += 1
+        running.resolve_contacts(f"{0.1 + 0.001 * k:g}", pair(0.001, 0.02), 0.001)
+    stopped = f"{0.1 + 0.001 * k:g}"
+    resumed_case = tmp_path / "resumed"
+    shutil.copytree(case, resumed_case)
+    resumed = ContactBook(load_case_info(resumed_case), settings, {}, messages.append)
+    resumed.forget_events_after(float(stopped))  # what the supervisor does at every restart
+    running.forget_events_after(float(stopped))
+
+    # closing at an impact's speed, 4 mm apart: an impact for a book that has seen nothing
+    fresh = ContactBook(load_case_info(resumed_case), settings, {}, messages.append)  # has read nothing
+    closing = [c for c in fresh.geometry.contacts(pair(0.004, 0.3), 0.01, bed=False) if c.kind == "body"][0]
+    assert fresh.classify(closing, 0.001) == "impact"
+    assert resumed.classify(closing, 0.001) is None  # pressed: stopped only at a quarter of the gap
+
+    after = f"{float(stopped) + 0.003:g}"
+    n_running, states_running = running.resolve_contacts(after, pair(0.001, 0.3), 0.001)
+    n_resumed, states_resumed = resumed.resolve_contacts(after, pair(0.001, 0.3), 0.001)
+    assert n_running == n_resumed == 0  # plastic, no impact
+    assert states_resumed == states_running
+    u = [s.velocity_m_s[0] for s in states_resumed]
+    assert u[0] == pytest.approx(u[1])  # no rebound
+    last = [json.loads((c / "contacts.json").read_text())[-1] for c in (case, resumed_case)]
+    assert last[0]["type"] == last[1]["type"] == "resting" and last[0]["pressed"] and last[1]["pressed"]
+    assert sum("presses" in m for m in messages) == 1  # found once, before the stop
+
+
 def test_contacts_carry_closing_speeds(body_case):
     """The runner's view of orchestrator.contact.geometry: distances, normals and closing speeds."""
     geometry = Geometry(load_case_info(body_case))
