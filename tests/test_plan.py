@@ -222,6 +222,16 @@ def test_the_meshes_of_several_resting_bodies_end_at_the_bed(name):
     assert "ends at the bed" in p.reasons["bed_gap"]
 
 
+def test_tilted_resting_bodies_whose_meshes_meet_below_the_bed_are_warned_of():
+    """Only upright resting bodies' meshes end at the bed; three rolled containers in a line keep
+    their margin below it, and each neighbouring pair's meshes overlap there (not the two ends)."""
+    p = plan_case(case("3debris-3x1", "run.debris_coupling=two-way", "debris.0.body.roll_deg=10"))
+    meet = [w for w in p.warnings if "overlap below the bed" in w]
+    assert [w.split(":")[0] for w in meet] == ["debris1 and debris2", "debris2 and debris3"]
+    upright = plan_case(case("3debris-3x1", "run.debris_coupling=two-way"))
+    assert not any("overlap below the bed" in w for w in upright.warnings)
+
+
 def test_a_single_resting_body_keeps_its_margin_below_the_bed():
     s = case("1debris", "run.debris_coupling=two-way")
     p = plan_case(s)

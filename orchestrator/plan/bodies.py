@@ -137,7 +137,9 @@ def meshes_stop_at_bed(scene: Scene) -> bool:
     faster than 10 m/s was below the bed, and the time step collapsed to 1e-6 s and less at a Courant
     number held at 2.7-2.8 (docs/stability.md, "Several coupled bodies"). So with two or more resting
     bodies each resting body's mesh starts at the bed plane: its lowest gap layer is then its edge.
-    A single body keeps the margin below the bed (its validated pages were measured with it).
+    A single body keeps the margin below the bed (its validated pages were measured with it). A resting
+    body that is pitched or rolled keeps it too (its mesh does not share the gap's planes); where two such
+    meshes meet below the bed the plan warns (`_placement_warnings`).
     """
     return sum(rests_on_bed(b) for b in scene.debris) >= 2
 
@@ -311,6 +313,15 @@ def _placement_warnings(scene: Scene, layout: BodyLayout) -> list[str]:
             warnings.append(
                 f"{body.name}: its overset mesh reaches {' and '.join(outside)} at the start; cells there have no donors"
             )
+    below = [(body.name, lo, hi) for body, (lo, hi) in zip(scene.debris, layout.boxes) if lo[2] < 0]
+    for i, (a, lo_a, hi_a) in enumerate(below):
+        for b, lo_b, hi_b in below[i + 1:]:
+            if all(lo_a[k] < hi_b[k] and lo_b[k] < hi_a[k] for k in (0, 1)):
+                warnings.append(
+                    f"{a} and {b}: their overset meshes overlap below the bed, where each takes its donors from "
+                    "the other (v1912's cellVolumeWeight); in the 3x1 and 1x3 layouts two-way such cells ran away "
+                    "and collapsed the time step (docs/stability.md). Only an upright resting body's mesh ends at "
+                    "the bed (meshes_stop_at_bed)")
     return warnings
 
 
