@@ -76,6 +76,31 @@ def test_the_tracks_differ_by_the_offset_until_the_first_strike(tmp_path):
         assert per.loc[body, "one_way_strike_time_s"] == pytest.approx(first.get(body, np.nan), nan_ok=True)
 
 
+def test_when_each_body_left_the_bed_and_how_far_apart_the_runs_were_then(tmp_path):
+    """A body afloat is one whose centre stands 5 mm above its start; the two-way run's own record
+    says when the runner freed a held body; the centres' distance at that time is read off the
+    tracks' difference (here the constant offset)."""
+    one = _one_way(synthetic_case(tmp_path / "one", "pair"))
+    two = _two_way(synthetic_case(tmp_path / "two", "pair"), dx=0.03)
+    bodies = pd.read_csv(two / "results" / "bodies.csv")
+    lifted = (bodies["body"] == "debris1") & (bodies["time_s"] >= 0.05 - 1e-9)
+    bodies.loc[lifted, "z_m"] += 0.006  # debris1 rises 6 mm two-way at 0.05 s
+    bodies.to_csv(two / "results" / "bodies.csv", index=False)
+    run = json.loads((two / "run.json").read_text())
+    run["freed"] = [{"body": "debris1", "time_s": 0.04}]
+    (two / "run.json").write_text(json.dumps(run))
+    per = compare_coupling(one, two).per_body.set_index("body")
+    t_up = bodies.loc[lifted, "time_s"].min()
+    assert per.loc["debris1", "two_way_afloat_s"] == pytest.approx(t_up)
+    assert per.loc["debris1", "two_way_freed_s"] == pytest.approx(0.04)
+    assert np.isnan(per.loc["debris2", "two_way_freed_s"]) and np.isnan(per.loc["debris2", "apart_at_freed_m"])
+    assert per.loc["debris1", "apart_at_freed_m"] == pytest.approx(0.03)  # before the rise: the x offset alone
+    # the one-way bodies stay at their start height: never afloat
+    assert per["one_way_afloat_s"].isna().all()
+    text = (write_coupling_report(compare_coupling(one, two), tmp_path / "page")["report"]).read_text()
+    assert "| debris1 | - | " in text and "| 0.040 s | 0.030 m |" in text
+
+
 def test_the_page_and_the_verb(tmp_path):
     one = _one_way(synthetic_case(tmp_path / "one", "pair"))
     two = _two_way(synthetic_case(tmp_path / "two", "pair"), dx=0.03)

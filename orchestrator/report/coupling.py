@@ -56,6 +56,9 @@ __all__ = ["CouplingComparison", "compare_coupling", "drag_scan", "write_couplin
 RUNS = ("one-way", "two-way")
 #: drag coefficients the scan carries the bodies through the one-way record with
 SCAN_DRAG_COEFFICIENTS = (1.05, 2.0, 2.5, 3.0, 3.5, 4.0)
+#: a body counts as afloat once its centre has risen this much above where it started (m): the
+#: study's container floats 26 mm deep, so afloat in the bore its centre rises by centimetres
+AFLOAT_RISE_M = 0.005
 
 
 @dataclass
@@ -117,10 +120,27 @@ def _differences(runs: dict[str, Layout], until_s: float) -> pd.DataFrame:
         columns=["time_s", "body", "dx_m", "dy_m", "dz_m", "distance_m", "dyaw_deg"])
 
 
+def _afloat_s(track: pd.DataFrame) -> float:
+    """When a body's centre first stood AFLOAT_RISE_M above where it started (NaN: never)."""
+    z = track["z_m"].to_numpy(float)
+    up = np.nonzero(z - z[0] >= AFLOAT_RISE_M)[0] if len(z) else []
+    return float(track["time_s"].iloc[up[0]]) if len(up) else float("nan")
+
+
+def _freed_s(lay: Layout, body: str) -> float:
+    """When the runner first let a body held on the bed float (run.json `freed`; NaN: never held or
+    never freed). The runner holds a resting body until the water it measures all round the body is
+    deep enough and the fluid lifts it by its weight (orchestrator/run/bedwatch.py)."""
+    times = [float(f["time_s"]) for f in lay.run.get("freed", []) if f.get("body") == body]
+    return min(times) if times else float("nan")
+
+
 def _per_body(runs: dict[str, Layout], tracks: pd.DataFrame) -> pd.DataFrame:
     """A row per body: its one-way centre's distance from the two-way one up to the comparison's
     end (RMS, largest, at the end), the x and yaw apart there, and its own first column strike
-    in each run (time and impact velocity; NaN when it did not strike)."""
+    in each run (time and impact velocity; NaN when it did not strike); when it left the bed in
+    each run (`_afloat_s`; two-way also when the runner freed it, `_freed_s`) and how far apart
+    the two were then."""
     rows = []
     for body, d in tracks.groupby("body", sort=False):
         d = d.sort_values("time_s")
@@ -128,6 +148,12 @@ def _per_body(runs: dict[str, Layout], tracks: pd.DataFrame) -> pd.DataFrame:
         row: dict[str, Any] = {"body": body, "track_rms_m": float(np.sqrt(np.mean(d["distance_m"] ** 2))),
                                "track_max_m": float(d["distance_m"].max()), "track_at_end_m": float(last["distance_m"]),
                                "dx_at_end_m": float(last["dx_m"]), "dyaw_at_end_deg": float(last["dyaw_deg"])}
+        for kind, lay in runs.items():
+            row[f"{kind.replace('-', '_')}_afloat_s"] = _afloat_s(_track(lay, body))
+        freed = _freed_s(runs["two-way"], body)
+        row["two_way_freed_s"] = freed
+        inside = np.isfinite(freed) and freed <= float(d["time_s"].iloc[-1]) + 1e-9
+        row["apart_at_freed_m"] = float(np.interp(freed, d["time_s"], d["distance_m"])) if inside else float("nan")
         for kind, lay in runs.items():
             strikes = lay.strikes
             own = strikes[strikes["body"] == body] if "body" in strikes else strikes.iloc[0:0]
@@ -275,6 +301,17 @@ def _per_body_lines(cmp: CouplingComparison) -> list[str]:
                      f"{figure_text(r['track_max_m'], '.3f', ' m')} | {figure_text(r['track_at_end_m'], '.3f', ' m')} | "
                      f"{figure_text(r['dx_at_end_m'], '+.3f', ' m')} | {figure_text(r['dyaw_at_end_deg'], '+.1f', ' deg')} | "
                      f"{strikes[0]} | {strikes[1]} |")
+    lines += ["", "When each body left the bed: afloat is when its centre first stood "
+              f"{AFLOAT_RISE_M * 1000:g} mm above where it started; two-way, the runner holds a body resting on the "
+              "bed until the water it measures all round the body is deep enough and the fluid lifts it by its "
+              "weight (freed; v1912 has no contact, and a body freed earlier sank through the bed gap: "
+              "docs/stability.md). One-way, the body floats when the recorded water lifts it.", "",
+              "| body | afloat, one-way | afloat, two-way | freed, two-way | centres apart when freed |",
+              "|---|---|---|---|---|"]
+    for r in cmp.per_body.to_dict("records"):
+        lines.append(f"| {r['body']} | {figure_text(r['one_way_afloat_s'], '.3f', ' s')} | "
+                     f"{figure_text(r['two_way_afloat_s'], '.3f', ' s')} | {figure_text(r['two_way_freed_s'], '.3f', ' s')} | "
+                     f"{figure_text(r['apart_at_freed_m'], '.3f', ' m')} |")
     return lines + [""]
 
 
