@@ -49,6 +49,29 @@ def test_the_depth_around_a_body_is_the_water_all_round_it():
     assert waterdepth.depth_around(inside, RING, centre, rot, SIZE)[0] == pytest.approx(0.05)
 
 
+def test_the_ring_is_kept_off_the_other_bodies_overset_holes():
+    """Three containers 0.10 m apart in a line (the 3x1 layout): the middle one's ring reaches into
+    its neighbours' hole cells, whose stale values (the 15 mm wet bed) set the 10 % quantile; left
+    out, the ring reads the water round the body. With nothing left it reads the whole ring."""
+    rot = np.eye(3)
+    centres = [(0.15 + 0.25 * k, 0.0, 0.0375) for k in range(3)]
+
+    def depth(x, y):
+        near = [waterdepth.footprint_distance(np.array([[x, y]]), c, rot, SIZE)[0] for c in centres]
+        return 0.015 if min(near) < 0.04 else 0.060  # stale holes next to every body, water elsewhere
+
+    sample = _sample(depth)
+    middle, others = centres[1], [(c, rot, SIZE) for c in (centres[0], centres[2])]
+    alone = waterdepth.depth_around(sample, RING, middle, rot, SIZE)
+    assert alone[0] == pytest.approx(0.015)  # the neighbours' holes read as the wet bed
+    kept_off, columns = waterdepth.depth_around(sample, RING, middle, rot, SIZE, others)
+    assert kept_off == pytest.approx(0.060) and 0 < columns < alone[1]
+    # a body boxed in on every side by others: the whole ring, not nothing
+    boxed = [((middle[0] + dx, middle[1] + dy, 0.0375), rot, (0.3, 0.3, 0.06)) for dx, dy in ((0.3, 0), (-0.3, 0))]
+    boxed += [((middle[0], dy, 0.0375), rot, (0.6, 0.1, 0.06)) for dy in (0.12, -0.12)]
+    assert waterdepth.depth_around(sample, RING, middle, rot, SIZE, boxed) == alone
+
+
 def test_the_columns_ring_the_bodies_kept_on_the_bed_one_point_per_layer(case):
     plan = json.loads((case / "plan.json").read_text())
     axis = waterdepth.z_axis(plan, waterdepth._scene(case))

@@ -197,12 +197,17 @@ class BedWatch:
                    gap_m=float(plan.get("bed_gap_m") or 0.0))
 
     # ---- the measurement
-    def depth(self, sample: waterdepth.Sample | None, state: BodyState) -> tuple[float, int] | None:
+    def depth(self, sample: waterdepth.Sample | None, state: BodyState,
+              states: Sequence[BodyState] = ()) -> tuple[float, int] | None:
+        """The depth all round `state`'s body (`waterdepth.depth_around`), its ring kept off the
+        other bodies among `states` (their overset holes)."""
         if sample is None or self.axis is None:
             return None
         body = self.bodies[state.name]
+        others = [(s.centre_of_mass_m, s.orientation, self.bodies[s.name].size_m) for s in states
+                  if s.name != state.name and s.name in self.bodies]
         return waterdepth.depth_around(sample, self.axis.ring_m, state.centre_of_mass_m, state.orientation,
-                                       body.size_m)
+                                       body.size_m, others)
 
     def float_depth_m(self, state: BodyState) -> float:
         """The depth that frees a constrained body: its underside (the gap's top if lower), its
@@ -261,9 +266,9 @@ class BedWatch:
         for state in states:
             kind = now.get(state.name, "")
             if kind == "rest" and self.constraints.get(state.name) != "rest":
-                measured = self.depth(sample, state)
+                measured = self.depth(sample, state, states)
                 self.rested_at_depth[state.name] = measured[0] if measured else 0.0
-            measured = self.depth(sample, state)
+            measured = self.depth(sample, state, states)
             depth = measured[0] if measured else self.initial_depth_m.get(state.name, 0.0)
             lift = self.lift_N(state.name, float(time_name))
             if kind == "rest" and measured is not None and depth > self.float_depth_m(state):
@@ -376,7 +381,7 @@ class BedWatch:
         why = None
         for state in states:
             kind = self.constraints.get(state.name, "")
-            measured = self.depth(sample, state) if self._covered(state) else None
+            measured = self.depth(sample, state, states) if self._covered(state) else None
             lift = self.lift_N(state.name)
             self._record(sample.time_s, state, measured, lift, kind, None)
             deep = measured is not None and measured[0] > self.float_depth_m(state)
