@@ -441,10 +441,10 @@ class ContactBook:
         """The book's memory at `time_s` from the record: each pair's contacts within `window_s`
         (one a restart: the extra records of `_separate_pressed` share their restart's time), and
         the body pairs pressed together (whose latest event is a pressed resting contact;
-        `_release_pressed` frees those found apart at the restart). Without it a train the flow
-        presses together had impacts again after a resume (the 3x1 layout two-way resumed at
-        2.214 s: restitution 0.27 where the pair had been plastic). The bed's lifts are not in
-        the record; their count starts again at a resume."""
+        `_release_pressed` frees those found apart at the restart). A book that starts empty treats
+        a pressed train's contacts as impacts (the 3x1 layout two-way resumed at 2.214 s:
+        restitution 0.27 where the uninterrupted run's contacts are plastic). The bed's lifts are
+        not in the record; their count starts again at a resume."""
         seen: set[tuple[str, str, float]] = set()
         latest: dict[tuple[str, str], dict] = {}
         for e in events:
