@@ -317,7 +317,7 @@ def depth_around(sample: Sample, ring_m: tuple[float, float], centre: Sequence[f
     the middle body's ring lies there; at 2.14 s those columns read 19-53 mm against 61 mm (10 %
     quantile) for the rest of its ring. Read with them, the rings read 12-30 mm from 1.3 to 1.6 s,
     about the 15 mm wet bed's, after the fluid's lift had passed each body's weight (by 1.30-1.52
-    s), and held the bodies on the bed until 1.55-1.89 s, 0.2-0.5 s after the one-way bodies
+    s), and held the bodies on the bed until 1.55-1.89 s, 0.16-0.52 s after the one-way bodies
     floated. If no column is left, the whole ring is read."""
     dist = footprint_distance(sample.xy, centre, orientation, size)
     ring = (dist >= ring_m[0] * 0.999) & (dist <= ring_m[1] * (1 + 1e-9))
