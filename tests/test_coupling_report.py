@@ -175,3 +175,86 @@ def test_a_stopped_two_way_run_is_compared_up_to_where_it_stopped_only_when_aske
     assert proc.returncode == 0, proc.stderr
     text = (tmp_path / "page" / "report.md").read_text()
     assert "two-way interrupted at t = 0.060 s" in text and "where the two-way run stopped" in text
+
+
+def _lift(case: Path, body: str, segments: dict[float, list[tuple[float, float]]]) -> None:
+    """postProcessing/lift_<body>/<start>/force.dat of a two-way run: per segment start, (time, x force)."""
+    for start, rows in segments.items():
+        folder = case / "postProcessing" / f"lift_{body}" / f"{start:g}"
+        folder.mkdir(parents=True)
+        lines = ["# Force", "# Time (total_x total_y total_z) (pressure_x pressure_y pressure_z)"]
+        lines += [f"{t:.6f}\t({fx} 0 0.5)\t({fx} 0 0.5)\t(0 0 0)" for t, fx in rows]
+        (folder / "force.dat").write_text("\n".join(lines) + "\n")
+
+
+def test_the_force_history_keeps_each_segment_until_the_next_one_starts(tmp_path):
+    """A restart backed up to 0.05 s replaces what the first segment wrote after it; each segment's
+    first 5 ms (the restart's own transient) is left out."""
+    from orchestrator.run.waterdepth import read_force_history
+
+    _lift(tmp_path, "debris1", {0.0: [(t, 1.0) for t in (0.002, 0.01, 0.04, 0.06, 0.08)],
+                                0.05: [(t, 2.0) for t in (0.052, 0.06, 0.07)]})
+    history = read_force_history(tmp_path, "debris1")
+    assert history[:, 0].tolist() == pytest.approx([0.01, 0.04, 0.06, 0.07])
+    assert history[:, 1].tolist() == [1.0, 1.0, 2.0, 2.0]
+    assert history[:, 3].tolist() == [0.5] * 4
+    assert read_force_history(tmp_path, "debris2").shape == (0, 4)
+
+
+def _afloat_two_way(case: Path, speeds: dict[str, float]) -> Path:
+    """The two-way run's bodies as full tracks (velocity, rotation): each moves along x at its
+    constant speed and floats (its centre 6 mm up) from 0.02 s."""
+    t = np.linspace(0.0, 0.2, 101)
+    rows = []
+    for body, y in (("debris1", 0.0), ("debris2", 0.12)):
+        for tk in t:
+            row = {"time_s": tk, "body": body, "x_m": 0.95 + speeds[body] * tk, "y_m": y,
+                   "z_m": 0.03 + (0.006 if tk >= 0.02 else 0.0), "u_m_s": speeds[body], "v_m_s": 0.0, "w_m_s": 0.0,
+                   "speed_m_s": speeds[body], "yaw_deg": 0.0, "pitch_deg": 0.0, "roll_deg": 0.0,
+                   **{f"omega_{a}_rad_s": 0.0 for a in "xyz"}}
+            row.update({f"q_{a}{b}": float(a == b) for a in "xyz" for b in "xyz"})
+            rows.append(row)
+    pd.DataFrame(rows).to_csv(case / "results" / "bodies.csv", index=False)
+    return case
+
+
+def test_the_drive_sets_the_measured_force_beside_the_one_way_forcing_on_the_same_track(tmp_path):
+    """In a steady uniform current the one-way forcing on a body drifting with the water is nil (no
+    relative flow, no acceleration) and on a body held still it is quadratic drag (four times as
+    much at twice the current); the two-way column is the mean of what the solver wrote."""
+    from orchestrator.report.coupling import fluid_drive
+    from orchestrator.transport.flow import FlowField
+
+    one = _one_way(synthetic_case(tmp_path / "one", "pair"))
+    two = _afloat_two_way(_two_way(synthetic_case(tmp_path / "two", "pair")), {"debris1": 0.4, "debris2": 0.0})
+    _lift(two, "debris1", {0.0: [(t, 0.3) for t in np.arange(0.001, 0.2, 0.002)]})
+    _lift(two, "debris2", {0.0: [(t, -0.1) for t in np.arange(0.001, 0.2, 0.002)]})
+    cmp = compare_coupling(one, two)
+    tables = {c: fluid_drive(cmp, FlowField.uniform_current(0.2, c, x_m=(0.5, 1.6), y_m=(-0.2, 0.2), t_s=(0.0, 1.0)))
+              for c in (0.4, 0.8)}
+    drives = {c: t.set_index("body") for c, t in tables.items()}
+    d = drives[0.4]
+    assert d.loc["debris1", "from_s"] == pytest.approx(0.02 + 0.05)
+    assert d.loc["debris1", "to_s"] == pytest.approx(cmp.until_s)
+    assert d.loc["debris1", "two_way_fx_N"] == pytest.approx(0.3)
+    assert d.loc["all", "two_way_fx_N"] == pytest.approx(0.2)
+    assert abs(d.loc["debris1", "one_way_forcing_fx_N"]) < 1e-9  # drifting with the current
+    held = {c: drives[c].loc["debris2", "one_way_forcing_fx_N"] for c in drives}
+    assert held[0.4] > 0.0 and held[0.8] / held[0.4] == pytest.approx(4.0, rel=1e-6)
+    assert held[0.8] == pytest.approx(drives[0.8].loc["debris2", "one_way_drag_x_N"], rel=1e-6)
+    assert d.loc["all", "one_way_forcing_fx_N"] == pytest.approx(held[0.4])
+    cmp.drive = tables[0.4]
+    files = write_coupling_report(cmp, tmp_path / "page")
+    text = files["report"].read_text()
+    assert "## What drives the bodies afloat" in text and "| debris1 | 0.98 m | 0.40 m/s | +0.30 N |" in text
+    assert (tmp_path / "page" / "drive.csv").exists()
+
+
+def test_no_drive_when_a_body_never_floats_two_way(tmp_path):
+    from orchestrator.report.coupling import fluid_drive
+    from orchestrator.transport.flow import FlowField
+
+    one = _one_way(synthetic_case(tmp_path / "one", "pair"))
+    two = _two_way(synthetic_case(tmp_path / "two", "pair"))  # centres stay at their start height
+    flow = FlowField.uniform_current(0.2, 0.4, x_m=(0.5, 1.6), y_m=(-0.2, 0.2), t_s=(0.0, 1.0))
+    assert fluid_drive(compare_coupling(one, two), flow).empty

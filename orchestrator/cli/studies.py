@@ -280,11 +280,14 @@ def cmd_report_spreading(args: argparse.Namespace) -> int:
 
 
 def cmd_report_coupling(args: argparse.Namespace) -> int:
-    from orchestrator.report.coupling import compare_coupling, scan_runs, write_coupling_report
+    from orchestrator.report.coupling import (compare_coupling, drive_runs, one_way_record, scan_runs,
+                                              write_coupling_report)
 
     comparison = compare_coupling(args.one_way, args.two_way, allow_stopped=args.allow_stopped)
     if args.drag_scan:
-        scan_runs(comparison)
+        flow = one_way_record(comparison)
+        scan_runs(comparison, flow=flow)
+        drive_runs(comparison, flow=flow)
     files = write_coupling_report(comparison, output_path(args.out, "-o/--out", args.force, folder=True))
     emit({kind: str(path) for kind, path in files.items()}, args.json)
     return EXIT_OK
@@ -438,7 +441,8 @@ def add_study_parsers(verbs) -> None:
     p.add_argument("two_way", metavar="TWO_WAY", help="the two-way run's folder (post-processed)")
     p.add_argument("--drag-scan", action="store_true",
                    help="also carry the bodies through the one-way record at several drag coefficients and measure "
-                        "each against the two-way track (seconds each)")
+                        "each against the two-way track (seconds each), and set the fluid force the two-way solver "
+                        "measures on each body afloat beside the one-way forcing on the same track (drive.csv)")
     p.add_argument("--allow-stopped", action="store_true",
                    help="compare a run that stopped before its end (interrupted, diverged, a contact it could not "
                         "follow; post-processed as far as it got) up to where it stopped; the page says so")

@@ -22,6 +22,11 @@ mesh, and writes into DIR:
     coefficients (``transport.drag_coefficient``), each against the two-way track up to the
     two-way run's first strike (RMS and largest centre distance) and its own first strike: the
     evidence for the coefficient's default (docs/one-way.md).
+``drive.csv``
+    With the one-way record read (``--drag-scan``): per body, once every body is afloat two-way,
+    the mean streamwise fluid force the two-way solver measures on it against the one-way
+    forcing on the same body moving along the same track (:func:`fluid_drive`): what one-way
+    multi-body transport leaves out (a body in another's wake).
 ``coupling.png``
     The tracks' x and z against time, both runs, and the centres' distance, up to the end of the
     shorter run; the first strikes marked.
@@ -47,11 +52,14 @@ from orchestrator.report.figures import legend, pyplot, save_figure
 from orchestrator.report.layout_page import figure_text, minutes_text
 from orchestrator.report.layouts import Layout, layout_row, load_layout
 from orchestrator.results.tables import write_table
+from orchestrator.run.waterdepth import read_force_history
+from orchestrator.transport.budget import force_budget
 from orchestrator.transport.case_transport import case_flow, scene_settings, transport_setup
 from orchestrator.transport.engine import run_transport
 from orchestrator.transport.flow import FlowField
 
-__all__ = ["CouplingComparison", "compare_coupling", "drag_scan", "write_coupling_report"]
+__all__ = ["CouplingComparison", "compare_coupling", "drag_scan", "drive_runs", "fluid_drive", "one_way_record",
+           "scan_runs", "write_coupling_report"]
 
 RUNS = ("one-way", "two-way")
 #: drag coefficients the scan carries the bodies through the one-way record with
@@ -59,6 +67,11 @@ SCAN_DRAG_COEFFICIENTS = (1.05, 2.0, 2.5, 3.0, 3.5, 4.0)
 #: a body counts as afloat once its centre has risen this much above where it started (m): the
 #: study's container floats 26 mm deep, so afloat in the bore its centre rises by centimetres
 AFLOAT_RISE_M = 0.005
+#: the drive (:func:`fluid_drive`) is averaged from this long after the last body is afloat two-way
+#: to the comparison's end (s): the release's own transient left out
+DRIVE_SETTLE_S = 0.05
+#: the drive's sampling of the two-way tracks (s)
+DRIVE_INTERVAL_S = 0.01
 
 
 @dataclass
@@ -76,6 +89,9 @@ class CouplingComparison:
     per_body: pd.DataFrame = field(default_factory=pd.DataFrame)
     #: the drag-coefficient scan (:func:`drag_scan`); empty until run
     scan: pd.DataFrame = field(default_factory=pd.DataFrame)
+    #: the fluid's streamwise drive on each body afloat, measured two-way and as the one-way forcing
+    #: gives it on the same track (:func:`fluid_drive`); empty until run
+    drive: pd.DataFrame = field(default_factory=pd.DataFrame)
 
 
 def _checked(path: str | Path, coupling: str, argument: str, allow_stopped: bool = False) -> Layout:
@@ -188,16 +204,97 @@ def drag_scan(scene, flow: FlowField, two_way_tracks: dict[str, pd.DataFrame], u
     return pd.DataFrame(rows)
 
 
-def scan_runs(cmp: CouplingComparison, coefficients=SCAN_DRAG_COEFFICIENTS) -> pd.DataFrame:
-    """:func:`drag_scan` on the one-way run's own record against the two-way run, up to the
-    two-way run's first strike (its end when it has none); fills ``cmp.scan``."""
+def one_way_record(cmp: CouplingComparison) -> FlowField:
+    """The one-way run's recorded flow (the flow without the bodies)."""
+    return case_flow(cmp.runs["one-way"].case, say=lambda _: None)[0]
+
+
+def scan_runs(cmp: CouplingComparison, coefficients=SCAN_DRAG_COEFFICIENTS, flow: FlowField | None = None) -> pd.DataFrame:
+    """:func:`drag_scan` on the one-way run's own record (``flow``, read when None) against the
+    two-way run, up to the two-way run's first strike (its end when it has none); fills ``cmp.scan``."""
     one, two = cmp.runs["one-way"], cmp.runs["two-way"]
-    flow, _ = case_flow(one.case, say=lambda _: None)
+    flow = one_way_record(cmp) if flow is None else flow
     strike = _first_strike(two)
     until = float(strike["time_s"]) if strike else float(two.summary.get("reached_time_s") or cmp.until_s)
     end = float(one.summary.get("reached_time_s") or until)
     cmp.scan = drag_scan(one.scene, flow, {b: _track(two, b) for b in two.body_names}, until, end, coefficients)
     return cmp.scan
+
+
+def _drive_window(cmp: CouplingComparison) -> tuple[float, float] | None:
+    """From DRIVE_SETTLE_S after the last body is afloat two-way to the comparison's end; None when
+    some body never floats two-way or that leaves less than two samples."""
+    two = cmp.runs["two-way"]
+    afloat = [_afloat_s(_track(two, b)) for b in two.body_names]
+    if not afloat or not np.all(np.isfinite(afloat)):
+        return None
+    start = max(afloat) + DRIVE_SETTLE_S
+    return (start, cmp.until_s) if cmp.until_s - start >= 2 * DRIVE_INTERVAL_S else None
+
+
+def _resampled(track: pd.DataFrame, times: np.ndarray) -> pd.DataFrame:
+    """A track's numeric columns interpolated to `times` (the rotation entry by entry: the samples
+    are close enough that the result stays a rotation to the budget's accuracy)."""
+    cols = [c for c in track.columns if c != "body" and pd.api.types.is_numeric_dtype(track[c])]
+    out = pd.DataFrame({c: np.interp(times, track["time_s"], track[c]) for c in cols})
+    out["time_s"] = times
+    return out
+
+
+def _time_mean(t: np.ndarray, v: np.ndarray) -> float:
+    """The mean of v over time (trapezoids; the solver's steps are uneven, shortest near contacts)."""
+    if len(t) < 2:
+        return float(v[0]) if len(t) else float("nan")
+    return float(np.sum(0.5 * (v[1:] + v[:-1]) * np.diff(t)) / (t[-1] - t[0]))
+
+
+def fluid_drive(cmp: CouplingComparison, flow: FlowField) -> pd.DataFrame:
+    """What moves each body along the flow once every body is afloat two-way (:func:`_drive_window`):
+    the mean over time of the streamwise fluid force the two-way solver measures on the body's wall
+    (`lift_<body>`),
+    and the mean the one-way forcing gives on the same body moving along the same two-way track
+    through the one-way record ``flow`` (Froude-Krylov, the water's added mass and drag, less the
+    added mass's reaction to the body's own acceleration: the part of the fluid force the wall
+    feels; :func:`~orchestrator.transport.budget.force_budget`). A last row sums the bodies. Where
+    the two agree the one-way forcing drives the body as the coupled flow does; where the measured
+    drive is smaller the body meets slower water than the undisturbed record's, as a body in
+    another's wake does. Empty when the window is (see _drive_window)."""
+    window = _drive_window(cmp)
+    if window is None:
+        return pd.DataFrame()
+    one, two = cmp.runs["one-way"], cmp.runs["two-way"]
+    bodies, _, _ = transport_setup(one.scene, flow)
+    hydro = scene_settings(one.scene).hydro
+    times = np.arange(window[0] - DRIVE_INTERVAL_S, window[1] + DRIVE_INTERVAL_S * 0.999, DRIVE_INTERVAL_S)
+    times = times[times <= float(_track(two, bodies[0].name)["time_s"].iloc[-1])]
+    rows = []
+    for body in bodies:
+        track = _resampled(_track(two, body.name), times)
+        budget = force_budget(track, flow, body.size_m, body.mass_kg, hydro, flow_start_s=0.0)
+        budget = budget[(budget["time_s"] >= window[0] - 1e-9) & (budget["time_s"] <= window[1] + 1e-9)]
+        accel = budget["inertia_x"] / (body.mass_kg + budget["added_mass_x_kg"])
+        forcing = (budget["froude_krylov_x"] + budget["added_mass_flow_x"] + budget["drag_x"]
+                   - budget["added_mass_x_kg"] * accel)
+        force = read_force_history(two.case, body.name)
+        inside = (force[:, 0] >= window[0]) & (force[:, 0] <= window[1])
+        rows.append({"body": body.name, "from_s": window[0], "to_s": window[1],
+                     "x_mean_m": float(budget["x_m"].mean()), "u_mean_m_s": float(budget["u_m_s"].mean()),
+                     "two_way_fx_N": _time_mean(force[inside, 0], force[inside, 1]),
+                     "one_way_forcing_fx_N": float(forcing.mean()), "one_way_drag_x_N": float(budget["drag_x"].mean()),
+                     "mass_times_accel_x_N": float(body.mass_kg * accel.mean()), "samples": int(inside.sum())})
+    table = pd.DataFrame(rows)
+    total = {"body": "all", "from_s": window[0], "to_s": window[1], "x_mean_m": float("nan"),
+             "u_mean_m_s": float("nan"), "samples": int(table["samples"].min())}
+    for col in ("two_way_fx_N", "one_way_forcing_fx_N", "one_way_drag_x_N", "mass_times_accel_x_N"):
+        total[col] = float(table[col].sum())
+    return pd.concat([table, pd.DataFrame([total])], ignore_index=True) if len(table) > 1 else table
+
+
+def drive_runs(cmp: CouplingComparison, flow: FlowField | None = None) -> pd.DataFrame:
+    """:func:`fluid_drive` with the one-way run's own record (``flow``, read when None); fills
+    ``cmp.drive``."""
+    cmp.drive = fluid_drive(cmp, one_way_record(cmp) if flow is None else flow)
+    return cmp.drive
 
 
 def _background_cells(lay: Layout) -> int | None:
@@ -315,6 +412,28 @@ def _per_body_lines(cmp: CouplingComparison) -> list[str]:
     return lines + [""]
 
 
+def _drive_lines(cmp: CouplingComparison) -> list[str]:
+    """The drive table (:func:`fluid_drive`)."""
+    first = cmp.drive.iloc[0]
+    lines = ["## What drives the bodies afloat", "",
+             f"The mean streamwise force of the water on each body from t = {first['from_s']:.3f} to "
+             f"{first['to_s']:.3f} s (every body afloat two-way, from {DRIVE_SETTLE_S:g} s after the last one "
+             "rose): measured on the body's wall by the two-way solver, and as the one-way forcing gives it on the "
+             "same body moving along the same two-way track through the one-way run's record, the flow without the "
+             "bodies (its drag part apart); and the body's mass times its mean acceleration, two-way (the fluid's "
+             "force plus what the other bodies and the walls push it with). `drive.csv`.", "",
+             "| body | mean x | mean speed | fluid force, two-way | one-way forcing on the same track | its drag | "
+             "mass x acceleration |", "|---|---|---|---|---|---|---|"]
+    for r in cmp.drive.to_dict("records"):
+        lines.append(f"| {r['body']} | {figure_text(r['x_mean_m'], '.2f', ' m')} | "
+                     f"{figure_text(r['u_mean_m_s'], '.2f', ' m/s')} | {figure_text(r['two_way_fx_N'], '+.2f', ' N')} | "
+                     f"{figure_text(r['one_way_forcing_fx_N'], '+.2f', ' N')} | {figure_text(r['one_way_drag_x_N'], '+.2f', ' N')} | "
+                     f"{figure_text(r['mass_times_accel_x_N'], '+.2f', ' N')} |")
+    return lines + ["", "Where the measured force is smaller than the one-way forcing's, the body meets slower water "
+                        "than the undisturbed record's where it is (a body in another's wake); the one-way forcing "
+                        "drives every body by the undisturbed flow at its own place.", ""]
+
+
 def markdown(cmp: CouplingComparison, figure: str | None) -> str:
     one, two = (cmp.table.set_index("run").loc[k].to_dict() for k in RUNS)
     lines = ["# One-way against two-way", "",
@@ -362,6 +481,8 @@ def markdown(cmp: CouplingComparison, figure: str | None) -> str:
         else:
             lines += ["", f"The two-way run's first strike: {figure_text(two_strike, '.3f', ' s')} at "
                           f"{figure_text(two.get('strike_impact_velocity_m_s'), '.2f', ' m/s')}.", ""]
+    if not cmp.drive.empty:
+        lines += _drive_lines(cmp)
     if figure:
         lines += [f"![tracks]({figure})", "",
                   "The bodies' x and z against time in both runs and the distance between their centres; the "
@@ -400,6 +521,7 @@ def write_coupling_report(cmp: CouplingComparison, out_dir: str | Path) -> dict[
                "track_difference": write_table(cmp.tracks, out / "track_difference.csv"),
                **({"bodies": write_table(cmp.per_body, out / "bodies.csv")} if len(cmp.per_body) > 1 else {}),
                **({"drag_scan": write_table(cmp.scan, out / "drag_scan.csv")} if not cmp.scan.empty else {}),
+               **({"drive": write_table(cmp.drive, out / "drive.csv")} if not cmp.drive.empty else {}),
                "figure": _figure(cmp, out / "coupling.png")}
     written["report"] = write_text_atomic(out / "report.md", markdown(cmp, written["figure"].name))
     return written

@@ -348,38 +348,63 @@ def read_load(case_dir: str | Path, body: str, until_s: float = math.inf,
     return None if force is None or moment is None else (force, moment)
 
 
-def _read_mean(case_dir: str | Path, body: str, file: str, until_s: float, window_s: float) -> np.ndarray | None:
-    """The mean total (x, y, z) of a forces file of `lift_<body>` over the window (see read_lift)."""
+def _segments(case_dir: str | Path, body: str) -> list[tuple[float, Path]]:
+    """The folders of `lift_<body>` (one per solver segment) with their start times, oldest first."""
     base = Path(case_dir) / "postProcessing" / f"{LIFT_PREFIX}{body}"
     if not base.is_dir():
-        return None
+        return []
     starts = []
     for p in base.iterdir():
         try:
             starts.append((float(p.name), p))
         except ValueError:
             continue
-    for start, p in sorted(starts, reverse=True):
+    return sorted(starts, key=lambda s: s[0])
+
+
+def _settled_rows(start: float, path: Path, until_s: float = math.inf) -> list[tuple[float, tuple[float, float, float]]]:
+    """(time, total (x, y, z)) of a forces file of one segment, from `LIFT_SETTLE_S` after its start
+    (not the first steps after a restart) to `until_s`; a line being written is left out."""
+    try:
+        lines = path.read_text().splitlines()
+    except OSError:
+        return []
+    rows = []
+    for line in lines:
+        if not line or line.startswith("#"):
+            continue
+        parts = line.replace("(", " ").replace(")", " ").split()
+        if len(parts) < 4:
+            continue  # a line being written
+        try:
+            t, v = float(parts[0]), (float(parts[1]), float(parts[2]), float(parts[3]))
+        except ValueError:
+            continue
+        if start + LIFT_SETTLE_S < t <= until_s + 1e-9:
+            rows.append((t, v))
+    return rows
+
+
+def _read_mean(case_dir: str | Path, body: str, file: str, until_s: float, window_s: float) -> np.ndarray | None:
+    """The mean total (x, y, z) of a forces file of `lift_<body>` over the window (see read_lift)."""
+    for start, p in reversed(_segments(case_dir, body)):
         if start >= until_s - 1e-9:
             continue
-        rows = []
-        try:
-            lines = (p / file).read_text().splitlines()
-        except OSError:
-            continue
-        for line in lines:
-            if not line or line.startswith("#"):
-                continue
-            parts = line.replace("(", " ").replace(")", " ").split()
-            if len(parts) < 4:
-                continue  # a line being written
-            try:
-                t, v = float(parts[0]), (float(parts[1]), float(parts[2]), float(parts[3]))
-            except ValueError:
-                continue
-            if start + LIFT_SETTLE_S < t <= until_s + 1e-9:  # not the first steps after a restart
-                rows.append((t, v))
+        rows = _settled_rows(start, p / file, until_s)
         if rows:
             last = rows[-1][0]
             return np.mean([v for t, v in rows if t > last - window_s - 1e-12], axis=0)
     return None
+
+
+def read_force_history(case_dir: str | Path, body: str) -> np.ndarray:
+    """The fluid force on a body's wall at every solver step of the whole run, (N, 4): time (s) and
+    total x, y, z (N), from `lift_<body>`. Each segment's steps count up to the next segment's start
+    (a restart backed up to an earlier written time replaces what followed it), less its first
+    `LIFT_SETTLE_S` (see read_lift)."""
+    segments = _segments(case_dir, body)
+    rows = []
+    for k, (start, p) in enumerate(segments):
+        end = segments[k + 1][0] if k + 1 < len(segments) else math.inf
+        rows += [(t, *v) for t, v in _settled_rows(start, p / "force.dat", end) if t < end - 1e-12]
+    return np.array(rows, float).reshape(-1, 4)
