@@ -99,6 +99,23 @@ def test_one_way_forced_on_a_blocking_body_is_warned():
     assert "auto would choose two-way" in plan.reasons["debris_coupling"]
 
 
+def test_one_way_warns_of_each_body_that_starts_in_another_ones_lee():
+    """The 3x1 layout (three containers 0.10 m apart along the flow) puts debris2 behind debris1 and
+    debris3 behind debris2; the 1x3 layout (abreast, 0.09 m apart across the flow) puts none in
+    another's lane; turned 90 degrees, a 1x3 layout's containers (0.15 m long across the flow,
+    0.15 m apart) touch lanes only at their ends, which do not overlap; and two-way has a wake."""
+    line = plan_case(load_scene(CASES / "3debris-3x1.yaml"))
+    lee = [w for w in line.warnings if "lane" in w]
+    assert [w.split(" starts in ")[0] for w in lee] == ["debris2", "debris3"]
+    assert "debris1's lane 0.1 m downstream" in lee[0] and "no wake" in lee[0]
+    abreast = plan_case(load_scene(CASES / "3debris-1x3.yaml"))
+    assert not [w for w in abreast.warnings if "lane" in w]
+    turned = plan_case(load_scene(CASES / "3debris-1x3.yaml", ["debris.0.body.yaw_deg=90"]))
+    assert not [w for w in turned.warnings if "lane" in w]
+    coupled = plan_case(load_scene(CASES / "3debris-3x1.yaml", ["run.debris_coupling=two-way"]))
+    assert not [w for w in coupled.warnings if "lane" in w]
+
+
 def test_no_debris_is_none():
     plan = plan_case(load_scene(CASES / "nodebris.yaml"))
     assert plan.debris_coupling == "none" and plan.flow_record is None
