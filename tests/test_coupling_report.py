@@ -230,9 +230,9 @@ def test_the_drive_sets_the_measured_force_beside_the_one_way_forcing_on_the_sam
     _lift(two, "debris1", {0.0: [(t, 0.3) for t in np.arange(0.001, 0.2, 0.002)]})
     _lift(two, "debris2", {0.0: [(t, -0.1) for t in np.arange(0.001, 0.2, 0.002)]})
     cmp = compare_coupling(one, two)
-    tables = {c: fluid_drive(cmp, FlowField.uniform_current(0.2, c, x_m=(0.5, 1.6), y_m=(-0.2, 0.2), t_s=(0.0, 1.0)))
-              for c in (0.4, 0.8)}
-    drives = {c: t.set_index("body") for c, t in tables.items()}
+    answers = {c: fluid_drive(cmp, FlowField.uniform_current(0.2, c, x_m=(0.5, 1.6), y_m=(-0.2, 0.2), t_s=(0.0, 1.0)))
+               for c in (0.4, 0.8)}
+    drives = {c: a.table.set_index("body") for c, a in answers.items()}
     d = drives[0.4]
     assert d.loc["debris1", "from_s"] == pytest.approx(0.02 + 0.05)
     assert d.loc["debris1", "to_s"] == pytest.approx(cmp.until_s)
@@ -243,11 +243,17 @@ def test_the_drive_sets_the_measured_force_beside_the_one_way_forcing_on_the_sam
     assert held[0.4] > 0.0 and held[0.8] / held[0.4] == pytest.approx(4.0, rel=1e-6)
     assert held[0.8] == pytest.approx(drives[0.8].loc["debris2", "one_way_drag_x_N"], rel=1e-6)
     assert d.loc["all", "one_way_forcing_fx_N"] == pytest.approx(held[0.4])
-    cmp.drive = tables[0.4]
+    series = answers[0.4].series
+    assert set(series["body"]) == {"debris1", "debris2"}
+    assert series["time_s"].min() >= 0.07 - 1e-9 and series["time_s"].max() <= cmp.until_s + 1e-9
+    assert np.allclose(series.loc[series["body"] == "debris1", "two_way_fx_N"], 0.3)
+    assert np.allclose(series.loc[series["body"] == "debris2", "one_way_forcing_fx_N"], held[0.4])
+    cmp.drive, cmp.drive_series = answers[0.4]
     files = write_coupling_report(cmp, tmp_path / "page")
     text = files["report"].read_text()
     assert "## What drives the bodies afloat" in text and "| debris1 | 0.98 m | 0.40 m/s | +0.30 N |" in text
-    assert (tmp_path / "page" / "drive.csv").exists()
+    assert (tmp_path / "page" / "drive.csv").exists() and "![drive](drive.png)" in text
+    assert files["drive_figure"].stat().st_size > 10_000
 
 
 def test_no_drive_when_a_body_never_floats_two_way(tmp_path):
@@ -257,4 +263,5 @@ def test_no_drive_when_a_body_never_floats_two_way(tmp_path):
     one = _one_way(synthetic_case(tmp_path / "one", "pair"))
     two = _two_way(synthetic_case(tmp_path / "two", "pair"))  # centres stay at their start height
     flow = FlowField.uniform_current(0.2, 0.4, x_m=(0.5, 1.6), y_m=(-0.2, 0.2), t_s=(0.0, 1.0))
-    assert fluid_drive(compare_coupling(one, two), flow).empty
+    drive = fluid_drive(compare_coupling(one, two), flow)
+    assert drive.table.empty and drive.series.empty

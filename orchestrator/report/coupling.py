@@ -26,7 +26,8 @@ mesh, and writes into DIR:
     With the one-way record read (``--drag-scan``): per body, once every body is afloat two-way,
     the mean streamwise fluid force the two-way solver measures on it against the one-way
     forcing on the same body moving along the same track (:func:`fluid_drive`): what one-way
-    multi-body transport leaves out (a body in another's wake).
+    multi-body transport leaves out (a body in another's wake); ``drive.png`` draws both against
+    time.
 ``coupling.png``
     The tracks' x and z against time, both runs, and the centres' distance, up to the end of the
     shorter run; the first strikes marked.
@@ -41,7 +42,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 import pandas as pd
@@ -58,7 +59,7 @@ from orchestrator.transport.case_transport import case_flow, scene_settings, tra
 from orchestrator.transport.engine import run_transport
 from orchestrator.transport.flow import FlowField
 
-__all__ = ["CouplingComparison", "compare_coupling", "drag_scan", "drive_runs", "fluid_drive", "one_way_record",
+__all__ = ["CouplingComparison", "compare_coupling", "Drive", "drag_scan", "drive_runs", "fluid_drive", "one_way_record",
            "scan_runs", "write_coupling_report"]
 
 RUNS = ("one-way", "two-way")
@@ -92,6 +93,8 @@ class CouplingComparison:
     #: the fluid's streamwise drive on each body afloat, measured two-way and as the one-way forcing
     #: gives it on the same track (:func:`fluid_drive`); empty until run
     drive: pd.DataFrame = field(default_factory=pd.DataFrame)
+    #: the series the drive's means are taken over (:class:`Drive`)
+    drive_series: pd.DataFrame = field(default_factory=pd.DataFrame)
 
 
 def _checked(path: str | Path, coupling: str, argument: str, allow_stopped: bool = False) -> Layout:
@@ -248,26 +251,48 @@ def _time_mean(t: np.ndarray, v: np.ndarray) -> float:
     return float(np.sum(0.5 * (v[1:] + v[:-1]) * np.diff(t)) / (t[-1] - t[0]))
 
 
-def fluid_drive(cmp: CouplingComparison, flow: FlowField) -> pd.DataFrame:
+def _bin_means(t: np.ndarray, v: np.ndarray, centres: np.ndarray, width: float) -> np.ndarray:
+    """The time mean of v over [c - width/2, c + width/2] at each centre c (trapezoids)."""
+    if len(t) < 2:
+        return np.full(len(centres), np.nan)
+    integral = np.concatenate([[0.0], np.cumsum(0.5 * (v[1:] + v[:-1]) * np.diff(t))])
+    lo, hi = np.clip(centres - width / 2, t[0], t[-1]), np.clip(centres + width / 2, t[0], t[-1])
+    span = hi - lo
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(span > 0, (np.interp(hi, t, integral) - np.interp(lo, t, integral)) / span, np.nan)
+
+
+class Drive(NamedTuple):
+    """:func:`fluid_drive`'s answer: the means (a row per body, and "all") and the series they
+    are the means of (a row per body and sample)."""
+
+    table: pd.DataFrame
+    series: pd.DataFrame
+
+
+def fluid_drive(cmp: CouplingComparison, flow: FlowField) -> Drive:
     """What moves each body along the flow once every body is afloat two-way (:func:`_drive_window`):
     the mean over time of the streamwise fluid force the two-way solver measures on the body's wall
-    (`lift_<body>`),
-    and the mean the one-way forcing gives on the same body moving along the same two-way track
-    through the one-way record ``flow`` (Froude-Krylov, the water's added mass and drag, less the
-    added mass's reaction to the body's own acceleration: the part of the fluid force the wall
-    feels; :func:`~orchestrator.transport.budget.force_budget`). A last row sums the bodies. Where
-    the two agree the one-way forcing drives the body as the coupled flow does; where the measured
+    (`lift_<body>`), and the mean the one-way forcing gives on the same body moving along the same
+    two-way track through the one-way record ``flow`` (Froude-Krylov, the water's added mass and
+    drag, less the added mass's reaction to the body's own acceleration: the part of the fluid
+    force the wall feels; :func:`~orchestrator.transport.budget.force_budget`), with the body's
+    mass times its mean acceleration; a last row sums the bodies. The series: both forces every
+    DRIVE_INTERVAL_S (the measured one averaged over the interval around each sample). Where the
+    two agree the one-way forcing drives the body as the coupled flow does; where the measured
     drive is smaller the body meets slower water than the undisturbed record's, as a body in
-    another's wake does. Empty when the window is (see _drive_window)."""
+    another's wake does. Both empty when the window is (see _drive_window)."""
     window = _drive_window(cmp)
     if window is None:
-        return pd.DataFrame()
+        return Drive(pd.DataFrame(), pd.DataFrame())
     one, two = cmp.runs["one-way"], cmp.runs["two-way"]
     bodies, _, _ = transport_setup(one.scene, flow)
     hydro = scene_settings(one.scene).hydro
-    times = np.arange(window[0] - DRIVE_INTERVAL_S, window[1] + DRIVE_INTERVAL_S * 0.999, DRIVE_INTERVAL_S)
+    # the budget drops the first and last samples (central differences): none past the window's end, where
+    # a strike turns the body back
+    times = np.arange(window[0] - DRIVE_INTERVAL_S, window[1] + 1e-9, DRIVE_INTERVAL_S)
     times = times[times <= float(_track(two, bodies[0].name)["time_s"].iloc[-1])]
-    rows = []
+    rows, series = [], []
     for body in bodies:
         track = _resampled(_track(two, body.name), times)
         budget = force_budget(track, flow, body.size_m, body.mass_kg, hydro, flow_start_s=0.0)
@@ -282,18 +307,25 @@ def fluid_drive(cmp: CouplingComparison, flow: FlowField) -> pd.DataFrame:
                      "two_way_fx_N": _time_mean(force[inside, 0], force[inside, 1]),
                      "one_way_forcing_fx_N": float(forcing.mean()), "one_way_drag_x_N": float(budget["drag_x"].mean()),
                      "mass_times_accel_x_N": float(body.mass_kg * accel.mean()), "samples": int(inside.sum())})
+        at = budget["time_s"].to_numpy(float)
+        series.append(pd.DataFrame({
+            "time_s": at, "body": body.name, "x_m": budget["x_m"].to_numpy(float),
+            "two_way_fx_N": _bin_means(force[inside, 0], force[inside, 1], at, DRIVE_INTERVAL_S),
+            "one_way_forcing_fx_N": forcing.to_numpy(float), "one_way_drag_x_N": budget["drag_x"].to_numpy(float)}))
     table = pd.DataFrame(rows)
     total = {"body": "all", "from_s": window[0], "to_s": window[1], "x_mean_m": float("nan"),
              "u_mean_m_s": float("nan"), "samples": int(table["samples"].min())}
     for col in ("two_way_fx_N", "one_way_forcing_fx_N", "one_way_drag_x_N", "mass_times_accel_x_N"):
         total[col] = float(table[col].sum())
-    return pd.concat([table, pd.DataFrame([total])], ignore_index=True) if len(table) > 1 else table
+    if len(table) > 1:
+        table = pd.concat([table, pd.DataFrame([total])], ignore_index=True)
+    return Drive(table, pd.concat(series, ignore_index=True))
 
 
 def drive_runs(cmp: CouplingComparison, flow: FlowField | None = None) -> pd.DataFrame:
     """:func:`fluid_drive` with the one-way run's own record (``flow``, read when None); fills
     ``cmp.drive``."""
-    cmp.drive = fluid_drive(cmp, one_way_record(cmp) if flow is None else flow)
+    cmp.drive, cmp.drive_series = fluid_drive(cmp, one_way_record(cmp) if flow is None else flow)
     return cmp.drive
 
 
@@ -483,6 +515,9 @@ def markdown(cmp: CouplingComparison, figure: str | None) -> str:
                           f"{figure_text(two.get('strike_impact_velocity_m_s'), '.2f', ' m/s')}.", ""]
     if not cmp.drive.empty:
         lines += _drive_lines(cmp)
+    if not cmp.drive_series.empty:
+        lines += ["![drive](drive.png)", "", "Each body's streamwise fluid force against time: measured two-way "
+                  f"(averaged over {DRIVE_INTERVAL_S:g} s), the one-way forcing on the same track, and its drag.", ""]
     if figure:
         lines += [f"![tracks]({figure})", "",
                   "The bodies' x and z against time in both runs and the distance between their centres; the "
@@ -513,6 +548,30 @@ def _figure(cmp: CouplingComparison, path: Path) -> Path:
     return save_figure(fig, path)
 
 
+#: the drive figure draws at most this many bodies, a panel each
+DRIVE_PANELS = 6
+
+
+def _drive_figure(cmp: CouplingComparison, path: Path) -> Path:
+    """Each body's streamwise fluid force against time (:func:`fluid_drive`): measured two-way, and
+    the one-way forcing on the same track (its drag part dotted)."""
+    plt = pyplot()
+    names = list(dict.fromkeys(cmp.drive_series["body"]))[:DRIVE_PANELS]
+    fig, axes = plt.subplots(len(names), 1, figsize=(8, 1.2 + 2.2 * len(names)), sharex=True, squeeze=False)
+    for ax, name in zip(axes[:, 0], names):
+        d = cmp.drive_series[cmp.drive_series["body"] == name]
+        ax.plot(d["time_s"], d["two_way_fx_N"], "-", color="C0", label="two-way, measured on its wall")
+        ax.plot(d["time_s"], d["one_way_forcing_fx_N"], "--", color="C3", label="one-way forcing on the same track")
+        ax.plot(d["time_s"], d["one_way_drag_x_N"], ":", color="C3", label="its drag")
+        ax.axhline(0.0, color="0.5", linewidth=0.8)
+        ax.set_ylabel(f"{name}\nx force (N)")
+        ax.grid(alpha=0.3)
+    legend(axes[0, 0], fontsize=8)
+    axes[-1, 0].set_xlabel("time (s)")
+    fig.tight_layout()
+    return save_figure(fig, path)
+
+
 def write_coupling_report(cmp: CouplingComparison, out_dir: str | Path) -> dict[str, Path]:
     """The page, its tables and its figure into out_dir (module notes); name -> path."""
     out = Path(out_dir)
@@ -523,5 +582,7 @@ def write_coupling_report(cmp: CouplingComparison, out_dir: str | Path) -> dict[
                **({"drag_scan": write_table(cmp.scan, out / "drag_scan.csv")} if not cmp.scan.empty else {}),
                **({"drive": write_table(cmp.drive, out / "drive.csv")} if not cmp.drive.empty else {}),
                "figure": _figure(cmp, out / "coupling.png")}
+    if not cmp.drive_series.empty:
+        written["drive_figure"] = _drive_figure(cmp, out / "drive.png")
     written["report"] = write_text_atomic(out / "report.md", markdown(cmp, written["figure"].name))
     return written
