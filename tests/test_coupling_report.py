@@ -182,7 +182,7 @@ def _lift(case: Path, body: str, segments: dict[float, list[tuple[float, float]]
     for start, rows in segments.items():
         folder = case / "postProcessing" / f"lift_{body}" / f"{start:g}"
         folder.mkdir(parents=True)
-        lines = ["# Force", "# Time (total_x total_y total_z) (pressure_x pressure_y pressure_z)"]
+        lines = ["# Force", "# Time\t(total_x total_y total_z)\t(pressure_x pressure_y pressure_z)\t(viscous_x viscous_y viscous_z)"]
         lines += [f"{t:.6f}\t({fx} 0 0.5)\t({fx} 0 0.5)\t(0 0 0)" for t, fx in rows]
         (folder / "force.dat").write_text("\n".join(lines) + "\n")
 

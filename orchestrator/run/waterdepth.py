@@ -47,6 +47,7 @@ import numpy as np
 import yaml
 
 from orchestrator.case.folder import CaseFolder
+from orchestrator.case.outputs import read_force_series
 from orchestrator.plan.grid import Segment
 
 #: the function object's name, its file in system/ and its folder in postProcessing/
@@ -399,12 +400,13 @@ def _read_mean(case_dir: str | Path, body: str, file: str, until_s: float, windo
 
 def read_force_history(case_dir: str | Path, body: str) -> np.ndarray:
     """The fluid force on a body's wall at every solver step of the whole run, (N, 4): time (s) and
-    total x, y, z (N), from `lift_<body>`. Each segment's steps count up to the next segment's start
-    (a restart backed up to an earlier written time replaces what followed it), less its first
-    `LIFT_SETTLE_S` (see read_lift)."""
-    segments = _segments(case_dir, body)
-    rows = []
-    for k, (start, p) in enumerate(segments):
-        end = segments[k + 1][0] if k + 1 < len(segments) else math.inf
-        rows += [(t, *v) for t, v in _settled_rows(start, p / "force.dat", end) if t < end - 1e-12]
-    return np.array(rows, float).reshape(-1, 4)
+    total x, y, z (N), from `lift_<body>`, its segments joined over restarts as every function
+    object's are (`read_force_series`), less each segment's first `LIFT_SETTLE_S` (see read_lift)."""
+    table, _ = read_force_series(case_dir, f"{LIFT_PREFIX}{body}")
+    if table is None or table.empty:
+        return np.zeros((0, 4))
+    t = table["time"].to_numpy(float)
+    starts = np.array([start for start, _ in _segments(case_dir, body)])
+    newest = starts[np.clip(np.searchsorted(starts, t, side="left") - 1, 0, None)]
+    keep = t > newest + LIFT_SETTLE_S
+    return np.column_stack([t, table.iloc[:, 1:4].to_numpy(float)])[keep]  # the total force: the first vector
