@@ -183,7 +183,7 @@ def _lift(case: Path, body: str, segments: dict[float, list[tuple[float, float]]
         folder = case / "postProcessing" / f"lift_{body}" / f"{start:g}"
         folder.mkdir(parents=True)
         lines = ["# Force", "# Time\t(total_x total_y total_z)\t(pressure_x pressure_y pressure_z)\t(viscous_x viscous_y viscous_z)"]
-        lines += [f"{t:.6f}\t({fx} 0 0.5)\t({fx} 0 0.5)\t(0 0 0)" for t, fx in rows]
+        lines += [f"{t:.6f}\t({fx} {-fx / 3} 0.5)\t({fx} {-fx / 3} 0.5)\t(0 0 0)" for t, fx in rows]
         (folder / "force.dat").write_text("\n".join(lines) + "\n")
 
 
@@ -238,6 +238,9 @@ def test_the_drive_sets_the_measured_force_beside_the_one_way_forcing_on_the_sam
     assert d.loc["debris1", "to_s"] == pytest.approx(cmp.until_s)
     assert d.loc["debris1", "two_way_fx_N"] == pytest.approx(0.3)
     assert d.loc["all", "two_way_fx_N"] == pytest.approx(0.2)
+    assert d.loc["debris1", "two_way_fy_N"] == pytest.approx(-0.1)  # the lift file's y, -x / 3
+    assert np.allclose(d["one_way_forcing_fy_N"], 0.0, atol=1e-9)  # the current runs along x
+    assert d.loc["debris2", "y_mean_m"] == pytest.approx(0.12)
     assert abs(d.loc["debris1", "one_way_forcing_fx_N"]) < 1e-9  # drifting with the current
     held = {c: drives[c].loc["debris2", "one_way_forcing_fx_N"] for c in drives}
     assert held[0.4] > 0.0 and held[0.8] / held[0.4] == pytest.approx(4.0, rel=1e-6)
@@ -253,6 +256,7 @@ def test_the_drive_sets_the_measured_force_beside_the_one_way_forcing_on_the_sam
     text = files["report"].read_text()
     assert "## What drives the bodies afloat" in text and "| debris1 | 0.98 m | 0.40 m/s | +0.30 N |" in text
     assert (tmp_path / "page" / "drive.csv").exists() and "![drive](drive.png)" in text
+    assert "Across the flow" in text and "| debris1 | +0.000 m | -0.10 N |" in text
     assert files["drive_figure"].stat().st_size > 10_000
 
 

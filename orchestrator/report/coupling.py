@@ -297,16 +297,21 @@ def fluid_drive(cmp: CouplingComparison, flow: FlowField) -> Drive:
         track = _resampled(_track(two, body.name), times)
         budget = force_budget(track, flow, body.size_m, body.mass_kg, hydro, flow_start_s=0.0)
         budget = budget[(budget["time_s"] >= window[0] - 1e-9) & (budget["time_s"] <= window[1] + 1e-9)]
-        accel = budget["inertia_x"] / (body.mass_kg + budget["added_mass_x_kg"])
-        forcing = (budget["froude_krylov_x"] + budget["added_mass_flow_x"] + budget["drag_x"]
-                   - budget["added_mass_x_kg"] * accel)
+        accel = {a: budget[f"inertia_{a}"] / (body.mass_kg + budget[f"added_mass_{a}_kg"]) for a in "xy"}
+        wall = {a: (budget[f"froude_krylov_{a}"] + budget[f"added_mass_flow_{a}"] + budget[f"drag_{a}"]
+                    - budget[f"added_mass_{a}_kg"] * accel[a]) for a in "xy"}
+        forcing = wall["x"]
         force = read_force_history(two.case, body.name)
         inside = (force[:, 0] >= window[0]) & (force[:, 0] <= window[1])
         rows.append({"body": body.name, "from_s": window[0], "to_s": window[1],
-                     "x_mean_m": float(budget["x_m"].mean()), "u_mean_m_s": float(budget["u_m_s"].mean()),
+                     "x_mean_m": float(budget["x_m"].mean()), "y_mean_m": float(budget["y_m"].mean()),
+                     "u_mean_m_s": float(budget["u_m_s"].mean()),
                      "two_way_fx_N": _time_mean(force[inside, 0], force[inside, 1]),
                      "one_way_forcing_fx_N": float(forcing.mean()), "one_way_drag_x_N": float(budget["drag_x"].mean()),
-                     "mass_times_accel_x_N": float(body.mass_kg * accel.mean()), "samples": int(inside.sum())})
+                     "mass_times_accel_x_N": float(body.mass_kg * accel["x"].mean()),
+                     "two_way_fy_N": _time_mean(force[inside, 0], force[inside, 2]),
+                     "one_way_forcing_fy_N": float(wall["y"].mean()),
+                     "mass_times_accel_y_N": float(body.mass_kg * accel["y"].mean()), "samples": int(inside.sum())})
         at = budget["time_s"].to_numpy(float)
         series.append(pd.DataFrame({
             "time_s": at, "body": body.name, "x_m": budget["x_m"].to_numpy(float),
@@ -314,8 +319,9 @@ def fluid_drive(cmp: CouplingComparison, flow: FlowField) -> Drive:
             "one_way_forcing_fx_N": forcing.to_numpy(float), "one_way_drag_x_N": budget["drag_x"].to_numpy(float)}))
     table = pd.DataFrame(rows)
     total = {"body": "all", "from_s": window[0], "to_s": window[1], "x_mean_m": float("nan"),
-             "u_mean_m_s": float("nan"), "samples": int(table["samples"].min())}
-    for col in ("two_way_fx_N", "one_way_forcing_fx_N", "one_way_drag_x_N", "mass_times_accel_x_N"):
+             "y_mean_m": float("nan"), "u_mean_m_s": float("nan"), "samples": int(table["samples"].min())}
+    for col in ("two_way_fx_N", "one_way_forcing_fx_N", "one_way_drag_x_N", "mass_times_accel_x_N",
+                "two_way_fy_N", "one_way_forcing_fy_N", "mass_times_accel_y_N"):
         total[col] = float(table[col].sum())
     if len(table) > 1:
         table = pd.concat([table, pd.DataFrame([total])], ignore_index=True)
@@ -461,9 +467,17 @@ def _drive_lines(cmp: CouplingComparison) -> list[str]:
                      f"{figure_text(r['u_mean_m_s'], '.2f', ' m/s')} | {figure_text(r['two_way_fx_N'], '+.2f', ' N')} | "
                      f"{figure_text(r['one_way_forcing_fx_N'], '+.2f', ' N')} | {figure_text(r['one_way_drag_x_N'], '+.2f', ' N')} | "
                      f"{figure_text(r['mass_times_accel_x_N'], '+.2f', ' N')} |")
-    return lines + ["", "Where the measured force is smaller than the one-way forcing's, the body meets slower water "
-                        "than the undisturbed record's where it is (a body in another's wake); the one-way forcing "
-                        "drives every body by the undisturbed flow at its own place.", ""]
+    lines += ["", "Where the measured force is smaller than the one-way forcing's, the body meets slower water "
+                  "than the undisturbed record's where it is (a body in another's wake); the one-way forcing "
+                  "drives every body by the undisturbed flow at its own place.", "",
+              "Across the flow over the same time (+: towards +y):", "",
+              "| body | mean y | fluid force, two-way | one-way forcing on the same track | mass x acceleration |",
+              "|---|---|---|---|---|"]
+    for r in cmp.drive.to_dict("records"):
+        lines.append(f"| {r['body']} | {figure_text(r['y_mean_m'], '+.3f', ' m')} | "
+                     f"{figure_text(r['two_way_fy_N'], '+.2f', ' N')} | {figure_text(r['one_way_forcing_fy_N'], '+.2f', ' N')} | "
+                     f"{figure_text(r['mass_times_accel_y_N'], '+.2f', ' N')} |")
+    return lines + [""]
 
 
 def markdown(cmp: CouplingComparison, figure: str | None) -> str:

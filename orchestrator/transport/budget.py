@@ -60,7 +60,7 @@ def sample_flow_at(flow, pts: np.ndarray, t_flow: float, half_z: float) -> tuple
 def force_budget(track: pd.DataFrame, flow: FlowField, size_m, mass_kg: float,
                  coefficients: HydroCoefficients, flow_start_s: float | None = None) -> pd.DataFrame:
     """Each force on the body along ``track`` (module notes): columns ``time_s``, ``x_m``, ``y_m``,
-    ``z_m``, ``u_m_s``, ``added_mass_x_kg`` and ``<term>_<axis>`` for every term of
+    ``z_m``, ``u_m_s``, ``added_mass_<axis>_kg`` (the world diagonal) and ``<term>_<axis>`` for every term of
     :data:`BUDGET_TERMS`. ``flow_start_s``: the flow time of the track's t = 0 (default the
     record's first frame, as the engine's)."""
     c = dataclasses.replace(coefficients, water_density_kg_m3=flow.water_density_kg_m3,
@@ -102,7 +102,7 @@ def force_budget(track: pd.DataFrame, flow: FlowField, size_m, mass_kg: float,
         }
         terms["contact"] = inertia - sum(v for n, v in terms.items() if n != "inertia")
         row = {"time_s": t[k], "x_m": com[k, 0], "y_m": com[k, 1], "z_m": com[k, 2], "u_m_s": vel[k, 0],
-               "added_mass_x_kg": world_added[0]}
+               **{f"added_mass_{axis}_kg": float(world_added[i]) for i, axis in enumerate("xyz")}}
         for name in BUDGET_TERMS:
             for i, axis in enumerate("xyz"):
                 row[f"{name}_{axis}"] = float(terms[name][i])
