@@ -241,6 +241,13 @@ def test_the_drive_sets_the_measured_force_beside_the_one_way_forcing_on_the_sam
     assert d.loc["debris1", "two_way_fy_N"] == pytest.approx(-0.1)  # the lift file's y, -x / 3
     assert np.allclose(d["one_way_forcing_fy_N"], 0.0, atol=1e-9)  # the current runs along x
     assert d.loc["debris2", "y_mean_m"] == pytest.approx(0.12)
+    # up: wholly under 0.2 m of water, the forcing is the buoyancy of the body's volume; the lift file's z
+    flow = FlowField.uniform_current(0.2, 0.4, x_m=(0.5, 1.6), y_m=(-0.2, 0.2), t_s=(0.0, 1.0))
+    body = cmp.runs["one-way"].scene.debris[0]
+    assert d.loc["debris1", "one_way_forcing_fz_N"] == pytest.approx(
+        flow.water_density_kg_m3 * flow.gravity_m_s2 * float(np.prod(body.size_m)), rel=1e-6)
+    assert d.loc["debris1", "weight_N"] == pytest.approx(body.mass_kg * flow.gravity_m_s2)
+    assert d.loc["debris1", "two_way_fz_N"] == pytest.approx(0.5)
     assert abs(d.loc["debris1", "one_way_forcing_fx_N"]) < 1e-9  # drifting with the current
     held = {c: drives[c].loc["debris2", "one_way_forcing_fx_N"] for c in drives}
     assert held[0.4] > 0.0 and held[0.8] / held[0.4] == pytest.approx(4.0, rel=1e-6)

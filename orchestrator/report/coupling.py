@@ -297,9 +297,9 @@ def fluid_drive(cmp: CouplingComparison, flow: FlowField) -> Drive:
         track = _resampled(_track(two, body.name), times)
         budget = force_budget(track, flow, body.size_m, body.mass_kg, hydro, flow_start_s=0.0)
         budget = budget[(budget["time_s"] >= window[0] - 1e-9) & (budget["time_s"] <= window[1] + 1e-9)]
-        accel = {a: budget[f"inertia_{a}"] / (body.mass_kg + budget[f"added_mass_{a}_kg"]) for a in "xy"}
-        wall = {a: (budget[f"froude_krylov_{a}"] + budget[f"added_mass_flow_{a}"] + budget[f"drag_{a}"]
-                    - budget[f"added_mass_{a}_kg"] * accel[a]) for a in "xy"}
+        accel = {a: budget[f"inertia_{a}"] / (body.mass_kg + budget[f"added_mass_{a}_kg"]) for a in "xyz"}
+        wall = {a: (budget[f"buoyancy_{a}"] + budget[f"froude_krylov_{a}"] + budget[f"added_mass_flow_{a}"]
+                    + budget[f"drag_{a}"] - budget[f"added_mass_{a}_kg"] * accel[a]) for a in "xyz"}
         forcing = wall["x"]
         force = read_force_history(two.case, body.name)
         inside = (force[:, 0] >= window[0]) & (force[:, 0] <= window[1])
@@ -311,7 +311,10 @@ def fluid_drive(cmp: CouplingComparison, flow: FlowField) -> Drive:
                      "mass_times_accel_x_N": float(body.mass_kg * accel["x"].mean()),
                      "two_way_fy_N": _time_mean(force[inside, 0], force[inside, 2]),
                      "one_way_forcing_fy_N": float(wall["y"].mean()),
-                     "mass_times_accel_y_N": float(body.mass_kg * accel["y"].mean()), "samples": int(inside.sum())})
+                     "mass_times_accel_y_N": float(body.mass_kg * accel["y"].mean()),
+                     "two_way_fz_N": _time_mean(force[inside, 0], force[inside, 3]),
+                     "one_way_forcing_fz_N": float(wall["z"].mean()), "weight_N": float(-budget["weight_z"].mean()),
+                     "z_mean_m": float(budget["z_m"].mean()), "samples": int(inside.sum())})
         at = budget["time_s"].to_numpy(float)
         series.append(pd.DataFrame({
             "time_s": at, "body": body.name, "x_m": budget["x_m"].to_numpy(float),
@@ -319,9 +322,11 @@ def fluid_drive(cmp: CouplingComparison, flow: FlowField) -> Drive:
             "one_way_forcing_fx_N": forcing.to_numpy(float), "one_way_drag_x_N": budget["drag_x"].to_numpy(float)}))
     table = pd.DataFrame(rows)
     total = {"body": "all", "from_s": window[0], "to_s": window[1], "x_mean_m": float("nan"),
-             "y_mean_m": float("nan"), "u_mean_m_s": float("nan"), "samples": int(table["samples"].min())}
+             "y_mean_m": float("nan"), "z_mean_m": float("nan"), "u_mean_m_s": float("nan"),
+             "samples": int(table["samples"].min())}
     for col in ("two_way_fx_N", "one_way_forcing_fx_N", "one_way_drag_x_N", "mass_times_accel_x_N",
-                "two_way_fy_N", "one_way_forcing_fy_N", "mass_times_accel_y_N"):
+                "two_way_fy_N", "one_way_forcing_fy_N", "mass_times_accel_y_N", "two_way_fz_N",
+                "one_way_forcing_fz_N", "weight_N"):
         total[col] = float(table[col].sum())
     if len(table) > 1:
         table = pd.concat([table, pd.DataFrame([total])], ignore_index=True)
@@ -477,6 +482,14 @@ def _drive_lines(cmp: CouplingComparison) -> list[str]:
         lines.append(f"| {r['body']} | {figure_text(r['y_mean_m'], '+.3f', ' m')} | "
                      f"{figure_text(r['two_way_fy_N'], '+.2f', ' N')} | {figure_text(r['one_way_forcing_fy_N'], '+.2f', ' N')} | "
                      f"{figure_text(r['mass_times_accel_y_N'], '+.2f', ' N')} |")
+    lines += ["", "Up, over the same time, beside the body's weight (the one-way forcing here with the buoyancy of "
+                  "the recorded water at the body's place):", "",
+              "| body | mean height of the centre | fluid force, two-way | one-way forcing on the same track | weight |",
+              "|---|---|---|---|---|"]
+    for r in cmp.drive.to_dict("records"):
+        lines.append(f"| {r['body']} | {figure_text(r['z_mean_m'], '.3f', ' m')} | "
+                     f"{figure_text(r['two_way_fz_N'], '+.2f', ' N')} | {figure_text(r['one_way_forcing_fz_N'], '+.2f', ' N')} | "
+                     f"{figure_text(r['weight_N'], '.2f', ' N')} |")
     return lines + [""]
 
 
