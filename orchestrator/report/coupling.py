@@ -24,10 +24,10 @@ mesh, and writes into DIR:
     evidence for the coefficient's default (docs/one-way.md).
 ``drive.csv``
     With the one-way record read (``--drag-scan``): per body, once every body is afloat two-way,
-    the mean streamwise fluid force the two-way solver measures on it against the one-way
-    forcing on the same body moving along the same track (:func:`fluid_drive`): what one-way
-    multi-body transport leaves out (a body in another's wake); ``drive.png`` draws both against
-    time.
+    the mean fluid force (along, across, up) the two-way solver measures on it against the
+    one-way forcing on the same body moving along the same track (:func:`fluid_drive`): what
+    one-way transport leaves out (a body in another's wake, the water it pushes ahead of it near
+    the column, how deep it floats); ``drive.png`` draws the streamwise ones against time.
 ``coupling.png``
     The tracks' x and z against time, both runs, and the centres' distance, up to the end of the
     shorter run; the first strikes marked.
@@ -90,8 +90,8 @@ class CouplingComparison:
     per_body: pd.DataFrame = field(default_factory=pd.DataFrame)
     #: the drag-coefficient scan (:func:`drag_scan`); empty until run
     scan: pd.DataFrame = field(default_factory=pd.DataFrame)
-    #: the fluid's streamwise drive on each body afloat, measured two-way and as the one-way forcing
-    #: gives it on the same track (:func:`fluid_drive`); empty until run
+    #: the fluid's force on each body afloat, measured two-way and as the one-way forcing gives it on
+    #: the same track (:func:`fluid_drive`); empty until run
     drive: pd.DataFrame = field(default_factory=pd.DataFrame)
     #: the series the drive's means are taken over (:class:`Drive`)
     drive_series: pd.DataFrame = field(default_factory=pd.DataFrame)
@@ -271,17 +271,18 @@ class Drive(NamedTuple):
 
 
 def fluid_drive(cmp: CouplingComparison, flow: FlowField) -> Drive:
-    """What moves each body along the flow once every body is afloat two-way (:func:`_drive_window`):
-    the mean over time of the streamwise fluid force the two-way solver measures on the body's wall
+    """What moves each body once every body is afloat two-way (:func:`_drive_window`), along x, y
+    and z: the mean over time of the fluid force the two-way solver measures on the body's wall
     (`lift_<body>`), and the mean the one-way forcing gives on the same body moving along the same
-    two-way track through the one-way record ``flow`` (Froude-Krylov, the water's added mass and
-    drag, less the added mass's reaction to the body's own acceleration: the part of the fluid
-    force the wall feels; :func:`~orchestrator.transport.budget.force_budget`), with the body's
-    mass times its mean acceleration; a last row sums the bodies. The series: both forces every
-    DRIVE_INTERVAL_S (the measured one averaged over the interval around each sample). Where the
-    two agree the one-way forcing drives the body as the coupled flow does; where the measured
-    drive is smaller the body meets slower water than the undisturbed record's, as a body in
-    another's wake does. Both empty when the window is (see _drive_window)."""
+    two-way track through the one-way record ``flow`` (buoyancy, Froude-Krylov, the water's added
+    mass and drag, less the added mass's reaction to the body's own acceleration: the part of the
+    fluid force the wall feels; :func:`~orchestrator.transport.budget.force_budget`), with the
+    body's mass times its mean acceleration (x, y) and its weight; a last row sums the bodies. The
+    series: the streamwise forces every DRIVE_INTERVAL_S (the measured one averaged over the
+    interval around each sample). Where the two agree the one-way forcing drives the body as the
+    coupled flow does; where the measured drive is smaller the body meets slower water than the
+    undisturbed record's, as a body in another's wake does. Both empty when the window is (see
+    _drive_window)."""
     window = _drive_window(cmp)
     if window is None:
         return Drive(pd.DataFrame(), pd.DataFrame())
