@@ -222,7 +222,7 @@ def test_the_drive_sets_the_measured_force_beside_the_one_way_forcing_on_the_sam
     """In a steady uniform current the one-way forcing on a body drifting with the water is nil (no
     relative flow, no acceleration) and on a body held still it is quadratic drag (four times as
     much at twice the current); the two-way column is the mean of what the solver wrote."""
-    from orchestrator.report.coupling import fluid_drive
+    from orchestrator.report.coupling import drive_runs
     from orchestrator.transport.flow import FlowField
 
     one = _one_way(synthetic_case(tmp_path / "one", "pair"))
@@ -230,7 +230,7 @@ def test_the_drive_sets_the_measured_force_beside_the_one_way_forcing_on_the_sam
     _lift(two, "debris1", {0.0: [(t, 0.3) for t in np.arange(0.001, 0.2, 0.002)]})
     _lift(two, "debris2", {0.0: [(t, -0.1) for t in np.arange(0.001, 0.2, 0.002)]})
     cmp = compare_coupling(one, two)
-    answers = {c: fluid_drive(cmp, FlowField.uniform_current(0.2, c, x_m=(0.5, 1.6), y_m=(-0.2, 0.2), t_s=(0.0, 1.0)))
+    answers = {c: drive_runs(cmp, FlowField.uniform_current(0.2, c, x_m=(0.5, 1.6), y_m=(-0.2, 0.2), t_s=(0.0, 1.0)))
                for c in (0.4, 0.8)}
     drives = {c: a.table.set_index("body") for c, a in answers.items()}
     d = drives[0.4]
@@ -268,11 +268,11 @@ def test_the_drive_sets_the_measured_force_beside_the_one_way_forcing_on_the_sam
 
 
 def test_no_drive_when_a_body_never_floats_two_way(tmp_path):
-    from orchestrator.report.coupling import fluid_drive
+    from orchestrator.report.coupling import drive_runs
     from orchestrator.transport.flow import FlowField
 
     one = _one_way(synthetic_case(tmp_path / "one", "pair"))
     two = _two_way(synthetic_case(tmp_path / "two", "pair"))  # centres stay at their start height
     flow = FlowField.uniform_current(0.2, 0.4, x_m=(0.5, 1.6), y_m=(-0.2, 0.2), t_s=(0.0, 1.0))
-    drive = fluid_drive(compare_coupling(one, two), flow)
+    drive = drive_runs(compare_coupling(one, two), flow)
     assert drive.table.empty and drive.series.empty
