@@ -372,6 +372,42 @@ def _hold_still(info: CaseInfo, sup: Supervisor, states: list, name: str) -> Non
     sup.record.data["held_segments"] = sup.record.data.get("held_segments", 0) + int(all_held)
 
 
+#: how many times a segment from one written time may end on a missed contact stop before the run fails
+MAX_MISSED_STOPS = 3
+
+
+def missed_contact_stop(seg: SegmentResult) -> bool:
+    """The solver ended by itself (exit 0, no stop of the runner's own) with a contact stop pending:
+    it read the stop the runner scheduled for the contact only once it had passed, or come within
+    half a step of, that time, and v1912 then ends the run there without writing (its half-step
+    rule). Seen once in the 1x3 layout two-way: a second, earlier contact stop requested while the
+    solver's step grew from 2.3e-3 to 3.4e-3 s; the solver ended at 2.2429 s, 0.022 s past its last
+    write."""
+    return seg.reason == "end" and seg.returncode == 0 and bool(seg.contacts) and bool(seg.steps)
+
+
+def retries_left(misses: list[dict], name: str) -> bool:
+    """Whether a segment from the written time `name` may run again after a missed contact stop:
+    fewer than MAX_MISSED_STOPS of the recorded `misses` (run.json `missed_stops`) started there."""
+    return sum(1 for m in misses if m["from"] == name) < MAX_MISSED_STOPS
+
+
+def _retry_missed_stop(sup: Supervisor, name: str, seg: SegmentResult) -> bool:
+    """Run again from the last written time after a missed contact stop (what the segment ran is
+    lost, the contact is found again from the written states), at most MAX_MISSED_STOPS times
+    from one written time; recorded in run.json `missed_stops`. False: give up."""
+    misses = sup.record.data.setdefault("missed_stops", [])
+    if not retries_left(misses, name):
+        return False
+    misses.append({"from": name, "solver_ended_s": seg.steps[-1].time_s,
+                   "pending": [f"{c.body}-{c.other}" for c in seg.contacts]})
+    sup.record.save()
+    sup.say(f"t = {name} s: the solver passed the contact stop scheduled for {seg.contacts[0].body} and "
+            f"{seg.contacts[0].other} and ended at {seg.steps[-1].time_s:.6g} s without writing; running "
+            "again from the last written time")
+    return True
+
+
 def _after_segment(info: CaseInfo, sup: Supervisor, stop: StopFlag, seg: SegmentResult, reached: float,
                    name: str) -> tuple[float, str] | None:
     """The latest written time after `seg`, or None when the end is reached (v1912's half-step
@@ -397,6 +433,8 @@ def _after_segment(info: CaseInfo, sup: Supervisor, stop: StopFlag, seg: Segment
         if not seg.steps and info.end_time_s - reached < MIN_SEGMENT_FRACTION * sup.write_interval_s:
             # v1912's half-step rule: what remains of the end time is less than a step
             return None
+        if missed_contact_stop(seg) and _retry_missed_stop(sup, name, seg):
+            return reached, name
         raise RunError(f"the solver ended without writing beyond t = {name} s; see {seg.log}")
     return new_reached, new_name
 
