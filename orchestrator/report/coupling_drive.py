@@ -129,14 +129,13 @@ def fluid_drive(one: Layout, two: Layout, until_s: float, flow: FlowField) -> Dr
         accel = {a: budget[f"inertia_{a}"] / (body.mass_kg + budget[f"added_mass_{a}_kg"]) for a in "xyz"}
         wall = {a: (budget[f"buoyancy_{a}"] + budget[f"froude_krylov_{a}"] + budget[f"added_mass_flow_{a}"]
                     + budget[f"drag_{a}"] - budget[f"added_mass_{a}_kg"] * accel[a]) for a in "xyz"}
-        forcing = wall["x"]
         force = read_force_history(two.case, body.name)
         inside = (force[:, 0] >= window[0]) & (force[:, 0] <= window[1])
         rows.append({"body": body.name, "from_s": window[0], "to_s": window[1],
                      "x_mean_m": float(budget["x_m"].mean()), "y_mean_m": float(budget["y_m"].mean()),
                      "u_mean_m_s": float(budget["u_m_s"].mean()),
                      "two_way_fx_N": _time_mean(force[inside, 0], force[inside, 1]),
-                     "one_way_forcing_fx_N": float(forcing.mean()), "one_way_drag_x_N": float(budget["drag_x"].mean()),
+                     "one_way_forcing_fx_N": float(wall["x"].mean()), "one_way_drag_x_N": float(budget["drag_x"].mean()),
                      "mass_times_accel_x_N": float(body.mass_kg * accel["x"].mean()),
                      "two_way_fy_N": _time_mean(force[inside, 0], force[inside, 2]),
                      "one_way_forcing_fy_N": float(wall["y"].mean()),
@@ -148,7 +147,7 @@ def fluid_drive(one: Layout, two: Layout, until_s: float, flow: FlowField) -> Dr
         series.append(pd.DataFrame({
             "time_s": at, "body": body.name, "x_m": budget["x_m"].to_numpy(float),
             "two_way_fx_N": _bin_means(force[inside, 0], force[inside, 1], at, DRIVE_INTERVAL_S),
-            "one_way_forcing_fx_N": forcing.to_numpy(float), "one_way_drag_x_N": budget["drag_x"].to_numpy(float)}))
+            "one_way_forcing_fx_N": wall["x"].to_numpy(float), "one_way_drag_x_N": budget["drag_x"].to_numpy(float)}))
     table = pd.DataFrame(rows)
     total = {"body": "all", "from_s": window[0], "to_s": window[1], "x_mean_m": float("nan"),
              "y_mean_m": float("nan"), "z_mean_m": float("nan"), "u_mean_m_s": float("nan"),
