@@ -75,7 +75,7 @@ TEST_TIMEOUT_S = 300
 #: A test that first uses a shared fixture running a whole sweep pays for the sweep (pytest-timeout
 #: counts the setup): those get this much.
 SWEEP_TEST_TIMEOUT_S = 1800
-SWEEP_FIXTURES = {"small_hard", "tiny_sweep", "local_sweep"}
+SWEEP_FIXTURES = {"small_hard", "quick_hard", "tiny_sweep", "local_sweep"}
 
 
 def pytest_collection_modifyitems(config, items):

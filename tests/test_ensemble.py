@@ -130,6 +130,7 @@ def current(tmp_path_factory):
     return flow, flow.save(tmp_path_factory.mktemp("flow") / "flow_record.npz")
 
 
+@pytest.mark.slow
 def test_a_study_fit_height_loads_every_fit_there_and_the_same_base_shear_then_reads_another_pulse(current):
     """--study-fit-height: the fit loaded at the height given, not at the face's water level; the
     same base shear fitted elsewhere on the column reads another peak (this short test column's base
@@ -199,6 +200,7 @@ def _rows(runs) -> pd.DataFrame:
     return pd.DataFrame([row for r in runs for row in r.rows], columns=TABLE_COLUMNS)
 
 
+@pytest.mark.slow
 def test_batched_realisations_give_the_one_at_a_time_table(current):
     """Realisations stepped together in one model (batches of 4: one of 4 and one of 2) against
     one model each, for the same seeds: the same strikes, first strikes to rounding."""

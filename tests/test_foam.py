@@ -213,7 +213,7 @@ def test_sampling_every_step_or_so_keeps_the_solvers_courant_step(tmp_path, open
 
 
 @pytest.mark.openfoam
-@pytest.mark.parametrize("n_bodies", [1, 2])
+@pytest.mark.parametrize("n_bodies", [pytest.param(1, marks=pytest.mark.slow), 2])
 def test_overset_runs_a_few_steps_on_two_cores(tmp_path, openfoam, n_bodies):
     plan = flume_plan(n_bodies, h=0.04, end_time_s=0.01, decomposition=(2, 1, 1))
     case = render_case({}, plan, tmp_path / "case")

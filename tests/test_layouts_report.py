@@ -208,6 +208,7 @@ def test_the_page_states_the_figures_and_links_every_figure_it_draws(tmp_path):
     assert list(pd.read_csv(files["layouts"])["layout"]) == ["two-a", "two-b", "two-c"]
 
 
+@pytest.mark.slow
 def test_the_cli_verb_writes_the_page_and_refuses_bad_input(tmp_path):
     sweep = synthetic_sweep(tmp_path)
     out = tmp_path / "page"
@@ -222,6 +223,7 @@ def test_the_cli_verb_writes_the_page_and_refuses_bad_input(tmp_path):
 
 
 @pytest.mark.openfoam
+@pytest.mark.slow
 def test_a_tiny_one_way_run_reported_as_a_layout(tmp_path, openfoam):
     case = tmp_path / "tiny"
     proc = run_cli("case", str(TINY), "-o", str(case))

@@ -44,6 +44,7 @@ def mid_height_arrival_s(time_s, depth_m, low_m: float, high_m: float) -> float:
 
 
 @pytest.mark.timeout(1800)  # 13 min on 2 cores shared with other jobs
+@pytest.mark.slow
 def test_bore_specified_scene_makes_its_bore(tmp_path, openfoam):
     scene = {
         "name": "tiny-bore",

@@ -927,6 +927,7 @@ def test_resumed_after_a_bed_runaway_the_body_stays_on_the_bed(tmp_path, openfoa
 
 
 @pytest.mark.openfoam
+@pytest.mark.slow
 def test_a_body_on_the_bed_is_held_until_the_measured_water_can_lift_it(tmp_path, openfoam):
     # 0.3 m downstream of the gate, Ritter's depth reaches the container's 26 mm draft plus the
     # 15 mm gap it stands on (plan.BedGap: half a 3 cm body cell) at 0.50 s: the planner's estimate.
@@ -991,6 +992,7 @@ def test_a_pinned_body_stays_where_it_is(tmp_path, openfoam):
 
 
 @pytest.mark.openfoam
+@pytest.mark.slow
 def test_a_body_the_flow_keeps_pressing_against_the_column_is_pinned(tmp_path, openfoam):
     """A resting contact that comes back more than `max_events` times within `window_s` pins the body.
 

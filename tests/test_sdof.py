@@ -480,6 +480,7 @@ def test_piecewise_linear_recurrence_matches_the_closed_form_superposition():
     assert np.abs(q0[0] - w0).max() <= 1e-7 * np.abs(w0).max()
 
 
+@pytest.mark.slow
 def test_piecewise_linear_recurrence_overdamped_against_numerical_integration():
     times, forces = _random_samples(2, n=60)
     t = np.linspace(times[0], times[-1] + 4e-4, 200)

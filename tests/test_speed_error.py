@@ -87,6 +87,7 @@ def hand_baseline(tmp_path_factory):
 
 
 @pytest.mark.openfoam
+@pytest.mark.slow
 def test_speed_error_report_on_a_real_mesh_study(tiny_sweep, hand_baseline, tmp_path, openfoam):
     sweep_dir, proc = tiny_sweep
     assert proc.returncode == 0, proc.stderr[-3000:]

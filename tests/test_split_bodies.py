@@ -75,6 +75,7 @@ def _largest_mesh_flux(field: Path) -> float:
 
 
 @pytest.mark.openfoam
+@pytest.mark.slow
 def test_three_overlapping_body_meshes_get_past_the_first_steps_on_two_ranks(openfoam, tmp_path):
     """Past the addressing, the three body meshes stand still while static friction holds their
     bodies (to 0.24 s): each sixDoF solver moves its own cellZone only. Without the zones v1912

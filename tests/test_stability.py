@@ -82,16 +82,29 @@ def test_no_water_balance_output_is_none(tmp_path):
 # --------------------------------------------------------------------------- with OpenFOAM
 
 
-@pytest.fixture(scope="module")
-def small_hard(tmp_path_factory):
-    """cases/sweeps/hard-cases-small.yaml run once by the CLI: (sweep folder, CompletedProcess, table)."""
-    out = tmp_path_factory.mktemp("hard") / "small"
-    proc = run_cli("sweep", str(ROOT / "cases" / "sweeps" / "hard-cases-small.yaml"), "-o", str(out))
+def _hard_sweep(tmp_path_factory, name: str):
+    out = tmp_path_factory.mktemp("hard") / name
+    proc = run_cli("sweep", str(ROOT / "cases" / "sweeps" / f"hard-cases-{name}.yaml"), "-o", str(out))
     table = stability_table(out) if (out / "results.sqlite").is_file() else None
     return out, proc, table
 
 
+@pytest.fixture(scope="module")
+def small_hard(tmp_path_factory):
+    """cases/sweeps/hard-cases-small.yaml (every small hard case, about 13 min on 2 cores) run once by
+    the CLI: (sweep folder, CompletedProcess, table)."""
+    return _hard_sweep(tmp_path_factory, "small")
+
+
+@pytest.fixture(scope="module")
+def quick_hard(tmp_path_factory):
+    """cases/sweeps/hard-cases-quick.yaml (the quickest three of them) run once by the CLI."""
+    return _hard_sweep(tmp_path_factory, "quick")
+
+
 SMALL = sorted(p.stem for p in (ROOT / "cases" / "hard" / "small").glob("*.yaml"))
+#: The small hard cases of the default suite (cases/sweeps/hard-cases-quick.yaml); the others are slow.
+QUICK = ("coarse-large-courant", "max-impoundment", "thin-wet-bed")
 #: What each small hard case does, measured on v1912 with 2 ranks (docs/stability.md), and
 #: what its test therefore asks: ("finished", "") runs to its end time and is sane; (outcome,
 #: words) stops with that outcome and a diagnosis containing those words, the simulated time
@@ -143,11 +156,12 @@ def test_every_small_hard_case_states_its_outcome():
 
 
 @pytest.mark.openfoam
-@pytest.mark.parametrize("name", SMALL)
-def test_small_hard_case_ends_as_expected(small_hard, openfoam, name):
-    out, proc, table = small_hard
+@pytest.mark.timeout(1800)
+@pytest.mark.parametrize("name", [n if n in QUICK else pytest.param(n, marks=pytest.mark.slow) for n in SMALL])
+def test_small_hard_case_ends_as_expected(request, openfoam, name):
+    out, proc, table = request.getfixturevalue("quick_hard" if name in QUICK else "small_hard")
     assert table is not None, proc.stderr
-    assert len(table) == len(SMALL)
+    assert len(table) == (len(QUICK) if name in QUICK else len(SMALL))
     r = _row(table, name)
     outcome, words = EXPECTED[name]
     for other in ALTERNATIVES.get(name, ()):
@@ -168,10 +182,10 @@ def test_small_hard_case_ends_as_expected(small_hard, openfoam, name):
 
 
 @pytest.mark.openfoam
-def test_interfoam_conserves_water_to_round_off(small_hard, openfoam):
+def test_interfoam_conserves_water_to_round_off(quick_hard, openfoam):
     """The member without debris runs interFoam: MULES is conservative, so the balance of
     volume and boundary fluxes closes far inside the 1 % (a check on the balance itself)."""
-    _, _, table = small_hard
+    _, _, table = quick_hard
     row = table[table["scene"] == "small-coarse-large-courant"].iloc[0]
     if row.outcome == "finished":
         assert abs(row.water_error) < 1e-4
@@ -181,6 +195,7 @@ def test_interfoam_conserves_water_to_round_off(small_hard, openfoam):
 
 
 @pytest.mark.openfoam
+@pytest.mark.slow
 def test_bodies_stay_outside_the_column_and_walls(small_hard, openfoam):
     _, _, table = small_hard
     watched = [f"small-{n}" for n in ("close-to-column", "near-side-wall", "glancing")]
@@ -207,8 +222,8 @@ def test_bodies_stay_outside_the_column_and_walls(small_hard, openfoam):
 
 
 @pytest.mark.openfoam
-def test_report_stability_on_the_command_line(small_hard, openfoam, tmp_path):
-    out, _, table = small_hard
+def test_report_stability_on_the_command_line(quick_hard, openfoam, tmp_path):
+    out, _, table = quick_hard
     md = tmp_path / "stability.md"
     proc = run_cli("report", "stability", str(out), "-o", str(md))
     assert proc.returncode == 0, proc.stderr
@@ -259,6 +274,7 @@ def _background_boundary_outflow(case: Path, time_name: str) -> float:
 
 
 @pytest.mark.openfoam
+@pytest.mark.slow
 def test_the_fringe_flux_closes_the_background_continuity(small_hard, openfoam):
     """What flows into the background's overset fringe is what its open patches let in: the
     calculated cells are divergence-free (to the pressure solver's tolerance), so the
@@ -293,6 +309,7 @@ def _startup_courant(log: Path) -> float | None:
 
 
 @pytest.mark.openfoam
+@pytest.mark.slow
 def test_a_restart_goes_on_at_the_courant_number_it_stopped_at(small_hard, openfoam):
     """A restart continues from the flux the solver wrote: its start-up Courant number is one the
     solver would have stepped at (maxCo, with slack for the landing step). v1912's start-up pcorr

@@ -31,6 +31,7 @@ FLOATING = ROOT / "tests" / "data" / "scenes" / "still-water-floating.yaml"
 
 
 @pytest.mark.openfoam
+@pytest.mark.slow
 def test_a_container_resting_in_still_water_keeps_its_place_and_heading_two_way(openfoam, tmp_path):
     case = tmp_path / "still"
     render_and_run(SCENE, case)
@@ -54,6 +55,7 @@ def test_a_container_resting_in_still_water_keeps_its_place_and_heading_two_way(
 
 
 @pytest.mark.openfoam
+@pytest.mark.slow
 def test_a_container_afloat_in_still_water_keeps_its_draft_place_and_heading_two_way(openfoam, tmp_path):
     case = tmp_path / "afloat"
     plan = render_and_run(FLOATING, case)
@@ -75,6 +77,7 @@ def test_a_container_afloat_in_still_water_keeps_its_draft_place_and_heading_two
 
 
 @pytest.mark.openfoam
+@pytest.mark.slow
 def test_a_container_set_two_millimetres_aside_between_segments_stays_where_it_was_set(openfoam, tmp_path):
     """The runner moves bodies between segments (pressed pairs set a gap apart, overlaps removed,
     bodies lifted out of the bed). Its mesh points follow the new pose at the restart time

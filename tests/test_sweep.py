@@ -247,6 +247,7 @@ def test_a_rerun_skips_finished_members(local_sweep, openfoam):
 
 
 @pytest.mark.openfoam
+@pytest.mark.slow
 def test_dask_local_cluster_runs_the_same_sweep(local_sweep, tmp_path, openfoam):
     local_out, _ = local_sweep
     out = tmp_path / "dask"
@@ -284,7 +285,7 @@ with _dask_executor(2, None, None) as ex:
 """
 
 
-@pytest.mark.parametrize("attempt", range(3))
+@pytest.mark.parametrize("attempt", [0, pytest.param(1, marks=pytest.mark.slow), pytest.param(2, marks=pytest.mark.slow)])
 def test_the_dask_executor_shuts_down_without_a_traceback(attempt):
     """Each member's stop bridge keeps an Event.wait open on the scheduler for up to a second
     after its member returns; a cluster closed under it logged `distributed.event - ERROR`
@@ -329,7 +330,7 @@ def test_a_failing_member_does_not_stop_the_other_and_is_recorded(tmp_path, open
 
 
 @pytest.mark.openfoam
-@pytest.mark.parametrize("how", ["ctrl-c", "sigterm"])
+@pytest.mark.parametrize("how", [pytest.param("ctrl-c", marks=pytest.mark.slow), "sigterm"])
 def test_a_stopped_sweep_stops_cleanly_and_a_rerun_resumes(tmp_path, openfoam, how):
     """ctrl-c: SIGINT to the whole process group, as a terminal sends it; sigterm: `kill PID`
     (or a batch system's stop) to the sweep alone, started as `nohup ... &` starts it (SIGINT
@@ -423,6 +424,7 @@ if __name__ == "__main__":
 """
 
 
+@pytest.mark.slow
 def test_dask_workers_start_without_the_malloc_trim_threshold():
     """Distributed's nannies would start workers with MALLOC_TRIM_THRESHOLD_=65536, which halves
     the transport's speed (orchestrator.studies.sweep.executors.worker_environment); the

@@ -258,7 +258,7 @@ def mesh_steps(case_dir: str | Path, plan) -> list[Step]:
     for name in bodies:
         steps.append(Step(f"mergeMeshes.{name}", ("mergeMeshes", ".", f"{BODIES_DIR}/{name}", "-overwrite"),
                           f"add body {name}'s mesh to the background", done=_has_patch(f"{name}Overset")))
-    friction = float(plan.bed_friction_factor) > 0
+    friction = float(plan.bed_friction_per_m) > 0
     sets = list(bodies) + [f"{name}_faces" for name in bodies] + ([BED_LAYER_ZONE] if friction else [])
     if sets:
         what = ["one cellSet and one faceZone (for decomposePar) per body mesh"] if bodies else []

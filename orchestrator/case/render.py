@@ -36,7 +36,7 @@ from orchestrator.core.errors import InputError
 from orchestrator.case import foam
 from orchestrator.case.folder import BED_LAYER_ZONE, BODIES_DIR, PLAN_JSON, SCENE_YAML
 from orchestrator.core.files import bundled_dir, write_text_atomic
-from orchestrator.plan.grading import COLUMN_PATCH
+from orchestrator.plan.grading import BACKGROUND_PATCHES, COLUMN_PATCH
 from orchestrator.plan.grid import BoxGrid
 from orchestrator.plan.model import ModelPlan
 from orchestrator.scene.scenefile import dump_scene_yaml
@@ -294,6 +294,7 @@ def build_context(scene, plan, numerics: Numerics | None = None) -> dict[str, An
         "water_boxes": [{"name": box.name, "min": tuple(float(v) for v in box.min_m),
                          "max": tuple(float(v) for v in box.max_m)} for box in plan.water],
         "bed_friction": _friction_context(plan, lo, hi),
+        "turbulence": _turbulence_context(plan),
         "domain": {"min": tuple(lo), "max": tuple(hi)},
         "gauges": gauges,
         "probes": probes,
@@ -389,12 +390,27 @@ def _friction_context(plan: ModelPlan, lo: np.ndarray, hi: np.ndarray) -> dict[s
     """Bed friction (Darcy f): the plan's quadratic drag on its friction layer next to the bed, a
     Darcy-Forchheimer porosity with only the Forchheimer term, horizontal only, on every cell
     below the layer's top."""
-    if float(plan.bed_friction_factor) <= 0:
+    if float(plan.bed_friction_per_m) <= 0:
         return None
     layer = float(plan.friction_layer_m)
     return {"darcy_f": float(plan.bed_friction_factor), "layer_m": layer, "zone": BED_LAYER_ZONE,
             "calibration": float(plan.bed_friction_calibration), "forchheimer_per_m": float(plan.bed_friction_per_m),
             "box_min": (lo[0] - 1, lo[1] - 1, lo[2] - 1), "box_max": (hi[0] + 1, hi[1] + 1, lo[2] + layer)}
+
+
+#: A RANS flow's start: still water and air, nearly free of turbulence (k in m2/s2, omega in 1/s);
+#: the bore makes its own.
+QUIESCENT_K_M2_S2 = 1.0e-6
+QUIESCENT_OMEGA_1_S = 1.0
+
+
+def _turbulence_context(plan: ModelPlan) -> dict[str, Any] | None:
+    """A RANS plan's model, its quiescent start and the bed's sand roughness (the bed patch's
+    rough wall function); None for a laminar plan."""
+    if plan.turbulence == "laminar":
+        return None
+    return {"model": plan.turbulence, "k": QUIESCENT_K_M2_S2, "omega": QUIESCENT_OMEGA_1_S,
+            "bed_patch": BACKGROUND_PATCHES["zmin"], "bed_roughness_m": float(plan.bed_roughness_m)}
 
 
 # --------------------------------------------------------------------------- files
@@ -418,6 +434,8 @@ def case_files(context: dict[str, Any]) -> list[tuple[str, str, dict[str, Any]]]
         ("0/U.j2", "0/U", {}),
         ("0/p_rgh.j2", "0/p_rgh", {}),
     ]
+    if context["turbulence"]:
+        files += [("0/k.j2", "0/k", {}), ("0/omega.j2", "0/omega", {}), ("0/nut.j2", "0/nut", {})]
     if overset or context["bed_friction"]:
         files.append(("system/topoSetDict.j2", "system/topoSetDict", {}))
     if context["bed_friction"]:

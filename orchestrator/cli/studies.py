@@ -302,6 +302,14 @@ def cmd_report_scale(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def cmd_report_bore(args: argparse.Namespace) -> int:
+    from orchestrator.studies.bore_check import write_bore_report
+
+    files = write_bore_report(args.sweep_dir, output_path(args.out, "-o/--out", args.force, folder=True))
+    emit({kind: str(path) for kind, path in files.items()}, args.json)
+    return EXIT_OK
+
+
 def cmd_report_stability(args: argparse.Namespace) -> int:
     from orchestrator.studies.stability import markdown, stability_table
 
@@ -386,7 +394,7 @@ def add_study_parsers(verbs) -> None:
                                          "spreading), coupling (one-way against two-way), "
                                          "speed-error (a sweep's cost against its errors), scale (a scene and its "
                                          "Froude-scaled twin), stability (a sweep's "
-                                         "runs checked)")
+                                         "runs checked), bore (a sweep's bores against Stoker's)")
     rp_verbs = rp.add_subparsers(dest="report_verb", required=True, parser_class=ArgParser)
     p = rp_verbs.add_parser("speed-error", help="wall time against error for every member of a sweep (and of "
                                                 "baseline sweeps): table and Pareto plot in SWEEP_DIR/report/")
@@ -468,3 +476,11 @@ def add_study_parsers(verbs) -> None:
     p.add_argument("--force", action="store_true", help="overwrite an existing -o file")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_report_stability)
+
+    p = rp_verbs.add_parser("bore", help="every member of a wet-bed sweep against Stoker's dam break: front speed "
+                                         "and bore depth (make wet-bed; docs/results/wet-bed/)")
+    p.add_argument("sweep_dir", help="a sweep folder of post-processed 2D wet-bed runs, e.g. runs/sweeps/wet-bed")
+    p.add_argument("-o", "--out", required=True, help="output folder (report.md, bore_check.csv, gauge plots)")
+    p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_report_bore)

@@ -134,6 +134,43 @@ def axis_segments(
     return tuple(segs)
 
 
+def resolve_wet_bed(zs: tuple[Segment, ...], wet_m: float, cells: int, growth: float) -> tuple[Segment, ...]:
+    """The z segments with at least ``cells`` cells across the wet bed (0..``wet_m``, a plane of the
+    grid) and cells growing by ``growth`` a cell from the wet bed's top cell to the size of the
+    segment above it, so that no cell above the bed is more than ``growth`` times its neighbour."""
+    h_bed = wet_m / cells
+    out: list[Segment] = []
+    top = h_bed
+    for i, seg in enumerate(zs):
+        if seg.end_m <= wet_m + 1e-12:
+            n = max(seg.cells, math.ceil(seg.length_m / h_bed - 1e-9))
+            out.append(Segment(seg.start_m, seg.end_m, n, seg.grading if n == seg.cells else 1.0))
+            top = out[-1].cell_sizes_m()[1]
+            continue
+        if seg.start_m < wet_m - 1e-12 or (out and out[-1].end_m < wet_m - 1e-12):
+            return zs  # the wet bed's surface is not a plane of this grid: leave it as planned
+        if abs(seg.start_m - wet_m) > 1e-12:
+            out.append(seg)
+            continue
+        target = seg.cell_sizes_m()[0]
+        if target <= top * growth:
+            out.extend(zs[i:])
+            break
+        m = max(1, math.ceil(math.log(target / top) / math.log(growth) - 1e-9))
+        q = (target / top) ** (1.0 / m)
+        graded_len = top * q * (q**m - 1.0) / (q - 1.0)
+        if graded_len + 0.5 * target < seg.length_m:
+            cut = seg.start_m + graded_len
+            out.append(Segment(seg.start_m, cut, m, q ** (m - 1)))
+            rest = Segment(cut, seg.end_m, max(1, math.ceil((seg.end_m - cut) / target - 1e-9)), seg.grading)
+            out.append(rest)
+        else:
+            out.append(graded_segment(seg.start_m, seg.end_m, top * growth, target))
+        out.extend(zs[i + 1:])
+        break
+    return tuple(out)
+
+
 def _indices_within(segs: tuple[Segment, ...], lo: float, hi: float) -> list[int]:
     return [i for i, s in enumerate(segs) if lo - 1e-9 <= 0.5 * (s.start_m + s.end_m) <= hi + 1e-9]
 
@@ -201,6 +238,11 @@ def background_grid(scene: Scene, domain: Domain, gap: BedGap | None, two_d: boo
     ysegs = (Segment(fy0, fy1, 1),) if two_d else axis_segments(fy0, fy1, fine[1], wy, h, h_max, growth)
     zs = axis_segments(0.0, domain.z_hi, fine[2], wz, h, h_max, growth)
     xs, ysegs, zs = _refined(scene, fine, (xs, ysegs, zs), two_d, reasons)
+    if scene.bed.wet_depth_m > 0 and scene.mesh.wet_bed_cells > 1:
+        zs = resolve_wet_bed(zs, scene.bed.wet_depth_m, scene.mesh.wet_bed_cells, growth)
+        reasons["wet_bed"] = (
+            f"{scene.mesh.wet_bed_cells} or more cells across the {scene.bed.wet_depth_m:g} m wet bed, growing by "
+            f"{growth:g} a cell above it: the bore meets the still water in cells that can carry it along")
     holes: frozenset = frozenset()
     if col:
         ii = _indices_within(xs, col.x_m - col.size_x_m / 2, col.x_m + col.size_x_m / 2)

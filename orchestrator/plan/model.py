@@ -236,6 +236,10 @@ class ModelPlan:
     debris_coupling: Literal["none", "one-way", "two-way"] = field(default="none", kw_only=True)
     #: the flow record of a one-way plan (None otherwise)
     flow_record: FlowRecordPlan | None = field(default=None, kw_only=True)
+    #: the flow's closure (scene fluids.turbulence): "laminar" or "kOmegaSST"
+    turbulence: Literal["laminar", "kOmegaSST"] = field(default="laminar", kw_only=True)
+    #: the bed's Nikuradse sand roughness k_s for the RANS wall function (m; 0: smooth or laminar)
+    bed_roughness_m: float = field(default=0.0, kw_only=True)
 
     def __post_init__(self) -> None:
         for i, box in enumerate(self.water):
@@ -290,6 +294,8 @@ class ModelPlan:
             "probes": [{"name": p.name, "point_m": list(p.point_m)} for p in self.probes],
             "debris_coupling": self.debris_coupling,
             "flow_record": None if self.flow_record is None else self.flow_record.to_dict(),
+            "turbulence": self.turbulence,
+            "bed_roughness_m": self.bed_roughness_m,
             "background": grid_to_dict(self.background),
             "bodies": [b.to_dict() for b in self.bodies],
             "water": [{"name": w.name, "min_m": list(w.min_m), "max_m": list(w.max_m)} for w in self.water],
@@ -328,6 +334,8 @@ class ModelPlan:
                 warnings=tuple(data["warnings"]),
                 # plan.json written before the coupling choice: bodies meant the overset path
                 debris_coupling=data.get("debris_coupling", "two-way" if data["bodies"] else "none"),
+                turbulence=data.get("turbulence", "laminar"),
+                bed_roughness_m=data.get("bed_roughness_m", 0.0),
                 flow_record=None if data.get("flow_record") is None else FlowRecordPlan.from_dict(data["flow_record"]),
             )
         except KeyError as missing:

@@ -20,6 +20,7 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
+from analytical.roughness import bore_depth_m, sand_roughness_m
 from orchestrator.plan.bodies import BodyLayout, body_inertia, body_layout, body_plans
 from orchestrator.plan.case_numbers import WET_BED, case_numbers
 from orchestrator.plan.coupling import ONE_WAY_MAX_COURANT, choose_coupling, flow_record_plan
@@ -145,9 +146,13 @@ def plan_case(scene: Scene, source: str | None = None) -> ModelPlan:
         warnings=tuple(warnings),
         debris_coupling=coupling,
         flow_record=flow_record,
+        turbulence=scene.fluids.turbulence,
+        bed_roughness_m=_bed_roughness_m(scene),
+        # the drag layer is the laminar model's bed friction; a RANS flow feels the bed's roughness
         **case_numbers(background, water, gauges, two_d=two_d, max_courant=run.max_courant,
                        write_interval_s=run.write_interval_s, max_delta_t=run.max_delta_t_s,
-                       gravity_m_s2=scene.fluids.gravity_m_s2, bed_friction_factor=scene.bed.friction_factor,
+                       gravity_m_s2=scene.fluids.gravity_m_s2,
+                       bed_friction_factor=scene.bed.friction_factor if scene.fluids.turbulence == "laminar" else 0.0,
                        bed_friction_calibration=scene.bed.friction_calibration,
                        record_interval_s=record_interval),
     )
@@ -231,13 +236,32 @@ def _water(scene: Scene, domain: Domain, reasons: dict[str, str]) -> tuple[Water
         + (f" and a {wet:g} m wet bed downstream" if wet > 0 else "; dry bed")
         + (f"; {inundation_reason(scene)}" if scene.inundation is not None else "")
     )
-    reasons["bed_friction"] = (
-        f"Darcy f = {scene.bed.friction_factor:g} as a drag rho (f/8)|U|U on the first cell layer above the bed: "
-        "without friction the front arrives 15-30 % early (docs/openfoam-notes.md); the drag is multiplied by "
-        f"bed.friction_calibration = {scene.bed.friction_calibration:g}, calibrated against Chanson's arrival "
-        "times (docs/bed-friction.md)"
-    )
+    if scene.fluids.turbulence != "laminar":
+        ks = _bed_roughness_m(scene)
+        reasons["bed_friction"] = (
+            f"{scene.fluids.turbulence} with wall functions: the bed rough with sand roughness k_s = {ks:.3g} m, "
+            f"which gives Darcy f = {scene.bed.friction_factor:g} at the depth the flow runs at, "
+            f"{bore_depth_m(h0, wet, scene.fluids.gravity_m_s2):.3g} m (Colebrook, analytical/roughness.py); "
+            "no drag layer" if ks > 0 else f"{scene.fluids.turbulence} with wall functions on a smooth bed")
+    elif scene.bed.friction_factor <= 0:
+        reasons["bed_friction"] = "none: bed.friction_factor is 0 (a laminar flow over a no-slip bed)"
+    else:
+        reasons["bed_friction"] = (
+            f"Darcy f = {scene.bed.friction_factor:g} as a drag rho (f/8)|U|U on the cell layers next to the bed: "
+            "without friction the front arrives 15-30 % early (docs/openfoam-notes.md); the drag is multiplied by "
+            f"bed.friction_calibration = {scene.bed.friction_calibration:g}, calibrated against Chanson's arrival "
+            "times (docs/bed-friction.md)"
+        )
     return tuple(water)
+
+
+def _bed_roughness_m(scene: Scene) -> float:
+    """The bed's sand roughness for a RANS flow's wall function (m): the k_s that gives the scene's
+    Darcy f at the depth the dam-break flow runs at; 0 for a laminar flow or a frictionless bed."""
+    if scene.fluids.turbulence == "laminar" or scene.bed.friction_factor <= 0:
+        return 0.0
+    depth = bore_depth_m(scene.reservoir.depth_m, scene.bed.wet_depth_m, scene.fluids.gravity_m_s2)
+    return sand_roughness_m(scene.bed.friction_factor, depth)
 
 
 def _gauges(scene: Scene, domain: Domain, reasons: dict[str, str]) -> tuple[GaugePlan, ...]:

@@ -32,7 +32,7 @@ class MeshStepsPlan:
 
     solver: str
     decomposition: tuple
-    bed_friction_factor: float
+    bed_friction_per_m: float  # the drag layer's Forchheimer coefficient (0: no drag layer)
     bodies: tuple[NamedBody, ...]
 
 
@@ -105,7 +105,7 @@ def load_case_info(case_dir: str | Path, np_override: int | None = None) -> Case
     missing = [b.name for b in bodies if b.name not in sizes]
     if missing:
         raise RunError(f"{folder.plan_path}: no size for bodies {missing} of constant/dynamicMeshDict")
-    steps_plan = MeshStepsPlan(solver, n, float(plan.get("bed_friction_factor", 0.0)),
+    steps_plan = MeshStepsPlan(solver, n, float(plan.get("bed_friction_per_m", 0.0)),
                                tuple(NamedBody(b.name) for b in bodies))
     return CaseInfo(
         case=case,

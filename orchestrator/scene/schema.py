@@ -330,6 +330,10 @@ class Fluids(SceneSection):
     air_viscosity_m2_s: float = Field(1.48e-5, gt=0, description="kinematic viscosity (m2/s)")
     surface_tension_N_m: float = Field(0.07, ge=0, description="water-air surface tension (N/m)")
     gravity_m_s2: float = Field(9.81, gt=0, description="gravitational acceleration (m/s2)")
+    turbulence: Literal["laminar", "kOmegaSST"] = Field(
+        "laminar", description="the flow's closure: laminar (bed friction as a drag on the layers next to the bed, "
+        "bed.friction_calibration), or RANS k-omega SST with wall functions, the bed rough with the sand roughness "
+        "that gives bed.friction_factor in the bore (analytical/roughness.py; no drag layer, no calibration)")
 
 
 class Mesh(SceneSection):
@@ -338,6 +342,10 @@ class Mesh(SceneSection):
     cell_size_m: float = Field(gt=0, description="finest cell size: bed and bore, column, debris path (m)")
     coarsening_ratio: float = Field(4.0, ge=1, description="largest cell / finest cell (-)")
     growth_ratio: float = Field(1.15, gt=1, le=2, description="largest size ratio of neighbouring cells (-)")
+    wet_bed_cells: int = Field(
+        1, ge=1, le=20,
+        description="cells across the wet bed's depth, growing by growth_ratio a cell above it up to cell_size_m "
+        "(-); 1 = the wet bed is one layer (docs/bed-friction.md)")
     body_cells_across: float = Field(
         4.0, gt=0,
         description="body-mesh cells across the smallest debris dimension (-); with 2 at 4 cm cells the body "

@@ -1,0 +1,203 @@
+"""The simulated bore against Stoker's wet-bed dam break: front speed and bore depth.
+
+Stoker's solution (``analytical.dambreak.StokerSolution``) is a frictionless, depth-averaged
+bore of constant speed S and depth h2 running into still water h1. A run is read at its gauges:
+
+* the front's arrival at each gauge is the package's (:func:`orchestrator.results.metrics.arrival_time`:
+  the level rising 2 % of h0 above the still water), and the front speed is the least-squares slope
+  of gauge position against arrival over the gauges at least :data:`DEVELOPED_X_FACTOR` h0 past the
+  gate (closer to it the flow is still leaving the reservoir as a jet, which Stoker's self-similar
+  solution does not have); the speeds over successive reaches say whether the front speeds up;
+* the bore depth at a gauge is the median level between :data:`SETTLE_S` after Stoker's bore has
+  passed it and the arrival of the rarefaction's tail (or the run's end), where Stoker's level is h2.
+
+The sweep ``cases/sweeps/wet-bed.yaml`` runs the 2D frictionless flume of ``cases/stoker-wet-bed.yaml``
+laminar and RANS, with the wet bed as one cell layer and resolved, at the study's h1/h0 = 0.0375 and
+a deeper one; ``debrisfoam report bore`` writes the page (docs/results/wet-bed/).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from analytical.dambreak import StokerSolution
+from orchestrator.core.errors import InputError
+from orchestrator.results.metrics import ARRIVAL_FRACTION, arrival_time
+
+__all__ = ["BoreCheck", "DEVELOPED_X_FACTOR", "SETTLE_S", "bore_check", "check_run", "sweep_checks",
+           "write_bore_report"]
+
+#: Gauges closer to the gate than this many impoundment depths are left out of the front speed.
+DEVELOPED_X_FACTOR = 5.0
+#: The bore depth is read from this long after Stoker's bore has passed a gauge (s).
+SETTLE_S = 0.25
+
+
+@dataclass(frozen=True)
+class BoreCheck:
+    """One run's front and bore beside Stoker's: speeds in m/s, depths in m, errors in %."""
+
+    h0_m: float
+    h1_m: float
+    front_speed_m_s: float
+    stoker_speed_m_s: float
+    speed_error_pct: float
+    bore_depth_m: float
+    stoker_depth_m: float
+    depth_error_pct: float
+    reach_speeds_m_s: tuple[float, ...]
+    gauges_used: tuple[str, ...]
+
+    @property
+    def front_speeds_up(self) -> bool:
+        """True when the front runs faster over a reach than over the one before it (by 5 %)."""
+        s = self.reach_speeds_m_s
+        return any(b > 1.05 * a for a, b in zip(s, s[1:]))
+
+
+def bore_check(time_s, levels: dict[str, np.ndarray], gauge_x_m: dict[str, float], h0_m: float, h1_m: float,
+               g: float = 9.81) -> BoreCheck:
+    """The front speed and bore depth of the gauge records ``levels`` (name -> elevation, m, on
+    ``time_s``) at positions ``gauge_x_m`` beside Stoker's for ``h0_m`` over ``h1_m``."""
+    if not 0.0 < h1_m < h0_m:
+        raise InputError("bed.wet_depth_m", f"Stoker's bore needs 0 < h1 < h0 = {h0_m:g} m, got {h1_m:g} m")
+    stoker = StokerSolution(h0_m, h1_m, g)
+    st = stoker.state
+    t = np.asarray(time_s, dtype=float)
+    used = sorted((x, name) for name, x in gauge_x_m.items() if x >= DEVELOPED_X_FACTOR * h0_m)
+    if len(used) < 2:
+        raise InputError("gauges", f"needs two gauges at least {DEVELOPED_X_FACTOR:g} h0 = "
+                         f"{DEVELOPED_X_FACTOR * h0_m:g} m past the gate, got {len(used)}")
+    xs, arrivals, depths = [], [], []
+    for x, name in used:
+        e = np.asarray(levels[name], dtype=float)
+        ta = arrival_time(t, e, h1_m, ARRIVAL_FRACTION * h0_m)
+        start = x / st.shock_speed_m_s + SETTLE_S
+        tail = st.rarefaction_tail_speed_m_s
+        end = min(x / tail, t[-1]) if tail > 0 else t[-1]
+        window = (t >= start) & (t <= end)
+        xs.append(x)
+        arrivals.append(ta)
+        depths.append(float(np.nanmedian(e[window])) if window.any() else math.nan)
+    xs_a, ta_a = np.array(xs), np.array(arrivals)
+    ok = np.isfinite(ta_a)
+    speed = float(np.polyfit(ta_a[ok], xs_a[ok], 1)[0]) if ok.sum() >= 2 else math.nan
+    reaches = tuple(float((xs_a[i + 1] - xs_a[i]) / (ta_a[i + 1] - ta_a[i]))
+                    for i in range(len(xs_a) - 1) if ok[i] and ok[i + 1] and ta_a[i + 1] > ta_a[i])
+    finite = [d for d in depths if math.isfinite(d)]
+    depth = float(np.mean(finite)) if finite else math.nan
+    return BoreCheck(h0_m, h1_m, speed, st.shock_speed_m_s, 100.0 * (speed / st.shock_speed_m_s - 1.0),
+                     depth, st.h2_m, 100.0 * (depth / st.h2_m - 1.0), reaches, tuple(n for _, n in used))
+
+
+def check_run(case_dir: str | Path) -> BoreCheck:
+    """:func:`bore_check` of a post-processed run (its results/gauges.csv, plan.json and scene.yaml)."""
+    import yaml
+
+    case = Path(case_dir)
+    table = case / "results" / "gauges.csv"
+    if not table.is_file():
+        raise InputError(str(table), "missing: run `debrisfoam post` on the case first")
+    scene = yaml.safe_load((case / "scene.yaml").read_text())
+    frame = pd.read_csv(table)
+    gauges = {gg["name"]: float(gg["x_m"]) for gg in scene["gauges"]}
+    levels = {name: frame[f"{name}_elevation_m"].to_numpy() for name in gauges}
+    return bore_check(frame["time_s"].to_numpy(), levels, gauges, float(scene["reservoir"]["depth_m"]),
+                      float(scene["bed"]["wet_depth_m"]), float(scene.get("fluids", {}).get("gravity_m_s2", 9.81)))
+
+
+def sweep_checks(sweep_dir: str | Path) -> pd.DataFrame:
+    """One row per finished member of a sweep: its model, cells, wall time and :func:`check_run`."""
+    rows = []
+    for case in sorted(p.parent.parent for p in Path(sweep_dir).glob("*/results/gauges.csv")):
+        import yaml
+
+        scene = yaml.safe_load((case / "scene.yaml").read_text())
+        plan = json.loads((case / "plan.json").read_text())
+        run = json.loads((case / "run.json").read_text()) if (case / "run.json").is_file() else {}
+        check = check_run(case)
+        row = {"member": case.name, "turbulence": plan.get("turbulence", "laminar"),
+               "wet_bed_cells": int(scene.get("mesh", {}).get("wet_bed_cells", 1)),
+               "cell_size_m": float(scene["mesh"]["cell_size_m"]), "cells": int(plan["cell_count"]),
+               "wall_time_s": (run.get("runner") or {}).get("solver_wall_s"), **asdict(check)}
+        rows.append(row)
+    if not rows:
+        raise InputError(str(sweep_dir), "holds no post-processed member (no */results/gauges.csv)")
+    return pd.DataFrame(rows)
+
+
+def _plot(table: pd.DataFrame, sweep_dir: Path, out: Path) -> list[str]:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import yaml
+
+    names = []
+    for h1, group in table.groupby("h1_m"):
+        first = sweep_dir / group["member"].iloc[0]
+        scene = yaml.safe_load((first / "scene.yaml").read_text())
+        gauges = [gg for gg in scene["gauges"] if gg["x_m"] >= DEVELOPED_X_FACTOR * scene["reservoir"]["depth_m"]]
+        stoker = StokerSolution(float(scene["reservoir"]["depth_m"]), float(h1))
+        fig, axes = plt.subplots(len(gauges), 1, figsize=(7.5, 1.7 * len(gauges) + 0.6), sharex=True)
+        axes = np.atleast_1d(axes)
+        t = np.linspace(0.0, float(scene["run"]["end_time_s"]), 700)
+        for ax, gg in zip(axes, gauges):
+            ax.plot(t, [float(stoker.profile(gg["x_m"], tt)[0]) for tt in t], "k--", lw=1.2, label="Stoker")
+            for row in group.itertuples():
+                frame = pd.read_csv(sweep_dir / row.member / "results" / "gauges.csv")
+                ax.plot(frame["time_s"], frame[f"{gg['name']}_elevation_m"], lw=1,
+                        label=f"{row.turbulence}, {row.wet_bed_cells} cell(s) across the wet bed")
+            ax.set_ylabel(f"x = {gg['x_m']:g} m\nlevel (m)", fontsize=8)
+        axes[0].legend(fontsize=7, loc="upper left")
+        axes[-1].set_xlabel("time (s)")
+        fig.suptitle(f"h0 = {stoker.h0_m:g} m over a {h1:g} m wet bed (h1/h0 = {h1 / stoker.h0_m:.4g})", fontsize=9)
+        fig.tight_layout()
+        name = f"gauges-h1-{h1 * 1000:g}mm.png"
+        fig.savefig(out / name, dpi=90)
+        plt.close(fig)
+        names.append(name)
+    return names
+
+
+def write_bore_report(sweep_dir: str | Path, out_dir: str | Path) -> dict[str, Path]:
+    """The page: every member's front speed and bore depth against Stoker's, a table, the gauges."""
+    sweep = Path(sweep_dir)
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    table = sweep_checks(sweep).sort_values(["h1_m", "turbulence", "wet_bed_cells"])
+    flat = table.drop(columns=["reach_speeds_m_s", "gauges_used"]).assign(
+        reach_speeds_m_s=[" ".join(f"{v:.2f}" for v in r) for r in table["reach_speeds_m_s"]])
+    flat.to_csv(out / "bore_check.csv", index=False)
+    figures = _plot(table, sweep, out)
+    lines = [
+        "# The bore against Stoker's wet-bed dam break",
+        "",
+        "Generated by `make wet-bed` (`debrisfoam sweep cases/sweeps/wet-bed.yaml`, then "
+        "`debrisfoam report bore`): a frictionless 2D flume, the impoundment released at once over a still wet "
+        "bed, run laminar and with RANS k-omega SST, the wet bed one cell layer or resolved by several. "
+        f"Front speed: the slope of gauge position against the front's arrival (a {ARRIVAL_FRACTION:.0%} h0 rise) "
+        f"over the gauges at least {DEVELOPED_X_FACTOR:g} h0 past the gate; bore depth: the median level from "
+        f"{SETTLE_S:g} s after Stoker's bore has passed each of them to the rarefaction's tail. Reach speeds: the "
+        "front over successive gauge reaches, downstream.",
+        "",
+        "| h1/h0 | closure | cells across the wet bed | cells | solver wall time (s) | front speed (m/s) | Stoker (m/s) "
+        "| error | bore depth (m) | Stoker (m) | error | reach speeds (m/s) |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for r in table.itertuples():
+        wall = "-" if r.wall_time_s is None or not math.isfinite(r.wall_time_s) else f"{r.wall_time_s:.0f}"
+        lines.append(
+            f"| {r.h1_m / r.h0_m:.4g} | {r.turbulence} | {r.wet_bed_cells} | {r.cells:,} | {wall} "
+            f"| {r.front_speed_m_s:.3f} | {r.stoker_speed_m_s:.3f} | {r.speed_error_pct:+.1f} % "
+            f"| {r.bore_depth_m:.4f} | {r.stoker_depth_m:.4f} | {r.depth_error_pct:+.1f} % "
+            f"| {' '.join(f'{v:.2f}' for v in r.reach_speeds_m_s)} |")
+    lines += ["", *[f"![gauges]({name})" for name in figures], ""]
+    (out / "report.md").write_text("\n".join(lines))
+    return {"report": out / "report.md", "table": out / "bore_check.csv", **{n: out / n for n in figures}}

@@ -1,0 +1,102 @@
+"""The bore check reads Stoker's own solution back as Stoker's, a faster front as faster, and
+writes its page from a sweep's folders."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+import yaml
+
+from analytical.dambreak import StokerSolution
+from orchestrator.core.errors import InputError
+from orchestrator.studies.bore_check import bore_check, check_run, write_bore_report
+
+H0, H1 = 0.40, 0.015
+GAUGES = {f"G{i}": float(i) for i in range(2, 8)}
+
+
+def _records(h1=H1, stretch=1.0, t_end=3.5):
+    """Stoker's levels at the gauges; ``stretch`` > 1 runs the same wave that much faster."""
+    stoker = StokerSolution(H0, h1)
+    t = np.arange(0.0, t_end, 0.005)
+    return t, {name: np.array([float(stoker.profile(x / stretch, tt)[0]) for tt in t]) for name, x in GAUGES.items()}
+
+
+@pytest.mark.parametrize("h1", [0.015, 0.04])
+def test_stokers_own_solution_reads_as_stokers(h1):
+    t, levels = _records(h1)
+    check = bore_check(t, levels, GAUGES, H0, h1)
+    assert abs(check.speed_error_pct) < 0.5
+    assert abs(check.depth_error_pct) < 0.1
+    assert not check.front_speeds_up
+    assert check.gauges_used == tuple(f"G{i}" for i in range(2, 8))  # 5 h0 = 2 m past the gate and on
+
+
+def test_a_front_half_as_fast_again_reads_fifty_percent_fast():
+    t, levels = _records(stretch=1.5)
+    check = bore_check(t, levels, GAUGES, H0, H1)
+    assert check.speed_error_pct == pytest.approx(50.0, abs=1.0)
+
+
+def test_a_front_that_speeds_up_is_said_to():
+    t, levels = _records()
+    t2, fast = _records(stretch=1.6)
+    levels["G6"], levels["G7"] = fast["G6"], fast["G7"]
+    assert bore_check(t, levels, GAUGES, H0, H1).front_speeds_up
+
+
+@pytest.mark.parametrize("h1, gauges, field", [(0.0, GAUGES, "bed.wet_depth_m"), (0.5, GAUGES, "bed.wet_depth_m"),
+                                               (H1, {"G1": 1.0, "G2": 2.0}, "gauges")])
+def test_bad_input_names_the_field(h1, gauges, field):
+    t, levels = _records()
+    levels["G1"] = levels["G2"]
+    with pytest.raises(InputError, match=field):
+        bore_check(t, levels, gauges, H0, h1)
+
+
+def _member(folder, turbulence, cells, stretch):
+    t, levels = _records(stretch=stretch)
+    (folder / "results").mkdir(parents=True)
+    pd.DataFrame({"time_s": t, **{f"{n}_elevation_m": v for n, v in levels.items()}}).to_csv(
+        folder / "results" / "gauges.csv", index=False)
+    scene = {"reservoir": {"depth_m": H0}, "bed": {"wet_depth_m": H1}, "mesh": {"cell_size_m": 0.02,
+             "wet_bed_cells": cells}, "run": {"end_time_s": 3.5},
+             "gauges": [{"name": n, "x_m": x, "y_m": 0.0} for n, x in GAUGES.items()]}
+    (folder / "scene.yaml").write_text(yaml.safe_dump(scene))
+    (folder / "plan.json").write_text(json.dumps({"turbulence": turbulence, "cell_count": 1000}))
+    (folder / "run.json").write_text(json.dumps({"runner": {"solver_wall_s": 12.5}}))
+
+
+def test_the_page_lists_every_member_beside_stoker(tmp_path):
+    sweep = tmp_path / "sweep"
+    _member(sweep / "a", "laminar", 1, 1.56)
+    _member(sweep / "b", "kOmegaSST", 6, 1.0)
+    assert check_run(sweep / "a").speed_error_pct == pytest.approx(56.0, abs=1.0)
+    files = write_bore_report(sweep, tmp_path / "page")
+    text = files["report"].read_text()
+    assert "| 0.0375 | laminar | 1 |" in text and "| 0.0375 | kOmegaSST | 6 |" in text
+    assert files["gauges-h1-15mm.png"].stat().st_size > 10_000
+    table = pd.read_csv(files["table"])
+    assert len(table) == 2
+
+
+def test_an_empty_sweep_and_an_unposted_run_are_named(tmp_path):
+    with pytest.raises(InputError, match="no post-processed member"):
+        write_bore_report(tmp_path, tmp_path / "page")
+    with pytest.raises(InputError, match="gauges.csv"):
+        check_run(tmp_path)
+
+
+def test_the_verb_writes_the_page_and_an_empty_sweep_is_bad_input(tmp_path):
+    from tests.conftest import run_cli
+
+    _member(tmp_path / "sweep" / "a", "kOmegaSST", 6, 1.0)
+    proc = run_cli("report", "bore", str(tmp_path / "sweep"), "-o", str(tmp_path / "page"), "--json")
+    assert proc.returncode == 0, proc.stderr
+    assert json.loads(proc.stdout)["report"].endswith("report.md")
+    (tmp_path / "empty").mkdir()
+    bad = run_cli("report", "bore", str(tmp_path / "empty"), "-o", str(tmp_path / "page2"))
+    assert bad.returncode == 2 and "no post-processed member" in bad.stderr
