@@ -24,8 +24,8 @@ two samples, the jumps exact). The modes are taken in bands of doubling frequenc
 :func:`analytical.mdof.mdof_response` takes them, until two bands in a row each change all three
 histories by less than 1e-5 of their peaks.
 
-The output times are the pulse's samples and a tail after its end long enough for the slowest
-mode's peak response: ``max(0.05 s, 1.5 T_1)`` at steps of ``max(1e-5 s, T_1 / 2000)``, so a
+The output times are the pulse's samples, times through the pulse at the tail's step, and a tail
+after its end long enough for the slowest mode's peak response: ``max(0.05 s, 1.5 T_1)`` at steps of ``max(1e-5 s, T_1 / 2000)``, so a
 prototype column whose first period is longer than the pulse still reaches its peak (a
 short pulse on a flexible column peaks after the load has gone).
 
@@ -105,12 +105,14 @@ def _tabulated(pulse) -> Tabulated:
 
 
 def demand_times(pulse: Tabulated, model: ColumnModel) -> np.ndarray:
-    """The pulse's samples and the tail after it (module notes)."""
+    """The pulse's samples, times through it at the tail's step (a pulse sampled only at its ends,
+    the code's rectangular one, peaks in between) and the tail after it (module notes)."""
     period = 1.0 / float(model.frequencies_Hz[0])
     step = max(1.0e-5, period / 2000.0)
     length = max(0.05, 1.5 * period)
+    inside = pulse.start_s + np.arange(1, int(math.ceil((pulse.end_s - pulse.start_s) / step))) * step
     tail = pulse.end_s + np.arange(1, int(math.ceil(length / step)) + 1) * step
-    return np.concatenate([pulse.time_s, tail])
+    return np.concatenate([np.union1d(pulse.time_s, inside[inside < pulse.end_s]), tail])
 
 
 def column_demands(pulse, column: Column, height_m: float, t=None) -> ColumnDemands:
