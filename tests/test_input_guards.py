@@ -313,3 +313,29 @@ def test_counts_below_one_are_bad_input(tmp_path, capsys, argv, flag):
     code, err, _ = _cli(capsys, *argv)
     assert code == 2 and flag in err
     assert _files(tmp_path) == []
+
+
+STREET = ROOT / "cases" / "design-street.yaml"
+
+
+@pytest.mark.parametrize("setting, words", [
+    ("design.mass_kg=[2.3,30.48]", "masses in kg, not tonnes"),  # tonnes for kg: lighter than air
+    ("design.mass_kg=[2300,30480000]", "bulk density of 7.965e+05"),
+    ("design.start_x_m=[52,62]", "a body must start upstream of it"),  # past the column
+    ("design.start_x_m=[-80,35]", "upstream of the flume's upstream end"),
+    ("design.start_y_m=[-40,40]", "beyond the walls"),  # outside the 20 m street
+    ("design.start_y_m=[-8,8]", "beyond the walls"),  # a turned container reaches through the wall
+])
+def test_a_design_draw_that_cannot_be_is_refused_before_anything_runs(capsys, tmp_path, setting, words):
+    out = tmp_path / "design"
+    code, err, _ = _cli(capsys, "design", str(STREET), "-o", str(out), "--yes", "--set", setting)
+    assert code == 2
+    assert f"design-street.yaml: design.{setting.split('=')[0].split('.')[1]}:" in err and words in err
+    assert _files(out) == []
+
+
+def test_the_shipped_design_draws_are_accepted():
+    from orchestrator.scene.scenefile import load_scene
+
+    design = load_scene(STREET).design
+    assert design.start_x_m == (25.0, 35.0) and design.start_y_m == (-4.0, 4.0)

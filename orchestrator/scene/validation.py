@@ -70,6 +70,7 @@ def validate_scene(scene: Scene, source: str | None = None, origins: Sequence[di
     _check_bodies(scene, origins, source)
     _check_gauges(scene, source)
     _check_mesh(scene, source)
+    _check_design(scene, source)
 
 
 def _check_water(scene: Scene, source: str | None) -> None:
@@ -210,6 +211,64 @@ def _check_body_density(body: DebrisBody, path: str, from_layout: bool, source: 
             f"bulk density of {rho:.4g} kg/m3, {why}",
             source,
         )
+
+
+#: Without ``design.heading_deg`` a body turns about its own yaw by the ensemble's placement
+#: tolerance (normal, 12 degrees): its start area is checked for headings within three of those.
+UNDRAWN_HEADING_SPREAD_DEG = 36.0
+
+
+def _half_extents(body: DebrisBody, headings_deg: tuple[float, float]) -> tuple[float, float]:
+    """The largest half-extents along x and y of ``body``'s footprint over yaws in ``headings_deg``."""
+    length, width = body.size_m[0], body.size_m[1]
+    yaw = np.radians(np.linspace(headings_deg[0], headings_deg[1], 181))
+    hx = 0.5 * (length * np.abs(np.cos(yaw)) + width * np.abs(np.sin(yaw)))
+    hy = 0.5 * (length * np.abs(np.sin(yaw)) + width * np.abs(np.cos(yaw)))
+    return float(hx.max()), float(hy.max())
+
+
+def _check_design(scene: Scene, source: str | None) -> None:
+    """``design``'s draws give real bodies that start inside the flume and upstream of the column:
+    every body's bulk density at both ends of ``mass_kg`` within :data:`DENSITY_POSSIBLE_KG_M3`; a
+    start area (``start_x_m``, ``start_y_m``) that keeps every body's footprint, at every heading it
+    may draw, between the walls, inside the flume and clear of the column's upstream face."""
+    design = scene.design
+    lo, hi = DENSITY_POSSIBLE_KG_M3
+    for body in scene.debris:
+        volume = body.size_m[0] * body.size_m[1] * body.size_m[2]
+        for mass in design.mass_kg or ():
+            rho = mass / volume
+            if not lo <= rho <= hi:
+                raise InputError("design.mass_kg", f"{mass:g} kg in body {body.name!r}'s "
+                                 f"{' x '.join(f'{s:g}' for s in body.size_m)} m box is a bulk density of "
+                                 f"{rho:.4g} kg/m3, outside {lo:g}-{hi:,.0f} kg/m3 (masses in kg, not tonnes?)",
+                                 source)
+    if design.start_x_m is None and design.start_y_m is None:
+        return
+    (x0, x1), (y0, y1), _ = flume_extent(scene)
+    col = scene.column
+    for body in scene.debris:
+        spread = UNDRAWN_HEADING_SPREAD_DEG
+        headings = design.heading_deg or (body.yaw_deg - spread, body.yaw_deg + spread)
+        hx, hy = _half_extents(body, headings)
+        if design.start_y_m is not None:
+            a, b = design.start_y_m
+            if a - hy < y0 - TOL or b + hy > y1 + TOL:
+                raise InputError("design.start_y_m", f"[{a:g}, {b:g}] m puts body {body.name!r} (up to {hy:.3g} m "
+                                 f"either side of its centre at the headings it draws) across y {a - hy:.4g}.."
+                                 f"{b + hy:.4g} m, beyond the walls at y {y0:g}..{y1:g} m", source)
+        if design.start_x_m is not None:
+            a, b = design.start_x_m
+            face = col.x_m - col.size_x_m / 2 if col is not None else x1
+            what = "the column's upstream face" if col is not None else "the flume's downstream end"
+            if a - hx < x0 - TOL:
+                raise InputError("design.start_x_m", f"[{a:g}, {b:g}] m puts body {body.name!r} upstream of the "
+                                 f"flume's upstream end (x = {x0:g} m): its footprint reaches x = {a - hx:.4g} m",
+                                 source)
+            if b + hx > face + TOL:
+                raise InputError("design.start_x_m", f"[{a:g}, {b:g}] m puts body {body.name!r} (up to {hx:.3g} m "
+                                 f"ahead of its centre) at or past {what} (x = {face:g} m): a body must start "
+                                 "upstream of it", source)
 
 
 def plausibility_warnings(scene: Scene) -> list[str]:
