@@ -339,3 +339,18 @@ def test_the_shipped_design_draws_are_accepted():
 
     design = load_scene(STREET).design
     assert design.start_x_m == (25.0, 35.0) and design.start_y_m == (-4.0, 4.0)
+
+
+@pytest.mark.parametrize("argv, flag", [
+    (["--stiffness", "0"], "--stiffness"),  # the one k the user gave, not --debris-stiffness
+    (["--importance", "12.5"], "--importance"),  # Table 6.8-1 has 1.0 and 1.25 only
+])
+def test_the_code_verb_names_the_flag_the_user_gave(capsys, argv, flag):
+    code, err, _ = _cli(capsys, "analytical", "asce7", "--velocity", "4", "--mass", "2300", *argv)
+    assert code == 2 and f"bad input: {flag}:" in err
+
+
+def test_the_code_verb_takes_each_importance_factor_of_table_6_8_1(capsys):
+    for value in ("1.0", "1.25"):
+        code, _, _ = _cli(capsys, "analytical", "asce7", "--velocity", "1.6", "--mass", "0.236", "--importance", value)
+        assert code == 0

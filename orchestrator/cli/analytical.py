@@ -101,11 +101,17 @@ def cmd_asce7(args: argparse.Namespace) -> int:
     from analytical.asce7 import asce7_design
 
     k_d, k_s = args.debris_stiffness, args.structure_stiffness
+    stiffness_flags = {"debris_stiffness_N_m": "--debris-stiffness", "structure_stiffness_N_m": "--structure-stiffness"}
     if args.stiffness is not None:  # one k, chosen by the user: it governs, there is nothing to compare
         k_d = k_s = args.stiffness
+        stiffness_flags = {"debris_stiffness_N_m": "--stiffness", "structure_stiffness_N_m": "--stiffness"}
+    from analytical.asce7 import IMPORTANCE_FACTORS
+
+    if args.importance not in set(IMPORTANCE_FACTORS.values()):
+        raise InputError("--importance", "ASCE 7-22 Table 6.8-1 gives I_tsu = 1.0 (Tsunami Risk Category II) or "
+                         f"1.25 (III, IV and vertical evacuation refuges), got {args.importance:g}")
     with Flags(velocity_m_s="--velocity", mass_kg="--mass", stiffness_N_m="--stiffness", importance="--importance",
-               orientation="--orientation", debris_stiffness_N_m="--debris-stiffness",
-               structure_stiffness_N_m="--structure-stiffness"):
+               orientation="--orientation", **stiffness_flags):
         design = asce7_design(args.velocity, args.mass, k_d, k_s, args.importance, args.orientation,
                               prototype=args.prototype)
     out = asce7_lines(design)
