@@ -29,7 +29,7 @@ help:
 	@echo "make speed-error-debris     mesh study with one container to its impact, then its report"
 	@echo "make compare-coupling       the short flume to the first strike two-way and one-way on one mesh, side by side (about 30 min)"
 	@echo "make stability              the hard cases of cases/hard/ (about 2 h), then their stability table"
-	@echo "make test                   the default test suite, real OpenFOAM runs included (installs the venv and OpenFOAM first)"
+	@echo "make test                   the default test suite, real OpenFOAM runs included (about 18 min; installs the venv and OpenFOAM first)"
 	@echo "make test-all               every test, the slow ones too (about 45 min on 2 idle cores)"
 	@echo "make test-fast              the Python tests without OpenFOAM and without the slow ones"
 	@echo "make clean                  remove the venv and build files"
