@@ -15,6 +15,8 @@ CASE_SET := $(if $(CELL),--set mesh.cell_size_m=$(CELL),) $(if $(COUPLING),--set
 .PHONY: approach prototype-1debris design-street forcing-variants help venv openfoam test test-all test-fast docs-check case-1debris case-layouts results-layouts compare-coupling sweep speed-error speed-error-debris stability wet-bed synthetic-study contact-law results-1debris ensemble-1debris spreading scene-doc catalogue-doc bench bench-transport clean
 
 help:
+	@echo "make help                   this list: every target"
+	@echo "make openfoam               OpenFOAM v1912 from Debian's openfoam package, only when it is missing (needs root)"
 	@echo "make venv                   the Python environment only (.venv, the package installed editable)"
 	@echo "make case-1debris [CELL=m] [COUPLING=two-way]  the study's 1-debris scene, end to end (one-way: about 5 min on 2 idle cores; two-way: about 2 h)"
 	@echo "make results-1debris        after it: its table, plots and summary to docs/results/case-1debris/"

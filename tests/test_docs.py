@@ -14,6 +14,7 @@ ROOT = Path(__file__).resolve().parents[1]
 README = ROOT / "README.md"
 GUIDE = ROOT / "docs" / "guide.md"
 README_MAX_WORDS = 800
+MAKEFILE = ROOT / "Makefile"
 
 #: Pages whose links must resolve: the README, every page under docs/ (generated ones too, since
 #: their links are written by the report generators), the benchmarks' pages.
@@ -166,6 +167,44 @@ def test_the_readme_reads_in_two_minutes():
 
 def test_readme_words_are_counted_outside_code_blocks():
     assert _readme_words("one two\n```\nthree four five\n```\nsix\n") == 3
+
+
+# The Makefile: `make help` lists every target.
+
+def _makefile_targets(text: str) -> set[str]:
+    """The targets a Makefile defines: rule lines `name [name ...]:` outside recipes, not variable
+    assignments (`:=`, `::=`) and not special targets (`.PHONY`) or pattern rules."""
+    targets = set()
+    for line in text.splitlines():
+        if line.startswith(("\t", "#", " ")) or re.match(r"^[^:]*(=|::?=)", line):
+            continue
+        m = re.match(r"^([^:#=$%]+?)\s*::?(?!=)", line)
+        if m:
+            targets.update(n for n in m.group(1).split() if not n.startswith("."))
+    return targets
+
+
+def test_the_target_reader_reads_rule_lines_only():
+    text = ("X := 1\nY ?= 2\n.PHONY: a b\na: b\n\t@echo x: y\nb c:\n$(STAMP): f\n"
+            "# d: e\nsimple::=z\n")
+    assert _makefile_targets(text) == {"a", "b", "c"}
+
+
+def test_make_help_lists_every_target():
+    import shutil
+    import subprocess
+
+    if shutil.which("make") is None:
+        pytest.skip("make is not installed")
+    out = subprocess.run(["make", "-s", "--no-print-directory", "-C", str(ROOT), "help"],
+                         capture_output=True, text=True, timeout=60, check=True).stdout
+    listed = set(re.findall(r"^make ([\w.-]+)", out, re.M))
+    targets = _makefile_targets(MAKEFILE.read_text(encoding="utf-8"))
+    assert len(targets) >= 20, sorted(targets)
+    missing = sorted(targets - listed)
+    assert not missing, f"`make help` leaves out: {', '.join(missing)} (add a line to the help recipe)"
+    unknown = sorted(listed - targets)
+    assert not unknown, f"`make help` lists targets the Makefile does not define: {', '.join(unknown)}"
 
 
 # Stale figures: the ones a test can recompute in a second.
