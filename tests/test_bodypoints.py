@@ -13,6 +13,7 @@ import pytest
 
 from orchestrator.case.bodypoints import TOLERANCE_M, BodyPoints, read_points, write_points
 from orchestrator.case.bodystate import BodyState
+from orchestrator.core.errors import InputError
 
 HEADER = """FoamFile
 {{
@@ -113,7 +114,7 @@ def test_a_turned_and_shifted_body_takes_its_points_along_and_nothing_else(case)
 
 def test_a_case_whose_merged_mesh_lacks_a_body_says_which(case):
     _vectors(case / "bodies" / "debris1" / "constant" / "polyMesh" / "points", BODY + 0.5)
-    with pytest.raises(ValueError, match="points of bodies/debris1 are not in the merged mesh"):
+    with pytest.raises(InputError, match="points: bodies/debris1: its points are not in the merged mesh"):
         BodyPoints.for_case(case)
 
 

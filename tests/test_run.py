@@ -31,13 +31,13 @@ from conftest import solvers_kept
 from orchestrator.case import bodystate
 from orchestrator.run import segments as run_module
 from orchestrator.case.bodystate import BodyState
+from orchestrator.core.errors import InputError
 from orchestrator.run.contact_geometry import Geometry, resting_contact
 from orchestrator.run.monitor import DivergenceLimits, parse_log
 from orchestrator.pipeline import render_from_file
 from orchestrator.run.runner import (
     ContactSettings,
     DivergenceError,
-    RunError,
     RunInterrupted,
     latest_time,
     load_case_info,
@@ -520,7 +520,7 @@ def test_write_and_restore_states_in_dynamic_mesh_dict(body_case, tmp_path):
     assert bodystate.read_body_properties(case)[0].initial_centre_of_mass_m == props["debris1"].initial_centre_of_mass_m
     states, source = bodystate.recorded_states(case, "0.3")
     assert source == "log" and states == [s1, s2]
-    with pytest.raises(KeyError, match="debris2"):
+    with pytest.raises(InputError, match="bodies: no state for body debris2"):
         bodystate.prepare_restart(case, "0.4", [s1], "log")
 
 
@@ -565,11 +565,11 @@ def test_stop_request_dates_control_dict_past_the_skew(body_case, tmp_path):
     assert "start   (0.5 0 " in text or "start (0.5 0.0 " in text  # the gauge line kept its digits
 
 
-def test_missing_case_is_a_run_error(tmp_path):
-    with pytest.raises(RunError, match="does not exist"):
+def test_missing_case_is_bad_input(tmp_path):
+    with pytest.raises(InputError, match="nowhere: case_dir: does not exist"):
         run_case(tmp_path / "nowhere", quiet=True)
     (tmp_path / "empty").mkdir()
-    with pytest.raises(RunError, match="plan.json"):
+    with pytest.raises(InputError, match="plan.json: plan.json: missing"):
         run_case(tmp_path / "empty", quiet=True)
 
 

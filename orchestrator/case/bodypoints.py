@@ -31,6 +31,7 @@ import numpy as np
 
 from orchestrator.case.bodystate import BodyState, read_body_properties
 from orchestrator.case.folder import processor_dirs
+from orchestrator.core.errors import InputError
 from orchestrator.core.files import write_text_atomic
 
 __all__ = ["BodyPoints", "TOLERANCE_M", "read_points", "write_points"]
@@ -63,7 +64,7 @@ def write_points(path: str | Path, points: np.ndarray) -> None:
     text = path.read_text()
     close = text.find("}", text.find("FoamFile"))
     if close < 0:
-        raise ValueError(f"{path}: no FoamFile header")
+        raise InputError("FoamFile", "no FoamFile header: not an OpenFOAM points file", str(path))
     rows = "\n".join(f"({x:.12g} {y:.12g} {z:.12g})" for x, y, z in np.asarray(points, float))
     write_text_atomic(path, f"{text[:close + 1]}\n\n{len(points)}\n(\n{rows}\n)\n\n")
 
@@ -97,8 +98,8 @@ class BodyPoints:
             start = next((int(s) for s in starts if s + len(own) <= len(merged)
                           and np.array_equal(merged[s:s + len(own)], own)), None)
             if start is None:
-                raise ValueError(f"{case}/constant/polyMesh/points: the points of bodies/{props.name} are not "
-                                 "in the merged mesh (mergeMeshes appends them)")
+                raise InputError(f"bodies/{props.name}", "its points are not in the merged mesh (mergeMeshes "
+                                 "appends them)", f"{case}/constant/polyMesh/points")
             ranges[props.name] = (start, start + len(own))
         procs = processor_dirs(case)
         if not procs:

@@ -36,6 +36,7 @@ from typing import Any, Callable, Iterable, Sequence
 
 import numpy as np
 
+from orchestrator.core.errors import InputError
 from orchestrator.core.files import write_text_atomic
 
 __all__ = [
@@ -184,7 +185,7 @@ def parsed_dict(path: Path):
 def _vec(value: Any, default: Sequence[float] | None = None) -> tuple[float, ...]:
     if value is None:
         if default is None:
-            raise KeyError("missing vector")
+            raise KeyError("missing vector")  # internal: every caller gives a default or a value it read
         return tuple(float(v) for v in default)
     if hasattr(value, "vals"):
         return tuple(float(v) for v in value.vals)
@@ -263,7 +264,7 @@ def write_states(case_dir: str | Path, states: Sequence[BodyState]) -> None:
 
     `initialCentreOfMass` / `initialOrientation` are set once, from the coefficients
     as rendered (the pose the body mesh was built in), and never changed afterwards.
-    Raises KeyError naming a body that the dictionary does not have.
+    Raises InputError naming a body that the dictionary does not have.
     """
     path = Path(case_dir) / DYNAMIC_MESH_DICT
     parsed = parsed_dict(path)
@@ -271,7 +272,7 @@ def write_states(case_dir: str | Path, states: Sequence[BodyState]) -> None:
     props = {p.name: p for p in read_body_properties(case_dir)}
     for state in states:
         if state.name not in coeffs:
-            raise KeyError(f"body {state.name!r} is not in {path} (bodies: {', '.join(coeffs)})")
+            raise InputError("solvers", f"no body {state.name!r} (bodies: {', '.join(coeffs)})", str(path))
         c = coeffs[state.name]
         p = props[state.name]
         c["initialCentreOfMass"] = _text(p.initial_centre_of_mass_m)
@@ -353,7 +354,8 @@ def prepare_restart(case_dir: str | Path, time_name: str, states: Sequence[BodyS
     names = [p.name for p in read_body_properties(case_dir)]
     missing = sorted(set(names) - {s.name for s in states})
     if missing:
-        raise KeyError(f"no state for bod{'y' if len(missing) == 1 else 'ies'} {', '.join(missing)} at t = {time_name}")
+        raise InputError("bodies", f"no state for bod{'y' if len(missing) == 1 else 'ies'} {', '.join(missing)} "
+                                   f"at t = {time_name}", str(case_dir))
     record_states(case_dir, time_name, states, source)
     remove_state_files(case_dir, time_name)
     write_states(case_dir, states)

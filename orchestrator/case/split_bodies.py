@@ -29,6 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
+from orchestrator.core.errors import InputError
 from orchestrator.core.files import write_text_atomic
 
 __all__ = ["DICT", "needed", "split"]
@@ -57,7 +58,8 @@ def split(case: str | Path, ranks: int) -> dict[int, list[int]]:
     proc = _internal(case / "0" / "cellDist")
     zone = _internal(case / "0" / "zoneID")
     if proc.shape != zone.shape:
-        raise ValueError(f"{case}/0/cellDist: {proc.size} cells, but 0/zoneID has {zone.size}")
+        raise InputError("0/zoneID", f"{zone.size} cells, but decomposePar's 0/cellDist has {proc.size}: the "
+                                     "mesh is not the one the case was rendered for", str(case))
     counts = {}
     for z in range(1, int(zone.max()) + 1):
         cells = np.flatnonzero(zone == z)

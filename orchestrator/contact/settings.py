@@ -13,6 +13,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, fields, replace
 
+from orchestrator.core.errors import InputError
+
 __all__ = ["ContactSettings"]
 
 #: The defaults set at the study's 0.40 m flume that a scene lambda times larger takes x lambda
@@ -102,4 +104,4 @@ class ContactSettings:
 
     def __post_init__(self) -> None:
         if not self.gap_m > 0:
-            raise ValueError(f"gap_m must be > 0, got {self.gap_m}")
+            raise InputError("gap_m", f"must be > 0, got {self.gap_m}")

@@ -27,6 +27,7 @@ import numpy as np
 import pandas as pd
 
 from orchestrator.case.folder import time_names
+from orchestrator.core.errors import InputError
 
 __all__ = ["FringeFlux", "fringe_flux", "fringe_table", "FIELDS"]
 
@@ -78,22 +79,23 @@ def fringe_flux(case_dir: str | Path, time_name: str,
 
     Only faces with both cells in the same zone count (the meshes of an overset case are
     merged but share no faces). faces: the mesh's (owner, neighbour) when already read.
-    Raises FileNotFoundError when a field is missing (a time written only in processor
-    folders: reconstruct it first).
+    Raises InputError when a field is missing (a time written only in processor folders:
+    reconstruct it first) or the fields do not match the mesh.
     """
     case = Path(case_dir)
     folder = case / time_name
     missing = [name for name in FIELDS if not (folder / name).is_file()]
     if missing:
-        raise FileNotFoundError(f"{folder}: no {', '.join(missing)} (overset fields of a reconstructed time)")
+        raise InputError(", ".join(missing), "missing (overset fields of a reconstructed time)", str(folder))
     types = np.rint(_internal(folder / "cellTypes")).astype(int)
     zones = np.rint(_internal(folder / "zoneID")).astype(int)
     phi = _internal(folder / "phi")
     water = _internal(folder / "alphaPhi0.water")
     owner, neighbour = faces if faces is not None else _mesh_faces(case)
     if not (len(phi) == len(water) == len(neighbour)) or len(types) != len(zones):
-        raise ValueError(f"{folder}: fields do not match the mesh ({len(phi)} face fluxes, "
-                         f"{len(neighbour)} internal faces, {len(types)} cell types, {len(zones)} zone ids)")
+        raise InputError("phi", f"fields do not match the mesh ({len(phi)} face fluxes, "
+                         f"{len(neighbour)} internal faces, {len(types)} cell types, {len(zones)} zone ids)",
+                         str(folder))
     same_zone = zones[owner] == zones[neighbour]
     # a face's flux is positive from owner to neighbour: into the fringe when the owner is
     # calculated and the neighbour a fringe cell, out of it the other way round

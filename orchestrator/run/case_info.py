@@ -14,8 +14,8 @@ from pathlib import Path
 from orchestrator.case import bodystate
 from orchestrator.case.bodystate import BodyProperties
 from orchestrator.case.folder import CaseFolder
+from orchestrator.core.errors import InputError
 from orchestrator.run.control import read_control
-from orchestrator.run.errors import RunError
 
 __all__ = ["CaseInfo", "load_case_info"]
 
@@ -77,11 +77,13 @@ class CaseInfo:
 def _read_plan(folder: CaseFolder) -> dict:
     plan_path = folder.plan_path
     if not plan_path.is_file():
-        raise RunError(f"{plan_path} is missing: render the case first (debrisfoam render SCENE -o {folder.path})")
+        raise InputError("plan.json", f"missing: render the case first (debrisfoam render SCENE -o {folder.path})",
+                         str(plan_path))
     notes: list[str] = []
     plan = folder.plan(notes)
     if plan is None:
-        raise RunError(f"{plan_path}: {notes[0] if notes else 'not a JSON object'}")
+        why = notes[0].removeprefix(f"{plan_path.name} ").removesuffix("; ignored") if notes else "not a JSON object"
+        raise InputError("plan.json", why, str(plan_path))
     return plan
 
 
@@ -95,16 +97,16 @@ def load_case_info(case_dir: str | Path, np_override: int | None = None) -> Case
         n = tuple(int(v) for v in plan["decomposition"]["n"])
         domain = tuple(tuple(float(v) for v in a) for a in plan["domain_m"])
     except (KeyError, TypeError) as exc:
-        raise RunError(f"{folder.plan_path}: not a debrisfoam plan (missing {exc})") from None
+        raise InputError("plan.json", f"not a debrisfoam plan (missing {exc})", str(folder.plan_path)) from None
     control = read_control(case)
     ranks = int(np_override) if np_override else n[0] * n[1] * n[2]
     if ranks < 1:
-        raise RunError(f"--np must be >= 1, got {ranks}")
+        raise InputError("--np", f"must be >= 1, got {ranks}")
     bodies = tuple(bodystate.read_body_properties(case))
     sizes = {b["name"]: tuple(float(v) for v in b["size_m"]) for b in plan.get("bodies", [])}
     missing = [b.name for b in bodies if b.name not in sizes]
     if missing:
-        raise RunError(f"{folder.plan_path}: no size for bodies {missing} of constant/dynamicMeshDict")
+        raise InputError("bodies", f"no size for bodies {missing} of constant/dynamicMeshDict", str(folder.plan_path))
     steps_plan = MeshStepsPlan(solver, n, float(plan.get("bed_friction_per_m", 0.0)),
                                tuple(NamedBody(b.name) for b in bodies))
     return CaseInfo(

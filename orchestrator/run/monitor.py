@@ -51,6 +51,7 @@ from typing import Iterable, Sequence
 import numpy as np
 
 from orchestrator.case.bodystate import BodyState
+from orchestrator.core.errors import InputError
 
 __all__ = [
     "Diagnosis",
@@ -394,15 +395,16 @@ class DivergenceLimits:
 
     def __post_init__(self) -> None:
         if not self.courant_factor > 1:
-            raise ValueError(f"courant_factor must be > 1, got {self.courant_factor}")
+            raise InputError("courant_factor", f"must be > 1, got {self.courant_factor}")
         if self.courant_steps < 1 or self.delta_t_steps < 1:
-            raise ValueError("courant_steps and delta_t_steps must be >= 1")
+            raise InputError("courant_steps, delta_t_steps", "must be >= 1, got "
+                                                             f"{self.courant_steps}, {self.delta_t_steps}")
         if self.min_delta_t_s is not None and not self.min_delta_t_s > 0:
-            raise ValueError(f"min_delta_t_s must be > 0, got {self.min_delta_t_s}")
+            raise InputError("min_delta_t_s", f"must be > 0, got {self.min_delta_t_s}")
         if (self.stall_s is not None and not self.stall_s > 0) or not self.stall_factor > 0:
-            raise ValueError("stall_s and stall_factor must be > 0")
+            raise InputError("stall_s, stall_factor", f"must be > 0, got {self.stall_s}, {self.stall_factor}")
         if self.water_balance is not None and not self.water_balance > 0:
-            raise ValueError(f"water_balance must be > 0, got {self.water_balance}")
+            raise InputError("water_balance", f"must be > 0, got {self.water_balance}")
 
 
 @dataclass(frozen=True)

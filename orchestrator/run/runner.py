@@ -104,7 +104,7 @@ from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any, Callable
 
-from orchestrator.core.errors import DebrisfoamError
+from orchestrator.core.errors import DebrisfoamError, InputError
 from orchestrator.case import bodystate, foam, held, split_bodies
 from orchestrator.case.bodypoints import BodyPoints
 from orchestrator.case.held import still_state
@@ -182,7 +182,7 @@ def run_case(case_dir: str | Path, np: int | None = None, quiet: bool = False, *
     foam.StepError (a step failed), all DebrisfoamError.
     """
     if reconstruct not in ("latest", "all", "none"):
-        raise ValueError(f"reconstruct must be 'latest', 'all' or 'none', got {reconstruct!r}")
+        raise InputError("reconstruct", f"must be 'latest', 'all' or 'none', got {reconstruct!r}")
     wall0 = time.perf_counter()
     lock = _lock_case(Path(case_dir))
     try:
@@ -195,7 +195,7 @@ def run_case(case_dir: str | Path, np: int | None = None, quiet: bool = False, *
 def _lock_case(case: Path):
     """An exclusive lock on the case (two runners on one case would corrupt it)."""
     if not case.is_dir():
-        raise RunError(f"case directory {case} does not exist")
+        raise InputError("case_dir", "does not exist: render a case into it first", str(case))
     fh = open(case / ".debrisfoam-run.lock", "a+")
     try:
         fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)

@@ -48,6 +48,7 @@ import yaml
 
 from orchestrator.case.folder import CaseFolder
 from orchestrator.case.outputs import read_force_series
+from orchestrator.core.errors import InputError
 from orchestrator.plan.grid import Segment
 
 #: the function object's name, its file in system/ and its folder in postProcessing/
@@ -221,7 +222,7 @@ def install(case_dir: str | Path, axis: ZAxis,
     if f'#include "{NAME}"' not in body:
         new, n = re.subn(r"(\nfunctions\s*\n?\s*\{)", rf'\1\n    #include "{NAME}"', body, count=1)
         if n != 1:
-            raise ValueError(f"{control}: no functions dictionary to include {NAME} in")
+            raise InputError("functions", f"no functions dictionary to include {NAME} in", str(control))
         control.write_text(new)
     return grid
 
