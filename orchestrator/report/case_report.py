@@ -16,7 +16,6 @@ Reads a post-processed run (``RUN/results/summary.json``, ``impacts.csv``) and w
 
 from __future__ import annotations
 
-import json
 import math
 import shutil
 from pathlib import Path
@@ -26,7 +25,7 @@ import pandas as pd
 from analytical.contact_law import SEED_IMPACT_HEIGHTS_M
 from orchestrator.core.errors import InputError
 from orchestrator.case.folder import SUMMARY_JSON, CaseFolder
-from orchestrator.core.files import write_text_atomic
+from orchestrator.core.files import read_json_object, write_text_atomic
 from orchestrator.report.asce_section import asce_markdown
 from orchestrator.report.study_table import comparison_markdown, comparison_note
 from orchestrator.results.asce_design import asce_design_table, site_flow_speed
@@ -112,7 +111,9 @@ def write_case_report(case_dir: str | Path, out_dir: str | Path) -> Path:
     summary_path = folder.summary_path
     if not summary_path.is_file():
         raise InputError("case_dir", f"no results/summary.json: run `debrisfoam post {case}` first", str(case))
-    head = json.loads(summary_path.read_text())
+    head = read_json_object(summary_path)
+    if head is None:
+        raise InputError("results/summary.json", f"not a JSON object: run `debrisfoam post {case}` again", str(case))
     impacts_path = folder.results_dir / "impacts.csv"
     first, firsts, impacts = None, pd.DataFrame(), pd.DataFrame()
     if impacts_path.is_file():

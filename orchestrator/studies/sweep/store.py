@@ -260,4 +260,7 @@ def load_store(sweep_dir: str | Path) -> pd.DataFrame:
     if not path.is_file():
         raise InputError("sweep_dir", f"no results store {path}: run the sweep first", str(sweep_dir))
     with contextlib.closing(sqlite3.connect(f"file:{path}?mode=ro", uri=True)) as con:
-        return pd.read_sql_query(f"SELECT * FROM {STORE_TABLE}", con)
+        try:
+            return pd.read_sql_query(f"SELECT * FROM {STORE_TABLE}", con)
+        except (sqlite3.Error, pd.errors.DatabaseError) as exc:
+            raise InputError("sweep_dir", f"{path.name} is not a sweep's results store ({exc})", str(sweep_dir)) from None
