@@ -75,6 +75,34 @@ def test_a_laminar_case_has_no_turbulence_fields():
     assert re.search(r"simulationType\s+laminar;", files["constant/turbulenceProperties"])
 
 
+@pytest.mark.parametrize("turbulence", ["laminar", "kOmegaSST"])
+def test_a_slip_bed_lets_the_flow_slide_and_carries_no_wall_function(turbulence):
+    """bed.slip: Stoker's and Ritter's frictionless bed is a slip wall (no shear), every other wall
+    keeps its no-slip or wall function; no drag layer and no roughness."""
+    scene = load_scene(NODEBRIS, ["bed.friction_factor=0", "bed.slip=true", f"fluids.turbulence={turbulence}"])
+    plan = plan_case(scene)
+    assert plan.bed_slip and plan.bed_friction_per_m == 0.0 and plan.bed_roughness_m == 0.0
+    back = type(plan).from_json(plan.to_json())
+    assert back.bed_slip
+    files = render_files(build_context(scene, plan))
+
+    def entry(field: str, patch: str) -> str:
+        return files[field].split(f"    {patch}\n    {{")[1].split("}")[0]
+
+    assert "type slip;" in entry("0/U", "bed") and "noSlip" in entry("0/U", "sideWalls")
+    if turbulence != "laminar":
+        assert "zeroGradient" in entry("0/k", "bed") and "kqRWallFunction" in entry("0/k", "sideWalls")
+        assert "calculated" in entry("0/nut", "bed") and "nutkWallFunction" in entry("0/nut", "column")
+    assert "slip" in plan.reasons["bed_friction"]
+
+
+def test_a_slip_bed_with_friction_is_bad_input():
+    from orchestrator.core.errors import InputError
+
+    with pytest.raises(InputError, match="bed.slip"):
+        load_scene(NODEBRIS, ["bed.slip=true"])  # the scene's f = 0.0293
+
+
 @pytest.mark.openfoam
 def test_a_tiny_rans_dam_break_runs_and_makes_turbulence(openfoam, tmp_path):
     from foamlib import FoamCase

@@ -55,7 +55,7 @@ BACKGROUND_PATCH_KINDS = {
     "column": "wall",
 }
 #: blockMesh patch type of each patch kind.
-BLOCKMESH_TYPES = {"wall": "wall", "body": "wall", "atmosphere": "patch", "outlet": "patch",
+BLOCKMESH_TYPES = {"wall": "wall", "slip": "wall", "body": "wall", "atmosphere": "patch", "outlet": "patch",
                    "empty": "empty", "overset": "overset"}
 #: Name of the empty overset patch put first in the background mesh (as the v1912
 #: floatingBody tutorial does) so that overset interpolation is set up before any
@@ -273,6 +273,8 @@ def build_context(scene, plan, numerics: Numerics | None = None) -> dict[str, An
     if plan.downstream_type not in ("wall", "outlet"):
         raise InputError("plan.downstream_type", f"must be 'wall' or 'outlet', got {plan.downstream_type!r}")
     kinds = dict(BACKGROUND_PATCH_KINDS, downstream=plan.downstream_type)
+    if plan.bed_slip:  # a frictionless bed: a wall the flow slips along
+        kinds[BACKGROUND_PATCHES["zmin"]] = "slip"
     leading = [(OVERSET_DUMMY_PATCH, "overset")] if overset else []
     background = _mesh_context(bg, kinds, "background" if overset else None, leading)
     patches = [{"name": n, "kind": k} for n, k in leading]

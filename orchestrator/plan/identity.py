@@ -42,7 +42,7 @@ LATE_KEYS = ((("run", "max_delta_t_s"), None), (("run", "stall_limit_s"), None),
              (("mesh", "column_approach_cell_size_m"), None), (("column", "section"), None), (("column", "section_area_m2"), None),
              (("column", "section_second_moment_m4"), None), (("column", "stiffness_factor"), 1.0),
              (("column", "base_spring_Nm_rad"), None), (("mesh", "wet_bed_cells"), 1),
-             (("fluids", "turbulence"), "laminar"))
+             (("fluids", "turbulence"), "laminar"), (("bed", "slip"), False))
 #: Keys of every debris body added after the first runs, with the value they are left out at.
 LATE_BODY_KEYS = (("type", None),)
 #: Scene sections added after the first runs: left out when at their defaults.

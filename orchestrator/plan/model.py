@@ -240,6 +240,8 @@ class ModelPlan:
     turbulence: Literal["laminar", "kOmegaSST"] = field(default="laminar", kw_only=True)
     #: the bed's Nikuradse sand roughness k_s for the RANS wall function (m; 0: smooth or laminar)
     bed_roughness_m: float = field(default=0.0, kw_only=True)
+    #: the bed a slip wall (scene bed.slip: a frictionless bed, no shear); False = no-slip
+    bed_slip: bool = field(default=False, kw_only=True)
 
     def __post_init__(self) -> None:
         for i, box in enumerate(self.water):
@@ -296,6 +298,7 @@ class ModelPlan:
             "flow_record": None if self.flow_record is None else self.flow_record.to_dict(),
             "turbulence": self.turbulence,
             "bed_roughness_m": self.bed_roughness_m,
+            "bed_slip": self.bed_slip,
             "background": grid_to_dict(self.background),
             "bodies": [b.to_dict() for b in self.bodies],
             "water": [{"name": w.name, "min_m": list(w.min_m), "max_m": list(w.max_m)} for w in self.water],
@@ -336,6 +339,7 @@ class ModelPlan:
                 debris_coupling=data.get("debris_coupling", "two-way" if data["bodies"] else "none"),
                 turbulence=data.get("turbulence", "laminar"),
                 bed_roughness_m=data.get("bed_roughness_m", 0.0),
+                bed_slip=bool(data.get("bed_slip", False)),
                 flow_record=None if data.get("flow_record") is None else FlowRecordPlan.from_dict(data["flow_record"]),
             )
         except KeyError as missing:

@@ -148,6 +148,7 @@ def plan_case(scene: Scene, source: str | None = None) -> ModelPlan:
         flow_record=flow_record,
         turbulence=scene.fluids.turbulence,
         bed_roughness_m=_bed_roughness_m(scene),
+        bed_slip=scene.bed.slip,
         # the drag layer is the laminar model's bed friction; a RANS flow feels the bed's roughness
         **case_numbers(background, water, gauges, two_d=two_d, max_courant=run.max_courant,
                        write_interval_s=run.write_interval_s, max_delta_t=run.max_delta_t_s,
@@ -236,7 +237,9 @@ def _water(scene: Scene, domain: Domain, reasons: dict[str, str]) -> tuple[Water
         + (f" and a {wet:g} m wet bed downstream" if wet > 0 else "; dry bed")
         + (f"; {inundation_reason(scene)}" if scene.inundation is not None else "")
     )
-    if scene.fluids.turbulence != "laminar":
+    if scene.bed.slip:
+        reasons["bed_friction"] = "none: bed.slip makes the bed a slip wall (frictionless, no shear)"
+    elif scene.fluids.turbulence != "laminar":
         ks = _bed_roughness_m(scene)
         reasons["bed_friction"] = (
             f"{scene.fluids.turbulence} with wall functions: the bed rough with sand roughness k_s = {ks:.3g} m, "

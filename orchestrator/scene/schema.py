@@ -91,6 +91,9 @@ class Bed(SceneSection):
 
     wet_depth_m: float = Field(0.0, ge=0, description="still-water depth downstream of the gate; 0 = dry (m)")
     friction_factor: float = Field(0.0293, ge=0, description="Darcy friction factor f of the bed (-)")
+    slip: bool = Field(
+        False, description="the bed a slip wall: no shear at all, the inviscid bed of Stoker's and Ritter's "
+        "solutions (only with friction_factor 0); false = a no-slip wall")
     friction_calibration: float = Field(
         2.2, gt=0,
         description="multiplier on the bed-friction drag of the cell layers next to the bed (they under-brake the "

@@ -21,6 +21,7 @@ from orchestrator.scene.schema import DebrisBody, Scene
 __all__ = [
     "DENSITY_PLAUSIBLE_KG_M3",
     "DENSITY_POSSIBLE_KG_M3",
+    "MAX_COLUMN_HEIGHT_M",
     "MIN_CELLS_ACROSS_COLUMN",
     "MIN_CELLS_ACROSS_DEBRIS",
     "MIN_CELLS_OVER_DEPTH",
@@ -95,6 +96,38 @@ def _check_water(scene: Scene, source: str | None) -> None:
             f"still water), got {bed.wet_depth_m:g}",
             source,
         )
+    if bed.slip and bed.friction_factor > 0:
+        raise InputError(
+            "bed.slip",
+            f"a slip bed has no friction, but bed.friction_factor is {bed.friction_factor:g}: set it to 0 or "
+            "leave bed.slip false",
+            source,
+        )
+
+
+#: The tallest column a scene may have (m). The tool's column is a fixed-base member struck by
+#: debris near the flow depth: a ground-storey building column is 3-6 m tall, a pier standing in
+#: a harbour or a river some tens of metres; the tallest shipped is the 1-debris scene at 40:1,
+#: 32 m (cases/prototype-1debris.yaml). Above 100 m it is a slip of units (mm given as m).
+MAX_COLUMN_HEIGHT_M = 100.0
+
+
+def _check_column_size(scene: Scene, source: str | None) -> None:
+    """The column's height plausible (:data:`MAX_COLUMN_HEIGHT_M`); a footprint that leaves the flume
+    although its centre stands in it is its size's fault: the size field is named (the section's
+    when the column is given by section), not its position."""
+    col = scene.column
+    if col.height_m > MAX_COLUMN_HEIGHT_M:
+        raise InputError("column.height_m", f"{col.height_m:g} m is taller than any column a debris strike loads: "
+                         f"at most {MAX_COLUMN_HEIGHT_M:g} m (a ground-storey column is 3-6 m, the 1-debris scene at "
+                         "40:1 has 32 m); a height in mm?", source)
+    (x0, x1), (y0, y1), _ = flume_extent(scene)
+    for axis, centre, size, lo, hi in (("x", col.x_m, col.size_x_m, x0, x1), ("y", col.y_m, col.size_y_m, y0, y1)):
+        if lo - TOL <= centre <= hi + TOL and (centre - size / 2 < lo - TOL or centre + size / 2 > hi + TOL):
+            field = "column.section.size_m" if col.section is not None else f"column.size_{axis}_m"
+            raise InputError(field, f"a column {size:g} m across along {axis}, centred at {axis} = {centre:g} m, spans "
+                             f"{centre - size / 2:g}..{centre + size / 2:g} m: wider than the flume allows there "
+                             f"({lo:g}..{hi:g} m)", source)
 
 
 def _check_column(scene: Scene, source: str | None) -> None:
@@ -102,6 +135,7 @@ def _check_column(scene: Scene, source: str | None) -> None:
     col = scene.column
     if col is None:
         return
+    _check_column_size(scene, source)
     (x0, x1), (y0, y1), _ = flume_extent(scene)
     if col.x_m - col.size_x_m / 2 < x0 - TOL or col.x_m + col.size_x_m / 2 > x1 + TOL:
         raise InputError(
@@ -233,6 +267,13 @@ def _check_design(scene: Scene, source: str | None) -> None:
     start area (``start_x_m``, ``start_y_m``) that keeps every body's footprint, at every heading it
     may draw, between the walls, inside the flume and clear of the column's upstream face."""
     design = scene.design
+    if design.debris_stiffness_N_m is not None:
+        from analytical.asce7 import check_debris_stiffness
+
+        try:
+            check_debris_stiffness(design.debris_stiffness_N_m, "design.debris_stiffness_N_m")
+        except InputError as err:
+            raise InputError(err.field, err.rule, source) from None
     lo, hi = DENSITY_POSSIBLE_KG_M3
     for body in scene.debris:
         volume = body.size_m[0] * body.size_m[1] * body.size_m[2]
