@@ -316,3 +316,21 @@ def test_the_still_water_before_the_bore_is_skipped_and_changes_nothing():
     moving = TransportBody("box", centre_m=(2.0, 0.0, 0.03), velocity_m_s=(0.1, 0.0, 0.0), **CONTAINER_BOX)
     run = run_transport([moving], FLUME, 0.2, flow, settings=TransportSettings(still_start_m_s=0.005))
     assert run.track("box")["time_s"].iloc[0] == 0.0
+
+
+def test_a_strike_carried_by_the_bore_states_how_long_after_the_front_it_came():
+    """A box on Ritter's dry bed, carried to a column by the bore behind the front: its strike comes
+    after the front reached the column's face; time_since_front_s is the strike's time less the
+    flow's front arrival at the face (1 cm upstream of it), on the run's clock."""
+    flow = FlowField.ritter(0.3, np.linspace(-1.0, 3.0, 81), np.arange(0.0, 1.61, 0.02))
+    body = TransportBody("box", centre_m=(1.8, 0.0, 0.03), **CONTAINER_BOX)
+    column = PlacedColumn(2.6, 0.0)
+    run = run_transport([body], FLUME, 1.6, flow, column=column)
+    strikes = run.impacts[run.impacts["kind"] == "column"]
+    assert len(strikes) >= 1
+    first = strikes.iloc[0]
+    front = flow.front_arrival_s(2.6 - column.column.size_x_m / 2 - 0.01, 0.0)
+    assert 0.0 < front < first["time_s"]
+    assert first["time_since_front_s"] == pytest.approx(first["time_s"] - front, abs=1e-9)
+    walls = run.impacts[run.impacts["kind"] != "column"]
+    assert walls["time_since_front_s"].isna().all()

@@ -106,3 +106,16 @@ def test_invalid_records_are_rejected():
         FlowField(flow.t_s[::-1], flow.x_m, flow.y_m, flow.z_m, 0.0, flow.eta_m, flow.velocity_m_s)
     with pytest.raises(InputError, match="velocity_m_s"):
         FlowField(flow.t_s, flow.x_m, flow.y_m, flow.z_m, 0.0, flow.eta_m, flow.velocity_m_s[..., :2])
+
+
+def test_the_front_reaches_a_point_when_ritters_depth_there_passes_the_rise():
+    """Ritter's dry-bed depth (2 c0 - x/t)^2 / 9g passes 1 cm at x/t = 2 c0 - 3 sqrt(0.01 g): at
+    x = 2 m behind a 0.4 m impoundment, t = 0.559 s; the record's frames (0.01 s) interpolated give
+    it within 2 ms. A point the front never reaches within the record gives NaN."""
+    flow = FlowField.ritter(0.4, np.linspace(-1.0, 6.0, 281), np.linspace(0.0, 2.0, 201))
+    c0 = math.sqrt(9.81 * 0.4)
+    expected = 2.0 / (2 * c0 - 3 * math.sqrt(9.81 * 0.01))
+    assert flow.front_arrival_s(2.0, 0.0) == pytest.approx(expected, abs=2e-3)
+    assert flow.front_arrival_s(2.0, 0.0, rise_m=0.05) == pytest.approx(
+        2.0 / (2 * c0 - 3 * math.sqrt(9.81 * 0.05)), abs=2e-3)
+    assert math.isnan(flow.front_arrival_s(5.9, 0.0, rise_m=0.2))

@@ -132,14 +132,15 @@ measurement it comes from)."""
 TABLE_COLUMNS = [
     "realisation", "body", "start_x_m", "start_y_m", "start_yaw_deg", "struck", "impact_time_s",
     "impact_velocity_m_s", "impact_speed_m_s", "impact_height_m", "obliquity_deg", "peak_force_N", "duration_s",
-    "impulse_Ns", "peak_base_shear_N", "effective_mass_kg", "face_water_level_m", "study_fit_peak_N",
-    "study_fit_duration_s", "study_fit_impulse_Ns", "study_fit_start_s", "study_fit_height_m",
+    "impulse_Ns", "peak_base_shear_N", "effective_mass_kg", "face_water_level_m", "time_since_front_s",
+    "study_fit_peak_N", "study_fit_duration_s", "study_fit_impulse_Ns", "study_fit_start_s", "study_fit_height_m",
     "study_fit_height_source", "study_fit_nrmse", "strikes", "wall_time_s", "study_fit_wall_s",
 ]
 """ensemble.csv: the start; the first column strike (time, normal velocity of the centre and its
 speed, contact height above the bed, obliquity from the face's normal), the law's pulse (peak force,
 duration, impulse, the column's peak base shear, the effective mass at the contact along the normal,
-added mass included), the water level at the face and the study's fit of the base shear
+added mass included), the water level at the face, the time since the flow's front reached the face
+(negative: ahead of it) and the study's fit of the base shear
 (:mod:`orchestrator.results.study_fit`), NaN when not struck; all column strikes; the wall time."""
 
 TRACK_COLUMNS = ["realisation", "body", "time_s", "x_m", "y_m", "speed_m_s"]
@@ -150,6 +151,7 @@ TRACKED_REALISATIONS = 2000
 #: The figures ensemble.json states for every struck body (mean, std, min, max, count).
 STATISTICS = ("impact_time_s", "impact_velocity_m_s", "impact_speed_m_s", "impact_height_m", "obliquity_deg",
               "peak_force_N", "duration_s", "impulse_Ns", "peak_base_shear_N", "effective_mass_kg", "face_water_level_m",
+              "time_since_front_s",
               "study_fit_peak_N", "study_fit_duration_s", "study_fit_impulse_Ns", "study_fit_start_s", "study_fit_height_m",
               "study_fit_nrmse")
 
@@ -318,7 +320,7 @@ def body_rows(result: TransportResult, bodies: Sequence[TransportBody], realisat
                              ("impact_height_m", "height_m"), ("obliquity_deg", "obliquity_deg"),
                              ("peak_force_N", "peak_force_N"), ("duration_s", "duration_s"),
                              ("impulse_Ns", "impulse_Ns"), ("peak_base_shear_N", "peak_base_shear_N"),
-                             ("effective_mass_kg", "effective_mass_kg")):
+                             ("effective_mass_kg", "effective_mass_kg"), ("time_since_front_s", "time_since_front_s")):
             row[name] = float(first[source]) if first is not None else math.nan
         row["impact_speed_m_s"] = (math.hypot(float(first["normal_velocity_in_m_s"]),
                                               float(first["tangential_velocity_in_m_s"]))

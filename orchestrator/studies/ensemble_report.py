@@ -191,6 +191,7 @@ def markdown(summary: dict[str, Any], figures: dict[str, Path]) -> str:
                        ("study_fit_nrmse", "study-fit residual / record peak"),
                        ("impact_time_s", "time (s)"), ("impact_height_m", "contact height above the bed (m)"),
                        ("face_water_level_m", "water level at the face (m)"),
+                       ("time_since_front_s", "time since the front reached the face (s; negative: ahead of it)"),
                        ("obliquity_deg", "obliquity (deg)"), ("peak_base_shear_N", "peak base shear (N)"),
                        ("effective_mass_kg", "effective mass at the contact, added mass included (kg)")):
         ref = seed.get(key) if key in ("peak_force_N", "duration_s", "impulse_Ns") else None

@@ -281,7 +281,7 @@ def run_transport(bodies, flume: FlumeBounds, t_end_s: float, flow: FlowField | 
     surface = (lambda x, y, t: flow.surface(x, y, t0 + t)) if flow is not None else None
     book = EventBook(built.geom_owner, built.geom_names, bodies, built.body_ids, built.dof_adr, column,
                      flume.bed_z_m, settings.separation_s, surface, settings.min_impact_velocity_m_s,
-                     settings.first_pulse_only)
+                     settings.first_pulse_only, _front_at_face_s(flow, column, t0))
     mass = np.array([b.mass_kg for b in bodies])
     inertia = np.array([b.inertia_kg_m2 for b in bodies])
     # the water each body carries (body axes): translation (kg) and rotation (kg m^2), as the
@@ -439,6 +439,18 @@ def run_transport(bodies, flume: FlumeBounds, t_end_s: float, flow: FlowField | 
     return TransportResult(tracks, impacts, body_contacts, wall, book.pulse_wall_s,
                            dt, steps, n_hydro * dt, n_out * dt, dict(book.pulses),
                            book.strike_states(), pd.DataFrame(departures, columns=DEPARTURE_COLUMNS))
+
+
+def _front_at_face_s(flow: FlowField | None, column, t0_s: float) -> float:
+    """When the flow's front reached the column's upstream face, on the transport's clock (the
+    face as the strikes' water level reads it, 1 cm upstream); NaN without a flow or a column, or
+    when the record does not cover the face."""
+    if flow is None or column is None:
+        return math.nan
+    try:
+        return flow.front_arrival_s(column.x_m - column.column.size_x_m / 2.0 - 0.01, column.y_m) - float(t0_s)
+    except InputError:
+        return math.nan
 
 
 def _tracks(bodies, times: np.ndarray, rows: list[np.ndarray]) -> pd.DataFrame:

@@ -54,11 +54,12 @@ from orchestrator.contact.events import IMPACT_COLUMNS as RESULTS_IMPACT_COLUMNS
 __all__ = ["AFLOAT_CLEARANCE_M", "BODY_EVENT_COLUMNS", "IMPACT_COLUMNS", "EventBook"]
 
 IMPACT_COLUMNS = RESULTS_IMPACT_COLUMNS + ["peak_base_shear_N", "pulse_restitution", "effective_mass_kg",
-                                           "added_mass_along_normal_kg"]
-"""results/impacts.csv's columns (orchestrator.contact.events.IMPACT_COLUMNS) and four more: the
+                                           "added_mass_along_normal_kg", "time_since_front_s"]
+"""results/impacts.csv's columns (orchestrator.contact.events.IMPACT_COLUMNS) and five more: the
 column model's peak base shear, the strike's restitution, the body's effective mass at the
-contact point along the normal (its mass, the water it carries and its rotation) and the added
-mass of that water along the normal."""
+contact point along the normal (its mass, the water it carries and its rotation), the added
+mass of that water along the normal and, for a column strike, the time since the front reached
+the column's face (negative: the body struck ahead of the front)."""
 
 BODY_EVENT_COLUMNS = [
     "event", "time_s", "body", "other", "point_x_m", "point_y_m", "point_z_m", "normal_x", "normal_y", "normal_z",
@@ -101,13 +102,15 @@ class EventBook:
     -3 column); ``geom_names`` names them; ``bodies`` are the :class:`TransportBody` list;
     ``body_ids`` their MuJoCo body ids, ``dof_adr`` their free joints' first dof;
     ``column`` the :class:`PlacedColumn` or None; ``surface(x, y, t)`` gives the water level
-    (or None when there is no flow).
+    (or None when there is no flow); ``front_at_face_s`` when the flow's front reached the
+    column's face (NaN: no flow, no column, or it never did).
     """
 
     def __init__(self, owner, geom_names, bodies, body_ids, dof_adr, column=None, bed_z_m: float = 0.0,
                  separation_s: float = 0.005, surface=None, min_impact_velocity_m_s: float = 0.05,
-                 first_pulse_only: bool = False):
+                 first_pulse_only: bool = False, front_at_face_s: float = math.nan):
         self.owner = np.asarray(owner)
+        self.front_at_face_s = float(front_at_face_s)
         self.body_ids = np.asarray(body_ids)
         self.geom_names = list(geom_names)
         self.bodies = list(bodies)
@@ -283,6 +286,7 @@ class EventBook:
             "pulse_restitution": loads.get("restitution", math.nan),
             "effective_mass_kg": e.result.effective_mass_kg if e.result is not None else math.nan,
             "added_mass_along_normal_kg": e.added_mass_normal_kg,
+            "time_since_front_s": e.time_s - self.front_at_face_s if e.kind == "column" else math.nan,
         }
 
     def _pulse(self, e: _Event, height_m: float) -> dict:

@@ -45,10 +45,15 @@ import numpy as np
 from analytical.dambreak import RitterSolution
 from orchestrator.core.errors import InputError
 
-__all__ = ["FORMAT_VERSION", "FlowCoverageError", "FlowField", "FlowSample"]
+__all__ = ["FORMAT_VERSION", "FRONT_RISE_M", "FlowCoverageError", "FlowField", "FlowSample"]
 
 FORMAT_VERSION = 1
 """Version of the ``.npz`` layout written by :meth:`FlowField.save`."""
+
+FRONT_RISE_M = 0.01
+"""The front has reached a point when the surface there stands this far above its first level
+(:meth:`FlowField.front_arrival_s`): the gauges' arrival threshold when the impoundment is unknown
+(orchestrator.results.metrics.ARRIVAL_THRESHOLD_FALLBACK_M), 2.5 % of the study's 0.40 m."""
 
 #: Relative slack (times the axis span) on the bounds of the record: a point on the edge is inside.
 _EDGE = 1e-9
@@ -231,6 +236,26 @@ class FlowField:
         gx = 1.0 - fx
         corners = (q[:, 0] * gx + q[:, 1] * fx) * (1.0 - fy) + (q[:, 2] * gx + q[:, 3] * fx) * fy
         return (corners[0] * (1.0 - ft) + corners[1] * ft).reshape(x.shape)
+
+    def front_arrival_s(self, x_m: float, y_m: float, rise_m: float = FRONT_RISE_M) -> float:
+        """First record time (s) at which the surface at plan point ``(x_m, y_m)`` stands ``rise_m``
+        above its level in the record's first frame, interpolated between frames; NaN if it never
+        does (the front has not reached the point within the record)."""
+        located = self.locate(np.array([float(x_m)]), np.array([float(y_m)]), float(self.t_s[0]))
+        _, _, _, i, fx, j, fy = located
+        nj = self.y_m.size
+        q = self._eta_flat[:, (i * nj + j)[0] + np.array([0, nj, 1, nj + 1])]
+        gx, gy = 1.0 - float(fx[0]), float(fy[0])
+        level = (q[:, 0] * gx + q[:, 1] * (1.0 - gx)) * (1.0 - gy) + (q[:, 2] * gx + q[:, 3] * (1.0 - gx)) * gy
+        target = level[0] + float(rise_m)
+        above = np.flatnonzero(level > target)
+        if above.size == 0:
+            return math.nan
+        k = int(above[0])
+        if k == 0:
+            return float(self.t_s[0])
+        e0, e1 = level[k - 1], level[k]
+        return float(self.t_s[k - 1] + (target - e0) / (e1 - e0) * (self.t_s[k] - self.t_s[k - 1]))
 
     def sample(self, points_m, t_s: float, acceleration: bool = True, eta_m=None, located=None) -> FlowSample:
         """Surface, velocity and (with ``acceleration``) material acceleration at ``points_m`` (P, 3).
