@@ -35,7 +35,7 @@ help:
 	@echo "make test-all               every test, the slow ones too (about 45 min on 2 idle cores)"
 	@echo "make test-fast              the Python tests without OpenFOAM and without the slow ones"
 	@echo "make clean                  remove the venv and build files"
-	@echo "make docs-check             the docs: links resolve, no history, README at most 800 words, figures the planner gives"
+	@echo "make docs-check             the docs: links resolve, no history, README at most 800 words, docs/*.md at most 15,000, make help complete, figures the planner gives"
 	@echo "make wet-bed                the bore against Stoker's wet-bed solution, laminar and RANS (about 25 min; docs/results/wet-bed/)"
 	@echo "make synthetic-study        the seed's SDOF/MDOF/ASCE analysis on 22 synthetic records"
 	@echo "make scene-doc              docs/scene.md, the scene reference, from the schema"
@@ -84,7 +84,8 @@ test-fast: venv
 
 # The docs checked like code (tests/test_docs.py, seconds, no OpenFOAM): every relative link
 # resolves, README and docs/*.md say what is true now (history is CHANGELOG.md's), the README
-# stays a two-minute read, and the figures the planner can recompute (cells, cost factors) agree.
+# stays a two-minute read and docs/*.md within 15,000 words, `make help` lists every target, and
+# the figures the planner can recompute (cells, cost factors) agree.
 docs-check: venv
 	$(PY) -m pytest -q tests/test_docs.py
 

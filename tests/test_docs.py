@@ -1,5 +1,6 @@
 """The documentation checked like code (`make docs-check`): no broken links, no history, a short
-README, and the figures a test can recompute cheaply equal to what the code gives today.
+README, docs a newcomer can finish, `make help` listing every target, and the figures a test can
+recompute cheaply equal to what the code gives today.
 
 No OpenFOAM: the stale-figure checks ask the planner, which counts cells without meshing.
 """
@@ -27,8 +28,8 @@ LINKED_PAGES = [README, *sorted((ROOT / "docs").rglob("*.md")), *sorted((ROOT / 
 CURRENT_PAGES = [README, *sorted((ROOT / "docs").glob("*.md"))]
 
 #: History phrasing: a page that tells how things were, or when they changed, instead of how they are.
-#: Each pattern is specific enough not to flag present-tense English ("can no longer be sane" in a
-#: quoted runner message, "before the impact", "still water").
+#: Each pattern is specific enough not to flag present-tense English ("before the impact", "still
+#: water", "the memory available now"); "no longer" and "now <verb>s" are always phrases of change.
 HISTORY = [
     r"\bbefore the (fix|fixes|mend|change|changes)\b",
     r"\bafter the (fix|fixes|mend|change|changes)\b",
