@@ -520,7 +520,7 @@ def test_write_and_restore_states_in_dynamic_mesh_dict(body_case, tmp_path):
     assert bodystate.read_body_properties(case)[0].initial_centre_of_mass_m == props["debris1"].initial_centre_of_mass_m
     states, source = bodystate.recorded_states(case, "0.3")
     assert source == "log" and states == [s1, s2]
-    with pytest.raises(InputError, match="bodies: no state for body debris2"):
+    with pytest.raises(InputError, match="bodies: no state at t = 0.4 for debris2"):
         bodystate.prepare_restart(case, "0.4", [s1], "log")
 
 

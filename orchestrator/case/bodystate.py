@@ -262,9 +262,8 @@ def coefficient_states(case_dir: str | Path, time_s: float = 0.0) -> list[BodySt
 def write_states(case_dir: str | Path, states: Sequence[BodyState]) -> None:
     """Write each body's state into its coefficients in constant/dynamicMeshDict.
 
-    `initialCentreOfMass` / `initialOrientation` are set once, from the coefficients
-    as rendered (the pose the body mesh was built in), and never changed afterwards.
-    Raises InputError naming a body that the dictionary does not have.
+    `initialCentreOfMass` / `initialOrientation` are set once, from the coefficients as rendered (the pose the
+    body mesh was built in), and never changed afterwards. Raises InputError naming a body it lacks.
     """
     path = Path(case_dir) / DYNAMIC_MESH_DICT
     parsed = parsed_dict(path)
@@ -354,8 +353,7 @@ def prepare_restart(case_dir: str | Path, time_name: str, states: Sequence[BodyS
     names = [p.name for p in read_body_properties(case_dir)]
     missing = sorted(set(names) - {s.name for s in states})
     if missing:
-        raise InputError("bodies", f"no state for bod{'y' if len(missing) == 1 else 'ies'} {', '.join(missing)} "
-                                   f"at t = {time_name}", str(case_dir))
+        raise InputError("bodies", f"no state at t = {time_name} for {', '.join(missing)}", str(case_dir))
     record_states(case_dir, time_name, states, source)
     remove_state_files(case_dir, time_name)
     write_states(case_dir, states)
