@@ -248,7 +248,7 @@ clean:
 # The study's own flows (runs/approach-*, orchestrator/studies/approach_report.py STUDY_RUNS) are
 # read when present; each missing one is named on the page with the command that makes it.
 approach: venv
-	$(PY) -m orchestrator.studies.approach_report --default $(OUT) --runs runs -o docs/results/approach
+	$(VENV)/bin/debrisfoam report approach $(OUT) --runs runs -o docs/results/approach --force
 
 forcing-variants: venv
-	$(PY) benchmarks/forcing_variants.py $(OUT) -o benchmarks/forcing_variants.md
+	$(VENV)/bin/debrisfoam report forcing-variants $(OUT) -o benchmarks/forcing_variants.md --force

@@ -257,3 +257,48 @@ def test_a_coupled_run_is_read_as_a_carry_with_its_strike(tmp_path):
     assert run.track["time_s"].max() <= 0.9
     assert run.track["gap_m"].iloc[0] == pytest.approx(0.6)
     assert run.strike.slowed_at_gap_m == pytest.approx(0.6 - 0.6 * 0.84)  # the first row 5 % slower
+
+
+# --------------------------------------------------------------------------- the verbs: report approach, report forcing-variants
+
+@pytest.fixture(scope="module")
+def one_way_run(tmp_path_factory):
+    """The tiny 1-debris scene rendered one-way, 0.3 s, with a 1 m/s current 0.1 m deep saved as its
+    flow record (what `debrisfoam case` leaves in results/ once the flow has run)."""
+    from orchestrator.cli import main
+
+    case = tmp_path_factory.mktemp("approach") / "run"
+    scene = Path(__file__).resolve().parent / "data" / "post" / "tiny-1debris" / "scene.yaml"
+    assert main(["render", str(scene), "-o", str(case), "--set", "run.debris_coupling=one-way",
+                 "--set", "run.end_time_s=0.3"]) == 0
+    (case / "results").mkdir()
+    FlowField.uniform_current(0.1, 1.0, x_m=np.linspace(-0.5, 2.4, 30), y_m=np.linspace(-0.2, 0.2, 9),
+                              t_s=np.linspace(0.0, 0.3, 7)).save(case / "results" / "flow_record.npz")
+    return case
+
+
+def test_report_forcing_variants_writes_the_table_of_each_variant(one_way_run, tmp_path, monkeypatch, capsys):
+    from orchestrator.cli import main
+    from orchestrator.studies import forcing_variants
+
+    monkeypatch.setattr(forcing_variants, "VARIANTS", forcing_variants.VARIANTS[-1:])  # the default alone: fast
+    out = tmp_path / "variants.md"
+    assert main(["report", "forcing-variants", str(one_way_run), "-o", str(out), "--json"]) == 0
+    text = out.read_text()
+    assert f"Written by `debrisfoam report forcing-variants {one_way_run}`" in text
+    rows = [line for line in text.splitlines() if line.startswith("| along the flow + Munk (default) | 1.05 |")]
+    assert len(rows) == len(forcing_variants.YAWS_DEG) and "none" not in rows[0]  # the current carries it to the column
+    assert main(["report", "forcing-variants", str(one_way_run), "-o", str(out)]) == 2  # no --force
+    assert "exists: give --force" in capsys.readouterr().err
+
+
+def test_report_approach_writes_the_page_and_names_the_runs_it_lacks(one_way_run, tmp_path):
+    from orchestrator.cli import main
+
+    out = tmp_path / "approach"
+    assert main(["report", "approach", str(one_way_run), "--runs", str(tmp_path / "none"), "--coupled",
+                 "-o", str(out), "--json"]) == 0
+    assert {p.name for p in out.iterdir()} == {"report.md", "approach.csv", "budget.csv", "speed_vs_gap.png",
+                                               "budget.png"}
+    page = (out / "report.md").read_text()
+    assert "| default (" in page and "## Not run" in page and "`approach-2cm-box`" in page

@@ -145,3 +145,21 @@ def test_the_layer_check_sees_a_wrong_import(tmp_path):
     (target, names, line), = _imports(probe)
     assert (target, names) == ("orchestrator.studies.sweep", ["run_sweep"])
     assert LAYERS.index(_stage(target)) > LAYERS.index(_stage("orchestrator.case.render"))
+
+
+def test_only_the_cli_parses_a_command_line():
+    """Every verb is reached through `debrisfoam` (its exit codes, --debug, error messages): no module
+    outside orchestrator/cli/ builds its own argparse parser or has a __main__ of its own."""
+    wrong = []
+    for module, path in MODULES.items():
+        if module.startswith("orchestrator.cli"):
+            continue
+        tree = ast.parse(path.read_text())
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Import) and any(a.name == "argparse" for a in node.names) or \
+                    isinstance(node, ast.ImportFrom) and node.module == "argparse":
+                wrong.append(f"{module}:{node.lineno}: imports argparse")
+            if isinstance(node, ast.Compare) and isinstance(node.left, ast.Name) and node.left.id == "__name__" \
+                    and any(isinstance(c, ast.Constant) and c.value == "__main__" for c in node.comparators):
+                wrong.append(f"{module}:{node.lineno}: if __name__ == '__main__'")
+    assert not wrong, "give it a verb in orchestrator/cli/ instead:\n" + "\n".join(wrong)

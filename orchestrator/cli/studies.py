@@ -1,6 +1,6 @@
 """The study verbs: ``sweep`` (a parameter sweep, resumable), ``ensemble`` (one recorded flow,
 many perturbed debris starts) and ``report`` (across runs: ``speed-error``, ``case``, ``layouts``,
-``stability``).
+``stability``, ``approach``, ``forcing-variants``...).
 
 ``sweep --dry-run`` prints the members, their cell counts and estimated wall times and runs
 nothing. A sweep with failed members exits 1 and lists them; an interrupted one exits
@@ -37,8 +37,10 @@ from orchestrator.scene.shipped import resolve_scene, resolve_sweep
 __all__ = [
     "add_study_parsers",
     "cmd_ensemble",
+    "cmd_report_approach",
     "cmd_report_case",
     "cmd_report_coupling",
+    "cmd_report_forcing_variants",
     "cmd_report_layouts",
     "cmd_report_speed_error",
     "cmd_report_spreading",
@@ -310,6 +312,33 @@ def cmd_report_bore(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def cmd_report_approach(args: argparse.Namespace) -> int:
+    from orchestrator.studies.approach_report import COUPLED_RUNS, write_approach_report
+
+    if not (Path(args.case_dir) / "results" / "flow_record.npz").is_file():
+        raise InputError("case_dir", "no results/flow_record.npz: not a one-way run (run `make case-1debris` first)",
+                         str(args.case_dir))
+    out = output_path(args.out, "-o/--out", args.force, folder=True)
+    say = (lambda _: None) if args.json else (lambda m: print(f"debrisfoam: {m}", file=sys.stderr, flush=True))
+    files = write_approach_report(args.case_dir, args.runs, out, say=say,
+                                  coupled=COUPLED_RUNS if args.coupled is None else tuple(args.coupled))
+    emit({kind: str(path) for kind, path in files.items()}, args.json)
+    return EXIT_OK
+
+
+def cmd_report_forcing_variants(args: argparse.Namespace) -> int:
+    from orchestrator.core.files import write_text_atomic
+    from orchestrator.studies.forcing_variants import forcing_variants
+
+    out = output_path(args.out, "-o/--out", args.force, folder=False)
+    say = (lambda _: None) if args.json else (lambda m: print(f"debrisfoam: {m}", file=sys.stderr, flush=True))
+    text = forcing_variants(args.case_dir, say=say)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    write_text_atomic(out, text)
+    emit({"report": str(out)}, args.json)
+    return EXIT_OK
+
+
 def cmd_report_stability(args: argparse.Namespace) -> int:
     from orchestrator.studies.stability import markdown, stability_table
 
@@ -394,7 +423,9 @@ def add_study_parsers(verbs) -> None:
                                          "spreading), coupling (one-way against two-way), "
                                          "speed-error (a sweep's cost against its errors), scale (a scene and its "
                                          "Froude-scaled twin), stability (a sweep's "
-                                         "runs checked), bore (a sweep's bores against Stoker's)")
+                                         "runs checked), bore (a sweep's bores against Stoker's), approach "
+                                         "(the strike speed against the flow record near the column), "
+                                         "forcing-variants (the one-way forcing's variants)")
     rp_verbs = rp.add_subparsers(dest="report_verb", required=True, parser_class=ArgParser)
     p = rp_verbs.add_parser("speed-error", help="wall time against error for every member of a sweep (and of "
                                                 "baseline sweeps): table and Pareto plot in SWEEP_DIR/report/")
@@ -484,3 +515,30 @@ def add_study_parsers(verbs) -> None:
     p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_report_bore)
+
+    p = rp_verbs.add_parser("approach", help="a one-way run's container carried through its flow record and the "
+                                             "study's finer ones: the strike speed against the record's cell size "
+                                             "near the column, its frame rate and the forcing near the face, with "
+                                             "the force budget (make approach; docs/results/approach/)")
+    p.add_argument("case_dir", metavar="RUN", help="the one-way run of the 1-debris scene (runs/1debris: make "
+                                                  "case-1debris), with results/flow_record.npz")
+    p.add_argument("--runs", default="runs", help="folder of the study's own runs (1debris-4cm, approach-*; each "
+                                                  "missing one is named on the page with the command that makes it)")
+    p.add_argument("--coupled", nargs="*", default=None, metavar="TWO_WAY",
+                   help="two-way runs of the same scene set beside the carries, those with results (default: "
+                        "runs/1debris-two-way and runs/coupling-1debris-{3,2}cm/two-way; none: give no folder)")
+    p.add_argument("-o", "--out", required=True, help="output folder (report.md, approach.csv, budget.csv, plots)")
+    p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
+    p.add_argument("--json", action="store_true", help="print JSON (no progress)")
+    p.set_defaults(func=cmd_report_approach)
+
+    p = rp_verbs.add_parser("forcing-variants", help="a one-way run's container carried through its flow record "
+                                                     "under each variant of the one-way forcing (drag per axis or "
+                                                     "along the flow, the Munk moment, three drag coefficients): "
+                                                     "the table docs/one-way.md quotes (make forcing-variants)")
+    p.add_argument("case_dir", metavar="RUN", help="the one-way run of the 1-debris scene (runs/1debris: make "
+                                                  "case-1debris)")
+    p.add_argument("-o", "--out", required=True, help="the Markdown page to write (benchmarks/forcing_variants.md)")
+    p.add_argument("--force", action="store_true", help="overwrite an existing file")
+    p.add_argument("--json", action="store_true", help="print JSON (no progress)")
+    p.set_defaults(func=cmd_report_forcing_variants)

@@ -1,6 +1,6 @@
 """The approach study written out: docs/results/approach/ (``make approach``).
 
-``python -m orchestrator.studies.approach_report [--default runs/1debris] [--runs runs] [--coupled RUN ...] [-o DIR]``
+``debrisfoam report approach RUN [--runs runs] [--coupled RUN ...] -o DIR`` (RUN: runs/1debris)
 
 Reads the one-way flow records it finds (the default case, and the study's own runs under
 ``--runs``: ``1debris-4cm``, ``approach-4cm-200hz``, ``approach-3cm-box``, ``approach-2cm-box``; a
@@ -14,20 +14,19 @@ run's forces along the flume over the last 0.3 m).
 
 from __future__ import annotations
 
-import argparse
 import io
-import json
-import sys
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
+from orchestrator.core.errors import InputError
 from orchestrator.core.files import write_bytes_atomic, write_text_atomic
 from orchestrator.studies.approach import APPROACH_REACH_M, ApproachFlow, ApproachRun, carry, coupled_run, thinned
 from orchestrator.transport.flow import FlowField
 
-__all__ = ["STUDY_RUNS", "main", "markdown"]
+__all__ = ["COUPLED_RUNS", "STUDY_RUNS", "markdown", "write_approach_report"]
 
 #: The study's own flow runs (folder under --runs: finest cell near the column, record rate, how made).
 STUDY_RUNS = {
@@ -87,7 +86,8 @@ def run_all(default: Path, runs: Path, say=print,
     carries, notes = [], []
     flow = _record(default)
     if flow is None:
-        raise SystemExit(f"{default}: no results/flow_record.npz (run make case-1debris first)")
+        raise InputError("case_dir", "no results/flow_record.npz: not a one-way run (run `make case-1debris` "
+                                     "first)", str(default))
     from orchestrator.scene.scenefile import load_scene
     loaded = load_scene(scene)
     cell_m, rate_hz = near_column_cell_m(loaded), loaded.outputs.flow_record_hz
@@ -291,26 +291,22 @@ def _png(fig) -> bytes:
     return out.getvalue()
 
 
-def main(argv=None) -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--default", type=Path, default=Path("runs/1debris"))
-    parser.add_argument("--runs", type=Path, default=Path("runs"))
-    parser.add_argument("--coupled", type=Path, nargs="*", default=list(COUPLED_RUNS),
-                        help="two-way runs of the default's scene to set beside the carries (those with results)")
-    parser.add_argument("-o", "--out", type=Path, default=Path("docs/results/approach"))
-    args = parser.parse_args(argv)
-    carries, budget, notes = run_all(args.default, args.runs, say=lambda m: print(m, file=sys.stderr),
-                                     coupled=tuple(args.coupled))
+def write_approach_report(default: str | Path, runs: str | Path, out: str | Path,
+                          coupled: tuple[Path, ...] = COUPLED_RUNS,
+                          say: Callable[[str], None] = print) -> dict[str, Path]:
+    """Every carry of the study (:func:`run_all`: ``default``, the one-way run; ``runs``, the folder
+    of the study's own runs; ``coupled``, two-way runs beside them) written into ``out``; each file
+    by kind (report, approach, budget, speed_vs_gap, budget_plot)."""
+    carries, budget, notes = run_all(Path(default), Path(runs), say=say, coupled=tuple(Path(c) for c in coupled))
     table = pd.DataFrame([_row(r) for r in carries])
-    args.out.mkdir(parents=True, exist_ok=True)
-    write_text_atomic(args.out / "approach.csv", table.to_csv(index=False, float_format="%.6g"))
-    write_text_atomic(args.out / "budget.csv", budget.to_csv(index=False, float_format="%.6g"))
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    files = {"report": out / "report.md", "approach": out / "approach.csv", "budget": out / "budget.csv",
+             "speed_vs_gap": out / "speed_vs_gap.png", "budget_plot": out / "budget.png"}
+    write_text_atomic(files["approach"], table.to_csv(index=False, float_format="%.6g"))
+    write_text_atomic(files["budget"], budget.to_csv(index=False, float_format="%.6g"))
     speed_png, budget_png = _plots(carries, budget)
-    write_bytes_atomic(args.out / "speed_vs_gap.png", speed_png)
-    write_bytes_atomic(args.out / "budget.png", budget_png)
-    write_text_atomic(args.out / "report.md", markdown(table, notes, budget))
-    print(json.dumps({"out": str(args.out), "carries": len(carries)}))
-
-
-if __name__ == "__main__":
-    main()
+    write_bytes_atomic(files["speed_vs_gap"], speed_png)
+    write_bytes_atomic(files["budget_plot"], budget_png)
+    write_text_atomic(files["report"], markdown(table, notes, budget))
+    return files
