@@ -29,7 +29,7 @@ _HOMES = {
 
 def __getattr__(name: str):
     if name not in _HOMES:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")  # internal: the module __getattr__ protocol
     return getattr(importlib.import_module(f"{__name__}.{_HOMES[name]}"), name)
 
 
