@@ -163,6 +163,12 @@ def test_report_case_of_an_unreadable_summary_names_the_file(tmp_path, capsys):
     assert code == 2 and f"{tmp_path}: results/summary.json: not a JSON object" in err
 
 
+def test_report_layouts_of_a_sweep_folder_whose_record_is_unreadable_names_it(tmp_path, capsys):
+    (tmp_path / "sweep.json").write_text("garbage")
+    code, err = _cli(capsys, "report", "layouts", tmp_path, "-o", tmp_path / "page")
+    assert code == 2 and f"{tmp_path}: RUNS: sweep.json is not a JSON object" in err
+
+
 @pytest.mark.parametrize("verb", ["stability", "speed-error"])
 def test_a_sweep_report_of_a_results_store_that_is_no_database_names_it(tmp_path, capsys, verb):
     (tmp_path / "results.sqlite").write_text("garbage")

@@ -32,7 +32,6 @@ error and the log to read, and left out of the figures.
 
 from __future__ import annotations
 
-import json
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -44,7 +43,7 @@ import pandas as pd
 from orchestrator.core.errors import InputError
 from orchestrator.case.folder import CaseFolder
 from orchestrator.contact.events import read_events
-from orchestrator.core.files import write_text_atomic
+from orchestrator.core.files import read_json_object, write_text_atomic
 from orchestrator.report import layout_plots
 from orchestrator.report.layout_page import markdown
 from orchestrator.results.compare import SPREADING_ANGLES_DEG, spreading_area
@@ -139,13 +138,16 @@ def find_runs(paths) -> list[Path]:
         if not path.is_dir():
             raise InputError("RUNS", "not a folder", str(path))
         if (path / SWEEP_JSON).is_file():
-            listed = json.loads((path / SWEEP_JSON).read_text()).get("members")
+            sweep = read_json_object(path / SWEEP_JSON)
+            if sweep is None:
+                raise InputError("RUNS", f"{SWEEP_JSON} is not a JSON object (a sweep folder's record)", str(path))
+            listed = sweep.get("members")
             ids = {str(m["id"]) for m in listed} if listed else None
             members = []
             for m in path.iterdir():
                 record = m / MEMBER_JSON
                 if record.is_file() and (ids is None or m.name in ids):
-                    members.append((json.loads(record.read_text()).get("member", 0), m))
+                    members.append(((read_json_object(record) or {}).get("member", 0), m))
             if not members:
                 raise InputError("RUNS", "a sweep folder without members (run the sweep first)", str(path))
             out += [m for _, m in sorted(members)]
@@ -229,7 +231,7 @@ def load_layout(case_dir: str | Path) -> Layout:
     folder = CaseFolder(case_dir)
     plan, run = folder.plan() or {}, folder.run_record() or {}
     member_path = folder.path / MEMBER_JSON
-    member = json.loads(member_path.read_text()) if member_path.is_file() else {}
+    member = read_json_object(member_path) or {}
     summary = folder.summary() or {}
     scene = load_scene(folder.scene_path) if folder.scene_path.is_file() else None
     name = summary.get("scene") or (scene.name if scene is not None else None) or \
