@@ -156,6 +156,26 @@ def test_run_of_a_case_whose_plan_json_is_broken_names_the_file(tmp_path, capsys
     assert f"{tmp_path / 'plan.json'}: plan.json: {said}" in err
 
 
+PLAN = '{"solver": "interFoam", "decomposition": {"n": [1, 1, 1]}, "domain_m": [[0, 1], [0, 1], [0, 1]]}'
+CONTROL = "FoamFile { version 2.0; format ascii; class dictionary; object controlDict; }\nendTime 1;\n"
+
+
+@pytest.mark.parametrize("control, dynamic, said", [
+    (None, None, "system/controlDict: missing"),
+    ("FoamFile { version 2.0; }\nfoo { bar\n", None, "system/controlDict: not an OpenFOAM dictionary"),
+    (CONTROL, "FoamFile { version 2.0; }\nsolvers { debris1 { sixDoFRigidBodyMotionCoeffs { centreOfMass (0 0 0); } } }\n",
+     "constant/dynamicMeshDict: not the dictionary `debrisfoam render` writes (KeyError('mass'))"),
+])
+def test_run_of_a_case_whose_openfoam_dictionaries_are_broken_names_the_file(tmp_path, capsys, control, dynamic, said):
+    (tmp_path / "plan.json").write_text(PLAN)
+    for name, text in (("system/controlDict", control), ("constant/dynamicMeshDict", dynamic)):
+        if text is not None:
+            (tmp_path / name).parent.mkdir(exist_ok=True)
+            (tmp_path / name).write_text(text)
+    code, err = _cli(capsys, "run", tmp_path)
+    assert code == 2 and f"{tmp_path}: {said}" in err, err
+
+
 def test_report_case_of_an_unreadable_summary_names_the_file(tmp_path, capsys):
     (tmp_path / "results").mkdir()
     (tmp_path / "results" / "summary.json").write_text("garbage")

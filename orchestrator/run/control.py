@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from orchestrator.case import bodystate
-from orchestrator.run.errors import RunError
+from orchestrator.core.errors import InputError
 
 __all__ = [
     "FILE_MODIFICATION_SKEW_S",
@@ -46,12 +46,16 @@ _CONTROL_CACHE: dict[Path, tuple[str, Any]] = {}
 
 def read_control(case: Path) -> Any:
     """system/controlDict, parsed (PyFoam)."""
+    from PyFoam.Error import PyFoamException
     from PyFoam.RunDictionary.ParsedParameterFile import ParsedParameterFile
 
     path = case / "system" / "controlDict"
     if not path.is_file():
-        raise RunError(f"{path} is missing: is {case} a case rendered by `debrisfoam render`?")
-    return ParsedParameterFile(str(path))
+        raise InputError("system/controlDict", "missing: is it a case rendered by `debrisfoam render`?", str(case))
+    try:
+        return ParsedParameterFile(str(path))
+    except PyFoamException as exc:
+        raise InputError("system/controlDict", f"not an OpenFOAM dictionary ({exc})", str(case)) from None
 
 
 def significant_digits(time_name: str) -> int:
