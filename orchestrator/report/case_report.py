@@ -85,6 +85,8 @@ def _rows(head: dict, first_impact: dict | None) -> list[tuple[str, str, str, st
          _within(first_impact.get("height_m"), 0.05, float("inf"))),
         ("water level at the column's face (the study's impact height)",
          _fmt(first_impact.get("face_water_level_m"), ".3f", " m"), f"{low_h}-{high_h} m, mean {mean_h} m", "-"),
+        ("time since the front reached the face (negative: ahead of it)",
+         _fmt(first_impact.get("time_since_front_s"), ".3f", " s"), "not stated", "-"),
     ]
     for name, label, scale, unit, spec in (("peak_force_N", "the contact law's pulse: magnitude", 1.0, " N", ".0f"),
                                            ("duration_s", "the contact law's pulse: duration", 1e3, " ms", ".2f"),

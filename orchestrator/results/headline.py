@@ -103,6 +103,7 @@ def _impact_figures(results: Results) -> dict[str, Any]:
         "peak_force_N": finite_or_none(first["peak_force_N"]), "duration_s": finite_or_none(first["duration_s"]),
         "impulse_Ns": finite_or_none(first["impulse_Ns"]), "height_m": finite_or_none(first["height_m"]),
         "face_water_level_m": finite_or_none(first["face_water_level_m"]),
+        "time_since_front_s": finite_or_none(first.get("time_since_front_s")),  # a one-way strike's
         "body_clearance_m": finite_or_none(first["body_clearance_m"]),
         "afloat": None if first["afloat"] is None or first["afloat"] != first["afloat"] else bool(first["afloat"]),
     }
