@@ -189,6 +189,26 @@ def test_report_layouts_of_a_sweep_folder_whose_record_is_unreadable_names_it(tm
     assert code == 2 and f"{tmp_path}: RUNS: sweep.json is not a JSON object" in err
 
 
+BROKEN_CSV = 'a,b\n1,2,3,4\n"x'
+
+
+def test_report_layouts_of_a_run_whose_results_table_is_broken_names_the_table(tmp_path, capsys):
+    (tmp_path / "results").mkdir()
+    (tmp_path / "plan.json").write_text("{}")
+    (tmp_path / "results" / "summary.json").write_text('{"status": "finished"}')
+    (tmp_path / "results" / "gauges.csv").write_text(BROKEN_CSV)
+    code, err = _cli(capsys, "report", "layouts", tmp_path, "-o", tmp_path / "page")
+    assert code == 2 and f"{tmp_path / 'results'}: gauges.csv: not a table" in err
+
+
+def test_report_scale_of_a_run_whose_gauge_summary_is_broken_names_it(tmp_path, capsys):
+    (tmp_path / "results").mkdir()
+    (tmp_path / "scene.yaml").write_text(TINY.read_text())
+    (tmp_path / "results" / "gauge_summary.csv").write_text(BROKEN_CSV)
+    code, err = _cli(capsys, "report", "scale", tmp_path, tmp_path, "-o", tmp_path / "page")
+    assert code == 2 and f"{tmp_path / 'results'}: gauge_summary.csv: not a table" in err
+
+
 @pytest.mark.parametrize("verb", ["stability", "speed-error"])
 def test_a_sweep_report_of_a_results_store_that_is_no_database_names_it(tmp_path, capsys, verb):
     (tmp_path / "results.sqlite").write_text("garbage")

@@ -125,7 +125,12 @@ class Layout:
 
 
 def _csv(path: Path) -> pd.DataFrame:
-    return pd.read_csv(path) if path.is_file() and path.stat().st_size > 0 else pd.DataFrame()
+    try:
+        return pd.read_csv(path) if path.is_file() and path.stat().st_size > 0 else pd.DataFrame()
+    except pd.errors.EmptyDataError:  # a table post wrote without rows or columns ("\n")
+        return pd.DataFrame()
+    except (ValueError, pd.errors.ParserError) as exc:
+        raise InputError(path.name, f"not a table ({exc}): post-process the run again", str(path.parent)) from None
 
 
 def find_runs(paths) -> list[Path]:

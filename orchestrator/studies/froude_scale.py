@@ -56,7 +56,10 @@ class ScaleComparison:
 
 
 def _csv(path: Path) -> pd.DataFrame | None:
-    return pd.read_csv(path) if path.is_file() else None
+    try:
+        return pd.read_csv(path) if path.is_file() else None
+    except (ValueError, pd.errors.ParserError) as exc:  # EmptyDataError is a ValueError
+        raise InputError(path.name, f"not a table ({exc}): post-process the run again", str(path.parent)) from None
 
 
 def _scale(lab_dir: Path, proto_dir: Path) -> float:
