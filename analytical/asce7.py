@@ -52,6 +52,12 @@ __all__ = [
     "SEED_TABLE1_FORCE_KS_N",
     "SEED_TABLE1_FORCE_KD_N",
     "SEED_DEBRIS_STIFFNESS_N_M",
+    "FULL_SCALE_MIN_MASS_KG",
+    "MAX_FLOW_SPEED_M_S",
+    "DEBRIS_STIFFNESS_RANGE_N_M",
+    "check_flow_speed",
+    "check_debris_stiffness",
+    "check_full_scale_mass",
 ]
 
 ORIENTATION_CONTAINER = 0.65
@@ -288,6 +294,71 @@ digits either way.
 """
 
 
+FULL_SCALE_MIN_MASS_KG = 100.0
+"""The least mass of full-scale debris, kg: a body this heavy or heavier is at full scale, and a
+full-scale (``--prototype``) body lighter than this is refused as a slip of units (tonnes for kg).
+
+Why 100 kg: the lightest debris ASCE 7-22 6.11 designs for is a wood log or pole, whose debris
+weight 6.11.2 takes as 1,000 lb (454 kg; check against the printed clause); shipping containers
+start at about 2,300 kg empty (analytical.catalogue). No laboratory flume's debris comes near it:
+the study's 1:40 container is 0.236 kg, and a loaded 20-ft container at 1:5 (a large-scale model)
+is 30,480 kg / 125 = 244 kg. A scene with a body this heavy is treated as full scale
+(orchestrator/studies/design_asce.py): its simplified static load applies.
+"""
+
+MAX_FLOW_SPEED_M_S = 30.0
+"""The fastest flow (or strike) speed any verb accepts, m/s: well above any tsunami inundation speed.
+
+The fastest onshore tsunami flows measured are about 11 m/s (Fritz et al. 2012, GRL 39, L00G23:
+the 2011 Tohoku tsunami at Kesennuma Bay, from survivor videos); a bore's long-wave speed
+``sqrt(g h)`` over the deepest onshore inundation recorded (about 40 m of run-up, Tohoku 2011) is
+about 20 m/s. 30 m/s is half again above that: a speed beyond it is a slip of units (mm/s, km/h)
+or of digits, not a flow.
+"""
+
+DEBRIS_STIFFNESS_RANGE_N_M = (1.0e5, 1.0e11)
+"""The debris stiffness k_d a scene or verb may state, N/m (inclusive).
+
+Low end 1e5 N/m: below the softest debris in the tool by 30x (the study's 1:40 polyethylene model
+container, k_d 3.04e6 N/m) and below any full-scale value by more (ASCE 7-22 Table 6.11-2's
+containers and logs are of order 1e7-1e8 N/m; a 20-ft container's 245 kip/in is 4.29e7 N/m, check
+it against the printed table): a value under it is in the wrong unit (MN/m or kip/in given as N/m).
+High end 1e11 N/m: 20 times the stiffest value here (the study's k_d Froude-scaled to full size,
+4.86e9 N/m), beyond what any body in series with a column can present.
+"""
+
+
+def check_flow_speed(velocity_m_s: float, field: str = "velocity_m_s") -> float:
+    """``velocity_m_s`` (> 0 and at most :data:`MAX_FLOW_SPEED_M_S`), else InputError on ``field``."""
+    v = require_positive(field, velocity_m_s)
+    if v > MAX_FLOW_SPEED_M_S:
+        raise InputError(field, f"{v:g} m/s is faster than any tsunami flow: the bound is {MAX_FLOW_SPEED_M_S:g} m/s "
+                                "(the fastest onshore flows measured are about 11 m/s, Fritz et al. 2012; sqrt(g h) "
+                                "over a 40 m inundation is 20 m/s); a speed in m/s?")
+    return v
+
+
+def check_debris_stiffness(stiffness_N_m: float, field: str = "debris_stiffness_N_m") -> float:
+    """``stiffness_N_m`` within :data:`DEBRIS_STIFFNESS_RANGE_N_M`, else InputError on ``field``."""
+    k = require_positive(field, stiffness_N_m)
+    lo, hi = DEBRIS_STIFFNESS_RANGE_N_M
+    if not lo <= k <= hi:
+        raise InputError(field, f"{k:g} N/m is no debris stiffness: the plausible range is {lo:.0e}-{hi:.0e} N/m (the "
+                                f"study's 1:40 model container 3.04e6 N/m; full-scale containers and logs 1e7-1e8 "
+                                "N/m); a value in MN/m or kip/in given as N/m?")
+    return k
+
+
+def check_full_scale_mass(mass_kg: float, field: str = "mass_kg") -> float:
+    """A full-scale debris mass: at least :data:`FULL_SCALE_MIN_MASS_KG`, else InputError on ``field``."""
+    m = require_positive(field, mass_kg)
+    if m < FULL_SCALE_MIN_MASS_KG:
+        raise InputError(field, f"{m:g} kg is no full-scale debris: full scale starts at {FULL_SCALE_MIN_MASS_KG:g} kg "
+                                "(the lightest debris ASCE 7-22 6.11 designs for, a log, is about 454 kg; a 20-ft "
+                                "container 2,300 kg empty); a mass in tonnes?")
+    return m
+
+
 SIMPLIFIED_STATIC_LOAD_N = 1.47e6
 """The alternative simplified debris impact static load of ASCE 7-16/7-22 Section 6.11, before
 ``C_o I_tsu``: ``F_i = 330 C_o I_tsu`` kips (``1,470 C_o I_tsu`` kN), the bound the detailed impact
@@ -370,11 +441,21 @@ class AsceDesign:
         """THE design impact force F_i, N: the governing stiffness's, bounded by the cap at prototype scale."""
         return min(self.design.force_N, self.cap_N) if self.capped else self.design.force_N
 
+    @property
+    def binding(self) -> str:
+        """What sets F_i: ``"k_s"`` or ``"k_d"`` (the governing stiffness's force), or
+        ``"simplified static load"`` (the cap, at full scale, when the stiffness's force exceeds it)."""
+        return "simplified static load" if self.capped else self.governing
+
     def cap_note(self) -> str:
-        """One sentence: the cap, and whether and why it applies."""
+        """One sentence: the cap, whether it applies, and what binds F_i."""
         cap = f"the simplified static load 1,470 C_o I_tsu kN = {self.cap_N / 1e3:,.1f} kN"
         if self.prototype:
-            return f"prototype scale: {cap} bounds F_i ({'applied' if self.capped else 'not reached'})"
+            if self.capped:
+                return (f"full scale: {cap} bounds F_i and is applied: it binds (the {self.governing} line's "
+                        f"{self.design.force_N / 1e3:,.1f} kN exceeds it)")
+            return (f"full scale: {cap} bounds F_i, not reached: the {self.governing} line binds "
+                    f"({self.design.force_N / 1e3:,.1f} kN)")
         return (f"{cap} is a full-scale bound: not applied to these laboratory-scale inputs (neither in newtons, "
                 "where it never binds, nor Froude-scaled, where it would cap every model impact although the "
                 "model column's stiffness is not scaled)")
@@ -401,6 +482,7 @@ class AsceDesign:
             "orientation_C_o": self.orientation,
             "cap_N": self.cap_N,
             "capped": self.capped,
+            "binding": self.binding,
             "prototype": self.prototype,
         }
 

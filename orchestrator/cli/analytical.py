@@ -13,7 +13,8 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from orchestrator.core.errors import InputError
+from analytical.asce7 import FULL_SCALE_MIN_MASS_KG
+from orchestrator.core.errors import InputError, require_positive
 from orchestrator.cli.common import EXIT_OK, ArgParser, Flags, emit, output_path, warn
 from orchestrator.scene.shipped import resolve_scene
 
@@ -83,6 +84,7 @@ def asce7_lines(design, prefix: str = "") -> dict[str, Any]:
     other = d["other_stiffness"]
     keys = {
         "design_force_N": d["force_N"],
+        "binds": d["binding"],
         "governing_stiffness": f"{d['governing_stiffness']} = {d['stiffness_N_m']:.4g} N/m (the lesser of k_d "
                                f"{d['debris_stiffness_N_m']:.4g} and k_s {d['structure_stiffness_N_m']:.4g} N/m)",
         "duration_s": d["duration_s"],
@@ -97,27 +99,96 @@ def asce7_lines(design, prefix: str = "") -> dict[str, Any]:
     return {f"{prefix}{k}": v for k, v in keys.items()}
 
 
-def cmd_asce7(args: argparse.Namespace) -> int:
-    from analytical.asce7 import asce7_design
+def _scene_asce(scene_path, sets, body: str | None = None, first: bool = False):
+    """(ASCE inputs, scene) of a scene (:func:`~orchestrator.studies.design_asce.scene_asce_inputs`):
+    what `design` reads, for ``body`` (None: every body, or with ``first`` the scene's first)."""
+    from orchestrator.scene.scenefile import load_scene
+    from orchestrator.studies.design_asce import scene_asce_inputs
 
-    k_d, k_s = args.debris_stiffness, args.structure_stiffness
+    scene = load_scene(scene_path, list(sets or []))
+    if body is None and first and scene.debris:
+        body = scene.debris[0].name
+    if body is not None and body not in {b.name for b in scene.debris}:
+        raise InputError("--body", f"no debris body {body!r} in the scene (bodies: "
+                                   f"{', '.join(b.name for b in scene.debris)})")
+    return scene_asce_inputs(scene, None if body is None else [body], str(scene_path)), scene
+
+
+def cmd_asce7(args: argparse.Namespace) -> int:
+    from analytical.asce7 import (
+        IMPORTANCE_FACTORS,
+        SEED_DEBRIS_STIFFNESS_N_M,
+        SEED_STRUCTURE_STIFFNESS_N_M,
+        asce7_design,
+        check_debris_stiffness,
+        check_flow_speed,
+        check_full_scale_mass,
+    )
+
+    check_flow_speed(args.velocity, "--velocity")
+    if args.importance is not None and args.importance not in set(IMPORTANCE_FACTORS.values()):
+        raise InputError("--importance", "ASCE 7-22 Table 6.8-1 gives I_tsu = 1.0 (Tsunami Risk Category II) or "
+                         f"1.25 (III, IV and vertical evacuation refuges), got {args.importance:g}")
+    sources: dict[str, str] = {}
+    if args.scene:  # the scene's inputs, as `design` and `analytical impact --scene` read them; flags override
+        inputs, _ = _scene_asce(args.scene, args.set, args.body)
+        mass = inputs.mass_kg if args.mass is None else args.mass
+        k_d = inputs.debris_stiffness_N_m if args.debris_stiffness is None else args.debris_stiffness
+        k_s = inputs.structure_stiffness_N_m if args.structure_stiffness is None else args.structure_stiffness
+        importance = inputs.importance if args.importance is None else args.importance
+        orientation = inputs.orientation if args.orientation is None else args.orientation
+        prototype, scale = inputs.prototype or args.prototype, inputs.scale_reason
+        sources = {k: v for k, v in inputs.sources.items() if k in ("m_d", "k_d", "k_s", "I_tsu")}
+        for key, flag in (("m_d", args.mass), ("k_d", args.debris_stiffness), ("k_s", args.structure_stiffness),
+                          ("I_tsu", args.importance)):
+            if flag is not None:
+                sources[key] = "given on the command line"
+    else:
+        if args.body:
+            raise InputError("--body", "needs --scene")
+        if args.set:
+            raise InputError("--set", "needs --scene (the scene's keys to change)")
+        if args.mass is None:
+            raise InputError("--mass", "the debris mass m_d (kg) is needed (or --scene, whose design section gives it)")
+        mass = require_positive("--mass", args.mass)
+        importance = 1.0 if args.importance is None else args.importance
+        orientation = 0.65 if args.orientation is None else args.orientation
+        prototype = args.prototype or mass >= FULL_SCALE_MIN_MASS_KG
+        scale = ("--prototype" if args.prototype else f"a {mass:,.0f} kg body is full-scale debris (>= "
+                 f"{FULL_SCALE_MIN_MASS_KG:g} kg)") if prototype else "laboratory scale (under 100 kg, no --prototype)"
+        k_d, k_s = args.debris_stiffness, args.structure_stiffness
+        if args.stiffness is None:
+            for value, flag, lab, what in ((k_s, "--structure-stiffness", SEED_STRUCTURE_STIFFNESS_N_M,
+                                            "the struck element's lateral stiffness k_s"),
+                                           (k_d, "--debris-stiffness", SEED_DEBRIS_STIFFNESS_N_M,
+                                            "the debris' stiffness k_d")):
+                if value is None and prototype:
+                    raise InputError(flag, f"{scale}: give {what} (N/m), or --stiffness; the default, {lab:.4g} N/m, "
+                                           "is the study's laboratory value and no full-scale one")
+        sources = {"k_s": "--structure-stiffness" if k_s is not None else
+                   f"the study's laboratory column ({SEED_STRUCTURE_STIFFNESS_N_M:.4g} N/m, the default)",
+                   "k_d": "--debris-stiffness" if k_d is not None else
+                   f"the study's 1:40 container ({SEED_DEBRIS_STIFFNESS_N_M:.4g} N/m, the default)"}
+        k_d = SEED_DEBRIS_STIFFNESS_N_M if k_d is None else k_d
+        k_s = SEED_STRUCTURE_STIFFNESS_N_M if k_s is None else k_s
+        if args.prototype:
+            check_full_scale_mass(mass, "--mass")
     stiffness_flags = {"debris_stiffness_N_m": "--debris-stiffness", "structure_stiffness_N_m": "--structure-stiffness"}
     if args.stiffness is not None:  # one k, chosen by the user: it governs, there is nothing to compare
         k_d = k_s = args.stiffness
         stiffness_flags = {"debris_stiffness_N_m": "--stiffness", "structure_stiffness_N_m": "--stiffness"}
-    from analytical.asce7 import IMPORTANCE_FACTORS
-
-    if args.importance not in set(IMPORTANCE_FACTORS.values()):
-        raise InputError("--importance", "ASCE 7-22 Table 6.8-1 gives I_tsu = 1.0 (Tsunami Risk Category II) or "
-                         f"1.25 (III, IV and vertical evacuation refuges), got {args.importance:g}")
+        sources = {"k": "--stiffness"}
+    elif args.debris_stiffness is not None:
+        check_debris_stiffness(args.debris_stiffness, "--debris-stiffness")
     with Flags(velocity_m_s="--velocity", mass_kg="--mass", stiffness_N_m="--stiffness", importance="--importance",
                orientation="--orientation", **stiffness_flags):
-        design = asce7_design(args.velocity, args.mass, k_d, k_s, args.importance, args.orientation,
-                              prototype=args.prototype)
+        design = asce7_design(args.velocity, mass, k_d, k_s, importance, orientation, prototype=prototype)
     out = asce7_lines(design)
-    out = {"force_N": out.pop("design_force_N"), **out, "orientation_C_o": args.orientation,
-           "importance_I_tsu": args.importance,
-           "note": "force_N is the design force F_i = I_tsu C_o u_max sqrt(k m_d) with the governing k"}
+    out = {"force_N": out.pop("design_force_N"), **out, "orientation_C_o": orientation,
+           "importance_I_tsu": importance, "scale": scale,
+           **{f"source_{k}": v for k, v in sources.items()},
+           "note": "force_N is the design force F_i = I_tsu C_o u_max sqrt(k m_d) with the governing k, bounded at "
+                   "full scale by the simplified static load; binds says which sets it"}
     if args.stiffness is not None:
         out["governing_stiffness"] = f"k = {args.stiffness:.4g} N/m (given with --stiffness)"
         out.pop("force_with_k_d_N", None)
@@ -191,13 +262,21 @@ def _study_impact_inputs(args: argparse.Namespace):
 
 
 def cmd_impact(args: argparse.Namespace) -> int:
-    from analytical.asce7 import SEED_DEBRIS_MASS_KG, SEED_DEBRIS_STIFFNESS_N_M, asce7_design
+    from analytical.asce7 import SEED_DEBRIS_MASS_KG, SEED_DEBRIS_STIFFNESS_N_M, asce7_design, check_flow_speed
     from analytical.contact_law import column_impact
 
+    check_flow_speed(args.velocity, "--velocity")
     law, column, body = impact_inputs(args)
+    if args.scene:  # the scene's ASCE inputs, as `design` and `analytical asce7 --scene` read them
+        inputs, _ = _scene_asce(args.scene, args.set, args.body, first=True)
+        asce = inputs.design(args.velocity)
+        code = {"asce7_mass_kg": inputs.mass_kg, "asce7_scale": inputs.scale_reason,
+                **{f"asce7_source_{k}": v for k, v in inputs.sources.items() if k in ("m_d", "k_d", "k_s", "I_tsu")}}
+    else:
+        asce = asce7_design(args.velocity, body.get("mass_kg", SEED_DEBRIS_MASS_KG), SEED_DEBRIS_STIFFNESS_N_M,
+                            column.stiffness_N_m)
+        code = {"asce7_scale": "the study's laboratory container and column"}
     r = column_impact(law, args.velocity, args.height, column=column, obliquity_deg=args.obliquity, **body)
-    asce = asce7_design(args.velocity, body.get("mass_kg", SEED_DEBRIS_MASS_KG), SEED_DEBRIS_STIFFNESS_N_M,
-                        column.stiffness_N_m)
     emit(
         {
             "peak_force_N": r.peak_force_N,
@@ -211,6 +290,7 @@ def cmd_impact(args: argparse.Namespace) -> int:
             "height_m": args.height,
             "obliquity_deg": args.obliquity,
             **asce7_lines(asce, "asce7_"),
+            **code,
         },
         args.json,
     )
@@ -386,20 +466,33 @@ def add_analytical_parser(verbs) -> None:
 
     p = an_verbs.add_parser("asce7", help="ASCE 7-22 6.11 debris impact force, duration and impulse")
     p.add_argument("--velocity", type=float, required=True,
-                   help="u_max, the flow's maximum velocity at the site, m/s (the study used the impact speed)")
-    p.add_argument("--mass", type=float, required=True, help="debris mass, kg")
-    p.add_argument("--debris-stiffness", type=float, default=SEED_KD, metavar="K_D",
-                   help=f"k_d, the debris' effective stiffness, N/m (default {SEED_KD:.4g}, the study's container)")
-    p.add_argument("--structure-stiffness", type=float, default=SEED_KS, metavar="K_S",
-                   help=f"k_s, the struck element's lateral stiffness, N/m (default {SEED_KS:.4g}, the study's "
-                        "column); the lesser of k_d and k_s governs")
+                   help="u_max, the flow's maximum velocity at the site, m/s (the study used the impact speed; at most "
+                        "30 m/s)")
+    p.add_argument("--mass", type=float, default=None,
+                   help="debris mass m_d, kg (required without --scene; with it, the heaviest its design draws)")
+    p.add_argument("--debris-stiffness", type=float, default=None, metavar="K_D",
+                   help=f"k_d, the debris' effective stiffness, N/m (default: the scene's; without --scene at "
+                        f"laboratory scale {SEED_KD:.4g}, the study's 1:40 container; required at full scale)")
+    p.add_argument("--structure-stiffness", type=float, default=None, metavar="K_S",
+                   help=f"k_s, the struck element's lateral stiffness, N/m (default: the scene's column; without "
+                        f"--scene at laboratory scale {SEED_KS:.4g}, the study's column; required at full scale); "
+                        "the lesser of k_d and k_s governs")
     p.add_argument("--stiffness", type=float, default=None,
                    help="one stiffness k, N/m, used as it is (instead of the lesser of k_d and k_s)")
-    p.add_argument("--importance", type=float, default=1.0, help="I_tsu (1.0 for tsunami risk category II)")
-    p.add_argument("--orientation", type=float, default=0.65, help="C_o (0.65 for logs, poles, containers)")
+    p.add_argument("--importance", type=float, default=None,
+                   help="I_tsu: 1.0 (tsunami risk category II, the default without --scene) or 1.25 (III, IV); with "
+                        "--scene, its design.risk_category's")
+    p.add_argument("--orientation", type=float, default=None,
+                   help="C_o (default 0.65, logs, poles, containers; with --scene, its design.orientation_coefficient)")
     p.add_argument("--prototype", action="store_true",
-                   help="the inputs are full scale: bound F_i by the simplified static load 1,470 C_o I_tsu kN "
-                        "(never applied to laboratory-scale inputs)")
+                   help="the inputs are full scale (also implied by a mass of 100 kg or more, or a full-scale "
+                        "--scene): F_i is bounded by the simplified static load 1,470 C_o I_tsu kN, and k_s and k_d "
+                        "must be given")
+    p.add_argument("--scene", type=resolve_scene,
+                   help="scene YAML (or a shipped scene's name): its column, debris and design section give m_d, k_d, "
+                        "k_s, I_tsu, C_o and the scale, as `debrisfoam design` reads them; flags override")
+    p.add_argument("--body", help="which debris body of --scene (default: all; the heaviest governs)")
+    p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a dotted scene key (with --scene)")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_asce7)
 

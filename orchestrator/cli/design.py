@@ -8,6 +8,7 @@ computed is lost).
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
 
@@ -16,7 +17,83 @@ from orchestrator.cli.common import EXIT_OK, SCENE_HELP, confirm_large, emit, pl
 from orchestrator.core.errors import InputError
 from orchestrator.scene.shipped import resolve_scene
 
-__all__ = ["add_design_parser", "cmd_design"]
+__all__ = ["REALISATION_LIMIT_S", "STEP_CPU_S", "add_design_parser", "cmd_design", "confirm_realisations",
+           "realisation_seconds"]
+
+#: CPU seconds one body's transport step costs, batched (128 realisations a model), measured on
+#: idle cores: 8.5e-6 s for cases/design-street.yaml (2,000 realisations of 13 s at 0.68 ms steps in
+#: 2.7 min of wall on 2 cores, docs/design.md) and 7.2e-6 s for the 1-debris scene (10,000 of 3.5 s
+#: at 0.23 ms in 1,092 s of CPU, benchmarks/ensemble.md); the larger is taken.
+STEP_CPU_S = 8.5e-6
+#: CPU seconds of the study's fit of one first strike (an ensemble's, unless --no-study-fit).
+FIT_CPU_S = 0.27
+#: Realisations estimated to take longer than this (wall seconds) need --yes (or a terminal's yes).
+REALISATION_LIMIT_S = 3600.0
+
+
+def realisation_seconds(scene, n: int, fit_strikes: bool = False) -> tuple[float, str]:
+    """(CPU seconds, how) of ``n`` realisations of ``scene`` carried through its flow: each body
+    stepped at the engine's time step (40 steps a contact period of its lightest drawn mass,
+    at most the Froude-scaled largest step) to ``run.end_time_s``, at :data:`STEP_CPU_S` a
+    body-step; with ``fit_strikes``, :data:`FIT_CPU_S` a body for the study's fit."""
+    from orchestrator.contact.resolution import body_contact_law
+    from orchestrator.plan.scale import time_scale
+    from orchestrator.studies.design_table import debris_types, mass_range
+    from orchestrator.transport.mujoco_model import contact_period_s
+
+    if not scene.debris:
+        return 0.0, "no debris body"
+    types = debris_types(scene)
+    dt = 1e-3 * time_scale(scene.reservoir.depth_m)  # the engine's largest step, Froude-scaled
+    for b in scene.debris:
+        lightest = mass_range(b, scene.design, types.get(b.name))[0]
+        dt = min(dt, contact_period_s(body_contact_law(b.contact), lightest) / 40.0)
+    steps = float(scene.run.end_time_s) / dt
+    bodies = len(scene.debris)
+    cpu = n * bodies * steps * STEP_CPU_S + (n * bodies * FIT_CPU_S if fit_strikes else 0.0)
+    return cpu, f"{bodies} body(ies) x {steps:,.0f} steps of {dt * 1e3:.3g} ms"
+
+
+def _duration(seconds: float) -> str:
+    return f"{seconds / 3600:.3g} h" if seconds >= 3600 else f"{seconds / 60:.3g} min" if seconds >= 60 \
+        else f"{seconds:.3g} s"
+
+
+def confirm_realisations(cases, workers: int | None, yes: bool, source, fit_strikes: bool = False) -> float:
+    """Print the realisations' estimated wall time (``cases``: (scene, realisations) pairs) before
+    they start; above :data:`REALISATION_LIMIT_S` ask (a terminal) or refuse (exit 2, naming -n)
+    unless ``yes``. The estimate (seconds)."""
+    from orchestrator.cli.common import confirm_large
+    from orchestrator.plan.resources import LargeRunError
+
+    workers = max(1, int(workers or os.cpu_count() or 1))
+    cpu, how, total = 0.0, [], 0
+    for scene, n in cases:
+        c, h = realisation_seconds(scene, n, fit_strikes)
+        cpu += c
+        total += n
+        how.append(h)
+    wall = cpu / workers
+    text = (f"{total:,} realisation(s): about {_duration(wall)} of wall time on {workers} worker(s), the flows "
+            f"aside (estimated: {'; '.join(dict.fromkeys(how))}, {STEP_CPU_S:.2g} CPU s a body-step as measured on "
+            "idle cores, benchmarks/ensemble.md)")
+    print(f"debrisfoam: {text}", file=sys.stderr, flush=True)
+
+    class LongRealisations(LargeRunError):
+        def __init__(self, messages, where=None):
+            self.messages = list(messages)
+            InputError.__init__(self, "-n", "; ".join(self.messages) + f": over the limit of "
+                                f"{_duration(REALISATION_LIMIT_S)}; give --yes to go ahead, or fewer realisations", where)
+
+        def with_source(self, where):
+            return LongRealisations(self.messages, where)
+
+    def check(confirmed: bool) -> None:
+        if wall > REALISATION_LIMIT_S and not confirmed:
+            raise LongRealisations([text], str(source) if source is not None else None)
+
+    confirm_large(check, yes)
+    return wall
 
 
 def _design_out(path: str, force: bool) -> Path:
@@ -36,7 +113,15 @@ def cmd_design(args: argparse.Namespace) -> int:
         sets.append(f"design.realisations={args.n}")
     plan_scene(args.scene, sets)  # the scene and its design section checked before anything runs
     out = _design_out(args.out or str(Path("runs") / f"design-{Path(args.scene).stem}"), args.force)
-    from orchestrator.studies.design import design
+    from orchestrator.scene.scenefile import load_scene
+    from orchestrator.studies.design import _cases, design
+    from orchestrator.studies.design_asce import scene_asce_inputs
+
+    base = load_scene(args.scene, sets)
+    cases = _cases(args.scene, sets, base.design)
+    for case in cases:  # the code's inputs: a full-scale scene names what it lacks before any flow runs
+        scene_asce_inputs(case.scene, source=str(args.scene))
+    confirm_realisations([(c.scene, c.realisations) for c in cases], args.workers, args.yes, args.scene)
     from orchestrator.studies.ensemble import DEFAULT_BATCH_SIZE
 
     bar = []
@@ -62,8 +147,8 @@ def cmd_design(args: argparse.Namespace) -> int:
     s = result.summary
     head = {"realisations": s["realisations"], "strike_probability": s["strike_probability"]["probability"],
             **{f"{k}_P90": d["quantiles"]["P90"]["value"] for k, d in s["demands"].items()},
-            "asce_force_N": (s["asce"]["values"][s["asce"]["governing"]]["peak_force_N"]
-                             if s["asce"]["values"] else None),
+            "asce_force_N": s["asce"]["force_N"] if s["asce"]["values"] else None,
+            "asce_binds": s["asce"]["binding"] if s["asce"]["values"] else None,
             "wall_time_s": s["wall_time_s"]}
     if not args.json:
         head.update({name: str(path) for name, path in result.files.items()})

@@ -7,14 +7,16 @@
   P99 with their intervals (``upper`` None: more realisations needed for that quantile).
 * **ASCE 7-22 beside it** (:func:`asce_values`): ``F_i = I_tsu C_o u_max sqrt(k m_d)`` with
   the column's lateral stiffness ``k_s`` and with the debris stiffness ``k_d`` (6.11.2: the
-  lesser governs), capped at prototype scale by the simplified static load
-  (:class:`analytical.asce7.AsceDesign`). Its inputs: ``u_max`` of the case whose flow is
-  fastest at the site (the envelope of the cases; each case's own is in design.json), the
-  heaviest mass the study draws, ``I_tsu`` of the risk category. For base shear, base moment
+  lesser governs), bounded at full scale by the simplified static load
+  (:class:`analytical.asce7.AsceDesign`); the page names what binds. Its inputs are the scene's,
+  read as the analytical verbs read them (:mod:`orchestrator.studies.design_asce`): ``u_max`` of
+  the case whose flow is fastest at the site (the envelope of the cases; each case's own is in
+  design.json), the heaviest mass the study draws, ``I_tsu`` of the risk category. For base shear, base moment
   and top displacement the code's load is its own rectangular pulse (``F_i`` over
   ``t_d = 2 m_d u_max / F_ni``) on the same MDOF column (:func:`analytical.column_demand.column_demands`)
   at the highest contact height any realisation struck at (the code loads the most critical
-  point up to the inundation depth; the highest strike stands for it). Each code value gets
+  point up to the inundation depth; the highest strike stands for it), with the code's dynamic
+  response ratio ``R_max`` at ``t_d / T1`` (:func:`code_pulse_demands`). Each code value gets
   ``P(X > value)`` with its interval.
 """
 
@@ -26,16 +28,16 @@ from typing import Any
 
 import numpy as np
 
-from analytical.asce7 import SEED_DEBRIS_STIFFNESS_N_M, asce7_design, importance_factor
+from analytical.asce7 import dynamic_response_ratio
 from analytical.column_demand import column_demands
+from analytical.column_fem import column_model
 from analytical.exceedance import exceedance
 from analytical.pulses import Rectangular
-from analytical import catalogue
 from orchestrator.core.files import write_json_atomic, write_text_atomic
 from orchestrator.report.figures import WIDTH_IN, empty, pyplot, save_figure
 from orchestrator.scene.schema import Design, column_for_analysis
-from orchestrator.studies.design_table import DEMANDS, debris_types, mass_range, realisation_demands
-from orchestrator.transport.case_transport import scene_bodies
+from orchestrator.studies.design_asce import scene_asce_inputs
+from orchestrator.studies.design_table import DEMANDS, realisation_demands
 
 __all__ = ["CONDITIONAL", "QUANTILES", "asce_values", "figure_exceedance", "markdown", "summarise", "write_report"]
 
@@ -46,20 +48,28 @@ CONDITIONAL = ("Conditional on the scene's inundation: every probability here is
                "analysis: how likely that inundation is at the site is not in it.")
 
 
+def code_pulse_demands(force_N: float, duration_s: float, column, height_m: float) -> dict[str, float]:
+    """The code's load, a rectangular pulse of ``force_N`` over ``duration_s``, on the MDOF column
+    at ``height_m``: peak base shear, base moment and top displacement, read through the pulse and
+    after it (:func:`analytical.column_demand.column_demands`), and the code's dynamic response
+    ratio for it: ``t_d / T1`` and ``R_max``, the largest response of the column's first mode (an
+    SDOF of its period and damping) over the static one (:func:`analytical.asce7.dynamic_response_ratio`)."""
+    d = column_demands(Rectangular(force_N, duration_s), column, height_m)
+    period = 1.0 / float(column_model(column).frequencies_Hz[0])
+    return {"peak_force_N": force_N, "base_shear_N": d.peak_base_shear_N, "base_moment_Nm": d.peak_base_moment_Nm,
+            "top_displacement_m": d.peak_top_displacement_m, "duration_s": duration_s,
+            "first_period_s": period, "td_over_T1": duration_s / period,
+            "R_max": dynamic_response_ratio(duration_s, period, "rectangular", column.damping_ratio)}
+
+
 def asce_values(result, spec: Design, heights_m: np.ndarray) -> dict[str, Any]:
-    """ASCE 7-22 6.11's values for the study's inputs (module notes)."""
+    """ASCE 7-22 6.11's values for the study's inputs (module notes): the inputs are the scene's
+    (:func:`~orchestrator.studies.design_asce.scene_asce_inputs`, as `analytical asce7 --scene` and
+    `analytical impact --scene` read them), u_max the fastest case's at the site."""
     cases = result.cases
     scene = cases[0].scene
     column = column_for_analysis(scene)
-    types = debris_types(scene)
-    mass = max(mass_range(b, spec, types.get(b.name))[1] for b in scene_bodies(scene))
-    typed = [catalogue.debris_type(t) for t in types.values() if t is not None]
-    # the code's k_d: the design section's; else the catalogued debris's (the study's k_d Froude-scaled,
-    # docs/catalogue.md: ASCE 7-22's Table 6.11-2 values are not in the tool); else the study's
-    k_d = float(spec.debris_stiffness_N_m or max((e.kd_N_m for e in typed), default=SEED_DEBRIS_STIFFNESS_N_M))
-    k_s = float(column.stiffness_N_m)
-    sources = input_sources(scene, spec, typed)
-    importance = importance_factor(spec.risk_category)
+    inputs = scene_asce_inputs(scene, spec=spec)
     per_case, best = [], None
     for case in cases:
         u, basis = (case.site.u_max_m_s, "u_max of the flow at the site") if case.site is not None else (None, None)
@@ -72,26 +82,25 @@ def asce_values(result, spec: Design, heights_m: np.ndarray) -> dict[str, Any]:
                          "site": case.site.describe() if case.site is not None else None})
         if u is not None and (best is None or u > best["u_max_m_s"]):
             best = per_case[-1]
-    out: dict[str, Any] = {"cases": per_case, "mass_kg": mass, "debris_stiffness_N_m": k_d,
-                           "structure_stiffness_N_m": k_s, "importance_I_tsu": importance,
-                           "risk_category": spec.risk_category, "orientation_C_o": float(spec.orientation_coefficient),
-                           "prototype": bool(spec.prototype), "sources": sources, "values": None}
+    out: dict[str, Any] = {"cases": per_case, "mass_kg": inputs.mass_kg, "debris_stiffness_N_m": inputs.debris_stiffness_N_m,
+                           "structure_stiffness_N_m": inputs.structure_stiffness_N_m,
+                           "importance_I_tsu": inputs.importance, "risk_category": inputs.risk_category,
+                           "orientation_C_o": inputs.orientation, "prototype": inputs.prototype,
+                           "scale": inputs.scale_reason, "sources": inputs.sources, "values": None}
     if best is None:
         return out
-    design = asce7_design(best["u_max_m_s"], mass, k_d, k_s, importance, float(spec.orientation_coefficient),
-                          prototype=bool(spec.prototype), velocity_basis=best["basis"])
+    design = inputs.design(best["u_max_m_s"], best["basis"])
     heights = heights_m[np.isfinite(heights_m) & (heights_m > 0)]
     height = float(min(heights.max(), column.height_m)) if heights.size else 0.5 * column.height_m
     values = {}
     for label, impact in (("k_s", design.design if design.governing == "k_s" else design.other),
                           ("k_d", design.design if design.governing == "k_d" else design.other)):
-        force = min(impact.force_N, design.cap_N) if spec.prototype else impact.force_N
-        d = column_demands(Rectangular(force, impact.duration_s), column, height)
-        values[label] = {"stiffness_N_m": impact.stiffness_N_m, "duration_s": impact.duration_s,
-                         "peak_force_N": force, "base_shear_N": d.peak_base_shear_N,
-                         "base_moment_Nm": d.peak_base_moment_Nm, "top_displacement_m": d.peak_top_displacement_m,
-                         "capped": bool(spec.prototype and impact.force_N > design.cap_N)}
-    out.update(values=values, governing=design.governing, u_max_m_s=best["u_max_m_s"], u_basis=best["basis"],
+        capped = bool(design.prototype and impact.force_N > design.cap_N)
+        force = design.cap_N if capped else impact.force_N
+        values[label] = {"stiffness_N_m": impact.stiffness_N_m, "uncapped_force_N": impact.force_N,
+                         **code_pulse_demands(force, impact.duration_s, column, height), "capped": capped}
+    out.update(values=values, governing=design.governing, binding=design.binding, force_N=design.force_N,
+               u_max_m_s=best["u_max_m_s"], u_basis=best["basis"],
                u_case=best["case"], load_height_m=height, cap_N=design.cap_N, cap_note=design.cap_note(),
                height_basis="the highest contact height any realisation struck at" if heights.size
                else "half the column's height (no realisation struck)")
@@ -100,28 +109,7 @@ def asce_values(result, spec: Design, heights_m: np.ndarray) -> dict[str, Any]:
 
 def input_sources(scene, spec: Design, typed: list) -> dict[str, str]:
     """Where each of F_i's inputs comes from, for the page (u_max's is the case's own basis)."""
-    if spec.debris_stiffness_N_m is not None:
-        k_d = "the scene's design.debris_stiffness_N_m"
-    elif typed:
-        e = max(typed, key=lambda t: t.kd_N_m)
-        k_d = (f"the debris catalogue's for {e.name}: the study's 1:{e.scale:g} container's k_d "
-               f"({SEED_DEBRIS_STIFFNESS_N_M:.3g} N/m) Froude-scaled by {e.scale:g}^2; ASCE 7-22 Table 6.11-2's "
-               "value is not in the tool (docs/catalogue.md)")
-    else:
-        k_d = f"the study's 1:40 container's k_d, {SEED_DEBRIS_STIFFNESS_N_M:.3g} N/m (analytical/asce7.py)"
-    if spec.mass_kg is not None:
-        m_d = "the upper end of the scene's design.mass_kg"
-    elif any(t.family is not None for t in typed):
-        m_d = "the loaded mass of the debris catalogue's " + ", ".join(sorted({t.family for t in typed if t.family}))
-    else:
-        m_d = "the heaviest body's own mass"
-    section = getattr(scene.column, "section", None)
-    k_s = ("the column's MDOF model's lateral stiffness at its top, from its catalogued section "
-           f"({section.kind} {'x'.join(f'{v:g}' for v in section.size_m)} m, docs/catalogue.md)" if section is not None
-           else "the scene's column.stiffness_N_m")
-    c_o = "design.orientation_coefficient (0.65: ASCE 7-22 6.11's value for containers, logs and poles, the default)"
-    return {"k_d": k_d, "m_d": m_d, "k_s": k_s, "C_o": c_o,
-            "I_tsu": f"ASCE 7-22 Table 6.8-1 for the scene's design.risk_category ({spec.risk_category})"}
+    return scene_asce_inputs(scene, spec=spec).sources
 
 
 def summarise(result, scene_path, sets: list[str], spec: Design, wall: dict[str, Any]) -> dict[str, Any]:
@@ -217,6 +205,17 @@ def _masses_drawn(table) -> str:
     return f"each catalogued body's empty-to-loaded range (drawn {masses.min():,.0f} to {masses.max():,.0f} kg)"
 
 
+def _force(value: float) -> str:
+    """A force in kN or MN."""
+    return f"{value / 1e6:.3g} MN" if abs(value) >= 1e6 else f"{value / 1e3:.3g} kN" if abs(value) >= 1e3 \
+        else f"{value:.4g} N"
+
+
+def _binding(binding: str) -> str:
+    return {"k_s": "the k_s line (the column's stiffness, the lesser)",
+            "k_d": "the k_d line (the debris' stiffness, the lesser)"}.get(binding, f"the {binding} (full scale)")
+
+
 def _num(value: float | None, digits: int = 4) -> str:
     if value is None or (isinstance(value, float) and not math.isfinite(value)):
         return "-"
@@ -262,9 +261,17 @@ def markdown(summary: dict[str, Any]) -> str:
                   f"case {asce['u_case']}), m_d = {asce['mass_kg']:.4g} kg (the heaviest drawn), I_tsu = "
                   f"{asce['importance_I_tsu']:g} (risk category {asce['risk_category']}), C_o = "
                   f"{asce['orientation_C_o']:g}, k_s = {asce['structure_stiffness_N_m']:.4g} N/m, k_d = "
-                  f"{asce['debris_stiffness_N_m']:.4g} N/m; {asce['governing']} governs (the lesser); "
-                  f"{asce['cap_note']}. Base shear, base moment and top displacement: the code's rectangular pulse "
-                  f"on the same MDOF column at {asce['load_height_m']:.3g} m ({asce['height_basis']}).", "",
+                  f"{asce['debris_stiffness_N_m']:.4g} N/m; {asce['governing']} is the lesser stiffness; "
+                  f"{asce['cap_note']}.", "",
+                  f"**F_i = {_force(asce['force_N'])}, bound by {_binding(asce['binding'])}.** Base shear, base "
+                  "moment and top displacement: the code's rectangular pulse on the same MDOF column at "
+                  f"{asce['load_height_m']:.3g} m ({asce['height_basis']}), read through the pulse and after it.", "",
+                  "The code's dynamic response ratio (the column's first mode, an SDOF of its period T1 and "
+                  "damping, under the rectangular pulse): R_max = max response / static response.", "",
+                  "| line | F (N) | t_d (s) | T1 (s) | t_d/T1 | R_max |", "|---|---|---|---|---|---|",
+                  *[f"| {k}{' (capped)' if v['capped'] else ''} | {_num(v['peak_force_N'])} | {_num(v['duration_s'])} "
+                    f"| {_num(v['first_period_s'])} | {_num(v['td_over_T1'], 3)} | {_num(v['R_max'], 3)} |"
+                    for k, v in asce["values"].items()], "",
                   "Where each input comes from:", "",
                   f"- u_max: {asce['u_basis']} (two column widths upstream of the face, "
                   "orchestrator/results/asce_design.py), in the fastest case",
