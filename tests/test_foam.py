@@ -35,6 +35,9 @@ def test_foam_env_sets_project_dir_and_mpi_as_root():
     assert env["PATH"] == "/usr/bin"
     assert env["OMPI_MCA_rmaps_base_oversubscribe"] == "1"
     assert foam.foam_env({"WM_PROJECT_DIR": "/opt/of"})["WM_PROJECT_DIR"] == "/opt/of"
+    # waiting ranks yield their core (benchmarks/mpi_yield.md); a user's own setting wins
+    assert env["OMPI_MCA_mpi_yield_when_idle"] == "1"
+    assert foam.foam_env({"OMPI_MCA_mpi_yield_when_idle": "0"})["OMPI_MCA_mpi_yield_when_idle"] == "0"
 
 
 def test_parallel_argv():
