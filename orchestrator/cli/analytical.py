@@ -151,6 +151,8 @@ def cmd_asce7(args: argparse.Namespace) -> int:
         if args.mass is None:
             raise InputError("--mass", "the debris mass m_d (kg) is needed (or --scene, whose design section gives it)")
         mass = require_positive("--mass", args.mass)
+        if args.prototype:
+            check_full_scale_mass(mass, "--mass")
         importance = 1.0 if args.importance is None else args.importance
         orientation = 0.65 if args.orientation is None else args.orientation
         prototype = args.prototype or mass >= FULL_SCALE_MIN_MASS_KG
@@ -171,8 +173,6 @@ def cmd_asce7(args: argparse.Namespace) -> int:
                    f"the study's 1:40 container ({SEED_DEBRIS_STIFFNESS_N_M:.4g} N/m, the default)"}
         k_d = SEED_DEBRIS_STIFFNESS_N_M if k_d is None else k_d
         k_s = SEED_STRUCTURE_STIFFNESS_N_M if k_s is None else k_s
-        if args.prototype:
-            check_full_scale_mass(mass, "--mass")
     stiffness_flags = {"debris_stiffness_N_m": "--debris-stiffness", "structure_stiffness_N_m": "--structure-stiffness"}
     if args.stiffness is not None:  # one k, chosen by the user: it governs, there is nothing to compare
         k_d = k_s = args.stiffness

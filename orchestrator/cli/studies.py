@@ -163,8 +163,9 @@ def _ensemble_out(path: str, force: bool) -> Path:
     return study_folder(path, force, "flow", "ensemble")
 
 
-def _study_fit(args: argparse.Namespace) -> bool | float | str:
-    """--no-study-fit: False; --study-fit-height M: M (> 0 m) or "contact"; else True."""
+def _study_fit(args: argparse.Namespace, column_height_m: float | None = None) -> bool | float | str:
+    """--no-study-fit: False; --study-fit-height M: M (> 0 m, at most the column's height) or
+    "contact"; else True."""
     if args.study_fit_height is None:
         return not args.no_study_fit
     if args.no_study_fit:
@@ -178,6 +179,9 @@ def _study_fit(args: argparse.Namespace) -> bool | float | str:
     if not height > 0:
         raise InputError("--study-fit-height", f"must be a height above the bed > 0 m or 'contact', got "
                          f"{args.study_fit_height!r}")
+    if column_height_m is not None and height > column_height_m:
+        raise InputError("--study-fit-height", f"{height:g} m is above the column's top: the fit loads the column, "
+                         f"so it must be at most its height, column.height_m = {column_height_m:g} m")
     return height
 
 
@@ -190,7 +194,14 @@ def cmd_ensemble(args: argparse.Namespace) -> int:
         raise InputError("--batch-size", f"must be a whole number > 0, got {args.batch_size}")
     out = _ensemble_out(args.out, args.force)
     plan_scene(args.scene, args.set)
+    from orchestrator.cli.design import confirm_realisations
+    from orchestrator.scene.scenefile import load_scene
     from orchestrator.studies.ensemble import DEFAULT_BATCH_SIZE, Perturbation, ensemble
+
+    scene = load_scene(args.scene, list(args.set or []))
+    study_fit = _study_fit(args, scene.column.height_m if scene.column is not None else None)
+    confirm_realisations([(scene, args.n)], args.workers, args.yes, args.scene,
+                         fit_strikes=bool(study_fit) and scene.column is not None)
 
     with Flags(position_sigma_fraction="--position-sigma", yaw_sigma_deg="--yaw-sigma"):
         perturbation = Perturbation(**{k: v for k, v in (("position_sigma_fraction", args.position_sigma),
@@ -213,7 +224,7 @@ def cmd_ensemble(args: argparse.Namespace) -> int:
         result = confirm_large(lambda yes: ensemble(
             args.scene, out, args.n, seed=args.seed, executor=args.executor, sets=list(args.set or []),
             workers=args.workers, perturbation=perturbation, progress=progress, quiet=args.json, say=say,
-            confirmed=yes, batch_size=args.batch_size or DEFAULT_BATCH_SIZE, study_fit=_study_fit(args)),
+            confirmed=yes, batch_size=args.batch_size or DEFAULT_BATCH_SIZE, study_fit=study_fit),
             args.yes)
     finally:
         if bar:

@@ -110,6 +110,12 @@ def apply_inundation(data: dict, source: str | None = None) -> dict:
     if face <= 0:
         raise InputError("inundation", f"the column's upstream face (x = {face:g} m) must be downstream of the gate "
                          "(x > 0) for a bore to reach it", source)
+    total = _number(flume, "length_m", "flume.length_m", source)
+    if total is not None and col_x - 0.5 * size_x >= total:
+        # past the flume's end whatever the reservoir's length: the column's position is wrong, not the run's end
+        raise InputError("column.x_m", f"the column's upstream face (x = {face:g} m) is past the flume's downstream "
+                         f"end (at most {total:g} m from the gate, flume.length_m): it cannot stand in the flume",
+                         source)
     end = _number(run, "end_time_s", "run.end_time_s", source)
     arrival = sized.bore_arrival_s(face)
     if end is not None and arrival >= end:

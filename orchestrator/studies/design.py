@@ -24,8 +24,10 @@
    its contact force (the contact law in series with the MDOF column), and from that pulse the
    column's peak base shear, base moment and top displacement
    (:func:`analytical.column_demand.strike_demands`, resultants of the two bending directions).
-   Later strikes of the same body (its rebound sequence) are counted without a pulse. A
-   realisation's demand is the largest over its bodies; a realisation that never strikes has
+   Later strikes of the same body (its rebound sequence) are counted without a pulse. An
+   unstable engine (:mod:`~orchestrator.studies.engine_watch`) ends the study with an error
+   naming the realisation, before any page is written. A realisation's demand is the largest
+   over its bodies; a realisation that never strikes has
    demand 0 and stays in the sample (the page states P(strike)).
 
 The exceedance curves, quantiles and intervals are :mod:`analytical.exceedance`'s; the page,
@@ -57,6 +59,7 @@ from orchestrator.scene.schema import Design, Scene
 from orchestrator.scene.scenefile import load_scene
 from orchestrator.studies.design_table import DEMANDS, DESIGN_COLUMNS, allocate, case_names, debris_types, mass_range, \
     realisation_demands
+from orchestrator.studies.engine_watch import engine_watch, raise_if_unstable
 from orchestrator.studies.ensemble import DEFAULT_BATCH_SIZE, EXECUTORS, Perturbation, body_rows, ensemble_flow, \
     forget_flow, keep_flow, start_clash
 from orchestrator.studies.sweep.executors import dask_executor
@@ -140,10 +143,12 @@ def design_batch(numbers: Sequence[int], starts: Sequence[list[TransportBody]], 
     """Rows of design.csv (without the case's columns) for realisations ``numbers`` of one case,
     stepped together in one model (module notes)."""
     flow = keep_flow(npz)
-    if len(starts) == 1:
-        results = [run_transport(list(starts[0]), flume, t_end_s, flow=flow, column=column, settings=settings)]
-    else:
-        results = run_batch(starts, flume, t_end_s, flow=flow, column=column, settings=settings)
+    with engine_watch() as caught:
+        if len(starts) == 1:
+            results = [run_transport(list(starts[0]), flume, t_end_s, flow=flow, column=column, settings=settings)]
+        else:
+            results = run_batch(starts, flume, t_end_s, flow=flow, column=column, settings=settings)
+    raise_if_unstable(caught, list(numbers), [len(s) for s in starts])  # an error, not a data point
     rows = []
     for number, result, bodies in zip(numbers, results, starts):
         wall = result.wall_s + result.pulse_wall_s

@@ -94,6 +94,7 @@ from orchestrator.run.runner import run_case
 from orchestrator.scene.schema import Scene
 from orchestrator.scene.scenefile import load_scene
 from orchestrator.studies.sweep.executors import dask_executor
+from orchestrator.studies.engine_watch import engine_watch, raise_if_unstable
 from orchestrator.transport.batch import run_batch
 from orchestrator.transport.case_transport import case_flow, scene_settings, transport_setup
 from orchestrator.transport.engine import TransportResult, TransportSettings, ensemble_settings, run_transport
@@ -377,7 +378,9 @@ def run_realisation(number: int, bodies: list[TransportBody], flume: FlumeBounds
                     t_end_s: float, npz: str, settings: TransportSettings, study_fit: bool = True) -> Realisation:
     """Carry one realisation's bodies through the flow of ``npz`` (loaded once per process)."""
     flow = keep_flow(npz)
-    result = run_transport(bodies, flume, t_end_s, flow=flow, column=column, settings=settings)
+    with engine_watch() as caught:
+        result = run_transport(bodies, flume, t_end_s, flow=flow, column=column, settings=settings)
+    raise_if_unstable(caught, [number], [len(bodies)])
     return _realisation(number, result, bodies, column, flume, study_fit)
 
 
@@ -400,7 +403,9 @@ def run_realisations(numbers: Sequence[int], starts: Sequence[list[TransportBody
     one alone: :func:`run_realisation`); each one's wall time is its share of the batch's plus its fits."""
     if len(numbers) == 1:
         return [run_realisation(numbers[0], list(starts[0]), flume, column, t_end_s, npz, settings, study_fit)]
-    results = run_batch(starts, flume, t_end_s, flow=keep_flow(npz), column=column, settings=settings)
+    with engine_watch() as caught:
+        results = run_batch(starts, flume, t_end_s, flow=keep_flow(npz), column=column, settings=settings)
+    raise_if_unstable(caught, list(numbers), [len(s) for s in starts])
     return [_realisation(number, result, bodies, column, flume, study_fit)
             for number, result, bodies in zip(numbers, results, starts)]
 
