@@ -118,7 +118,8 @@ class ColumnSection(SceneSection):
         None, description="a prototype column by section (see ColumnSectionSpec); null = the fields below as given")
     size_x_m: float = Field(gt=0, description="footprint along the flow (m); from `section` when given")
     size_y_m: float = Field(gt=0, description="footprint across the flow (m); from `section` when given")
-    height_m: float = Field(gt=0, description="height above the floor (m)")
+    height_m: float = Field(gt=0, description="height above the floor (m); at most 100 m (taller is no column a "
+                            "debris strike loads: a ground-storey column is 3-6 m)")
     wall_thickness_m: float = Field(gt=0, description="wall of the hollow section (m); from `section` when given")
     section_area_m2: float | None = Field(None, gt=0, description="section area A (m2); null = the box's")
     section_second_moment_m4: float | None = Field(
@@ -509,10 +510,12 @@ class Design(SceneSection):
     orientation_coefficient: float = Field(
         0.65, gt=0, le=1, description="ASCE 7-22 6.11's orientation coefficient C_o (0.65: containers, logs, poles)")
     debris_stiffness_N_m: float | None = Field(
-        None, gt=0, description="ASCE 7-22 6.11's debris stiffness k_d (N/m); null: the study's 1:40 container, "
-        "3.04e6 N/m (analytical/asce7.py)")
+        None, gt=0, description="ASCE 7-22 6.11's debris stiffness k_d (N/m), 1e5 to 1e11; null: a catalogued "
+        "body's (docs/catalogue.md), else at laboratory scale the study's 1:40 container, 3.04e6 N/m "
+        "(analytical/asce7.py); required at full scale")
     prototype: bool = Field(
-        False, description="full-scale inputs: ASCE 7-22's simplified static load 1,470 C_o I_tsu kN caps F_i")
+        False, description="full-scale inputs even when light: ASCE 7-22's simplified static load 1,470 C_o I_tsu kN "
+        "bounds F_i; a scene with a body of 100 kg or more, or a catalogued full-size one, is full scale without it")
     confidence: float = Field(0.95, gt=0, lt=1, description="level of every interval (-)")
 
     @field_validator("start_x_m", "start_y_m", "mass_kg", "heading_deg")
