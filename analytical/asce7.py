@@ -58,6 +58,10 @@ __all__ = [
     "check_flow_speed",
     "check_debris_stiffness",
     "check_full_scale_mass",
+    "STRUCTURE_STIFFNESS_RANGE_N_M",
+    "MAX_DEBRIS_MASS_KG",
+    "check_structure_stiffness",
+    "check_debris_mass",
 ]
 
 ORIENTATION_CONTAINER = 0.65
@@ -326,6 +330,38 @@ it against the printed table): a value under it is in the wrong unit (MN/m or ki
 High end 1e11 N/m: 20 times the stiffest value here (the study's k_d Froude-scaled to full size,
 4.86e9 N/m), beyond what any body in series with a column can present.
 """
+
+
+STRUCTURE_STIFFNESS_RANGE_N_M = (1.0e3, 1.0e12)
+"""The lateral stiffness k_s of a struck element a verb accepts, N/m (inclusive): from a slender
+laboratory model (the study's acrylic column is 4.685e5 N/m) to a massive pier (the 1-debris scene
+at 40:1 has 7.5e8 N/m, the street's 1 m RC column 3.4e7 N/m) with three decades either side;
+outside it a unit is wrong (kN/mm, kip/in) or a digit slipped."""
+
+MAX_DEBRIS_MASS_KG = 1.0e9
+"""The heaviest debris a verb accepts, kg: ten times the displacement of the largest ships in port
+(about 1.2e8 kg at 100,000 DWT) and far above the heaviest body a tsunami is known to have carried
+ashore (the 2,600 t power barge PLTD Apung 1, Banda Aceh 2004)."""
+
+
+def check_structure_stiffness(stiffness_N_m: float, field: str = "structure_stiffness_N_m") -> float:
+    """``stiffness_N_m`` within :data:`STRUCTURE_STIFFNESS_RANGE_N_M`, else InputError on ``field``."""
+    k = require_positive(field, stiffness_N_m)
+    lo, hi = STRUCTURE_STIFFNESS_RANGE_N_M
+    if not lo <= k <= hi:
+        raise InputError(field, f"{k:g} N/m is no lateral stiffness of a struck element: the plausible range is "
+                                f"{lo:.0e}-{hi:.0e} N/m (the study's acrylic column 4.685e5, a 1 m RC column 3.4e7 "
+                                "N/m); a value in another unit?")
+    return k
+
+
+def check_debris_mass(mass_kg: float, field: str = "mass_kg") -> float:
+    """``mass_kg`` (> 0, at most :data:`MAX_DEBRIS_MASS_KG`), else InputError on ``field``."""
+    m = require_positive(field, mass_kg)
+    if m > MAX_DEBRIS_MASS_KG:
+        raise InputError(field, f"{m:g} kg is heavier than any debris: at most {MAX_DEBRIS_MASS_KG:.0e} kg (ten times "
+                                "the largest ships' displacement); a mass in grams?")
+    return m
 
 
 def check_flow_speed(velocity_m_s: float, field: str = "velocity_m_s") -> float:

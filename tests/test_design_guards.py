@@ -91,6 +91,11 @@ def test_a_study_fit_height_above_the_column_is_refused(capfd, tmp_path):
     (["analytical", "asce7", "--velocity", "4", "--mass", "2.3", "--prototype"], "--mass", "full scale starts at 100 kg"),
     (["analytical", "asce7", "--velocity", "4", "--mass", "2300", "--structure-stiffness", "3.4e7",
       "--debris-stiffness", "42.9"], "--debris-stiffness", "1e+05-1e+11 N/m"),
+    (["analytical", "asce7", "--velocity", "1", "--mass", "0.2", "--structure-stiffness", "1e20"],
+     "--structure-stiffness", "1e+03-1e+12 N/m"),
+    (["analytical", "asce7", "--velocity", "1", "--mass", "1e12", "--stiffness", "1e7"], "--mass", "at most 1e+09 kg"),
+    (["analytical", "asce7", "--velocity", "1", "--mass", "0.2", "--stiffness", "1e14"], "--stiffness",
+     "1e+03-1e+12 N/m"),
 ])
 def test_implausible_analytical_inputs_name_the_flag(capfd, argv, flag, words):
     err = _refused(capfd, argv, flag)

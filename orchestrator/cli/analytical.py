@@ -14,7 +14,7 @@ import argparse
 from typing import Any
 
 from analytical.asce7 import FULL_SCALE_MIN_MASS_KG
-from orchestrator.core.errors import InputError, require_positive
+from orchestrator.core.errors import InputError
 from orchestrator.cli.common import EXIT_OK, ArgParser, Flags, emit, output_path, warn
 from orchestrator.scene.shipped import resolve_scene
 
@@ -116,13 +116,17 @@ def _scene_asce(scene_path, sets, body: str | None = None, first: bool = False):
 
 def cmd_asce7(args: argparse.Namespace) -> int:
     from analytical.asce7 import (
+        DEBRIS_STIFFNESS_RANGE_N_M,
         IMPORTANCE_FACTORS,
+        STRUCTURE_STIFFNESS_RANGE_N_M,
         SEED_DEBRIS_STIFFNESS_N_M,
         SEED_STRUCTURE_STIFFNESS_N_M,
         asce7_design,
+        check_debris_mass,
         check_debris_stiffness,
         check_flow_speed,
         check_full_scale_mass,
+        check_structure_stiffness,
     )
 
     check_flow_speed(args.velocity, "--velocity")
@@ -150,7 +154,7 @@ def cmd_asce7(args: argparse.Namespace) -> int:
             raise InputError("--set", "needs --scene (the scene's keys to change)")
         if args.mass is None:
             raise InputError("--mass", "the debris mass m_d (kg) is needed (or --scene, whose design section gives it)")
-        mass = require_positive("--mass", args.mass)
+        mass = check_debris_mass(args.mass, "--mass")
         if args.prototype:
             check_full_scale_mass(mass, "--mass")
         importance = 1.0 if args.importance is None else args.importance
@@ -178,8 +182,18 @@ def cmd_asce7(args: argparse.Namespace) -> int:
         k_d = k_s = args.stiffness
         stiffness_flags = {"debris_stiffness_N_m": "--stiffness", "structure_stiffness_N_m": "--stiffness"}
         sources = {"k": "--stiffness"}
-    elif args.debris_stiffness is not None:
-        check_debris_stiffness(args.debris_stiffness, "--debris-stiffness")
+        lo = min(DEBRIS_STIFFNESS_RANGE_N_M[0], STRUCTURE_STIFFNESS_RANGE_N_M[0])
+        hi = max(DEBRIS_STIFFNESS_RANGE_N_M[1], STRUCTURE_STIFFNESS_RANGE_N_M[1])
+        if not lo <= args.stiffness <= hi:
+            raise InputError("--stiffness", f"{args.stiffness:g} N/m is neither a debris nor a struck element's "
+                                            f"stiffness: the plausible range is {lo:.0e}-{hi:.0e} N/m")
+    else:
+        if args.debris_stiffness is not None:
+            check_debris_stiffness(args.debris_stiffness, "--debris-stiffness")
+        if args.structure_stiffness is not None:
+            check_structure_stiffness(args.structure_stiffness, "--structure-stiffness")
+    if args.mass is not None:
+        check_debris_mass(args.mass, "--mass")
     with Flags(velocity_m_s="--velocity", mass_kg="--mass", stiffness_N_m="--stiffness", importance="--importance",
                orientation="--orientation", **stiffness_flags):
         design = asce7_design(args.velocity, mass, k_d, k_s, importance, orientation, prototype=prototype)
