@@ -43,6 +43,8 @@ def _refused(capfd, argv, field: str, out=None) -> str:
     (["design.debris_stiffness_N_m=42.9"], "design.debris_stiffness_N_m", "1e+05-1e+11 N/m"),
     (["column.x_m=500"], "column.x_m", "past the flume's downstream end"),
     (["column.section.size_m=[600]"], "column.section.size_m", "wider than the flume"),
+    (["inundation.speed_m_s=4000"], "inundation.speed_m_s", "30 m/s"),  # named inundation.depth_m before
+    (["design.heading_deg=[-3000, 3000]"], "design.heading_deg", "at most a full turn"),
 ])
 def test_implausible_design_scene_values_name_the_field_set(capfd, tmp_path, sets, field, words):
     """Each names the field the user set (column.x_m=500 named run.end_time_s, the 600 m section

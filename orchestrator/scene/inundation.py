@@ -71,6 +71,12 @@ def apply_inundation(data: dict, source: str | None = None) -> dict:
         first = err.errors()[0]
         loc = ".".join(str(p) for p in ("inundation", *first["loc"]))
         raise InputError(loc, first["msg"], source) from None
+    from analytical.asce7 import check_flow_speed
+
+    try:  # a plausible speed before the dam break is sized for it (else the sized impoundment is blamed)
+        check_flow_speed(wanted.speed_m_s, "inundation.speed_m_s")
+    except InputError as err:
+        raise InputError(err.field, err.rule, source) from None
     fluids = _section(data, "fluids", source)
     g = _number(fluids, "gravity_m_s2", "fluids.gravity_m_s2", source) or Fluids().gravity_m_s2
     sized = inundation_sizing(wanted.depth_m, wanted.speed_m_s, g)

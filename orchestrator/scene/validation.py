@@ -274,6 +274,11 @@ def _check_design(scene: Scene, source: str | None) -> None:
             check_debris_stiffness(design.debris_stiffness_N_m, "design.debris_stiffness_N_m")
         except InputError as err:
             raise InputError(err.field, err.rule, source) from None
+    if design.heading_deg is not None:
+        a, b = design.heading_deg
+        if min(a, b) < -360.0 or max(a, b) > 360.0 or b - a > 360.0:
+            raise InputError("design.heading_deg", f"[{a:g}, {b:g}] degrees: a yaw range is at most a full turn, "
+                             "each end within -360..360 degrees (degrees, not radians or hundredths?)", source)
     lo, hi = DENSITY_POSSIBLE_KG_M3
     for body in scene.debris:
         volume = body.size_m[0] * body.size_m[1] * body.size_m[2]
