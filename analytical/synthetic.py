@@ -250,3 +250,67 @@ def table1_sdof_check(column: Column, fit_column: Column, sample_rate_Hz: float 
                                  "magnitude_N": ident.magnitude_N.tolist(), "impulse_Ns": ident.impulse_Ns.tolist(),
                                  "threshold": ident.threshold}}
     return out
+
+
+#: The study's Table 1 SDOF pulse (magnitude N, duration s).
+SEED_TABLE1_SDOF = (471.49, 0.0030)
+#: The study's Fig. 4 comparison on that event: its SDOF fit's response under the measured peak by
+#: 40 %, its MDOF fit's by 8.7 % (section 3.3).
+SEED_TABLE1_UNDER = {"sdof": 0.40, "mdof": 0.087}
+
+
+def sdof_row_response(t, column: Column | None = None, start_s: float = 0.0) -> np.ndarray:
+    """The study's SDOF oscillator's response (N) to its Table 1 SDOF pulse (471.49 N, 3.0 ms,
+    starting at ``start_s``): the measured 70 Hz, damping 0.045, gain k / m_s with m_s the column's
+    mass (the study's eq. [6] with k, m_s and omega as separate inputs; with m = k / omega^2
+    every figure below scales by omega^2 m_s / k = 1.55, the durations not at all). The study
+    found this response in phase with its record and matching the peaks after the first; it is
+    the closest thing to the record the study printed."""
+    from analytical.oscillator import oscillator_response
+
+    column = column if column is not None else Column()
+    omega = column.natural_circular_frequency_rad_s
+    q = oscillator_response(HalfSine(*SEED_TABLE1_SDOF, start_s), np.asarray(t, dtype=float), omega,
+                            column.damping_ratio)
+    return column.stiffness_N_m / column.mass_kg * q
+
+
+def table1_column_models(heights_m=(0.16, 0.30, 0.40, 0.50), bases=("rigid", "calibrated"),
+                         sample_rate_Hz: float = 10_000.0, record_s: float = 0.06, pre_s: float = 0.01) -> dict:
+    """Which column model reproduces the study's Table 1, in numbers (docs/fitting.md).
+
+    Per base of the study's column (:class:`Column` with that ``base``): its first two
+    frequencies, its base spring, its static lateral stiffness at the mean load height (0.40 m)
+    and at the top and the height where it equals the measured 4.685e5 N/m; the peak base shear
+    of Table 1's MDOF pulse at 0.40 m; and, at each of ``heights_m``, the study's MDOF fit
+    (magnitude, duration, start free; :func:`analytical.fitting.fit_mdof`) of
+    :func:`sdof_row_response`, with its rms misfit over that record's peak (``nrmse``). If the
+    study's MDOF column was this model and the event was loaded at that height, the fit should
+    return Table 1's MDOF row, 236.93 N over 4.7 ms, and fit closely.
+    """
+    from analytical.column_fem import column_model, lateral_stiffness
+    from scipy.optimize import brentq
+
+    t = np.arange(0.0, record_s, 1.0 / sample_rate_Hz)
+    record = sdof_row_response(t, start_s=pre_s)
+    out = {}
+    for base in bases:
+        column = Column(base=base)
+        model = column_model(column)
+        top = lateral_stiffness(column, column.height_m)
+        at = lateral_stiffness(column, SEED_MEAN_HEIGHT_M)
+        k_meas = column.stiffness_N_m
+        z_meas = (brentq(lambda z: lateral_stiffness(column, z) - k_meas, SEED_MEAN_HEIGHT_M, column.height_m)
+                  if top < k_meas < at else float("nan"))
+        shear = mdof_response(HalfSine(*SEED_TABLE1_MDOF, 0.0), column, SEED_MEAN_HEIGHT_M, t).response_N
+        fits = {}
+        for h in heights_m:
+            f = fit_mdof(t, record, column=column, height_m=float(h))
+            fits[float(h)] = {"magnitude_N": f.magnitude_N, "duration_s": f.duration_s, "impulse_Ns": f.impulse_Ns,
+                              "nrmse": f.rmse_N / float(np.max(record))}
+        out[base] = {"f1_Hz": float(model.frequencies_Hz[0]), "f2_Hz": float(model.frequencies_Hz[1]),
+                     "base_spring_Nm_rad": model.base_spring_Nm_rad,
+                     "stiffness_at_0_40_m_N_m": at, "stiffness_top_N_m": top,
+                     "height_of_measured_stiffness_m": z_meas,
+                     "table1_mdof_peak_base_shear_N": float(np.max(shear)), "sdof_row_fit": fits}
+    return out

@@ -9,6 +9,7 @@ import pytest
 
 from analytical.added_mass import SEED_CONTAINER_ADDED_MASS
 from analytical.asce7 import SEED_DEBRIS_STIFFNESS_N_M
+from analytical.column import Column
 from analytical.contact_calibration import (
     FIGURES,
     contact_drop,
@@ -99,17 +100,23 @@ def test_population_has_the_studys_water_levels():
     assert np.all(flat.lateral_offset_m == 0.0) and np.all(flat.obliquity_deg == 0.0)
 
 
+#: The rigid-base column the shipped constants were calibrated on (see the first slow test).
+RIGID = Column()
+
+
 @pytest.mark.slow
 def test_the_shipped_law_reproduces_table_2_through_the_studys_fit_and_is_the_calibrations_minimum():
     """The stored constants, struck over the calibration population and fitted as the study
     did, give Table 2's three means within 2 standard errors each, with the calibration's
     chi-square (2.82); a stiffness 13 % (two of its standard errors) either side is worse by more
     than 2. (The objective jumps where a strike's fit changes local minimum, so a local
-    Gauss-Newton step is no test of the minimum; the bracket is.)"""
+    Gauss-Newton step is no test of the minimum; the bracket is.) The constants were fitted on
+    the rigid-base column (88.4 Hz), before the calibration moved to the 70 Hz one
+    (STUDY_COLUMN), so that is the column here."""
     population = strike_population()
 
     def chi2(law):
-        means = unit_figures(law, population).means()
+        means = unit_figures(law, population, RIGID).means()
         se = table2_standard_errors(means)
         z = np.array([(means[k] - SEED_TABLE2_MDOF[k][0]) / se[k] for k in FIGURES])
         return z, float(z @ z)
@@ -127,7 +134,7 @@ def test_the_shipped_law_reproduces_table_2_through_the_studys_fit_and_is_the_ca
 
 @pytest.mark.slow
 def test_table_1s_event_lies_in_the_upper_tail_of_the_laws_scatter():
-    figures = unit_figures(CONTAINER, strike_population(16, seed=7))
+    figures = unit_figures(CONTAINER, strike_population(16, seed=7), RIGID)
     sc = scatter(figures, draws=20_000)
     # the study's elastic event: stronger than most of the law's strikes at its speed
     assert sc.table1_percentiles["impulse_Ns"] > 90.0
@@ -226,8 +233,8 @@ def test_the_studys_fit_reads_a_strike_below_its_load_point_as_a_shorter_pulse()
     1 ms shorter, which Table 2's 4.7 ms (SE 0.11 ms) rejects; with no drop it is the
     calibration's own figures."""
     population = strike_population(8)
-    level, low = contact_drop(CONTAINER, population, drops_m=(0.0, 0.10))
-    assert level["means"] == pytest.approx(unit_figures(CONTAINER, population).means(), rel=1e-12)
+    level, low = contact_drop(CONTAINER, population, drops_m=(0.0, 0.10), column=RIGID)
+    assert level["means"] == pytest.approx(unit_figures(CONTAINER, population, RIGID).means(), rel=1e-12)
     assert low["means"]["duration_s"] < level["means"]["duration_s"] - 1e-3
     assert low["z"]["duration_s"] < -2.0 and low["p_value"] < 0.05
 
