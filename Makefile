@@ -65,19 +65,23 @@ openfoam:
 	  echo "OpenFOAM is missing and this is not root: run 'sudo apt-get install openfoam', then make again" >&2; exit 1; \
 	fi
 
-# The Python tests two at a time (pytest-xdist, one per core), then the OpenFOAM tests one after
-# another: each OpenFOAM case runs on both cores itself. Tests marked slow (minutes each: the contact
-# law's calibration, the wheel's install, the longer OpenFOAM cases) are left to test-all.
+# The Python tests two at a time (pytest-xdist, one per core), then the OpenFOAM tests two files at
+# a time: a tiny case's two MPI ranks keep a core busy only part of the time (meshing, decomposing
+# and post-processing are serial, and the ranks yield while they wait), so two files side by side
+# fill both cores; a file's tests stay on one worker and share its fixtures. Tests marked slow
+# (minutes each: the contact law's calibration, the wheel's install, the longer OpenFOAM cases) are
+# left to test-all.
+OPENFOAM_TESTS = -n 2 --dist loadfile
 test: venv openfoam
 	$(VENV)/bin/ruff check .
 	$(PY) -m pytest -q -n 2 -m "not openfoam and not slow"
-	$(PY) -m pytest -q -m "openfoam and not slow"
+	$(PY) -m pytest -q $(OPENFOAM_TESTS) -m "openfoam and not slow"
 
 # Every test, the slow ones included (about 45 min on 2 idle cores).
 test-all: venv openfoam
 	$(VENV)/bin/ruff check .
 	$(PY) -m pytest -q -n 2 -m "not openfoam"
-	$(PY) -m pytest -q -m openfoam
+	$(PY) -m pytest -q $(OPENFOAM_TESTS) -m openfoam
 
 test-fast: venv
 	$(PY) -m pytest -q -m "not openfoam and not slow"
