@@ -29,14 +29,15 @@ from orchestrator.core.files import read_json_object, write_text_atomic
 from orchestrator.report.asce_section import asce_markdown
 from orchestrator.report.study_table import comparison_markdown, comparison_note
 from orchestrator.results.asce_design import asce_design_table, site_flow_speed
+from orchestrator.results.compare import SEED_ARRIVALS
 from orchestrator.results.readers import load_case
 from orchestrator.results.study_fit import compare_strikes
 
 __all__ = ["write_case_report"]
 
 PLOTS = ("preview.png", "gauges.png", "column_forces.png", "impacts.png", "tracks.png")
-#: The study's experiment and model arrivals (s) at WG2 and WG3 (its section 4.1.2).
-STUDY_ARRIVALS_S = {"WG2": (0.91, 0.88), "WG3": (1.39, 1.20)}
+#: The study's experiment and model arrivals (s) by gauge name (results.compare.SEED_ARRIVALS).
+STUDY_ARRIVALS_S = {name: (experiment, model) for name, experiment, model in SEED_ARRIVALS.values()}
 #: Wall-time target of the default run (min).
 WALL_TARGET_MIN = 30.0
 
