@@ -329,14 +329,14 @@ def test_the_shipped_street_scene_plans_every_case_near_the_lab_scenes_cells_and
     from analytical.catalogue import mass_range_kg
     from orchestrator.plan.planner import plan_case
     from orchestrator.studies.design_report import input_sources
-    from orchestrator.studies.design import _cases
+    from orchestrator.studies.design import design_cases
     from orchestrator.studies.design_table import debris_types
     from orchestrator.transport.case_transport import scene_bodies
     from orchestrator.scene.schema import column_for_analysis
 
     path = ROOT / "cases" / "design-street.yaml"
     spec = load_scene(path).design
-    cases = _cases(path, [], spec)
+    cases = design_cases(path, [], spec)
     assert [c.name for c in cases] == ["low", "nominal", "high"]
     assert sum(c.realisations for c in cases) == spec.realisations
     empty, loaded = mass_range_kg("container-20ft")

@@ -114,11 +114,11 @@ def cmd_design(args: argparse.Namespace) -> int:
     plan_scene(args.scene, sets)  # the scene and its design section checked before anything runs
     out = _design_out(args.out or str(Path("runs") / f"design-{Path(args.scene).stem}"), args.force)
     from orchestrator.scene.scenefile import load_scene
-    from orchestrator.studies.design import _cases, design
+    from orchestrator.studies.design import design_cases, design
     from orchestrator.studies.design_asce import scene_asce_inputs
 
     base = load_scene(args.scene, sets)
-    cases = _cases(args.scene, sets, base.design)
+    cases = design_cases(args.scene, sets, base.design)
     for case in cases:  # the code's inputs: a full-scale scene names what it lacks before any flow runs
         scene_asce_inputs(case.scene, source=str(args.scene))
     confirm_realisations([(c.scene, c.realisations) for c in cases], args.workers, args.yes, args.scene)

@@ -30,13 +30,8 @@ from analytical.column import Column as AnalysisColumn
 from orchestrator.core.errors import InputError
 from analytical.hydrodynamics import DEFAULT_ADDED_MASS_COEFFICIENT, DEFAULT_DRAG_COEFFICIENT
 from orchestrator.scene.base import NonNeg, Pos, SceneSection
-from orchestrator.scene.catalogued import (
-    GEOMETRY_FIELDS,
-    ColumnSectionSpec,
-    column_from_section,
-    debris_from_catalogue,
-    section_geometry,
-)
+from orchestrator.scene.catalogued import (GEOMETRY_FIELDS, ColumnSectionSpec, column_from_section,
+                                           debris_from_catalogue, section_geometry)
 
 __all__ = [
     "Bed",
@@ -91,9 +86,8 @@ class Bed(SceneSection):
 
     wet_depth_m: float = Field(0.0, ge=0, description="still-water depth downstream of the gate; 0 = dry (m)")
     friction_factor: float = Field(0.0293, ge=0, description="Darcy friction factor f of the bed (-)")
-    slip: bool = Field(
-        False, description="the bed a slip wall: no shear at all, the inviscid bed of Stoker's and Ritter's "
-        "solutions (only with friction_factor 0); false = a no-slip wall")
+    slip: bool = Field(False, description="the bed a slip wall (no shear: Stoker's and Ritter's inviscid bed; only "
+                       "with friction_factor 0); false = no-slip")
     friction_calibration: float = Field(
         2.2, gt=0,
         description="multiplier on the bed-friction drag of the cell layers next to the bed (they under-brake the "
@@ -118,8 +112,7 @@ class ColumnSection(SceneSection):
         None, description="a prototype column by section (see ColumnSectionSpec); null = the fields below as given")
     size_x_m: float = Field(gt=0, description="footprint along the flow (m); from `section` when given")
     size_y_m: float = Field(gt=0, description="footprint across the flow (m); from `section` when given")
-    height_m: float = Field(gt=0, description="height above the floor (m); at most 100 m (taller is no column a "
-                            "debris strike loads: a ground-storey column is 3-6 m)")
+    height_m: float = Field(gt=0, description="height above the floor (m); at most 100 m (a storey is 3-6 m)")
     wall_thickness_m: float = Field(gt=0, description="wall of the hollow section (m); from `section` when given")
     section_area_m2: float | None = Field(None, gt=0, description="section area A (m2); null = the box's")
     section_second_moment_m4: float | None = Field(

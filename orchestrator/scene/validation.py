@@ -113,9 +113,9 @@ MAX_COLUMN_HEIGHT_M = 100.0
 
 
 def _check_column_size(scene: Scene, source: str | None) -> None:
-    """The column's height plausible (:data:`MAX_COLUMN_HEIGHT_M`); a footprint that leaves the flume
-    although its centre stands in it is its size's fault: the size field is named (the section's
-    when the column is given by section), not its position."""
+    """The column's height plausible (:data:`MAX_COLUMN_HEIGHT_M`); a footprint wider than the flume
+    is its size's fault: the size field is named (the section's when the column is given by
+    section), not its position (a footprint that would fit elsewhere names the position)."""
     col = scene.column
     if col.height_m > MAX_COLUMN_HEIGHT_M:
         raise InputError("column.height_m", f"{col.height_m:g} m is taller than any column a debris strike loads: "
@@ -123,10 +123,10 @@ def _check_column_size(scene: Scene, source: str | None) -> None:
                          "40:1 has 32 m); a height in mm?", source)
     (x0, x1), (y0, y1), _ = flume_extent(scene)
     for axis, centre, size, lo, hi in (("x", col.x_m, col.size_x_m, x0, x1), ("y", col.y_m, col.size_y_m, y0, y1)):
-        if lo - TOL <= centre <= hi + TOL and (centre - size / 2 < lo - TOL or centre + size / 2 > hi + TOL):
+        if size > hi - lo + TOL:  # no position holds it: the size is at fault
             field = "column.section.size_m" if col.section is not None else f"column.size_{axis}_m"
             raise InputError(field, f"a column {size:g} m across along {axis}, centred at {axis} = {centre:g} m, spans "
-                             f"{centre - size / 2:g}..{centre + size / 2:g} m: wider than the flume allows there "
+                             f"{centre - size / 2:g}..{centre + size / 2:g} m: wider than the flume "
                              f"({lo:g}..{hi:g} m)", source)
 
 

@@ -69,7 +69,7 @@ from orchestrator.transport.engine import TransportSettings, ensemble_settings, 
 from orchestrator.transport.flow import FlowField
 from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn, TransportBody
 
-__all__ = ["DEMANDS", "DESIGN_COLUMNS", "DesignCase", "DesignResult", "allocate", "case_names", "design",
+__all__ = ["DEMANDS", "DESIGN_COLUMNS", "DesignCase", "DesignResult", "allocate", "case_names", "design", "design_cases",
            "design_batch", "design_starts", "mass_range", "realisation_demands"]
 
 @dataclass
@@ -215,7 +215,7 @@ def _run_case(case: DesignCase, starts: list[list[TransportBody]], flume: FlumeB
 
 
 # --------------------------------------------------------------------------- the verb
-def _cases(scene_path: str | Path, sets: Sequence[str], spec: Design) -> list[DesignCase]:
+def design_cases(scene_path: str | Path, sets: Sequence[str], spec: Design) -> list[DesignCase]:
     """The inundation cases, each checked as a scene (its overrides named on bad input)."""
     names = case_names(spec)
     weights = np.array([c.weight for c in spec.inundation], dtype=float)
@@ -250,7 +250,7 @@ def design(scene_path: str | Path, out_dir: str | Path, sets: Sequence[str] = ()
     t0 = time.perf_counter()
     out = Path(out_dir)
     spec = load_scene(scene_path, list(sets)).design
-    cases = _cases(scene_path, sets, spec)
+    cases = design_cases(scene_path, sets, spec)
     workers = max(1, int(workers or os.cpu_count() or 1))
     prepared = []
     for k, case in enumerate(cases):

@@ -127,8 +127,7 @@ __all__ = [
 EXECUTORS = ("local", "dask")
 
 DEFAULT_BATCH_SIZE = 128
-"""Realisations carried in one model (:func:`run_realisations`; docs/ensembles.md gives the
-measurement it comes from)."""
+"""Realisations carried in one model (:func:`run_realisations`; measured in docs/ensembles.md)."""
 
 TABLE_COLUMNS = [
     "realisation", "body", "start_x_m", "start_y_m", "start_yaw_deg", "struck", "impact_time_s",
@@ -137,12 +136,12 @@ TABLE_COLUMNS = [
     "study_fit_peak_N", "study_fit_duration_s", "study_fit_impulse_Ns", "study_fit_start_s", "study_fit_height_m",
     "study_fit_height_source", "study_fit_nrmse", "strikes", "wall_time_s", "study_fit_wall_s",
 ]
-"""ensemble.csv: the start; the first column strike (time, normal velocity of the centre and its
-speed, contact height above the bed, obliquity from the face's normal), the law's pulse (peak force,
-duration, impulse, the column's peak base shear, the effective mass at the contact along the normal,
-added mass included), the water level at the face, the time since the flow's front reached the face
-(negative: ahead of it) and the study's fit of the base shear
-(:mod:`orchestrator.results.study_fit`), NaN when not struck; all column strikes; the wall time."""
+"""ensemble.csv: the start; the first column strike (time, normal velocity of the centre and its speed,
+contact height above the bed, obliquity from the face's normal), the law's pulse (peak force, duration,
+impulse, the column's peak base shear, the effective mass at the contact along the normal, added mass
+included), the water level at the face, the time since the flow's front reached the face (negative: ahead
+of it) and the study's fit of the base shear (:mod:`orchestrator.results.study_fit`), NaN when not
+struck; all column strikes; the wall time."""
 
 TRACK_COLUMNS = ["realisation", "body", "time_s", "x_m", "y_m", "speed_m_s"]
 """tracks.csv: every body's centre in plan view, every output interval (0.01 s), for the first
@@ -150,11 +149,8 @@ TRACK_COLUMNS = ["realisation", "body", "time_s", "x_m", "y_m", "speed_m_s"]
 TRACKED_REALISATIONS = 2000
 
 #: The figures ensemble.json states for every struck body (mean, std, min, max, count).
-STATISTICS = ("impact_time_s", "impact_velocity_m_s", "impact_speed_m_s", "impact_height_m", "obliquity_deg",
-              "peak_force_N", "duration_s", "impulse_Ns", "peak_base_shear_N", "effective_mass_kg", "face_water_level_m",
-              "time_since_front_s",
-              "study_fit_peak_N", "study_fit_duration_s", "study_fit_impulse_Ns", "study_fit_start_s", "study_fit_height_m",
-              "study_fit_nrmse")
+STATISTICS = tuple(c for c in TABLE_COLUMNS[TABLE_COLUMNS.index("impact_time_s"):TABLE_COLUMNS.index("strikes")]
+                   if c not in ("study_fit_height_source", "study_fit_wall_s"))
 
 
 @dataclass(frozen=True)
@@ -184,8 +180,7 @@ class Perturbation:
 
 # --------------------------------------------------------------------------- starts
 def plan_footprint(body: TransportBody) -> np.ndarray:
-    """The body's plan footprint at its start: the convex hull (counter-clockwise) of its eight
-    corners projected on the bed."""
+    """The body's plan footprint at its start: the convex hull (counter-clockwise) of its corners on the bed."""
     half = np.asarray(body.size_m) / 2.0
     corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]) * half
     pts = (corners @ body.rotation.T)[:, :2] + np.asarray(body.centre_m[:2])
