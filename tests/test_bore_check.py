@@ -127,3 +127,12 @@ def test_a_frictionless_wet_bed_dam_break_runs_at_stokers_bore_speed(openfoam, t
     check = check_run(case)
     assert abs(check.speed_error_pct) <= STOKER_SPEED_TOLERANCE_PCT, check
     assert -STOKER_DEPTH_TOLERANCE_PCT <= check.depth_error_pct < 0.0, check
+
+
+def test_a_member_without_its_plan_is_named(tmp_path):
+    """A folder with gauges but no plan.json (a copy gone wrong) is bad input naming the file."""
+    (tmp_path / "m" / "results").mkdir(parents=True)
+    (tmp_path / "m" / "results" / "gauges.csv").write_text("time_s\n0\n")
+    (tmp_path / "m" / "scene.yaml").write_text("name: x\n")
+    with pytest.raises(InputError, match="plan.json"):
+        check_run(tmp_path / "m")

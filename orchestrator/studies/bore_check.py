@@ -104,6 +104,9 @@ def check_run(case_dir: str | Path) -> BoreCheck:
     table = case / "results" / "gauges.csv"
     if not table.is_file():
         raise InputError(str(table), "missing: run `debrisfoam post` on the case first")
+    for name in ("scene.yaml", "plan.json"):
+        if not (case / name).is_file():
+            raise InputError(str(case / name), "missing: not a case folder that `debrisfoam render` wrote")
     scene = yaml.safe_load((case / "scene.yaml").read_text())
     frame = pd.read_csv(table)
     gauges = {gg["name"]: float(gg["x_m"]) for gg in scene["gauges"]}
