@@ -72,8 +72,8 @@ def foam_env(base: dict[str, str] | None = None) -> dict[str, str]:
     # a run on a workstation must not sit waiting for a slot count it cannot get
     env.setdefault("OMPI_MCA_rmaps_base_oversubscribe", "1")
     # a rank waiting for a message gives its core back instead of spinning on it: on a machine
-    # whose cores are busy with other work a small case then runs in about half the wall time
-    # (benchmarks/mpi_yield.md)
+    # whose cores are busy with other work a small case runs faster (0.78x the wall time beside two
+    # busy processes, the same when idle: benchmarks/mpi_yield.md)
     env.setdefault("OMPI_MCA_mpi_yield_when_idle", "1")
     return env
 
