@@ -30,6 +30,7 @@ from analytical.column import Column as AnalysisColumn
 from orchestrator.core.errors import InputError
 from analytical.hydrodynamics import DEFAULT_ADDED_MASS_COEFFICIENT, DEFAULT_DRAG_COEFFICIENT
 from orchestrator.scene.base import NonNeg, Pos, SceneSection
+from orchestrator.scene.flume import Bed, Flume, Reservoir
 from orchestrator.scene.catalogued import (GEOMETRY_FIELDS, ColumnSectionSpec, column_from_section,
                                            debris_from_catalogue, section_geometry)
 
@@ -58,42 +59,6 @@ __all__ = [
 ]
 
 # ---------------------------------------------------------------------------- sections
-
-
-class Flume(SceneSection):
-    """The tank or flume: a rectangular box of floor length x width, walls height high."""
-
-    length_m: float = Field(gt=0, description="total length, reservoir included (m)")
-    width_m: float = Field(gt=0, description="inside width (m)")
-    height_m: float = Field(gt=0, description="wall height above the floor (m)")
-    downstream_end: Literal["closed", "open"] = Field(
-        "closed", description="closed: an end wall; open: water leaves (free outfall)"
-    )
-
-
-class Reservoir(SceneSection):
-    """The impoundment at the upstream end, from the upstream wall to the gate at x = 0."""
-
-    length_m: float = Field(gt=0, description="from the upstream wall to the gate (m)")
-    depth_m: float = Field(gt=0, description="impoundment depth h0 (m)")
-    gate: Literal["swing-gate", "instant"] = Field(
-        "instant", description="how the water is released; both are modelled as instant removal"
-    )
-
-
-class Bed(SceneSection):
-    """The flume floor downstream of the gate."""
-
-    wet_depth_m: float = Field(0.0, ge=0, description="still-water depth downstream of the gate; 0 = dry (m)")
-    friction_factor: float = Field(0.0293, ge=0, description="Darcy friction factor f of the bed (-)")
-    slip: bool = Field(False, description="the bed a slip wall (no shear: Stoker's and Ritter's inviscid bed; only "
-                       "with friction_factor 0); false = no-slip")
-    friction_calibration: float = Field(
-        2.2, gt=0,
-        description="multiplier on the bed-friction drag of the cell layers next to the bed (they under-brake the "
-        "thin bore tip); the default 2.2 makes the arrivals at 2.40 m and 3.20 m match Chanson's solution with "
-        "f = 0.0293 within 0.012 s at 4 cm cells (docs/bed-friction.md)",
-    )
 
 
 class ColumnSection(SceneSection):
