@@ -17,6 +17,8 @@ from itertools import product
 
 import numpy as np
 
+from orchestrator.core.errors import InputError
+
 #: The six outer sides, in blockMesh's face-vertex order (outward normals by the
 #: right-hand rule for the hex numbering 0..7 used below).
 SIDE_FACES: dict[str, tuple[int, int, int, int]] = {
@@ -51,12 +53,13 @@ class Segment:
     grading: float = 1.0
 
     def __post_init__(self) -> None:
+        # A segment is read back from plan.json (plan.model.grid_from_dict) as well as planned: bad input.
         if not self.end_m > self.start_m:
-            raise ValueError(f"segment end {self.end_m} must exceed start {self.start_m}")
+            raise InputError("end_m", f"must exceed start_m ({self.start_m}), got {self.end_m}")
         if self.cells < 1:
-            raise ValueError(f"segment needs at least one cell, got {self.cells}")
+            raise InputError("cells", f"must be at least 1, got {self.cells}")
         if not self.grading > 0:
-            raise ValueError(f"grading must be > 0, got {self.grading}")
+            raise InputError("grading", f"must be > 0, got {self.grading}")
 
     @property
     def length_m(self) -> float:
@@ -113,14 +116,14 @@ class BoxGrid:
         for axis in ("x", "y", "z"):
             segs = getattr(self, axis)
             if not segs:
-                raise ValueError(f"{self.name}: axis {axis} has no segments")
+                raise InputError(f"{self.name}.{axis}", "has no segments")
             for a, b in zip(segs, segs[1:]):
                 if abs(a.end_m - b.start_m) > 1e-12:
-                    raise ValueError(f"{self.name}: axis {axis} segments are not contiguous at {a.end_m}")
+                    raise InputError(f"{self.name}.{axis}", f"segments are not contiguous at {a.end_m} m")
         shape = self.shape
         for h in self.holes:
             if not all(0 <= h[i] < shape[i] for i in range(3)):
-                raise ValueError(f"{self.name}: hole {h} outside the block array {shape}")
+                raise InputError(f"{self.name}.holes", f"hole {h} outside the block array {shape}")
 
     @property
     def shape(self) -> tuple[int, int, int]:
