@@ -1,5 +1,5 @@
-"""The base of every scene section (unknown keys are errors, instances immutable, no boolean for a
-number) and the constrained floats the sections share; :mod:`orchestrator.scene.schema` re-exports them."""
+"""The base of every scene section (unknown keys are errors, instances immutable, finite numbers, no
+boolean for a number) and the constrained floats the sections share; :mod:`orchestrator.scene.schema` re-exports them."""
 
 from __future__ import annotations
 
@@ -22,11 +22,12 @@ def _takes_bool(annotation: Any) -> bool:
 
 
 class SceneSection(BaseModel):
-    """Base of every scene section: unknown keys are errors, instances are immutable, and a
-    boolean is refused where a number (or any other non-boolean) belongs: pydantic would read
-    ``end_time_s: true`` as 1.0."""
+    """Base of every scene section: unknown keys are errors, instances are immutable, a number
+    is finite (``.inf`` and ``.nan`` are refused, naming the field) and a boolean is refused
+    where a number (or any other non-boolean) belongs: pydantic would read ``end_time_s: true``
+    as 1.0."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
     @field_validator("*", mode="before")
     @classmethod
