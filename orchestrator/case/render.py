@@ -147,11 +147,15 @@ def _number(value: Any) -> str:
     refused: OpenFOAM would read them as words or garbage.
     """
     if isinstance(value, (bool, np.bool_)):
+        # internal: the scene refuses a boolean where a number belongs (scene.yamltext); the plan's
+        # switches go through foam_switch, so a boolean here is a template's mistake.
         raise TypeError(f"not a number: {value!r}")
     if isinstance(value, (int, np.integer)):
         return str(int(value))
     v = float(value)
     if not math.isfinite(v):
+        # internal: the scene refuses infinity and NaN in every field (scene.base) and the planner
+        # derives finite numbers from finite ones; a non-finite number here is a planner's mistake.
         raise ValueError(f"not a finite number: {value!r}")
     if abs(v) < 1e-12:
         return "0"
@@ -163,7 +167,7 @@ def _number(value: Any) -> str:
 def _vector(values: Iterable[Any]) -> str:
     vals = list(np.asarray(values, dtype=float).ravel())
     if len(vals) != 3:
-        raise ValueError(f"a vector needs 3 components, got {len(vals)}")
+        raise ValueError(f"a vector needs 3 components, got {len(vals)}")  # internal: the plan's vectors are 3-tuples
     return "(" + " ".join(_number(v) for v in vals) + ")"
 
 
@@ -171,7 +175,7 @@ def _tensor(values: Any) -> str:
     """A 3x3 tensor (nested or flat, row-major) as OpenFOAM's (xx xy xz yx ... zz)."""
     vals = list(np.asarray(values, dtype=float).ravel())
     if len(vals) != 9:
-        raise ValueError(f"a tensor needs 9 components, got {len(vals)}")
+        raise ValueError(f"a tensor needs 9 components, got {len(vals)}")  # internal: the plan's tensors are 3x3
     return "(" + " ".join(_number(v) for v in vals) + ")"
 
 
@@ -391,13 +395,15 @@ def _time_context(plan: ModelPlan, outputs) -> dict[str, Any]:
 def _friction_context(plan: ModelPlan, lo: np.ndarray, hi: np.ndarray) -> dict[str, Any] | None:
     """Bed friction (Darcy f): the plan's quadratic drag on its friction layer next to the bed, a
     Darcy-Forchheimer porosity with only the Forchheimer term, horizontal only, on every cell
-    below the layer's top."""
+    below the layer's top. With a sill (the grid below z = 0) only downstream of the gate: the
+    layer's top is above the bed there, and the reservoir's nearly still water needs none."""
     if float(plan.bed_friction_per_m) <= 0:
         return None
     layer = float(plan.friction_layer_m)
+    x_min = lo[0] - 1 if lo[2] >= 0 else 0.0
     return {"darcy_f": float(plan.bed_friction_factor), "layer_m": layer, "zone": BED_LAYER_ZONE,
             "calibration": float(plan.bed_friction_calibration), "forchheimer_per_m": float(plan.bed_friction_per_m),
-            "box_min": (lo[0] - 1, lo[1] - 1, lo[2] - 1), "box_max": (hi[0] + 1, hi[1] + 1, lo[2] + layer)}
+            "box_min": (x_min, lo[1] - 1, lo[2] - 1), "box_max": (hi[0] + 1, hi[1] + 1, max(lo[2], 0.0) + layer)}
 
 
 #: A RANS flow's start: still water and air, nearly free of turbulence (k in m2/s2, omega in 1/s);
@@ -507,6 +513,7 @@ def _scene_yaml(scene, overrides: Sequence[str] = ()) -> str:
         return dump_scene_yaml(scene, list(overrides))
     if isinstance(scene, dict):
         return yaml.safe_dump(dict(scene), sort_keys=False)
+    # internal: a caller's mistake; the CLI and the pipeline pass the Scene they loaded.
     raise TypeError(f"render_case needs an orchestrator.scene.schema.Scene, got {type(scene).__name__}")
 
 
