@@ -18,6 +18,8 @@ from __future__ import annotations
 
 import math
 
+from orchestrator.core.errors import require_positive
+
 __all__ = ["REFERENCE_DEPTH_M", "froude_factor", "length_scale", "time_scale"]
 
 #: The study's impoundment depth (seed 3.1, 4.1.1), at which the tool's absolute constants were set (m).
@@ -27,9 +29,7 @@ REFERENCE_DEPTH_M = 0.40
 def froude_factor(depth_m: float) -> float:
     """lambda = max(1, depth_m / :data:`REFERENCE_DEPTH_M`) (-): how much larger than the study's
     flume a scene whose impoundment is ``depth_m`` deep is, for the constants set there."""
-    if not math.isfinite(depth_m) or depth_m <= 0:
-        raise ValueError(f"depth_m must be a positive number, got {depth_m!r}")
-    return max(1.0, float(depth_m) / REFERENCE_DEPTH_M)
+    return max(1.0, require_positive("depth_m", depth_m) / REFERENCE_DEPTH_M)
 
 
 def length_scale(depth_m: float) -> float:
