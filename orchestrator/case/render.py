@@ -147,16 +147,16 @@ def _number(value: Any) -> str:
     refused: OpenFOAM would read them as words or garbage.
     """
     if isinstance(value, (bool, np.bool_)):
-        # internal: the scene refuses a boolean where a number belongs (scene.yamltext); the plan's
-        # switches go through foam_switch, so a boolean here is a template's mistake.
-        raise TypeError(f"not a number: {value!r}")
+        # The scene refuses a boolean where a number belongs (scene.base) and the plan's switches go
+        # through foam_switch: a boolean here is a template's mistake.
+        raise TypeError(f"not a number: {value!r}")  # internal: no scene reaches it (above)
     if isinstance(value, (int, np.integer)):
         return str(int(value))
     v = float(value)
     if not math.isfinite(v):
-        # internal: the scene refuses infinity and NaN in every field (scene.base) and the planner
-        # derives finite numbers from finite ones; a non-finite number here is a planner's mistake.
-        raise ValueError(f"not a finite number: {value!r}")
+        # The scene refuses infinity and NaN in every field (scene.base) and the planner derives
+        # finite numbers from finite ones: a non-finite number here is a planner's mistake.
+        raise ValueError(f"not a finite number: {value!r}")  # internal: no scene reaches it (above)
     if abs(v) < 1e-12:
         return "0"
     if v == int(v) and abs(v) < 1e15:
@@ -513,8 +513,9 @@ def _scene_yaml(scene, overrides: Sequence[str] = ()) -> str:
         return dump_scene_yaml(scene, list(overrides))
     if isinstance(scene, dict):
         return yaml.safe_dump(dict(scene), sort_keys=False)
-    # internal: a caller's mistake; the CLI and the pipeline pass the Scene they loaded.
-    raise TypeError(f"render_case needs an orchestrator.scene.schema.Scene, got {type(scene).__name__}")
+    # A caller's mistake: the CLI and the pipeline pass the Scene they loaded.
+    raise TypeError(  # internal: no scene reaches it (above)
+        f"render_case needs an orchestrator.scene.schema.Scene, got {type(scene).__name__}")
 
 
 def _plan_json(plan: ModelPlan) -> str:
