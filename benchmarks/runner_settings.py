@@ -53,7 +53,7 @@ import yaml
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from orchestrator.case import bodystate  # noqa: E402
+from orchestrator.case.dictionary import edit_dictionary  # noqa: E402
 from orchestrator.case import foam  # noqa: E402
 from orchestrator.case.outputs import read_force_series, read_water_balance, water_balance_summary  # noqa: E402
 from orchestrator.pipeline import render_from_file  # noqa: E402
@@ -137,18 +137,14 @@ def prepare(setting: Setting, root: Path, end_time_s: float = END_TIME_S) -> Pat
     path.write_text(yaml.safe_dump(scene))
     case = root / setting.name
     render_from_file(path, case)
-    from PyFoam.RunDictionary.ParsedParameterFile import ParsedParameterFile
-
-    sol = ParsedParameterFile(str(case / "system" / "fvSolution"))
-    sol["PIMPLE"]["nOuterCorrectors"] = setting.n_outer
-    sol["PIMPLE"]["nCorrectors"] = setting.n_corr
-    sol["solvers"]["p_rgh"]["tolerance"] = setting.tolerance
-    sol["solvers"]["p_rgh"]["relTol"] = setting.rel_tol
-    sol["solvers"]["p_rghFinal"]["relTol"] = setting.final_rel_tol
-    bodystate.write_dictionary(sol, case / "system" / "fvSolution")
-    schemes = ParsedParameterFile(str(case / "system" / "fvSchemes"))
-    schemes["oversetInterpolation"]["method"] = setting.interpolation
-    bodystate.write_dictionary(schemes, case / "system" / "fvSchemes")
+    with edit_dictionary(case / "system" / "fvSolution") as sol:
+        sol["PIMPLE"]["nOuterCorrectors"] = setting.n_outer
+        sol["PIMPLE"]["nCorrectors"] = setting.n_corr
+        sol["solvers"]["p_rgh"]["tolerance"] = setting.tolerance
+        sol["solvers"]["p_rgh"]["relTol"] = setting.rel_tol
+        sol["solvers"]["p_rghFinal"]["relTol"] = setting.final_rel_tol
+    with edit_dictionary(case / "system" / "fvSchemes") as schemes:
+        schemes["oversetInterpolation"]["method"] = setting.interpolation
     return case
 
 
@@ -328,11 +324,8 @@ def overhead_figures(case: Path, mode: str) -> dict:
 
 
 def _set_end(case: Path, end_s: float) -> None:
-    from PyFoam.RunDictionary.ParsedParameterFile import ParsedParameterFile
-
-    control = ParsedParameterFile(str(case / "system" / "controlDict"))
-    control["endTime"] = end_s
-    bodystate.write_dictionary(control, case / "system" / "controlDict")
+    with edit_dictionary(case / "system" / "controlDict") as control:
+        control["endTime"] = end_s
 
 
 def templates_default_note() -> str:

@@ -11,7 +11,7 @@ import pytest
 
 from conftest import ROOT, run_cli
 from orchestrator.case import bodystate
-from orchestrator.run import waterdepth
+from orchestrator.run import body_policy, waterdepth
 from orchestrator.run.bedwatch import BedWatch, breakaway_ratio, footprint_mean_radius, underside_m
 from orchestrator.case.bodystate import BodyState
 
@@ -140,28 +140,29 @@ def test_bed_friction_is_mu_times_weight_less_buoyancy(case):
 
 
 def test_the_runner_edits_the_bed_constraints_and_the_friction_damper(case):
-    assert bodystate.bed_constraints(case) == {"debris1": "hold"}
-    assert bodystate.set_bed_friction(case, {"debris1": 2.5}) == ["debris1"]
-    assert bodystate.set_bed_friction(case, {"debris1": 2.5}) == []  # unchanged
+    assert body_policy.bed_constraints(case) == {"debris1": "hold"}
+    assert body_policy.set_bed_friction(case, {"debris1": 2.5}) == ["debris1"]
+    assert body_policy.set_bed_friction(case, {"debris1": 2.5}) == []  # unchanged
     text = (case / "constant" / "dynamicMeshDict").read_text()
     # two zero-stiffness springs through the centre (v1912's linearDamper would act at the origin)
     assert "linearDamper" not in text and text.count("linearSpring") == 2
-    restraints = dict(bodystate._body_dicts(bodystate.parsed_dict(case / "constant" / "dynamicMeshDict")))["debris1"]
+    restraints = bodystate.motion_entries(case, "restraints")["debris1"]
     centre0 = bodystate.read_body_properties(case)[0].initial_centre_of_mass_m
-    for name, anchor in bodystate.BED_FRICTION_AXES.items():
-        spring = restraints["restraints"][name]
+    for name, anchor in body_policy.BED_FRICTION_AXES.items():
+        spring = restraints[name]
         assert float(spring["damping"]) == 2.5 and float(spring["stiffness"]) == 0.0
-        assert [float(v) for v in str(spring["refAttachmentPt"]).strip("()").split()] == pytest.approx(centre0)
-        assert [float(v) for v in str(spring["anchor"]).strip("()").split()] == pytest.approx(anchor)
-    assert bodystate.set_bed_friction(case, {"debris1": 2.5}, {"debris1": 0.01}) == ["debris1"]
-    assert bodystate.set_bed_friction(case, {"debris1": 2.5}, {"debris1": 0.01}) == []
+        assert spring["refAttachmentPt"] == pytest.approx(centre0) and spring["anchor"] == pytest.approx(anchor)
+    # the other bodies' entries and the rendered comments are kept as rendered
+    assert "// held on the bed" in text and "keepUpright    { sixDoFRigidBodyMotionConstraint axis; axis (0 0 1); }" in text
+    assert body_policy.set_bed_friction(case, {"debris1": 2.5}, {"debris1": 0.01}) == ["debris1"]
+    assert body_policy.set_bed_friction(case, {"debris1": 2.5}, {"debris1": 0.01}) == []
     assert "sphericalAngularDamper" in (case / "constant" / "dynamicMeshDict").read_text()
-    assert bodystate.release_holds(case, ["debris1"]) == ["debris1"]
-    assert bodystate.bed_constraints(case) == {"debris1": ""}
-    assert bodystate.rest_on_bed(case, ["debris1"]) == ["debris1"]
-    assert bodystate.bed_constraints(case) == {"debris1": "rest"}
-    assert bodystate.lift_rest_on_bed(case, ["debris1"]) == ["debris1"]
-    assert bodystate.set_bed_friction(case, {"debris1": None}) == ["debris1"]
+    assert body_policy.release_holds(case, ["debris1"]) == ["debris1"]
+    assert body_policy.bed_constraints(case) == {"debris1": ""}
+    assert body_policy.rest_on_bed(case, ["debris1"]) == ["debris1"]
+    assert body_policy.bed_constraints(case) == {"debris1": "rest"}
+    assert body_policy.lift_rest_on_bed(case, ["debris1"]) == ["debris1"]
+    assert body_policy.set_bed_friction(case, {"debris1": None}) == ["debris1"]
     text = (case / "constant" / "dynamicMeshDict").read_text()
     assert "linearSpring" not in text and "restOnBedPlane" not in text
     assert "sphericalAngularDamper" in text  # the yaw damper is set (or removed) on its own
@@ -197,9 +198,9 @@ def test_a_body_at_rest_on_the_bed_is_stuck_and_a_sliding_one_gets_a_yaw_damper(
     assert proc.returncode == 0, proc.stderr
     watch = BedWatch.for_case(case, 0.005, lambda m: None)
     [state] = bodystate.coefficient_states(case)
-    assert bodystate.bed_constraints(case)["debris1"] == "hold"
+    assert body_policy.bed_constraints(case)["debris1"] == "hold"
     _, out = watch.at_restart("0", [state])
-    assert bodystate.stuck_bodies(case) == {"debris1"} and watch.stuck == {"debris1"}
+    assert body_policy.stuck_bodies(case) == {"debris1"} and watch.stuck == {"debris1"}
     assert out[0].velocity_m_s == (0.0, 0.0, 0.0)
     text = (case / "constant" / "dynamicMeshDict").read_text()
     assert "stickPoint" in text and "stickOrientation" in text and "sphericalAngularDamper" in text
@@ -208,13 +209,13 @@ def test_a_body_at_rest_on_the_bed_is_stuck_and_a_sliding_one_gets_a_yaw_damper(
     radius = footprint_mean_radius(0.15, 0.06)
     assert watch.friction_spin["debris1"] == pytest.approx(0.05 / radius)
     # a body sliding at 0.2 m/s is not stuck; ending the stick leaves its hold
-    assert bodystate.unstick_bodies(case, ["debris1"]) == ["debris1"]
+    assert body_policy.unstick_bodies(case, ["debris1"]) == ["debris1"]
     sliding = state.with_changes(velocity_m_s=(0.2, 0.0, 0.0))
     watch.at_restart("0.1", [sliding])
-    assert bodystate.stuck_bodies(case) == set() and bodystate.bed_constraints(case)["debris1"] == "hold"
+    assert body_policy.stuck_bodies(case) == set() and body_policy.bed_constraints(case)["debris1"] == "hold"
     assert watch.friction_speed["debris1"] == pytest.approx(0.2)
     assert body.bed_friction > 0
     # freed from the bed, a stuck body loses its stick with its hold
-    assert bodystate.stick_bodies(case, ["debris1"]) == ["debris1"]
-    assert bodystate.release_holds(case, ["debris1"]) == ["debris1"]
-    assert bodystate.stuck_bodies(case) == set()
+    assert body_policy.stick_bodies(case, ["debris1"]) == ["debris1"]
+    assert body_policy.release_holds(case, ["debris1"]) == ["debris1"]
+    assert body_policy.stuck_bodies(case) == set()

@@ -54,6 +54,7 @@ def test_a_container_kept_on_the_bed_is_raised_onto_its_gap_and_freed_once_the_w
     gap's top and hold it there once it measures the depth all round (50 mm > 5 + 26.3 + 5 mm), free
     it once the water lifts it by its weight, and the container must then float up."""
     from orchestrator.case import bodystate
+    from orchestrator.run import body_policy
 
     case = tmp_path / "rest-off"
     proc = run_cli("render", str(SCENE), "-o", str(case))
@@ -63,7 +64,7 @@ def test_a_container_kept_on_the_bed_is_raised_onto_its_gap_and_freed_once_the_w
     start = bodystate.coefficient_states(case)[0]
     x, y, z = start.centre_of_mass_m
     bodystate.write_states(case, [start.with_changes(centre_of_mass_m=(x, y, z - gap))])  # on the bed
-    assert bodystate.rest_on_bed(case, ["debris1"]) == ["debris1"]
+    assert body_policy.rest_on_bed(case, ["debris1"]) == ["debris1"]
     proc = run_cli("run", str(case))
     assert proc.returncode == 0, proc.stderr[-2000:]
     record = json.loads((case / "run.json").read_text())

@@ -16,6 +16,7 @@ import pytest
 
 from conftest import ROOT, run_cli
 from orchestrator.case import bodystate, held
+from orchestrator.run import body_policy
 
 SCENE = ROOT / "tests" / "data" / "scenes" / "three-debris-two-way.yaml"
 
@@ -37,18 +38,18 @@ def test_the_solvers_go_aside_and_come_back_with_every_body_and_its_edits(render
     names = [b.name for b in before]
     assert len(names) == 3 and not held.solvers_held(case)
 
-    assert bodystate.stick_bodies(case, names[:2]) == names[:2]
-    assert held.still_bodies(case) == set(names[:2])  # one body still free to move
+    assert body_policy.stick_bodies(case, names[:2]) == names[:2]
+    assert body_policy.still_bodies(case) == set(names[:2])  # one body still free to move
     assert held.hold_solvers(case, True) and held.solvers_held(case)
     assert not held.hold_solvers(case, True)  # already aside
     text = (case / bodystate.DYNAMIC_MESH_DICT).read_text()
     assert "heldSolvers" in text
     # every reader and editor finds the bodies while their solvers are aside
     assert bodystate.read_body_properties(case) == before
-    assert bodystate.stick_bodies(case, [names[2]]) == [names[2]]
-    assert held.still_bodies(case) == set(names)
+    assert body_policy.stick_bodies(case, [names[2]]) == [names[2]]
+    assert body_policy.still_bodies(case) == set(names)
     assert held.hold_solvers(case, False) and not held.solvers_held(case)
-    assert bodystate.stuck_bodies(case) == set(names)  # the edit made while aside is kept
+    assert body_policy.stuck_bodies(case) == set(names)  # the edit made while aside is kept
     assert bodystate.read_body_properties(case) == before
 
 

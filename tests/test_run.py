@@ -29,6 +29,7 @@ import yaml
 
 from conftest import solvers_kept
 from orchestrator.case import bodystate
+from orchestrator.run import body_policy
 from orchestrator.run import segments as run_module
 from orchestrator.case.bodystate import BodyState
 from orchestrator.core.errors import InputError
@@ -369,7 +370,7 @@ def test_contact_book_pins_a_body_pressed_against_the_column_again_and_again(bod
     assert states[0].velocity_m_s == (0.0, 0.0, 0.0) and states[0].centre_of_mass_m == pressed.centre_of_mass_m
     assert states[1] == elsewhere
     assert record["resting_contacts"] == settings.max_events and record["pinned"][0]["body"] == "debris1"
-    assert bodystate.pinned_bodies(case) == {"debris1"} and "pinned there" in messages[-1]
+    assert body_policy.pinned_bodies(case) == {"debris1"} and "pinned there" in messages[-1]
     # debris2 still moves: the overset flux adjustment stays off
     assert "overset_adjust_phi_from_s" not in record and _pimple(case)["oversetAdjustPhi"] is False
     book.forget_events_after(0.01)  # a resumed run computing t > 0.01 s again
@@ -419,8 +420,6 @@ def test_contact_book_keeps_a_body_the_flow_pulls_into_the_bed_on_it(body_case, 
     plane constraint and stays on the bed. Lifts far apart (a body settling slowly) do not."""
     import shutil
 
-    from PyFoam.RunDictionary.ParsedParameterFile import ParsedParameterFile
-
     from orchestrator.run.contact_book import ContactBook
 
     case = tmp_path / "case"
@@ -441,15 +440,13 @@ def test_contact_book_keeps_a_body_the_flow_pulls_into_the_bed_on_it(body_case, 
     events = json.loads((case / "contacts.json").read_text())
     assert [e["type"] for e in events] == ["rest_on_bed"] and events[0]["body"] == "debris1"
     assert "kept on the bed" in messages[-1] and "lifted out of the bed 7 times" in messages[-1]
-    coeffs = {name: c for name, c in bodystate._body_dicts(
-        ParsedParameterFile(str(case / bodystate.DYNAMIC_MESH_DICT)))}
-    plane = coeffs["debris1"]["constraints"][bodystate.REST_ON_BED]
+    constraints = bodystate.motion_entries(case, "constraints")
+    plane = constraints["debris1"][body_policy.REST_ON_BED]
     assert plane["sixDoFRigidBodyMotionConstraint"] == "plane" and list(plane["normal"]) == [0, 0, 1]
-    assert bodystate.REST_ON_BED not in (coeffs["debris2"].get("constraints") or {})
-    assert bodystate.rest_on_bed(case, ["debris1"]) == []  # once
-    bodystate.release_holds(case, ["debris1"])  # the planner's hold release leaves it
-    assert bodystate.REST_ON_BED in dict(bodystate._body_dicts(
-        ParsedParameterFile(str(case / bodystate.DYNAMIC_MESH_DICT))))["debris1"]["constraints"]
+    assert body_policy.REST_ON_BED not in constraints["debris2"]
+    assert body_policy.rest_on_bed(case, ["debris1"]) == []  # once
+    body_policy.release_holds(case, ["debris1"])  # the planner's hold release leaves it
+    assert body_policy.REST_ON_BED in bodystate.motion_entries(case, "constraints")["debris1"]
     # one lift of a body sinking fast (each lift pulling it down harder) is enough
     fast = _state("debris2", (0.7, 0.12, 0.03 - 0.004), (0.0, 0.0, -2.0 * settings.bed_runaway_m_s), yaw_deg=30.0)
     book.resolve_contacts("0.9", [states[0], fast], 0.003)
@@ -501,21 +498,22 @@ def test_write_and_restore_states_in_dynamic_mesh_dict(body_case, tmp_path):
         (case / p / "0.3" / "uniform" / "sixDoFRigidBodyMotionState").write_text("FoamFile{}\n")
     bodystate.prepare_restart(case, "0.3", [s1, s2], "log")
     assert bodystate.state_file_paths(case, "0.3") == []
-    from PyFoam.RunDictionary.ParsedParameterFile import ParsedParameterFile
+    from foamlib import FoamFile
 
-    d = ParsedParameterFile(str(case / bodystate.DYNAMIC_MESH_DICT))
+    d = FoamFile(case / bodystate.DYNAMIC_MESH_DICT)
     c1 = d["solvers"]["debris1"]["sixDoFRigidBodyMotionCoeffs"]
-    assert c1["centreOfMass"].vals == [1.0123456789012, 0.0011, 0.0987654321]  # every digit kept
-    assert c1["initialCentreOfMass"].vals == pytest.approx([1.05, 0.0, 0.1037304927])
-    assert c1["velocity"].vals == [0.1, 0.2, -0.3]
+    assert list(c1["centreOfMass"]) == [1.0123456789012, 0.0011, 0.0987654321]  # every digit kept
+    assert list(c1["initialCentreOfMass"]) == pytest.approx([1.05, 0.0, 0.1037304927])
+    assert list(c1["velocity"]) == [0.1, 0.2, -0.3]
     # angularMomentum = I (Q^T omega): back to omega
-    pi = np.array(c1["angularMomentum"].vals, dtype=float)
+    pi = np.array(c1["angularMomentum"], dtype=float)
     omega = np.asarray(q).reshape(3, 3) @ (pi / np.asarray(props["debris1"].moment_of_inertia_kg_m2))
     assert omega == pytest.approx((0.5, -0.25, 2.0))
     c2 = d["solvers"]["debris2"]["sixDoFRigidBodyMotionCoeffs"]
-    assert c2["initialOrientation"].vals == pytest.approx(list(props["debris2"].initial_orientation))
-    # untouched entries keep their digits (PyFoam alone would round them to 6)
-    assert "momentOfInertia (0.0002213017544" in (case / bodystate.DYNAMIC_MESH_DICT).read_text()
+    assert list(c2["initialOrientation"]) == pytest.approx(list(props["debris2"].initial_orientation))
+    # untouched entries keep their digits and their layout
+    after = (case / bodystate.DYNAMIC_MESH_DICT).read_text()
+    assert "momentOfInertia (0.0002213017544" in after and "// principal moments about the centre of mass" in after
     # the initial pose is the mesh's, whatever was written since
     assert bodystate.read_body_properties(case)[0].initial_centre_of_mass_m == props["debris1"].initial_centre_of_mass_m
     states, source = bodystate.recorded_states(case, "0.3")
@@ -888,7 +886,7 @@ def test_body_on_the_bed_does_not_sink_through_it(tmp_path, openfoam):
     # it first sinks through the 15 mm gap it stands on (plan.BedGap), then into the bed
     case = render(tmp_path, "bed", scene([{"name": "debris1", "centre_m": [0.8, 0.0], "placement": "on_bed"}],
                                          end_time_s=0.12, wet_depth_m=0.015))
-    assert bodystate.release_holds(case, ["debris1"]) == ["debris1"]
+    assert body_policy.release_holds(case, ["debris1"]) == ["debris1"]
     summary = run_case(case, quiet=True)
     record = json.loads((case / "run.json").read_text())
     assert summary.status == "finished" and record["bed_clamps"] >= 1
@@ -912,7 +910,7 @@ def test_resumed_after_a_bed_runaway_the_body_stays_on_the_bed(tmp_path, openfoa
     constraint keeps it at the bed's level in the real solver, with no lift needed."""
     case = render(tmp_path, "runaway", scene([{"name": "debris1", "centre_m": [0.8, 0.0], "placement": "on_bed"}],
                                              end_time_s=0.06, wet_depth_m=0.015))
-    assert bodystate.release_holds(case, ["debris1"]) == ["debris1"]
+    assert body_policy.release_holds(case, ["debris1"]) == ["debris1"]
     (case / "run.json").write_text(json.dumps({"status": "diverged", "diagnosis": {
         "kind": "body_speed", "cause": "body debris1 moves at 13.4 m/s, faster than any flow here", "time_s": 0.05,
         "last_good_time": "0", "body": "debris1", "velocity_m_s": [0.2, 0.0, -13.4]}}))
@@ -979,9 +977,9 @@ def test_a_pinned_body_stays_where_it_is(tmp_path, openfoam):
     """Debris held against an obstacle by the flow is pinned (point + orientation constraints):
     v1912 must keep it still although the bore pushes it."""
     case = render(tmp_path, "pinned", scene([{"name": "debris1", "centre_m": [0.7, 0.0]}], end_time_s=0.4))
-    assert bodystate.pin_bodies(case, ["debris1"]) == ["debris1"]
-    assert bodystate.pin_bodies(case, ["debris1"]) == []  # already pinned
-    assert bodystate.pinned_bodies(case) == {"debris1"}
+    assert body_policy.pin_bodies(case, ["debris1"]) == ["debris1"]
+    assert body_policy.pin_bodies(case, ["debris1"]) == []  # already pinned
+    assert body_policy.pinned_bodies(case) == {"debris1"}
     run_case(case, quiet=True)
     tracks = pd.read_csv(case / "bodies.csv")
     start = bodystate.read_body_properties(case)[0].initial_centre_of_mass_m
@@ -1031,7 +1029,7 @@ def test_a_body_the_flow_keeps_pressing_against_the_column_is_pinned(tmp_path, o
     assert len(before) == settings.max_events and record["resting_contacts"] >= len(before)
     assert {(e["type"], e["body"], e["other"]) for e in before} == {("resting", "debris1", "column")}
     assert record["pinned"] == [{"body": "debris1", "other": "column", "time_s": t_pin}]
-    assert bodystate.pinned_bodies(case) == {"debris1"}
+    assert body_policy.pinned_bodies(case) == {"debris1"}
     # its only body pinned, the rest of the run has the overset flux adjustment on
     assert record["overset_adjust_phi_from_s"] == t_pin and _pimple(case)["oversetAdjustPhi"] is True
     # from the pin on the body does not move: its place at the pin, no velocity

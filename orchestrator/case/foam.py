@@ -11,12 +11,10 @@ idempotent and resumable.
 (blockMesh of the background and of every body sub-case, mergeMeshes, topoSet,
 setFields, checkMesh); `render --mesh` and the runner share them.
 
-PyFoam: `ParsedBoundaryDict` reads `constant/polyMesh/boundary` for the
-done-predicates. We do not use PyFoam's runners (`BasicRunner`): they take a
-command line to split, run in the current directory, name logs
-`PyFoam.<app>.logfile` and cannot prefix `mpirun` with our environment; a
-40-line subprocess wrapper gives the argv/cwd/log/error contract above. PyFoam has
-no checkMesh summary, so `check_mesh_summary` parses the log itself.
+`constant/polyMesh/boundary` is read for the done-predicates (foamlib, through
+`orchestrator.case.dictionary`). A 40-line subprocess wrapper gives the argv/cwd/log/error
+contract above, `mpirun` prefixed with our environment; `check_mesh_summary` parses
+checkMesh's log.
 """
 
 from __future__ import annotations
@@ -32,6 +30,7 @@ from typing import Callable, Sequence
 
 from orchestrator.core.errors import DebrisfoamError
 from orchestrator.case import split_bodies
+from orchestrator.case.dictionary import read_dictionary
 from orchestrator.case.folder import BED_LAYER_ZONE, BODIES_DIR
 
 #: OpenFOAM v1912 from Debian: binaries in /usr/bin, project files here.
@@ -204,12 +203,10 @@ class Step:
 
 def patch_names(case_dir: Path) -> list[str]:
     """Patch names of `case_dir/constant/polyMesh/boundary` ([] when there is no mesh)."""
-    from PyFoam.RunDictionary.ParsedParameterFile import ParsedBoundaryDict
-
     boundary = Path(case_dir) / "constant" / "polyMesh" / "boundary"
     if not boundary.is_file():
         return []
-    return [str(k) for k in ParsedBoundaryDict(str(boundary)).content.keys()]
+    return [str(name) for name, _ in read_dictionary(boundary)[None]]
 
 
 def _has_mesh(sub: str = "") -> Callable[[Path], bool]:

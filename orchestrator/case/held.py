@@ -15,28 +15,12 @@ from __future__ import annotations
 from dataclasses import replace
 from pathlib import Path
 
-from orchestrator.case.bodystate import (
-    DYNAMIC_MESH_DICT,
-    HELD_SOLVERS,
-    BodyState,
-    parsed_dict,
-    pinned_bodies,
-    read_record,
-    recorded_states,
-    stuck_bodies,
-    write_dictionary,
-)
+from orchestrator.case.bodystate import DYNAMIC_MESH_DICT, HELD_SOLVERS, BodyState, read_record, recorded_states
+from orchestrator.case.dictionary import edit_dictionary, read_dictionary
 from orchestrator.case.folder import processor_dirs, time_names
 from orchestrator.core.files import write_text_atomic
 
-__all__ = ["MOTION_FILES", "fill_motion_files", "hold_solvers", "recorded_before", "solvers_held",
-           "still_bodies", "still_state"]
-
-
-def still_bodies(case_dir: str | Path) -> set[str]:
-    """The bodies that cannot move now: stuck by static friction (`stick_bodies`) or pinned
-    against an obstacle (`pin_bodies`)."""
-    return stuck_bodies(case_dir) | pinned_bodies(case_dir)
+__all__ = ["MOTION_FILES", "fill_motion_files", "hold_solvers", "recorded_before", "solvers_held", "still_state"]
 
 
 def hold_solvers(case_dir: str | Path, held: bool) -> bool:
@@ -49,23 +33,22 @@ def hold_solvers(case_dir: str | Path, held: bool) -> bool:
     three containers on the bed, 2.5 of 3.0 s for one held at the column. With no solvers it
     builds the addressing once and then reuses it (0.03 s a step), and the flow sees the same
     still body meshes. The runner asks for it only when every body is held still
-    (`still_bodies`), and keeps their states itself; every reader of the bodies here finds them
-    in either key.
+    (`body_policy.still_bodies`), and keeps their states itself; every reader of the bodies
+    here finds them in either key.
     """
     path = Path(case_dir) / DYNAMIC_MESH_DICT
     if not path.is_file():
         return False
-    parsed = parsed_dict(path)
-    parked = HELD_SOLVERS in parsed
-    if bool(held) == parked or (held and not ("solvers" in parsed and parsed["solvers"])):
-        return False
-    if held:
-        parsed[HELD_SOLVERS] = parsed["solvers"]
-        parsed["solvers"] = {}
-    else:
-        parsed["solvers"] = parsed[HELD_SOLVERS]
-        del parsed[HELD_SOLVERS]
-    write_dictionary(parsed, path)
+    with edit_dictionary(path) as parsed:
+        parked = HELD_SOLVERS in parsed
+        if bool(held) == parked or (held and not ("solvers" in parsed and parsed["solvers"])):
+            return False
+        if held:
+            parsed[HELD_SOLVERS] = parsed["solvers"].as_dict()
+            parsed["solvers"] = {}
+        else:
+            parsed["solvers"] = parsed[HELD_SOLVERS].as_dict()
+            del parsed[HELD_SOLVERS]
     return True
 
 
@@ -101,7 +84,7 @@ def fill_motion_files(case_dir: str | Path) -> list[Path]:
 def solvers_held(case_dir: str | Path) -> bool:
     """Whether the bodies' motion solvers are set aside now (`hold_solvers`)."""
     path = Path(case_dir) / DYNAMIC_MESH_DICT
-    return path.is_file() and HELD_SOLVERS in parsed_dict(path)
+    return path.is_file() and HELD_SOLVERS in read_dictionary(path)
 
 
 def still_state(state: BodyState) -> BodyState:

@@ -41,7 +41,7 @@ class ContactSettings:
         (a row of containers the bore pushes into each other) have each contact made
         plastic until they are two gaps apart, the pair set the gap apart, and the run goes on. A body
         lifted out of the bed more than `max_events` times within `window_s` is kept on
-        the bed's plane (`bodystate.rest_on_bed`) until the water measured around it can carry
+        the bed's plane (`body_policy.rest_on_bed`) until the water measured around it can carry
         it (`orchestrator.run.bedwatch`).
     bed_runaway_m_s: so is a body found sinking into the bed faster than this. Settling
         bodies closed on the bed at 0.2-0.6 m/s in the hard cases; where each lift pulled

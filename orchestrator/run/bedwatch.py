@@ -34,7 +34,7 @@ raise it at once). The planner's `hold_until_s` (Ritter's or Chanson's depth at 
 the draft plus the gap) is an estimate only; the runner goes by what it measures.
 
 **Bed friction.** While a body is constrained to the bed it gets a horizontal damping force
--c u on its centre of mass (`bodystate.set_bed_friction`: two zero-stiffness v1912 `linearSpring`
+-c u on its centre of mass (`body_policy.set_bed_friction`: two zero-stiffness v1912 `linearSpring`
 restraints through the centre, along x and y; v1912's `linearDamper` would put the force at the
 origin and add a yaw moment c (x u_y - y u_x)). The runner sets
 c = mu N / max(|u_h|, `FRICTION_FLOOR_M_S`) at every restart, with mu the scene's
@@ -51,7 +51,7 @@ to rest only through the static friction below; each refresh is a solver restart
 resisted separately (below).
 
 **Static friction.** A body at rest on the bed does not move until the fluid's load exceeds what
-friction can bear. The runner holds such a body still (`bodystate.stick_bodies`: sixDoF `point` and
+friction can bear. The runner holds such a body still (`body_policy.stick_bodies`: sixDoF `point` and
 `orientation` beside its bed constraint) and reads the fluid's horizontal force F and yaw moment M
 about its centre (the forces function object on its wall, averaged over the last 0.01 s); it breaks
 away (the constraints removed at a restart) once the load leaves the limit surface of a uniformly
@@ -79,10 +79,9 @@ from typing import Callable, Sequence
 import numpy as np
 import yaml
 
-from orchestrator.case import bodystate
 from orchestrator.case.bodystate import BodyState
 from orchestrator.case.folder import CaseFolder
-from orchestrator.run import waterdepth
+from orchestrator.run import body_policy, waterdepth
 
 #: below this horizontal speed the friction damper is sized for it (m/s)
 FRICTION_FLOOR_M_S = 0.05
@@ -259,10 +258,10 @@ class BedWatch:
         self.restart_s = float(time_name)
         if not self.bodies:
             return [], list(states)
-        now = bodystate.bed_constraints(self.case)
+        now = body_policy.bed_constraints(self.case)
         sample = waterdepth.read_at(self.case, self.axis, float(time_name)) if self.axis else None
         freed, coeffs, yaw, out = [], {}, {}, []
-        self.stuck = bodystate.stuck_bodies(self.case)
+        self.stuck = body_policy.stuck_bodies(self.case)
         for state in states:
             kind = now.get(state.name, "")
             if kind == "rest" and self.constraints.get(state.name) != "rest":
@@ -273,7 +272,7 @@ class BedWatch:
             lift = self.lift_N(state.name, float(time_name))
             if kind == "rest" and measured is not None and depth > self.float_depth_m(state):
                 # deep enough: back onto the gap's top, held there until the water lifts it
-                bodystate.rest_to_hold(self.case, [state.name])
+                body_policy.rest_to_hold(self.case, [state.name])
                 kind = "hold"
                 below = self.gap_m - underside_m(state, self.bodies[state.name].size_m, self.bed_z)
                 self.say(f"t = {time_name} s: {state.name}: {depth * 1000:.1f} mm of water around it: raised "
@@ -284,7 +283,7 @@ class BedWatch:
                     state = state.with_changes(centre_of_mass_m=(x, y, z + below), velocity_m_s=(vx, vy, 0.0))
                 lift = None  # measured on the bed, where the underside is stale
             elif kind == "hold" and self.can_float(state, measured, lift):
-                bodystate.release_holds(self.case, [state.name])
+                body_policy.release_holds(self.case, [state.name])
                 self.say(f"t = {time_name} s: {state.name} freed from the bed: {depth * 1000:.1f} mm of water "
                          f"around it, it floats in {self.float_depth_m(state) * 1000:.1f} mm; the water pushes it "
                          f"up by {lift:.3g} N")
@@ -308,7 +307,7 @@ class BedWatch:
             out.append(state)
             now[state.name] = kind
             self._record(float(time_name), state, measured, lift, kind, coeffs[state.name])
-        bodystate.set_bed_friction(self.case, coeffs, yaw)
+        body_policy.set_bed_friction(self.case, coeffs, yaw)
         self.constraints = now
         # columns for the next segment around the bodies kept on the bed and those near it (a body
         # closer to the bed than its own height may be put back on it; body_depth.csv records them)
@@ -326,12 +325,12 @@ class BedWatch:
         ratio = self.load_ratio(state, float(time_name))
         if state.name in self.stuck:
             if ratio is not None and ratio >= 1.0:
-                bodystate.unstick_bodies(self.case, [state.name])
+                body_policy.unstick_bodies(self.case, [state.name])
                 self.stuck.discard(state.name)
                 self.say(f"t = {time_name} s: {state.name} breaks away: the water's load is {ratio ** 0.5:.2f} "
                          "times what static bed friction bears")
         elif self.at_rest(state) and (ratio is None or ratio < 1.0):
-            bodystate.stick_bodies(self.case, [state.name])
+            body_policy.stick_bodies(self.case, [state.name])
             self.stuck.add(state.name)
             self.say(f"t = {time_name} s: {state.name} at rest on the bed: static friction holds it"
                      + ("" if ratio is None else f" (the water's load is {ratio ** 0.5:.2f} of what it bears)"))

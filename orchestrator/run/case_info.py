@@ -102,11 +102,9 @@ def load_case_info(case_dir: str | Path, np_override: int | None = None) -> Case
     ranks = int(np_override) if np_override else n[0] * n[1] * n[2]
     if ranks < 1:
         raise InputError("--np", f"must be >= 1, got {ranks}")
-    from PyFoam.Error import PyFoamException
-
-    try:
+    try:  # a file foamlib cannot parse raises its DictionaryError, a ValueError
         bodies = tuple(bodystate.read_body_properties(case))
-    except (PyFoamException, KeyError, TypeError, ValueError) as exc:
+    except (KeyError, TypeError, ValueError) as exc:
         raise InputError(str(bodystate.DYNAMIC_MESH_DICT), f"not the dictionary `debrisfoam render` writes ({exc!r})",
                          str(case)) from None
     sizes = {b["name"]: tuple(float(v) for v in b["size_m"]) for b in plan.get("bodies", [])}

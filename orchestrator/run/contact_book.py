@@ -17,7 +17,7 @@ contact's closing speed, `Contact`). This module adds what the runner needs on t
   solver at once is resolved: impacts by `orchestrator.contact.resolution.resolve`, slow contacts
   (closing slower than `min_impact_speed_m_s`) by a plastic impulse (`resting_contact`),
   a body the flow keeps pressing against an obstacle (more than `max_events` contacts
-  within `window_s`) is pinned there (`bodystate.pin_bodies`), two bodies it keeps
+  within `window_s`) is pinned there (`body_policy.pin_bodies`), two bodies it keeps
   pressing together have every contact made plastic until they are two gaps apart (such a
   pair is set the whole gap apart and stops the solver again only at a quarter of it); two
   bodies in any other resting contact are set half the gap apart (a position correction that
@@ -48,7 +48,6 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
-from orchestrator.case import bodystate
 from orchestrator.case.bodystate import BodyState
 from orchestrator.case.folder import EPS_T
 from orchestrator.contact.events import (
@@ -59,6 +58,7 @@ from orchestrator.contact.events import (
     write_pulse_files,
 )
 from orchestrator.contact.settings import ContactSettings
+from orchestrator.run import body_policy
 from orchestrator.run.case_info import CaseInfo
 from orchestrator.run.contact_geometry import Contact, Geometry, resting_contact
 from orchestrator.run.errors import ContactError
@@ -358,7 +358,7 @@ class ContactBook:
         return len(times)
 
     def _rest_on_bed(self, time_name: str, state: BodyState, why: str) -> None:
-        """Keep a body the flow keeps pulling into the bed on it (`bodystate.rest_on_bed`).
+        """Keep a body the flow keeps pulling into the bed on it (`body_policy.rest_on_bed`).
 
         Each lift out of the bed moves the body mesh at the next step, and the flux of that
         jump pulls the body down harder: on the short flume the closing speed doubled from
@@ -366,7 +366,7 @@ class ContactBook:
         Constrained to the bed's plane the body still slides and yaws (with bed friction), but
         cannot sink; `orchestrator.run.bedwatch` raises it onto the gap's top and frees it once the water
         measured around it can carry it (recorded, and said)."""
-        if not bodystate.rest_on_bed(self.case, [state.name]):
+        if not body_policy.rest_on_bed(self.case, [state.name]):
             return
         events = self._read_events()
         events.append({"event": len(events) + 1, "type": "rest_on_bed", "time_s": float(time_name),
@@ -380,7 +380,7 @@ class ContactBook:
 
     def _pin(self, time_name: str, c: Contact, state: BodyState) -> BodyState:
         """Freeze a body the flow keeps pressing against an obstacle (debris damming), record it."""
-        bodystate.pin_bodies(self.case, [c.body])
+        body_policy.pin_bodies(self.case, [c.body])
         pinned = state.with_changes(velocity_m_s=(0.0, 0.0, 0.0), angular_velocity_rad_s=(0.0, 0.0, 0.0),
                                     acceleration_m_s2=(0.0, 0.0, 0.0))
         events = self._read_events()
@@ -400,9 +400,9 @@ class ContactBook:
     def _adjust_phi_if_all_pinned(self, time_name: str) -> None:
         """Every body pinned: the overset flux adjustment on from this restart (see ContactSettings)."""
         bodies = set(self.info.body_names)
-        if not bodies or bodystate.pinned_bodies(self.case) != bodies:
+        if not bodies or body_policy.pinned_bodies(self.case) != bodies:
             return
-        if not bodystate.set_pimple_entry(self.case, "oversetAdjustPhi", "yes"):
+        if not body_policy.set_pimple_entry(self.case, "oversetAdjustPhi", "yes"):
             return
         self.run_record["overset_adjust_phi_from_s"] = float(time_name)
         self.say(f"t = {time_name} s: every body is pinned: the overset flux adjustment (oversetAdjustPhi) is on "

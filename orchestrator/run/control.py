@@ -8,8 +8,9 @@ file an hour back (`set_control(..., backdate=True)`), and every request dates i
 `request_stop_at` (land on a time, write it and stop) and `bump_control_mtime` (the same
 request again, when the solver has not acted on it).
 
-PyFoam's `ParsedParameterFile` reads the file; `bodystate.write_dictionary` writes it back
-atomically and at full precision.
+The file is read and edited through `orchestrator.case.dictionary` (foamlib): an edit keeps
+every other entry as rendered and replaces the file at once, so the solver never reads half
+of it.
 """
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ import time
 from pathlib import Path
 from typing import Any
 
-from orchestrator.case import bodystate
+from orchestrator.case.dictionary import DictionaryError, edit_dictionary, read_dictionary
 from orchestrator.core.errors import InputError
 
 __all__ = [
@@ -38,23 +39,18 @@ FILE_MODIFICATION_SKEW_S = 10.0
 #: controlDict timePrecision as rendered (templates/system/controlDict.j2)
 TIME_PRECISION = 8
 
-#: controlDict as last parsed and written here: (text written, the parsed object). PyFoam
-#: builds its parser tables on every ParsedParameterFile (about 25 ms of CPU each), which
-#: would count against the solver at every stop request.
-_CONTROL_CACHE: dict[Path, tuple[str, Any]] = {}
-
-
-def read_control(case: Path) -> Any:
-    """system/controlDict, parsed (PyFoam)."""
-    from PyFoam.Error import PyFoamException
-    from PyFoam.RunDictionary.ParsedParameterFile import ParsedParameterFile
-
+def _control_path(case: Path) -> Path:
     path = case / "system" / "controlDict"
     if not path.is_file():
         raise InputError("system/controlDict", "missing: is it a case rendered by `debrisfoam render`?", str(case))
+    return path
+
+
+def read_control(case: Path) -> dict[str, Any]:
+    """system/controlDict's entries (yes/no as booleans, numbers as numbers)."""
     try:
-        return ParsedParameterFile(str(path))
-    except PyFoamException as exc:
+        return read_dictionary(_control_path(case)).as_dict()
+    except DictionaryError as exc:
         raise InputError("system/controlDict", f"not an OpenFOAM dictionary ({exc})", str(case)) from None
 
 
@@ -65,17 +61,14 @@ def significant_digits(time_name: str) -> int:
 
 
 def set_control(case: Path, backdate: bool = False, **entries: Any) -> None:
-    """Set top-level controlDict entries (PyFoam); `backdate` dates the file an hour back."""
-    path = case / "system" / "controlDict"
-    cached = _CONTROL_CACHE.get(path)
-    if cached is not None and path.is_file() and path.read_text() == cached[0]:
-        control = cached[1]
-    else:
-        control = read_control(case)
-    for key, value in entries.items():
-        control[key] = value
-    bodystate.write_dictionary(control, path)
-    _CONTROL_CACHE[path] = (path.read_text(), control)
+    """Set top-level controlDict entries; `backdate` dates the file an hour back."""
+    path = _control_path(case)
+    try:
+        with edit_dictionary(path) as control:
+            for key, value in entries.items():
+                control[key] = value
+    except DictionaryError as exc:
+        raise InputError("system/controlDict", f"not an OpenFOAM dictionary ({exc})", str(case)) from None
     if backdate:
         past = time.time() - 3600.0
         os.utime(path, (past, past))

@@ -78,7 +78,7 @@ class RunRecord:
 def versions() -> dict[str, str]:
     """The versions of debrisfoam, Python and the packages a run depends on."""
     out = {"debrisfoam": __version__, "python": platform.python_version()}
-    for pkg in ("PyFoam", "numpy"):
+    for pkg in ("foamlib", "numpy"):
         try:
             out[pkg] = version(pkg)
         except PackageNotFoundError:  # pragma: no cover

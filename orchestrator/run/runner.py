@@ -83,12 +83,10 @@ controlDict, `orchestrator.run.times` finds the written times and the write grid
 `orchestrator.run.run_json` keeps run.json and bodies.csv, `orchestrator.run.case_info`
 reads the case, `orchestrator.run.errors` names the ways a run ends early.
 
-PyFoam: `ParsedParameterFile` reads and edits controlDict and dynamicMeshDict
-(written back atomically and at full precision by `bodystate.write_dictionary`). Not
-used: its runners (`BasicRunner` runs in the current directory, splits a command
-string, names logs `PyFoam.<app>.logfile`, blocks until the end and cannot be asked
-to stop the solver cleanly; `foam.run_step` and the segment loop do what is
-needed) and its log analysers (see `orchestrator.run.monitor`).
+Dictionaries (controlDict, decomposeParDict, dynamicMeshDict) are read and edited through
+`orchestrator.case.dictionary` (foamlib): in place, at full precision, the file replaced at
+once. What the runner does to the bodies through dynamicMeshDict is
+`orchestrator.run.body_policy`.
 
 Units: seconds, metres, kg, N.
 """
@@ -107,10 +105,12 @@ from typing import Any, Callable
 from orchestrator.core.errors import DebrisfoamError, InputError
 from orchestrator.case import bodystate, foam, held, split_bodies
 from orchestrator.case.bodypoints import BodyPoints
+from orchestrator.case.dictionary import edit_dictionary
 from orchestrator.case.held import still_state
 from orchestrator.case.folder import EPS_T, PLAN_JSON, SCENE_YAML, CaseFolder, processor_dirs
 from orchestrator.contact.settings import ContactSettings
 from orchestrator.plan.scale import froude_factor
+from orchestrator.run import body_policy
 from orchestrator.run.bedwatch import BedWatch
 from orchestrator.run.case_info import CaseInfo, load_case_info
 from orchestrator.run.contact_geometry import Contact
@@ -305,7 +305,7 @@ def _before_segment(info: CaseInfo, sup: Supervisor, reached: float, name: str,
     # written time name (rounded), and v1912 may not take a step over what remains
     due = [] if sup.bedwatch is not None else [
         b for b, t in info.holds if t <= reached + MIN_SEGMENT_FRACTION * info.write_interval_s]
-    for body in bodystate.release_holds(case, due):
+    for body in body_policy.release_holds(case, due):
         sup.say(f"t = {name} s: {body} released from the bed (the bore is deep enough to lift it)")
     states = sup.restore_bodies(name)
     if states and sup.contact.enabled:
@@ -362,7 +362,7 @@ def _hold_still(info: CaseInfo, sup: Supervisor, states: list, name: str) -> Non
     if not info.bodies:
         return
     all_held = (sup.contact.hold_still_solvers and bool(states)
-                and held.still_bodies(info.case) >= {s.name for s in states})
+                and body_policy.still_bodies(info.case) >= {s.name for s in states})
     if sup.watch.held is not None or held.solvers_held(info.case):  # (or resumed while held)
         held.fill_motion_files(info.case)  # the times written while held lack the motion files
     if held.hold_solvers(info.case, all_held):
@@ -504,17 +504,12 @@ def _check_decomposition(case: Path, ranks: int) -> None:
 
 def _match_decomposition(case: Path, ranks: int, data: dict) -> None:
     """decomposeParDict for `ranks` when --np differs from the plan (split along x, noted in run.json)."""
-    from PyFoam.RunDictionary.ParsedParameterFile import ParsedParameterFile
-
-    path = case / "system" / "decomposeParDict"
-    parsed = ParsedParameterFile(str(path))
-    if int(parsed["numberOfSubdomains"]) == ranks:
-        return
-    planned = parsed["numberOfSubdomains"]
-    parsed["numberOfSubdomains"] = ranks
-    coeffs = parsed["coeffs"] if "coeffs" in parsed else parsed["hierarchicalCoeffs"]
-    coeffs["n"] = f"({ranks} 1 1)"
-    bodystate.write_dictionary(parsed, path)
+    with edit_dictionary(case / "system" / "decomposeParDict") as parsed:
+        planned = parsed["numberOfSubdomains"]
+        if int(planned) == ranks:
+            return
+        parsed["numberOfSubdomains"] = ranks
+        parsed["coeffs" if "coeffs" in parsed else "hierarchicalCoeffs"]["n"] = [ranks, 1, 1]
     data["decomposition_note"] = (f"--np {ranks} instead of the planned {planned}: hierarchical ({ranks} 1 1); "
                                   "decomposePar still keeps each body mesh on one rank (preserveFaceZones), at some cost in balance")
 
