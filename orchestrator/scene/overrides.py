@@ -100,8 +100,9 @@ def _apply_one(data: dict, path: list[str], value: Any, text: str, source: str |
     for depth, part in enumerate(path):
         last = depth == len(path) - 1
         if isinstance(node, list):
-            if not part.lstrip("-").isdigit() or not -len(node) <= int(part) < len(node):
-                raise InputError(key, f"no item {part!r} in a list of {len(node)} (override {text!r})", source)
+            if not (part.isascii() and part.isdigit()) or int(part) >= len(node):
+                held = f"an item is named by its index, 0 to {len(node) - 1}" if node else "the list is empty"
+                raise InputError(key, f"no item {part!r} in a list of {len(node)}: {held} (override {text!r})", source)
             idx = int(part)
             if last:
                 node[idx] = value
