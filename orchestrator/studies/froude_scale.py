@@ -55,11 +55,17 @@ class ScaleComparison:
         return bool(len(rows)) and bool((rows["difference_percent"].abs() <= rows["target_percent"]).all())
 
 
-def _csv(path: Path) -> pd.DataFrame | None:
+def _csv(path: Path, *columns: str) -> pd.DataFrame | None:
+    """The table at ``path`` (None if there is none), with at least ``columns``."""
     try:
-        return pd.read_csv(path) if path.is_file() else None
+        table = pd.read_csv(path) if path.is_file() else None
     except (ValueError, pd.errors.ParserError) as exc:  # EmptyDataError is a ValueError
         raise InputError(path.name, f"not a table ({exc}): post-process the run again", str(path.parent)) from None
+    missing = [c for c in columns if table is not None and c not in table.columns]
+    if missing:
+        raise InputError(path.name, f"no column {', '.join(map(repr, missing))} (it has {', '.join(table.columns)}): "
+                         "not the table `debrisfoam post` writes; post-process the run again", str(path.parent))
+    return table
 
 
 def _scale(lab_dir: Path, proto_dir: Path) -> float:
@@ -106,7 +112,7 @@ def compare_scales(lab_dir: str | Path, proto_dir: str | Path) -> ScaleCompariso
             raise InputError(name, f"no results/gauge_summary.csv: run `debrisfoam post {d}` first", str(d))
     scale = _scale(lab_dir, proto_dir)
     res = {k: CaseFolder(d).results_dir for k, d in (("lab", lab_dir), ("proto", proto_dir))}
-    summary = {k: _csv(r / "gauge_summary.csv").set_index("gauge") for k, r in res.items()}
+    summary = {k: _csv(r / "gauge_summary.csv", "gauge").set_index("gauge") for k, r in res.items()}
     rows = []
     for gauge in summary["lab"].index:
         lab_g, proto_g = summary["lab"].loc[gauge], summary["proto"].loc[gauge] if gauge in summary["proto"].index else {}
@@ -115,7 +121,7 @@ def compare_scales(lab_dir: str | Path, proto_dir: str | Path) -> ScaleCompariso
                              _value(proto_g, "arrival_s"), scale, target=True))
         rows.append(_row(f"{gauge} peak elevation", "m", 1.0, _value(lab_g, "peak_elevation_m"),
                          _value(proto_g, "peak_elevation_m"), scale))
-    strikes = {k: _first_strike(_csv(r / "impacts.csv")) for k, r in res.items()}
+    strikes = {k: _first_strike(_csv(r / "impacts.csv", "kind", "time_s")) for k, r in res.items()}
     a, b = strikes["lab"], strikes["proto"]
     rows += [
         _row("first strike time", "s", 0.5, _value(a, "time_s"), _value(b, "time_s"), scale),
@@ -128,10 +134,10 @@ def compare_scales(lab_dir: str | Path, proto_dir: str | Path) -> ScaleCompariso
         _row("first strike duration", "s", 0.5, _value(a, "duration_s"), _value(b, "duration_s"), scale),
         _row("first strike impulse", "N s", 3.5, _value(a, "impulse_Ns"), _value(b, "impulse_Ns"), scale),
     ]
-    forces = {k: _csv(r / "column_forces.csv") for k, r in res.items()}
+    forces = {k: _csv(r / "column_forces.csv", "hydro_force_x_N") for k, r in res.items()}
     peak = {k: (float(f["hydro_force_x_N"].max()) if f is not None and len(f) else None) for k, f in forces.items()}
     rows.append(_row("peak hydrodynamic force on the column", "N", 3.0, peak["lab"], peak["proto"], scale))
-    impacts = {k: _csv(r / "impacts.csv") for k, r in res.items()}
+    impacts = {k: _csv(r / "impacts.csv", "kind") for k, r in res.items()}
     n = {k: (0 if f is None else int((f["kind"] == "column").sum())) for k, f in impacts.items()}
     rows.append(_row("column strikes", "-", 0.0, float(n["lab"]), float(n["proto"]), scale))
     runs = {k: CaseFolder(d).run_record() or {} for k, d in (("lab", lab_dir), ("proto", proto_dir))}
@@ -142,8 +148,8 @@ def compare_scales(lab_dir: str | Path, proto_dir: str | Path) -> ScaleCompariso
     table = pd.DataFrame(rows, columns=list(COLUMNS))
     notes = _notes(lab_dir, scale)
     name = load_scene(CaseFolder(lab_dir).path / "scene.yaml").name
-    return ScaleComparison(lab_dir, proto_dir, scale, table, _csv(res["lab"] / "gauges.csv"),
-                           _csv(res["proto"] / "gauges.csv"), notes, name)
+    return ScaleComparison(lab_dir, proto_dir, scale, table, _csv(res["lab"] / "gauges.csv", "time_s"),
+                           _csv(res["proto"] / "gauges.csv", "time_s"), notes, name)
 
 
 def _notes(lab_dir: Path, scale: float) -> list[str]:
