@@ -234,7 +234,11 @@ def impact_table(layout: Layout) -> pd.DataFrame:
 def load_layout(case_dir: str | Path) -> Layout:
     """Read one layout's run (see the module notes); a run without results is read as far as it goes."""
     folder = CaseFolder(case_dir)
-    plan, run = folder.plan() or {}, folder.run_record() or {}
+    plan, run = folder.plan(), folder.run_record() or {}
+    if plan is None and folder.plan_path.is_file():  # a member folder the sweep never rendered has none
+        raise InputError(folder.plan_path.name, "not a JSON object (the plan `debrisfoam render` writes): render "
+                         "the case again", str(folder.path))
+    plan = plan or {}
     member_path = folder.path / MEMBER_JSON
     member = read_json_object(member_path) or {}
     summary = folder.summary() or {}
