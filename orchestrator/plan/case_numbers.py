@@ -43,11 +43,12 @@ def friction_layer_top_m(z_segments: tuple[Segment, ...], still_water_m: float) 
 def column_box_m(grid: BoxGrid) -> tuple[tuple[float, ...], tuple[float, ...]] | None:
     """(min, max) corners of the union of the grid's holes in scene coordinates, when the holes
     are the column; None otherwise."""
-    if not grid.holes or grid.patch_names.get("hole", "hole") != COLUMN_PATCH:
+    column = [h for h in grid.holes if h not in grid.hole_sides]  # not the gate's sill and walls
+    if not column or grid.patch_names.get("hole", "hole") != COLUMN_PATCH:
         return None
     xs, ys, zs = grid.planes("x"), grid.planes("y"), grid.planes("z")
-    lo = np.array([[xs[i], ys[j], zs[k]] for i, j, k in grid.holes]).min(axis=0)
-    hi = np.array([[xs[i + 1], ys[j + 1], zs[k + 1]] for i, j, k in grid.holes]).max(axis=0)
+    lo = np.array([[xs[i], ys[j], zs[k]] for i, j, k in column]).min(axis=0)
+    hi = np.array([[xs[i + 1], ys[j + 1], zs[k + 1]] for i, j, k in column]).max(axis=0)
     c_lo, c_hi = (v @ np.asarray(grid.rotation).T + np.asarray(grid.origin) for v in (lo, hi))
     return tuple(float(v) for v in c_lo), tuple(float(v) for v in c_hi)
 
@@ -61,12 +62,14 @@ def case_numbers(background: BoxGrid, water: Sequence[WaterBox], gauges: Sequenc
     ``max_delta_t``: the scene's run.max_delta_t_s (None: the default cap); ``record_interval_s``:
     the one-way flow record's frame interval (None: no record).
     """
+    # the bed downstream of the gate is z = 0; a sill puts the reservoir's floor below it
+    above_bed = tuple(seg for seg in background.z if seg.start_m >= -1e-12)
     z0, z1 = background.planes("z")[0], background.planes("z")[-1]
-    bed_cell = background.z[0].cell_sizes_m()[0]
+    bed_cell = above_bed[0].cell_sizes_m()[0]
     min_cell = min(min_cell_m(background.x), min_cell_m(background.y) if not two_d else np.inf, bed_cell)
     depth = max((box.max_m[2] - z0 for box in water), default=z1 - z0)
     still = max((box.max_m[2] for box in water if box.name == WET_BED), default=0.0)
-    layer = friction_layer_top_m(background.z, still)
+    layer = friction_layer_top_m(above_bed, still)
     column = column_box_m(background)
     lines, probes = sampling(background, gauges, two_d=two_d, bed_cell_m=float(bed_cell), min_cell_m=float(min_cell),
                              water_depth_m=float(depth), column_box_m=column)

@@ -155,7 +155,8 @@ def length_before_return(end_time_s: float, x_roi: float, front_speed: float, ba
 
 def _reservoir_length(scene: Scene, guard: float, reasons: dict[str, str]) -> float:
     """The modelled reservoir: the shortest whose reflection misses the guarded region."""
-    g, h0, T, h = scene.fluids.gravity_m_s2, scene.reservoir.depth_m, scene.run.end_time_s, scene.mesh.cell_size_m
+    g, T, h = scene.fluids.gravity_m_s2, scene.run.end_time_s, scene.mesh.cell_size_m
+    h0 = scene.reservoir.depth_m + scene.reservoir.sill_height_m  # the reservoir's own depth sets its waves
     c0 = math.sqrt(g * h0)
     full = scene.reservoir.length_m
     res_len = min(full, max(reservoir_length_needed(T, h0, guard, g), guard + max(h0, 4 * h)))

@@ -21,6 +21,7 @@ import numpy as np
 
 from orchestrator.plan.bodies import BedGap
 from orchestrator.plan.domain import Domain, column_spans_width
+from orchestrator.plan.gate import gate_holes, gate_planes, reservoir_floor_m
 from orchestrator.plan.grid import BoxGrid, Segment, graded_segment
 from orchestrator.plan.refine import refine_axis, refine_span, refinement
 from orchestrator.scene.schema import Scene
@@ -234,12 +235,16 @@ def background_grid(scene: Scene, domain: Domain, gap: BedGap | None, two_d: boo
     growth = scene.mesh.growth_ratio
     (fy0, fy1), fine = domain.y, domain.fine
     wx, wy, wz = _wanted_planes(scene, domain, gap, warnings, one_way)
-    xs = axis_segments(domain.x_lo, domain.x_hi, fine[0], wx, h, h_max, growth)
-    ysegs = (Segment(fy0, fy1, 1),) if two_d else axis_segments(fy0, fy1, fine[1], wy, h, h_max, growth)
-    zs = axis_segments(0.0, domain.z_hi, fine[2], wz, h, h_max, growth)
+    gx, gy, gz = gate_planes(scene, two_d)
+    z_lo = reservoir_floor_m(scene)
+    fine = (fine[0], fine[1], (min(z_lo, fine[2][0]), fine[2][1]))
+    xs = axis_segments(domain.x_lo, domain.x_hi, fine[0], wx + gx, h, h_max, growth)
+    ysegs = (Segment(fy0, fy1, 1),) if two_d else axis_segments(fy0, fy1, fine[1], wy + gy, h, h_max, growth)
+    zs = axis_segments(z_lo, domain.z_hi, fine[2], wz + gz, h, h_max, growth)
     xs, ysegs, zs = _refined(scene, fine, (xs, ysegs, zs), two_d, reasons)
     if scene.bed.wet_depth_m > 0 and scene.mesh.wet_bed_cells > 1:
-        zs = resolve_wet_bed(zs, scene.bed.wet_depth_m, scene.mesh.wet_bed_cells, growth)
+        below = tuple(s for s in zs if s.end_m <= 1e-12)  # the reservoir below the bed downstream
+        zs = below + resolve_wet_bed(zs[len(below):], scene.bed.wet_depth_m, scene.mesh.wet_bed_cells, growth)
         reasons["wet_bed"] = (
             f"{scene.mesh.wet_bed_cells} or more cells across the {scene.bed.wet_depth_m:g} m wet bed, growing by "
             f"{growth:g} a cell above it: the bore meets the still water in cells that can carry it along")
@@ -251,6 +256,15 @@ def background_grid(scene: Scene, domain: Domain, gap: BedGap | None, two_d: boo
         )
         kk = _indices_within(zs, 0.0, min(col.height_m, domain.z_hi))
         holes = frozenset(product(ii, jj, kk))
+    gate = gate_holes(scene, xs, ysegs, zs)
+    holes = holes | frozenset(gate)
+    if gate:
+        res = scene.reservoir
+        reasons["gate"] = reasons.get("gate", "gate") + "; " + (
+            (f"the reservoir's floor {res.sill_height_m:g} m below the bed downstream: a step at the gate; "
+             if res.sill_height_m > 0 else "")
+            + (f"the gate's opening {res.opening_width_m:g} m wide at y = {res.opening_y_m:g} m, walls beside it "
+               f"to x = {res.opening_length_m:g} m" if res.opening_width_m is not None else ""))
     patches = dict(BACKGROUND_PATCHES)
     if two_d:
         patches["ymin"] = patches["ymax"] = "frontAndBack"
@@ -262,4 +276,4 @@ def background_grid(scene: Scene, domain: Domain, gap: BedGap | None, two_d: boo
         + (" and the column's faces" if col else "")
         + f"; background {len(xs)} x {len(ysegs)} x {len(zs)} blocks"
     )
-    return BoxGrid("background", xs, ysegs, zs, holes, patches)
+    return BoxGrid("background", xs, ysegs, zs, holes, patches, hole_sides=gate)

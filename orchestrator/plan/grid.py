@@ -100,7 +100,9 @@ class BoxGrid:
     """A block-structured box: planes along each axis, some blocks left out.
 
     `patch_names` maps the sides ("xmin" ... "zmax") and "hole" to OpenFOAM patch
-    names; sides mapped to the same name become one patch.
+    names; sides mapped to the same name become one patch. A hole listed in
+    `hole_sides` has its faces on that side's patch instead of the "hole" patch (the
+    flume's sill and the gate's posts are bed and wall; the column is the hole).
     """
 
     name: str
@@ -109,6 +111,7 @@ class BoxGrid:
     z: tuple[Segment, ...]
     holes: frozenset[tuple[int, int, int]] = frozenset()
     patch_names: dict[str, str] = field(default_factory=dict)
+    hole_sides: dict[tuple[int, int, int], str] = field(default_factory=dict)
     origin: tuple[float, float, float] = (0.0, 0.0, 0.0)
     rotation: tuple[tuple[float, float, float], ...] = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
 
@@ -173,7 +176,7 @@ class BoxGrid:
                 if n in meshed:
                     continue
                 inside = 0 <= n[0] < nx and 0 <= n[1] < ny and 0 <= n[2] < nz
-                key = "hole" if inside else side
+                key = self.hole_sides.get(n, "hole") if inside else side
                 patch = self.patch_names.get(key, key)
                 out.setdefault(patch, []).append(tuple(hexv[q] for q in SIDE_FACES[side]))
         return out

@@ -378,6 +378,7 @@ def grid_to_dict(grid: BoxGrid) -> dict[str, Any]:
         "z": segs("z"),
         "holes": sorted(list(h) for h in grid.holes),
         "patch_names": dict(grid.patch_names),
+        "hole_sides": [[*h, side] for h, side in sorted(grid.hole_sides.items())],
         "origin": list(grid.origin),
         "rotation": [list(r) for r in grid.rotation],
     }
@@ -393,6 +394,7 @@ def grid_from_dict(data: dict[str, Any]) -> BoxGrid:
         data["name"], segs("x"), segs("y"), segs("z"),
         holes=frozenset(tuple(h) for h in data["holes"]),
         patch_names=dict(data["patch_names"]),
+        hole_sides={tuple(h[:3]): h[3] for h in data.get("hole_sides", [])},
         origin=_vector(data["origin"]),
         rotation=tuple(_vector(r) for r in data["rotation"]),
     )

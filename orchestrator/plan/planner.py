@@ -26,6 +26,7 @@ from orchestrator.plan.case_numbers import WET_BED, case_numbers
 from orchestrator.plan.coupling import ONE_WAY_MAX_COURANT, choose_coupling, flow_record_plan
 from orchestrator.plan.decompose import decompose
 from orchestrator.plan.domain import SAFETY, Domain, column_spans_width, plan_domain
+from orchestrator.plan.gate import opening_span_m, reservoir_floor_m
 from orchestrator.plan.grading import background_grid
 from orchestrator.plan.model import BodyPlan, GaugePlan, ModelPlan, WaterBox
 from orchestrator.plan.resources import require_labels
@@ -199,7 +200,8 @@ def _choose_model(scene: Scene, coupling: str, reasons: dict[str, str]) -> tuple
         solver = "interFoam"
         reasons["solver"] = "no debris: interFoam on a static mesh (about 4x cheaper per cell-step than overset)"
     full_width_col = column_spans_width(scene)
-    two_d = not n and (col is None or full_width_col)
+    narrowed = opening_span_m(scene) is not None
+    two_d = not n and not narrowed and (col is None or full_width_col)
     if two_d:
         reasons["two_d"] = (
             "2D: no debris and "
@@ -212,15 +214,14 @@ def _choose_model(scene: Scene, coupling: str, reasons: dict[str, str]) -> tuple
             why.append("debris bodies move in 3D")
         if col is not None and not full_width_col:
             why.append("the column does not span the flume's width")
+        if narrowed:
+            why.append("the gate's opening is narrower than the flume")
         reasons["two_d"] = "3D: " + " and ".join(why)
-    gate = scene.reservoir.gate
+    res = scene.reservoir
     reasons["gate"] = (
-        f"gate '{gate}' modelled as instantaneous removal at t = 0"
-        + (
-            " (the swing gate's opening time and its supports, which the study says constrict the flow, are not modelled)"
-            if gate == "swing-gate"
-            else ""
-        )
+        f"gate '{res.gate}' modelled as instantaneous removal at t = 0"
+        + ("; its opening time is not modelled" if res.gate == "swing-gate" else "")
+        + ("" if res.sill_height_m > 0 or narrowed else "; no sill, the opening the flume's width")
     )
     return solver, two_d
 
@@ -229,7 +230,7 @@ def _water(scene: Scene, domain: Domain, reasons: dict[str, str]) -> tuple[Water
     """The reservoir behind the gate and the wet bed downstream, and the bed friction's reason."""
     h0, wet = scene.reservoir.depth_m, scene.bed.wet_depth_m
     (fy0, fy1) = domain.y
-    water = [WaterBox("reservoir", (domain.x_lo, fy0, 0.0), (0.0, fy1, h0))]
+    water = [WaterBox("reservoir", (domain.x_lo, fy0, reservoir_floor_m(scene)), (0.0, fy1, h0))]
     if wet > 0:
         water.append(WaterBox(WET_BED, (0.0, fy0, 0.0), (domain.x_hi, fy1, wet)))
     reasons["water"] = (

@@ -42,6 +42,7 @@ def sampling(background: BoxGrid, gauges: Sequence[GaugePlan], *, two_d: bool, b
              column_box_m: Box | None) -> tuple[tuple[GaugeLine, ...], tuple[Probe, ...]]:
     """The gauge lines and the probes (module notes)."""
     lo, hi = _corners(background)
+    lo[2] = max(lo[2], 0.0)  # the bed downstream of the gate; a sill puts the reservoir's floor below it
     y_mid = float((lo[1] + hi[1]) / 2)
     eps = 1e-3 * bed_cell_m
     lines, probes = [], []

@@ -64,6 +64,7 @@ def validate_scene(scene: Scene, source: str | None = None, origins: Sequence[di
     by a layout), so an error names the key the user wrote; default: one item per body.
     """
     _check_water(scene, source)
+    _check_gate(scene, source)
     _check_column(scene, source)
     origins = list(origins) if origins is not None else [
         {"path": f"debris.{i}", "layout": False} for i in range(len(scene.debris))
@@ -103,6 +104,42 @@ def _check_water(scene: Scene, source: str | None) -> None:
             "leave bed.slip false",
             source,
         )
+
+
+def _check_gate(scene: Scene, source: str | None) -> None:
+    """The gate's opening inside the flume, its walls clear of the column, bodies and gauges;
+    no body behind the gate over a sill (bodies stand on the bed downstream's level)."""
+    res, (y0, y1) = scene.reservoir, flume_extent(scene)[1]
+    if res.sill_height_m > 0:
+        behind = [i for i, b in enumerate(scene.debris) if b.centre_m[0] < 0]
+        if behind:
+            raise InputError("reservoir.sill_height_m", f"debris.{behind[0]} stands behind the gate, where the sill "
+                             "lowers the floor; bodies stand on the bed downstream's level: start it at x >= 0 m "
+                             "or set the sill to 0", source)
+    if res.opening_width_m is None:
+        return
+    lo, hi = res.opening_y_m - res.opening_width_m / 2, res.opening_y_m + res.opening_width_m / 2
+    if lo < y0 - TOL or hi > y1 + TOL:
+        raise InputError("reservoir.opening_width_m", f"the opening (y {lo:g}..{hi:g} m) must lie inside the "
+                         f"flume's width (y {y0:g}..{y1:g} m); move reservoir.opening_y_m or narrow it", source)
+
+    def in_wall(x: float, y: float, half_x: float = 0.0, half_y: float = 0.0) -> bool:
+        return x + half_x > TOL and x - half_x < res.opening_length_m - TOL and (
+            y - half_y < lo - TOL or y + half_y > hi + TOL)
+
+    col = scene.column
+    if col is not None and in_wall(col.x_m, col.y_m, col.size_x_m / 2, col.size_y_m / 2):
+        raise InputError("reservoir.opening_length_m", f"the walls beside the gate's opening (to x = "
+                         f"{res.opening_length_m:g} m) reach the column", source)
+    for i, b in enumerate(scene.debris):
+        half = 0.5 * max(b.size_m)
+        if in_wall(b.centre_m[0], b.centre_m[1], half, half):
+            raise InputError(f"debris.{i}.centre_m", f"body {b.name!r} overlaps the walls beside the gate's opening "
+                             f"(x 0..{res.opening_length_m:g} m, outside y {lo:g}..{hi:g} m)", source)
+    for i, g in enumerate(scene.gauges):
+        if in_wall(g.x_m, g.y_m):
+            raise InputError(f"gauges.{i}.x_m", f"gauge {g.name!r} is inside the walls beside the gate's opening",
+                             source)
 
 
 #: The tallest column a scene may have (m). The tool's column is a fixed-base member struck by
