@@ -323,6 +323,14 @@ def cmd_report_bore(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def cmd_report_flume(args: argparse.Namespace) -> int:
+    from orchestrator.studies.flume_report import write_flume_report
+
+    files = write_flume_report(args.sweep_dir, output_path(args.out, "-o/--out", args.force, folder=True))
+    emit({kind: str(path) for kind, path in files.items()}, args.json)
+    return EXIT_OK
+
+
 def cmd_report_approach(args: argparse.Namespace) -> int:
     from orchestrator.studies.approach_report import COUPLED_RUNS, write_approach_report
 
@@ -526,6 +534,16 @@ def add_study_parsers(verbs) -> None:
     p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_report_bore)
+
+    p = rp_verbs.add_parser("flume", help="every member of a flume-as-built sweep (the gate's sill and opening, "
+                                          "the wet bed, the column's position): arrivals at WG2, WG3 and the "
+                                          "column's face against the measured and the scene as shipped (make "
+                                          "flume-as-built; docs/results/flume-as-built/)")
+    p.add_argument("sweep_dir", help="a sweep folder of post-processed runs, e.g. runs/sweeps/flume-as-built")
+    p.add_argument("-o", "--out", required=True, help="output folder (report.md, flume.csv, arrivals.png)")
+    p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_report_flume)
 
     p = rp_verbs.add_parser("approach", help="a one-way run's container carried through its flow record and the "
                                              "study's finer ones: the strike speed against the record's cell size "
