@@ -15,7 +15,10 @@ ASCE 7-22 stiffness; the geometry and material drive the MDOF beam model
 (:mod:`analytical.mdof`). ``base`` chooses the MDOF support: ``"rigid"`` (the seed's
 MDOF, built from the geometry alone; f1 about 88 Hz), ``"calibrated"`` (a rotational
 base spring tuned so the beam's f1 equals ``natural_frequency_Hz``) or ``"spring"`` (a
-rotational base spring of the given ``base_spring_Nm_rad``).
+rotational base spring of the given ``base_spring_Nm_rad``). ``ends`` restrains the member's top:
+``"cantilever"`` (free, the default), ``"fixed-fixed"`` (the top held in translation and
+rotation, as a floor restrains a column between storeys) or ``"pinned"`` (both ends held in
+translation only); a restrained top needs ``base="rigid"``.
 
 Sections other than a rectangular box (solid or circular concrete, steel pipes and W-shapes:
 :mod:`analytical.sections`) give their own ``section_area_m2`` and ``section_second_moment_m4``;
@@ -41,10 +44,12 @@ from dataclasses import dataclass
 
 from analytical.errors import InputError, require_finite, require_positive
 
-__all__ = ["BASES", "MAX_ELEMENTS", "Column"]
+__all__ = ["BASES", "ENDS", "MAX_ELEMENTS", "Column"]
 
 #: Accepted values of :attr:`Column.base`.
 BASES = ("rigid", "calibrated", "spring")
+#: Accepted values of :attr:`Column.ends`.
+ENDS = ("cantilever", "fixed-fixed", "pinned")
 #: Most Timoshenko elements a column model may have. Its modes come from a dense eigenproblem of
 #: about 2 x elements degrees of freedom: measured here 0.5 s and 0.1 GB at 160 elements (the
 #: study's), 14 s and 0.6 GB at 1,600; time grows with the cube of the count and memory with its
@@ -95,6 +100,9 @@ class Column:
         Effective-stiffness factor on E I (-), in (0, 1]; 1 for an uncracked section.
     base_spring_Nm_rad:
         Rotational base spring k_theta (N m/rad) of ``base="spring"``; None otherwise.
+    ends:
+        The member's end conditions, one of :data:`ENDS` (see module docstring); ``height_m``
+        is then the length between its supports.
     """
 
     size_x_m: float = 0.20
@@ -114,6 +122,7 @@ class Column:
     section_second_moment_m4: float | None = None
     stiffness_factor: float = 1.0
     base_spring_Nm_rad: float | None = None
+    ends: str = "cantilever"
 
     def __post_init__(self) -> None:
         positive = (
@@ -151,6 +160,12 @@ class Column:
 
         if not isinstance(self.base, str) or self.base not in BASES:
             raise InputError("column.base", f"must be one of {', '.join(BASES)}; got {self.base!r}")
+
+        if not isinstance(self.ends, str) or self.ends not in ENDS:
+            raise InputError("column.ends", f"must be one of {', '.join(ENDS)}; got {self.ends!r}")
+        if self.ends != "cantilever" and self.base != "rigid":
+            raise InputError("column.base", f"must be 'rigid' with ends={self.ends!r} (a base spring is a "
+                             f"cantilever's), got {self.base!r}")
 
         n = self.elements
         if isinstance(n, bool) or not isinstance(n, int):

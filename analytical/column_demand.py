@@ -18,6 +18,13 @@ base, Rayleigh damping) by exact modal superposition, and gives three histories 
   modes' shares fall as ``1 / omega_n^2``, so it converges fast). Slowly applied, it is the
   static deflection at the top (:func:`analytical.column_fem.static_deflection`).
 
+A member held at its top as well (``column.ends`` fixed-fixed or pinned) takes the base row's
+reaction in the same mode-acceleration form (:mod:`analytical.column_fem`, "Base reactions"):
+``V = s_V(h) P - g_V . (a + a0 v)``, and fixed-fixed ``M = s_M(h) P - g_M . (a + a0 v)`` (0 for a
+pinned base); slowly applied, the static reactions ``P b^2 (3a + b) / L^3`` and ``P a b^2 / L^2``
+(Euler-Bernoulli). Its top does not move, so ``top_displacement_m`` is the displacement at the
+load height, ``sum_n phi_n(h) Gamma_n q_n``.
+
 Each mode ``q_n'' + 2 zeta_n omega_n q_n' + omega_n^2 q_n = P(t)`` is carried exactly over the
 pulse's samples (:func:`analytical.oscillator.piecewise_linear_response`; a rectangular pulse is
 two samples, the jumps exact). The modes are taken in bands of doubling frequency, as
@@ -63,7 +70,8 @@ _RING_DOWN = 25.0
 
 @dataclass(frozen=True)
 class ColumnDemands:
-    """Histories along the load (N, N m, m) at ``time_s`` (s) and their peaks (absolute values)."""
+    """Histories along the load (N, N m, m) at ``time_s`` (s) and their peaks (absolute values);
+    ``top_displacement_m`` is at the load height for a member held at its top (module notes)."""
 
     time_s: np.ndarray
     base_shear_N: np.ndarray
@@ -145,10 +153,16 @@ def column_demands(pulse, column: Column, height_m: float, t=None) -> ColumnDema
     phi = model.mode_shapes
     gamma = model.load_vector(h)[model.free_dofs] @ phi
     w_shear = (model.inertia_vector @ phi) * gamma
-    w_moment = ((model.mass_full.T @ rigid_rotation(model))[model.free_dofs] @ phi) * gamma
-    w_top = phi[-2, :] * gamma
     force = np.asarray(load.force(times), dtype=float)
-    shear, moment, top = force.copy(), h * force, np.zeros(times.size)
+    if column.ends == "cantilever":
+        w_moment = ((model.mass_full.T @ rigid_rotation(model))[model.free_dofs] @ phi) * gamma
+        w_top = phi[-2, :] * gamma
+        shear, moment = force.copy(), h * force
+    else:  # the base row's reactions; the displacement at the load (module notes)
+        w_moment = np.zeros_like(gamma) if model.moment_vector is None else (model.moment_vector @ phi) * gamma
+        w_top = gamma * gamma
+        shear, moment = model.base_shear_factor(h) * force, model.base_moment_factor(h) * force
+    top = np.zeros(times.size)
     omega, zeta, a0 = model.circular_frequencies_rad_s, model.damping_ratios, model.rayleigh_a0_1_s
     freq = model.frequencies_Hz
     over = zeta >= 1.0

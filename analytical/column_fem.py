@@ -14,6 +14,20 @@ base displacement and restrains the base rotation by a rotational spring ``k_the
 ``column.natural_frequency_Hz`` (the measured 70 Hz; the rigid-base beam gives about
 88 Hz). ``base="spring"`` puts the given ``column.base_spring_Nm_rad`` there instead. Damping is Rayleigh, ``C = a0 M + a1 K``, with
 ``column.damping_ratio`` on modes 1 and 2 of the model (Chopra 2017, section 11.4).
+``column.ends`` restrains the top as well: ``"fixed-fixed"`` fixes both DOFs at both ends,
+``"pinned"`` the translation at both ends. :func:`lateral_stiffness` at a height is then the
+member's point stiffness there (Euler-Bernoulli: ``3 E I / a^3`` for a cantilever,
+``3 E I L^3 / (a^3 b^3)`` fixed-fixed, ``3 E I L / (a^2 b^2)`` pinned, ``b = L - a``; shear
+deformation adds to the flexibility).
+
+Base reactions
+--------------
+The base shear the responses report is ``V = s(h) P - g . (a + a0 v)``: for a cantilever ``s = 1``
+and ``g`` the rigid translation's inertia ``e^T M`` (:mod:`analytical.mdof`); for a member also
+held at its top, the mode-acceleration form of the base row's reaction,
+``g = M_0f - K_0f K_ff^-1 M_ff`` and ``s(h) = f_0 - K_0f K_ff^-1 f`` (the static share of the
+load the base takes; both exact with all modes, as the reaction ``F_0 - K_0f u - C_0f v - M_0f a``).
+A fixed-fixed member's base moment is the same form on the base rotation's row.
 
 References
 ----------
@@ -74,8 +88,15 @@ class ColumnModel:
     damping_ratios:
         Modal damping ratios of the Rayleigh damping, ``a0/(2 w) + a1 w / 2`` (-).
     inertia_vector:
-        ``(e^T M_full)`` restricted to the free DOFs (kg, kg m): the base shear is
-        ``P(t) - inertia_vector . (a + a0 v)``.
+        The base shear's inertia weights ``g`` over the free DOFs (kg, kg m): the base shear is
+        ``s(h) P(t) - inertia_vector . (a + a0 v)`` (module notes; a cantilever's is
+        ``(e^T M_full)`` restricted to the free DOFs and ``s = 1``).
+    base_influence:
+        ``K_ff^-1 K_f0`` (one column per base row: the base translation and, fixed-fixed, the base
+        rotation) giving the static share ``s(h)``; None for a cantilever.
+    moment_vector:
+        A fixed-fixed member's base moment weights, as ``inertia_vector`` for the base rotation's
+        row; None otherwise.
     solver_cache:
         Factors and modal weights the solvers keep between calls on this model.
     """
@@ -95,6 +116,8 @@ class ColumnModel:
     mode_shapes: np.ndarray
     damping_ratios: np.ndarray
     inertia_vector: np.ndarray
+    base_influence: np.ndarray | None
+    moment_vector: np.ndarray | None
     solver_cache: dict = field(default_factory=dict, repr=False)
 
     @property
@@ -117,6 +140,22 @@ class ColumnModel:
         f = np.zeros(2 * (n + 1))
         f[2 * e : 2 * e + 4] = n_w
         return f
+
+    def base_shear_factor(self, height_m: float) -> float:
+        """``s(h)``: the static base shear per unit load at ``height_m`` (1 for a cantilever)."""
+        if self.base_influence is None:
+            return 1.0
+        f = self.load_vector(height_m)
+        return float(f[0] - self.base_influence[:, 0] @ f[self.free_dofs])
+
+    def base_moment_factor(self, height_m: float) -> float:
+        """A fixed-fixed member's static base moment per unit load at ``height_m`` (m; 0 pinned).
+
+        Positive in the sense of a cantilever's ``h P``: ``a b^2 / L^2`` for Euler-Bernoulli."""
+        if self.moment_vector is None:
+            return 0.0
+        f = self.load_vector(height_m)
+        return float(f[1] - self.base_influence[:, 1] @ f[self.free_dofs])
 
 
 def _column_phi(column: Column) -> float:
@@ -150,10 +189,12 @@ def column_model(column: Column) -> ColumnModel:
         column.rotary_inertia_kg_m,
     )
     size = 2 * (n + 1)
-    if column.base == "rigid":
-        free = np.arange(2, size)
-    else:
-        free = np.arange(1, size)
+    held = [0, 1] if column.base == "rigid" else [0]
+    if column.ends == "fixed-fixed":
+        held += [size - 2, size - 1]
+    elif column.ends == "pinned":
+        held = [0, size - 2]
+    free = np.setdiff1d(np.arange(size), held)
     k_beam = k_full[free][:, free].toarray()
     m_ff = m_full[free][:, free].toarray()
 
@@ -167,7 +208,11 @@ def column_model(column: Column) -> ColumnModel:
     w2, phi = linalg.eigh(k_beam, m_ff, driver="gvd")
     w2 = np.clip(w2, 0.0, None)
     omega = np.sqrt(w2)
-    top = phi[-2, :]
+    if column.ends == "cantilever":
+        top = phi[-2, :]
+    else:  # the sign of each mode's largest translation
+        w = phi[free % 2 == 0, :]
+        top = w[np.argmax(np.abs(w), axis=0), np.arange(w.shape[1])]
     phi = phi * np.where(top < 0.0, -1.0, 1.0)[None, :]
 
     # Rayleigh damping with zeta on modes 1 and 2 (Chopra 2017, eq. 11.4.9); every model
@@ -181,9 +226,19 @@ def column_model(column: Column) -> ColumnModel:
     k_ff = sparse.csr_array(k_beam)
     m_sp = sparse.csr_array(m_ff)
     c_ff = (a0 * m_sp + a1 * k_ff).tocsr()
-    e = np.zeros(size)
-    e[0::2] = 1.0
-    inertia = (m_full.T @ e)[free]
+    influence = moment = None
+    if column.ends == "cantilever":
+        e = np.zeros(size)
+        e[0::2] = 1.0
+        inertia = (m_full.T @ e)[free]
+    else:
+        rows = [0, 1] if column.ends == "fixed-fixed" else [0]
+        k_rows = k_full[rows][:, free].toarray()
+        m_rows = m_full[rows][:, free].toarray()
+        influence = linalg.solve(k_beam, k_rows.T, assume_a="pos")
+        weights = m_rows - influence.T @ m_ff
+        inertia = weights[0]
+        moment = weights[1] if column.ends == "fixed-fixed" else None
 
     arrays = dict(
         node_height_m=np.linspace(0.0, column.height_m, n + 1),
@@ -192,9 +247,12 @@ def column_model(column: Column) -> ColumnModel:
         mode_shapes=phi,
         damping_ratios=ratios,
         inertia_vector=inertia,
+        base_influence=influence,
+        moment_vector=moment,
     )
     for a in arrays.values():
-        a.setflags(write=False)
+        if a is not None:
+            a.setflags(write=False)
     return ColumnModel(
         column=column,
         stiffness=k_ff,
@@ -301,8 +359,12 @@ def static_deflection(column: Column, load_height_m: float, at_height_m: float, 
 
 
 def lateral_stiffness(column: Column, height_m: float) -> float:
-    """Static lateral stiffness (N/m) of the model at ``height_m``: force / deflection there."""
-    return 1.0 / static_deflection(column, height_m, height_m, 1.0)
+    """Static lateral stiffness (N/m) of the model at ``height_m``: force / deflection there (the
+    member's point stiffness with its ends, module notes); InputError at a held end."""
+    deflection = static_deflection(column, height_m, height_m, 1.0)
+    if not deflection > 0.0:
+        raise InputError("height_m", f"{height_m!r} m is a held end of the {column.ends} member: it does not deflect")
+    return 1.0 / deflection
 
 
 def _static_solve(model: ColumnModel, f: np.ndarray) -> np.ndarray:

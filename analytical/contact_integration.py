@@ -59,6 +59,7 @@ class ColumnBlock:
         self.gain = gain
         self.a0 = model.rayleigh_a0_1_s
         self.inertia = np.asarray(model.inertia_vector)
+        self.shear_gain = gain * model.base_shear_factor(height_m)  # the base's static share (1: cantilever)
         self.b = gain * model.load_vector(height_m)[model.free_dofs]
         self.k_band = upper_band(model.stiffness)
         self.m_band = upper_band(model.mass)
@@ -239,7 +240,7 @@ class NormalIntegrator:
 
     def _base_shear(self, st, f):
         shears = [
-            b.gain * f - float(b.inertia @ (st.a[lo:hi] + b.a0 * st.v[lo:hi]))
+            b.shear_gain * f - float(b.inertia @ (st.a[lo:hi] + b.a0 * st.v[lo:hi]))
             for b, (lo, hi) in zip(self.blocks, self.segments)
         ]
         out = [0.0 if slot is None else slot[1] * shears[slot[0]] for slot in self.slots]

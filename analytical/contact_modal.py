@@ -57,6 +57,7 @@ class ModalBlock:
         model, self.w2, self.damping, self.inertia = column_modes(column)
         self.gain = gain
         self.a0 = model.rayleigh_a0_1_s
+        self.shear_gain = gain * model.base_shear_factor(height_m)  # the base's static share (1: cantilever)
         load = model.load_vector(height_m)[model.free_dofs]
         rows = np.nonzero(load)[0]
         self.b = gain * (load[rows] @ model.mode_shapes[rows, :])
@@ -183,7 +184,7 @@ class ModalIntegrator(NormalIntegrator):
         acc = np.stack([k[0] for k in self._kept])
         vel = np.stack([k[1] for k in self._kept])
         force = np.asarray(rec["f"])
-        shears = [b.gain * force - (acc[:, lo:hi] + b.a0 * vel[:, lo:hi]) @ b.inertia
+        shears = [b.shear_gain * force - (acc[:, lo:hi] + b.a0 * vel[:, lo:hi]) @ b.inertia
                   for b, (lo, hi) in zip(self.blocks, self.segments)]
         zero = np.zeros_like(force)
         out = [zero if slot is None else slot[1] * shears[slot[0]] for slot in self.slots]

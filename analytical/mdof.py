@@ -289,7 +289,7 @@ def _modal_base_shear(model: ColumnModel, pulse, height_m: float, times: np.ndar
             "use method='newmark' for an undamped column",
         )
     weights = _modal_weights(model, height_m)
-    force = np.asarray(pulse.force(times), dtype=float)
+    force = np.asarray(pulse.force(times), dtype=float) * model.base_shear_factor(height_m)
     end = getattr(pulse, "end_s", None)
     end = float(end) if end is not None else None
     n_all = len(weights)

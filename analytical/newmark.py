@@ -216,7 +216,8 @@ def _newmark_loop(model: ColumnModel, f_full: np.ndarray, force: np.ndarray, dt:
         if energy:
             work[i] = 0.5 * (dot(v, m @ v) + dot(u, k @ u))
 
-    shear_eq = force - (inertia_a + a0 * inertia_v)
+    share = 1.0 if model.base_influence is None else float(f_base - model.base_influence[:, 0] @ f)
+    shear_eq = share * force - (inertia_a + a0 * inertia_v)
     shear_re = f_base * force - (base_u @ k_row + base_v @ c_row + base_a @ m_row)
     return shear_eq, shear_re, work
 

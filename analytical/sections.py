@@ -23,8 +23,9 @@ flanges 2 b_f t_f weak, as AISC 360-16 G2 and G6 take them), which gives the stu
 acrylic box.
 
 Bases: ``rigid`` (fixed), ``spring`` (a rotational spring ``base_spring_Nm_rad``), ``calibrated``
-(a spring tuned to a given ``natural_frequency_Hz``). A pinned base is not offered: the model is
-a cantilever (free top), and a cantilever on a pin has no lateral stiffness.
+(a spring tuned to a given ``natural_frequency_Hz``). ``ends`` holds the top as well
+(:attr:`analytical.column.Column.ends`: ``fixed-fixed``, ``pinned``; with a rigid base only); such a
+member's ``stiffness_N_m`` is its point stiffness at mid-height, its softest point.
 
 Materials: :data:`MATERIALS`, each value with its source.
 """
@@ -216,14 +217,14 @@ def column_section(kind: str, size_m, height_m: float, material_name: str | None
                    web_thickness_m: float | None = None, axis: str = "strong", cracked_factor: float | None = None,
                    base: str = "rigid", base_spring_Nm_rad: float | None = None,
                    natural_frequency_Hz: float | None = None, damping_ratio: float | None = None,
-                   elements: int = 160, **material_overrides) -> Column:
+                   elements: int = 160, ends: str = "cantilever", **material_overrides) -> Column:
     """The MDOF :class:`~analytical.column.Column` of a prototype column by section.
 
     ``material_name`` is a catalogued material (None: the kind's default, concrete-28mpa or steel);
     ``youngs_modulus_Pa``, ``density_kg_m3`` or ``poisson_ratio`` in ``material_overrides`` and
     ``damping_ratio`` replace its values. The returned column's ``natural_frequency_Hz`` is its MDOF
     model's first frequency and ``stiffness_N_m`` the model's static lateral stiffness at the top
-    (what the SDOF model and ASCE 7-22's k_s take), unless ``base="calibrated"``, where the given
+    (mid-height for a member held at its top; what the SDOF model takes), unless ``base="calibrated"``, where the given
     ``natural_frequency_Hz`` is the target of the base spring.
 
     >>> c = column_section("rc-square", [0.6], 4.0)
@@ -249,9 +250,9 @@ def column_section(kind: str, size_m, height_m: float, material_name: str | None
         shear_coefficient=props.shear_coefficient, section_area_m2=props.area_m2,
         section_second_moment_m4=props.second_moment_m4, stiffness_factor=props.stiffness_factor,
         damping_ratio=mat.damping_ratio if damping_ratio is None else damping_ratio, base="rigid" if base ==
-        "calibrated" else base, base_spring_Nm_rad=base_spring_Nm_rad, elements=elements, **values)
+        "calibrated" else base, base_spring_Nm_rad=base_spring_Nm_rad, elements=elements, ends=ends, **values)
+    where = column.height_m if ends == "cantilever" else 0.5 * column.height_m
     if base == "calibrated":
         column = replace(column, base="calibrated", natural_frequency_Hz=natural_frequency_Hz)
-        return replace(column, stiffness_N_m=lateral_stiffness(column, column.height_m))
-    return replace(column, natural_frequency_Hz=float(modes(column)[0]),
-                   stiffness_N_m=lateral_stiffness(column, column.height_m))
+        return replace(column, stiffness_N_m=lateral_stiffness(column, where))
+    return replace(column, natural_frequency_Hz=float(modes(column)[0]), stiffness_N_m=lateral_stiffness(column, where))

@@ -89,15 +89,12 @@ def markdown() -> str:
             "Logs, poles and vehicles are not catalogued: no source for their size, mass and stiffness was",
             "retrievable."]
     out += ["", "## Columns", "",
-            "`analytical.sections.column_section(kind, size_m, height_m, material)` gives the MDOF column",
-            "(`analytical.column.Column`) of a prototype column; its first frequency and its lateral stiffness",
-            "at the top come from that model. Solid reinforced concrete uses the gross section with its flexural",
-            f"rigidity times the cracked-section factor {RC_CRACKED_FACTOR:g} (ACI 318-19 Table 6.6.3.1.1(a), "
-            "columns);",
-            "steel sections use their design dimensions. A circular column stands in the flow as the square box",
-            "around it. Bases: `rigid` (fixed), `spring` (a rotational spring `base_spring_Nm_rad`), `calibrated`",
-            "(a spring tuned to a given frequency). A pinned base is not offered: the model is a cantilever,",
-            "and a cantilever on a pin has no lateral stiffness.", "",
+            "`analytical.sections.column_section` gives a prototype column's MDOF model (`analytical.column.Column`),",
+            "its first frequency and lateral stiffness (top, or mid-height with a held top). Reinforced concrete:",
+            f"the gross section, E I times {RC_CRACKED_FACTOR:g} (ACI 318-19 Table 6.6.3.1.1(a), columns);",
+            "steel, its design dimensions. A circular column meets the flow as its bounding square.",
+            "Bases: `rigid` (fixed), `spring` (a rotational spring `base_spring_Nm_rad`), `calibrated`",
+            "(a spring tuned to a given frequency); `column.ends` fixed-fixed or pinned holds the top too.", "",
             "| kind | material | sizes | thicknesses |", "|---|---|---|---|"]
     for kind, (family, count, needs) in KINDS.items():
         sizes = "[x, y]" if count == 2 else ("[D]" if "circular" in kind or "pipe" in kind else "[b]")

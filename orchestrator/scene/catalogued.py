@@ -45,15 +45,13 @@ class ColumnSectionSpec(SceneSection):
     model; see ColumnSection.
     """
 
-    kind: Literal[tuple(KINDS)] = Field(description="rc-rectangular, rc-square, rc-circular (solid reinforced "
-                                                    "concrete); steel-hss-rectangular, steel-hss-square, steel-pipe, "
-                                                    "steel-w")
+    kind: Literal[tuple(KINDS)] = Field(description="solid reinforced concrete (rc-*) or steel (steel-*)")
     size_m: tuple[Pos, ...] = Field(description="[x, y] (rectangular; a W-shape's [depth, flange width]), [b] "
                                                 "(square) or [D] (circular) (m)")
-    material: str | None = Field(None, validate_default=True, description="a catalogued material (concrete-28mpa, "
-                                 "concrete-35mpa, steel); null = concrete-28mpa for rc-*, steel for steel-*")
-    axis: Literal["strong", "weak"] = Field("strong", description="steel-w: bent about its strong axis (web along "
-                                                                  "the flow) or its weak axis")
+    material: str | None = Field(None, validate_default=True, description="a catalogued material; null = "
+                                 "concrete-28mpa for rc-*, steel for steel-*")
+    axis: Literal["strong", "weak"] = Field("strong", description="steel-w: the bending axis (strong: web along "
+                                                                  "the flow)")
     cracked_factor: float | None = Field(None, gt=0, le=1, description="rc-*: effective-stiffness factor on E I; "
                                          "null = 0.70 (ACI 318-19 Table 6.6.3.1.1(a), columns)")
     wall_thickness_m: float | None = Field(None, gt=0, validate_default=True, description="steel-hss-*, "
@@ -168,7 +166,7 @@ def column_from_section(data: Any, section: Any) -> Any:
             web_thickness_m=section.web_thickness_m, axis=section.axis, cracked_factor=section.cracked_factor,
             base=base, base_spring_Nm_rad=out.get("base_spring_Nm_rad"),
             natural_frequency_Hz=out.get("natural_frequency_Hz") if base == "calibrated" else None,
-            damping_ratio=out["damping_ratio"], elements=out.get("elements", 160),
+            damping_ratio=out["damping_ratio"], elements=out.get("elements", 160), ends=out.get("ends", "cantilever"),
             **{k: out[k] for k in _MATERIAL_FIELDS})
     except (InputError, KeyError, TypeError):
         return out

@@ -25,7 +25,7 @@ import yaml
 from pydantic import Field, ValidationError, field_validator, model_validator
 
 from analytical.catalogue import list_debris
-from analytical.column import MAX_ELEMENTS
+from analytical.column import ENDS, MAX_ELEMENTS
 from analytical.column import Column as AnalysisColumn
 from orchestrator.core.errors import InputError
 from analytical.hydrodynamics import DEFAULT_ADDED_MASS_COEFFICIENT, DEFAULT_DRAG_COEFFICIENT
@@ -74,34 +74,39 @@ class ColumnSection(SceneSection):
     x_m: float = Field(description="centre of the column's footprint along the flume (m)")
     y_m: float = Field(0.0, description="centre of the footprint across the flume (m)")
     section: ColumnSectionSpec | None = Field(
-        None, description="a prototype column by section (see ColumnSectionSpec); null = the fields below as given")
+        None, description="a prototype column by section; null = the fields below as given")
     size_x_m: float = Field(gt=0, description="footprint along the flow (m); from `section` when given")
     size_y_m: float = Field(gt=0, description="footprint across the flow (m); from `section` when given")
     height_m: float = Field(gt=0, description="height above the floor (m); at most 100 m (a storey is 3-6 m)")
     wall_thickness_m: float = Field(gt=0, description="wall of the hollow section (m); from `section` when given")
     section_area_m2: float | None = Field(None, gt=0, description="section area A (m2); null = the box's")
     section_second_moment_m4: float | None = Field(
-        None, gt=0, description="second moment of the section about the axis the load bends (m4); null = the box's")
+        None, gt=0, description="second moment about the bending axis (m4); null = the box's")
     stiffness_factor: float = Field(1.0, gt=0, le=1, description="effective-stiffness factor on E I (-); "
                                     "a cracked concrete section's")
-    youngs_modulus_Pa: float = Field(gt=0, description="Young's modulus of the column's material (Pa); from `section` when not given")
-    density_kg_m3: float = Field(gt=0, description="density of the column's material (kg/m3); from `section` when not given")
+    youngs_modulus_Pa: float = Field(gt=0, description="Young's modulus (Pa); from `section` when not given")
+    density_kg_m3: float = Field(gt=0, description="material density (kg/m3); from `section` when not given")
     poisson_ratio: float = Field(gt=-1, lt=0.5, description="Poisson's ratio (-); from `section` when not given")
     shear_coefficient: float = Field(gt=0, description="Timoshenko shear coefficient of the section (-); from `section` when given")
-    natural_frequency_Hz: float = Field(70.0, gt=0, description="measured first frequency (Hz); with a section, "
-                                        "its MDOF model's (the target with base: calibrated, then required)")
+    natural_frequency_Hz: float = Field(70.0, gt=0, description="measured first frequency (Hz); with a section "
+                                        "its MDOF model's (base: calibrated: the target, required)")
     stiffness_N_m: float = Field(4.685e5, gt=0, description="measured lateral stiffness (N/m); with a section, "
-                                 "its MDOF model's at the top")
+                                 "its MDOF model's at the top (mid-height with a held top)")
     damping_ratio: float = Field(0.045, ge=0, lt=1, description="measured damping ratio (-); 0 = undamped; "
                                  "with a section, its material's")
     base: Literal["rigid", "calibrated", "spring"] = Field(
-        "rigid", description="rigid: the study's MDOF (geometry only, f1 88 Hz); calibrated: a base spring tuned "
-        "to natural_frequency_Hz; spring: a rotational base spring of base_spring_Nm_rad")
+        "rigid", description="rigid (fixed), calibrated (a rotational spring tuned to natural_frequency_Hz) or "
+        "spring (of base_spring_Nm_rad)")
     base_spring_Nm_rad: float | None = Field(
         None, gt=0, validate_default=True, description="rotational base spring (N m/rad); with base: spring only")
     elements: int = Field(
-        160, ge=1, le=MAX_ELEMENTS, description="Timoshenko elements of the MDOF model (its modes are a dense "
-        "eigenproblem: time grows with the cube of the count)")
+        160, ge=1, le=MAX_ELEMENTS, description="Timoshenko elements of the MDOF model (time grows as their cube)")
+    ends: Literal[ENDS] = Field("cantilever", description="cantilever (free top), fixed-fixed (the floor above "
+                                "holds its top), pinned (translation held at both ends); base: rigid")
+    strike_height_m: float | None = Field(None, gt=0, description="where ASCE 7-22's load strikes (m): its k_s "
+                                          "and pulse; null = inundation.depth_m")
+    heading_deg: float = Field(0.0, ge=-90, le=90, description="section turned from the flow (deg), for ASCE's k_s; "
+                               "OpenFOAM cases take 0")
 
     @model_validator(mode="before")
     @classmethod
@@ -136,6 +141,22 @@ class ColumnSection(SceneSection):
     def _spring(cls, value, info):
         if (info.data.get("base") == "spring") != (value is not None):
             raise ValueError("required with base: spring, and only with it")
+        return value
+
+    @field_validator("ends")
+    @classmethod
+    def _ends(cls, value, info):
+        if value != "cantilever" and info.data.get("base", "rigid") != "rigid":
+            raise ValueError(f"{value} needs base: rigid (a base spring is a cantilever's)")
+        return value
+
+    @field_validator("strike_height_m")
+    @classmethod
+    def _strike(cls, value, info):
+        height, ends = info.data.get("height_m"), info.data.get("ends")
+        if value is not None and height is not None and (value > height or (value == height and ends != "cantilever")):
+            raise ValueError(f"must be {'at most' if ends == 'cantilever' else 'below'} the column's height_m "
+                             f"({height:g} m: a {ends} member)")
         return value
 
 

@@ -9,7 +9,8 @@ the same scene and speed give the same F_i whichever verb is asked:
   end; else a catalogued container family's loaded mass; else the body's own mass);
 * ``k_d``: ``design.debris_stiffness_N_m``; else a catalogued body's (docs/catalogue.md); else, at
   laboratory scale only, the study's 1:40 container (:data:`analytical.asce7.SEED_DEBRIS_STIFFNESS_N_M`);
-* ``k_s``: the column's lateral stiffness (its section's MDOF model, or ``column.stiffness_N_m``);
+* ``k_s``: the member's stiffness along the flow where the debris strikes (:func:`struck_stiffness`:
+  its MDOF model with its ``column.ends``, at :func:`strike_point`, turned by ``column.heading_deg``);
 * ``I_tsu`` from ``design.risk_category`` (Table 6.8-1), ``C_o`` from ``design.orientation_coefficient``;
 * full scale (:func:`full_scale`): the simplified static load bounds F_i.
 
@@ -22,7 +23,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from analytical.column_fem import lateral_stiffness
+from analytical.sections import section_properties
+
 from analytical import catalogue
+import dataclasses
+import math
+
 from analytical.asce7 import (
     FULL_SCALE_MIN_MASS_KG,
     SEED_DEBRIS_STIFFNESS_N_M,
@@ -35,7 +42,72 @@ from orchestrator.core.errors import InputError
 from orchestrator.scene.schema import Design, Scene, column_for_analysis
 from orchestrator.studies.design_table import debris_types, mass_range
 
-__all__ = ["AsceInputs", "full_scale", "scene_asce_inputs"]
+__all__ = ["AsceInputs", "face_obliquity_deg", "full_scale", "scene_asce_inputs", "strike_point", "struck_stiffness"]
+
+
+def strike_point(scene: Scene) -> tuple[float | None, str]:
+    """(height above the floor where the code's debris load strikes the member, why): the scene's
+    ``column.strike_height_m``; else its inundation depth (ASCE 7-22 6.11 loads the member up to it),
+    the top of a cantilever the flow overtops, mid-height (the softest point) of a member held at a
+    floor the flow reaches; else None for a cantilever (its top stiffness, ``column.stiffness_N_m``)
+    and mid-height for a member held at its top."""
+    col = scene.column
+    length, cantilever = col.height_m, col.ends == "cantilever"
+    if col.strike_height_m is not None:
+        return float(col.strike_height_m), "the scene's column.strike_height_m"
+    if scene.inundation is not None:
+        depth = float(scene.inundation.depth_m)
+        if depth < length:
+            return depth, f"the scene's inundation depth (inundation.depth_m, {depth:g} m)"
+        if cantilever:
+            return length, f"the column's top ({length:g} m; the inundation depth, {depth:g} m, is over it)"
+        return 0.5 * length, (f"mid-height, the member's softest point (the inundation depth, {depth:g} m, reaches "
+                              "the floor above)")
+    if cantilever:
+        return None, "the cantilever's top (no column.strike_height_m or inundation.depth_m in the scene)"
+    return 0.5 * length, "mid-height, the member's softest point (no column.strike_height_m or inundation.depth_m)"
+
+
+def face_obliquity_deg(heading_deg: float) -> float:
+    """Angle (deg, 0-45) between the flow and the normal of the turned column's face nearest to
+    facing it: the x face's for a heading within 45 degrees, else the y face's."""
+    h = abs(float(heading_deg)) % 90.0
+    return min(h, 90.0 - h)
+
+
+def struck_stiffness(scene: Scene, height_m: float, source: str | None = None) -> float:
+    """The member's lateral stiffness (N/m) along the flow at ``height_m``: its MDOF model with its
+    ends (:func:`analytical.column_fem.lateral_stiffness`). A column turned by ``column.heading_deg``
+    bends about both principal axes, free across the flow: ``1/k = cos^2 h / k_x + sin^2 h / k_y``
+    (``k_y`` the section turned by 90 degrees). Without ``column.section``, a cantilever's stated or
+    measured ``column.stiffness_N_m`` (its top's) is carried to ``height_m`` by the model's shape,
+    ``k_model(h) / k_model(top)``."""
+    col = scene.column
+    column = column_for_analysis(scene)
+    k_x = lateral_stiffness(column, height_m)
+    if col.section is None and col.ends == "cantilever":
+        k_x *= column.stiffness_N_m / lateral_stiffness(column, column.height_m)
+    h = math.radians(col.heading_deg)
+    if abs(math.sin(h)) < 1e-12:
+        return k_x
+    k_y = k_x * lateral_stiffness(_turned(scene, column, source), height_m) / lateral_stiffness(column, height_m)
+    return 1.0 / (math.cos(h) ** 2 / k_x + math.sin(h) ** 2 / k_y)
+
+
+def _turned(scene: Scene, column, source):
+    """``column`` bent about its other principal axis (the section turned by 90 degrees)."""
+    spec = scene.column.section
+    if spec is not None:
+        sizes = tuple(reversed(spec.size_m)) if spec.kind != "steel-w" else spec.size_m
+        axis = {"strong": "weak", "weak": "strong"}[spec.axis] if spec.kind == "steel-w" else spec.axis
+        p = section_properties(spec.kind, sizes, column.poisson_ratio, spec.wall_thickness_m, spec.flange_thickness_m,
+                               spec.web_thickness_m, axis, spec.cracked_factor)
+        return dataclasses.replace(column, size_x_m=p.size_x_m, size_y_m=p.size_y_m, section_area_m2=p.area_m2,
+                                   section_second_moment_m4=p.second_moment_m4, shear_coefficient=p.shear_coefficient)
+    if column.section_second_moment_m4 is not None and column.size_x_m != column.size_y_m:
+        raise InputError("column.heading_deg", "a turned column bends about both axes: give column.section (the "
+                         "scene's section_second_moment_m4 is about one)", source)
+    return dataclasses.replace(column, size_x_m=column.size_y_m, size_y_m=column.size_x_m)
 
 
 def full_scale(scene: Scene, bodies=None, spec: Design | None = None) -> tuple[bool, str]:
@@ -74,6 +146,8 @@ class AsceInputs:
     prototype: bool
     scale_reason: str
     sources: dict[str, str] = field(default_factory=dict)
+    strike_height_m: float | None = None
+    stated_speed_m_s: float | None = None
 
     def design(self, velocity_m_s: float, velocity_basis: str = "u_max") -> AsceDesign:
         """The code's design force at ``velocity_m_s`` (u_max)."""
@@ -126,13 +200,24 @@ def scene_asce_inputs(scene: Scene, bodies=None, source: str | None = None, spec
                          "stiffness k_s (N/m), or column.section to have it from the section (the default, "
                          f"{SEED_STRUCTURE_STIFFNESS_N_M:.4g} N/m, is the study's 0.2 m acrylic laboratory column)",
                          source)
-    k_s = float(column_for_analysis(scene).stiffness_N_m)
+    height, where = strike_point(scene)
     section = col.section
-    ks_src = ("the column's MDOF model's lateral stiffness at its top, from its catalogued section "
-              f"({section.kind} {'x'.join(f'{v:g}' for v in section.size_m)} m, docs/catalogue.md)" if section is not None
-              else "the scene's column.stiffness_N_m" if "stiffness_N_m" in col.model_fields_set
-              else f"the study's laboratory column, {SEED_STRUCTURE_STIFFNESS_N_M:.4g} N/m (column.stiffness_N_m's "
-                   "default)")
+    stated = "stiffness_N_m" in col.model_fields_set and section is None
+    if stated and col.ends != "cantilever":
+        raise InputError("column.stiffness_N_m", f"is a cantilever's top stiffness; a {col.ends} member's k_s comes "
+                         "from its model: leave it out (or give column.section)", source)
+    member = (f"its catalogued section ({section.kind} {'x'.join(f'{v:g}' for v in section.size_m)} m, "
+              "docs/catalogue.md)" if section is not None else "the scene's column.stiffness_N_m" if stated
+              else f"the study's laboratory column ({SEED_STRUCTURE_STIFFNESS_N_M:.4g} N/m at its top)")
+    if height is None and col.heading_deg == 0.0:
+        k_s = float(column_for_analysis(scene).stiffness_N_m)
+        ks_src = f"the cantilever's lateral stiffness at its top, from {member}; {where}"
+    else:
+        height = col.height_m if height is None else height
+        k_s = struck_stiffness(scene, height, source)
+        ks_src = (f"the {col.ends} member's lateral stiffness along the flow at {height:.3g} m ({where}), its MDOF "
+                  f"model from {member}" + (f"; turned {col.heading_deg:g} deg (the face struck {face_obliquity_deg(col.heading_deg):.3g} "
+                                          "deg off its normal)" if col.heading_deg else ""))
     importance = importance_factor(spec.risk_category)
     sources = {"k_d": kd_src, "m_d": m_src, "k_s": ks_src,
                "C_o": "design.orientation_coefficient (0.65: ASCE 7-22 6.11's value for containers, logs and poles, "
@@ -140,5 +225,6 @@ def scene_asce_inputs(scene: Scene, bodies=None, source: str | None = None, spec
                "I_tsu": f"ASCE 7-22 Table 6.8-1 for the scene's design.risk_category ({spec.risk_category})",
                "scale": ("full scale: the simplified static load bounds F_i (" + reason + ")") if prototype
                else reason}
+    stated_speed = float(scene.inundation.speed_m_s) if scene.inundation is not None else None
     return AsceInputs(mass, k_d, k_s, importance, float(spec.orientation_coefficient), spec.risk_category,
-                      prototype, reason, sources)
+                      prototype, reason, sources, height, stated_speed)
