@@ -194,17 +194,21 @@ def test_a_batch_gives_each_strikes_demands_and_zero_without_a_strike(current):
     starts.append([TransportBody("debris1", (0.15, 0.06, 0.06), 0.3, (1.6, 0.0, 0.03), wall_thickness_m=0.005)])
     settings = TransportSettings(first_pulse_only=True)
     rows = pd.DataFrame(design_batch([0, 1, 2], starts, FLUME, COLUMN, 1.3, npz, settings))
-    assert list(rows["realisation"]) == [0, 1, 2]
-    assert rows["struck"].tolist() == [True, True, False]
-    assert (rows.loc[2, list(DEMANDS)] == 0.0).all()
-    alone = run_transport(starts[0], FLUME, 1.3, flow=flow, column=COLUMN, settings=settings)
+    assert list(rows.drop_duplicates("realisation")["realisation"]) == [0, 1, 2]
+    assert rows.groupby("realisation")["struck"].first().tolist() == [True, True, False]
+    none = rows[rows["realisation"] == 2]
+    assert len(none) == 1 and none["strike"].iloc[0] == 0 and (none[list(DEMANDS)] == 0.0).all(axis=None)
+    alone = run_transport(starts[0], FLUME, 1.3, flow=flow, column=COLUMN,
+                          settings=TransportSettings(first_pulse_only=True, every_column_pulse=True))
     first = alone.impacts[alone.impacts["kind"] == "column"].iloc[0]
-    assert rows.loc[0, "peak_force_N"] == pytest.approx(first["peak_force_N"], rel=1e-3)  # batched: to rounding
+    mine = rows[rows["realisation"] == 0].reset_index(drop=True)
+    assert mine.loc[0, "strike"] == 1
+    assert mine.loc[0, "peak_force_N"] == pytest.approx(first["peak_force_N"], rel=1e-3)  # batched: to rounding
     pulse = alone.pulses[int(first["event"])]
     expected = strike_demands(pulse.force, pulse.normal, COLUMN.column, pulse.contact_height_m)
     for key, value in expected.items():
-        assert rows.loc[0, key] == pytest.approx(value, rel=1e-3)
-    assert rows.loc[0, "mass_kg"] == starts[0][0].mass_kg
+        assert mine.loc[0, key] == pytest.approx(value, rel=1e-3)
+    assert mine.loc[0, "mass_kg"] == starts[0][0].mass_kg
 
 
 def test_the_page_sets_asce_beside_the_curves(tmp_path):
@@ -217,7 +221,8 @@ def test_the_page_sets_asce_beside_the_curves(tmp_path):
             struck = r % 5 != 0
             f = float(rng.uniform(50, 200)) if struck else 0.0
             rows.append({"case": case, "realisation": r, "case_weight": weight, "sample_weight": weight / n,
-                         "body": "debris1", "mass_kg": 0.236, "struck": struck, "strikes": int(struck),
+                         "body": "debris1", "mass_kg": 0.236, "carried": True, "struck": struck, "strikes": int(struck),
+                         "strike": int(struck), "face": "upstream" if struck else math.nan,
                          "impact_speed_m_s": 0.9 if struck else math.nan, "impact_height_m": 0.05 if struck else
                          math.nan, "peak_force_N": f, "base_shear_N": 1.2 * f, "base_moment_Nm": 0.05 * f,
                          "top_displacement_m": 1e-7 * f, "wall_time_s": 0.1})

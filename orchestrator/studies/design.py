@@ -19,16 +19,20 @@
    (uniform in ``start_x_m`` x ``start_y_m``, else the ensemble's tolerance: normal, a quarter
    of the length), drawn again while it comes within 2 mm of a wall, the column or another body.
    A body's start height is the scene's (a floating body starts at its own mass's draft).
-3. **Demands.** Realisations are stepped together in batches
-   (:func:`~orchestrator.transport.batch.run_batch`); each body's first column strike gives
-   its contact force (the contact law in series with the MDOF column), and from that pulse the
+3. **Carried or grounded.** A body whose draft ``m / (rho_w L W)`` is not less than the deepest
+   water at its start cannot float there: it is not carried (no transport), its row says so
+   and its demands are 0 (:mod:`~orchestrator.studies.design_strikes`).
+4. **Demands.** Realisations are stepped together in batches
+   (:func:`~orchestrator.transport.batch.run_batch`); every column strike of every body gets its
+   contact force (the contact law in series with the MDOF column) and from that pulse the
    column's peak base shear, base moment and top displacement
-   (:func:`analytical.column_demand.strike_demands`, resultants of the two bending directions).
-   Later strikes of the same body (its rebound sequence) are counted without a pulse. An
-   unstable engine (:mod:`~orchestrator.studies.engine_watch`) ends the study with an error
-   naming the realisation, before any page is written. A realisation's demand is the largest
-   over its bodies; a realisation that never strikes has
-   demand 0 and stays in the sample (the page states P(strike)).
+   (:func:`analytical.column_demand.strike_demands`, resultants of the two bending directions),
+   one row of design.csv each, with its face, obliquity, eccentricity and torsion and the water
+   the body came in with. An unstable engine (:mod:`~orchestrator.studies.engine_watch`) ends
+   the study with an error naming the realisation, before any page is written. A realisation's
+   demand is its largest strike (each demand's largest over its bodies' strikes); a
+   realisation that never strikes has demand 0 and stays in the sample (the page states
+   P(strike), and the quantiles given a strike beside the unconditional ones).
 
 The exceedance curves, quantiles and intervals are :mod:`analytical.exceedance`'s; the page,
 the figure and design.json are :mod:`orchestrator.studies.design_report`'s. Everything here
@@ -60,8 +64,9 @@ from orchestrator.scene.scenefile import load_scene
 from orchestrator.studies.design_table import DEMANDS, DESIGN_COLUMNS, allocate, case_names, debris_types, mass_range, \
     realisation_demands
 from orchestrator.studies.engine_watch import engine_watch, raise_if_unstable
-from orchestrator.studies.ensemble import DEFAULT_BATCH_SIZE, EXECUTORS, Perturbation, body_rows, ensemble_flow, \
-    forget_flow, keep_flow, start_clash
+from orchestrator.studies.design_strikes import carried, strike_rows
+from orchestrator.studies.ensemble import DEFAULT_BATCH_SIZE, EXECUTORS, Perturbation, ensemble_flow, forget_flow, \
+    keep_flow, start_clash
 from orchestrator.studies.sweep.executors import dask_executor
 from orchestrator.transport.batch import run_batch
 from orchestrator.transport.case_transport import scene_settings, transport_setup
@@ -140,32 +145,48 @@ def design_starts(bodies: Sequence[TransportBody], flume: FlumeBounds, column: P
 # --------------------------------------------------------------------------- the realisations
 def design_batch(numbers: Sequence[int], starts: Sequence[list[TransportBody]], flume: FlumeBounds,
                  column: PlacedColumn, t_end_s: float, npz: str, settings: TransportSettings) -> list[dict[str, Any]]:
-    """Rows of design.csv (without the case's columns) for realisations ``numbers`` of one case,
-    stepped together in one model (module notes)."""
+    """Rows of design.csv (without the case's columns) for realisations ``numbers`` of one case:
+    the bodies that float at their start (:func:`~orchestrator.studies.design_strikes.carried`)
+    stepped together in one model, every column strike a row with its demands (module notes)."""
     flow = keep_flow(npz)
-    with engine_watch() as caught:
-        if len(starts) == 1:
-            results = [run_transport(list(starts[0]), flume, t_end_s, flow=flow, column=column, settings=settings)]
-        else:
-            results = run_batch(starts, flume, t_end_s, flow=flow, column=column, settings=settings)
-    raise_if_unstable(caught, list(numbers), [len(s) for s in starts])  # an error, not a data point
+    settings = dataclasses.replace(settings, first_pulse_only=True, every_column_pulse=True)
+    t0 = float(flow.t_s[0]) if settings.flow_start_s is None else float(settings.flow_start_s)
+    floats = carried(starts, flow, t0, t_end_s)
+    moving = [k for k, f in enumerate(floats) if any(ok for _, _, ok in f)]
+    bodies_in = [[b for b, (_, _, ok) in zip(starts[k], floats[k]) if ok] for k in moving]
+    results: dict[int, Any] = {}
+    if moving:
+        with engine_watch() as caught:
+            if len(moving) == 1:
+                runs = [run_transport(bodies_in[0], flume, t_end_s, flow=flow, column=column, settings=settings)]
+            else:
+                runs = run_batch(bodies_in, flume, t_end_s, flow=flow, column=column, settings=settings)
+        # an error, not a data point
+        raise_if_unstable(caught, [numbers[k] for k in moving], [len(b) for b in bodies_in])
+        results = dict(zip(moving, runs))
     rows = []
-    for number, result, bodies in zip(numbers, results, starts):
-        wall = result.wall_s + result.pulse_wall_s
-        imp = result.impacts
-        on_column = imp[imp["kind"] == "column"].sort_values("time_s", kind="stable") if len(imp) else imp
+    for k, (number, bodies) in enumerate(zip(numbers, starts)):
+        result = results.get(k)
+        wall = result.wall_s + result.pulse_wall_s if result is not None else 0.0
         start = time.perf_counter()
-        for row, body in zip(body_rows(result, bodies, number, 0.0, column, flume.bed_z_m, study_fit=False), bodies):
-            out = {k: row[k] for k in DESIGN_COLUMNS if k in row}
-            out.update(mass_kg=body.mass_kg, **{k: 0.0 for k in DEMANDS})
-            strikes = on_column[on_column["body"] == body.name] if len(on_column) else on_column
-            pulse = result.pulses.get(int(strikes.iloc[0]["event"])) if len(strikes) else None
-            if pulse is not None:
-                loads = strike_demands(pulse.force, pulse.normal, column.column, float(pulse.contact_height_m))
-                out.update(peak_force_N=float(pulse.peak_force_N), **loads)
-            rows.append(out)
+        first = len(rows)
+        for body, (draft, depth, ok) in zip(bodies, floats[k]):
+            base = {"realisation": number, "body": body.name, "mass_kg": body.mass_kg, "draft_m": draft,
+                    "start_depth_m": depth, "carried": ok, "start_x_m": body.centre_m[0],
+                    "start_y_m": body.centre_m[1], "start_yaw_deg": body.yaw_deg}
+            strikes = strike_rows(result, body, column, flow, t0) if ok and result is not None else []
+            base.update(struck=bool(strikes), strikes=len(strikes))
+            if not strikes:
+                rows.append({**base, "strike": 0, **{key: 0.0 for key in DEMANDS}})
+            for strike in strikes:
+                pulse = strike.pop("pulse")
+                out = {**base, **strike, **{key: 0.0 for key in DEMANDS}}
+                if pulse is not None:
+                    loads = strike_demands(pulse.force, pulse.normal, column.column, float(pulse.contact_height_m))
+                    out.update(peak_force_N=float(pulse.peak_force_N), **loads)
+                rows.append(out)
         wall += time.perf_counter() - start
-        for out in rows[-len(bodies):]:
+        for out in rows[first:]:
             out["wall_time_s"] = round(float(wall), 4)
     return rows
 
@@ -284,6 +305,7 @@ def design(scene_path: str | Path, out_dir: str | Path, sets: Sequence[str] = ()
         forget_flow(str(case.npz))  # one flow held at a time
     table = pd.DataFrame(rows, columns=DESIGN_COLUMNS)
     table["struck"] = table["struck"].astype(bool)
+    table["carried"] = table["carried"].astype(bool)
     files = {"table": out / "design.csv"}
     write_text_atomic(files["table"], table.to_csv(index=False, float_format="%.10g"))
     result = DesignResult(table, cases, {}, files)

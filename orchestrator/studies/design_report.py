@@ -36,7 +36,7 @@ from analytical.pulses import Rectangular
 from orchestrator.core.files import write_json_atomic, write_text_atomic
 from orchestrator.report.figures import WIDTH_IN, empty, pyplot, save_figure
 from orchestrator.scene.schema import Design, column_for_analysis
-from orchestrator.scene.scenefile import load_scene
+from orchestrator.studies.design_advice import advice, advice_lines, demand_lines, fmt_demand
 from orchestrator.studies.design_asce import scene_asce_inputs
 from orchestrator.studies.design_table import DEMANDS, realisation_demands
 
@@ -63,14 +63,12 @@ def code_pulse_demands(force_N: float, duration_s: float, column, height_m: floa
             "R_max": dynamic_response_ratio(duration_s, period, "rectangular", column.damping_ratio)}
 
 
-def asce_values(result, spec: Design, heights_m: np.ndarray, scene=None) -> dict[str, Any]:
+def asce_values(result, spec: Design, heights_m: np.ndarray) -> dict[str, Any]:
     """ASCE 7-22 6.11's values for the study's inputs (module notes): the inputs are the scene's
-    (``scene``, without the cases' overrides; None: the first case's), read by
-    :func:`~orchestrator.studies.design_asce.scene_asce_inputs` as `analytical asce7 --scene` and
-    `analytical impact --scene` read them; u_max the scene's stated ``inundation.speed_m_s``, else the
-    fastest case's at the site; the code's pulse at the strike point k_s is taken at."""
+    (:func:`~orchestrator.studies.design_asce.scene_asce_inputs`, as `analytical asce7 --scene` and
+    `analytical impact --scene` read them), u_max the fastest case's at the site."""
     cases = result.cases
-    scene = cases[0].scene if scene is None else scene
+    scene = cases[0].scene
     column = column_for_analysis(scene)
     inputs = scene_asce_inputs(scene, spec=spec)
     per_case, best = [], None
@@ -90,17 +88,11 @@ def asce_values(result, spec: Design, heights_m: np.ndarray, scene=None) -> dict
                            "importance_I_tsu": inputs.importance, "risk_category": inputs.risk_category,
                            "orientation_C_o": inputs.orientation, "prototype": inputs.prototype,
                            "scale": inputs.scale_reason, "sources": inputs.sources, "values": None}
-    simulated = best
-    if inputs.stated_speed_m_s is not None:
-        best = {"case": None, "u_max_m_s": inputs.stated_speed_m_s,
-                "basis": "the designer's stated speed at the site, inundation.speed_m_s"}
     if best is None:
         return out
     design = inputs.design(best["u_max_m_s"], best["basis"])
     heights = heights_m[np.isfinite(heights_m) & (heights_m > 0)]
     height = float(min(heights.max(), column.height_m)) if heights.size else 0.5 * column.height_m
-    if inputs.strike_height_m is not None:
-        height, heights = inputs.strike_height_m, None
     values = {}
     for label, impact in (("k_s", design.design if design.governing == "k_s" else design.other),
                           ("k_d", design.design if design.governing == "k_d" else design.other)):
@@ -111,10 +103,7 @@ def asce_values(result, spec: Design, heights_m: np.ndarray, scene=None) -> dict
     out.update(values=values, governing=design.governing, binding=design.binding, force_N=design.force_N,
                u_max_m_s=best["u_max_m_s"], u_basis=best["basis"],
                u_case=best["case"], load_height_m=height, cap_N=design.cap_N, cap_note=design.cap_note(),
-               u_simulated_m_s=None if simulated is None else simulated["u_max_m_s"],
-               u_simulated_case=None if simulated is None else simulated["case"],
-               height_basis="the strike point of k_s" if heights is None
-               else "the highest contact height any realisation struck at" if heights.size
+               height_basis="the highest contact height any realisation struck at" if heights.size
                else "half the column's height (no realisation struck)")
     return out
 
@@ -133,7 +122,7 @@ def summarise(result, scene_path, sets: list[str], spec: Design, wall: dict[str,
     strike = exceedance([per.loc[per["case"] == c.name, "struck"].to_numpy(float) for c in cases], weights,
                         spec.confidence).exceeds(0.5)
     heights = result.table.loc[result.table["struck"], "impact_height_m"].to_numpy(float)
-    asce = asce_values(result, spec, heights, load_scene(scene_path, list(sets)))
+    asce = asce_values(result, spec, heights)
     demands = {}
     for key, (label, unit) in DEMANDS.items():
         exc = exceedance(groups[key], weights, spec.confidence)
@@ -158,7 +147,7 @@ def summarise(result, scene_path, sets: list[str], spec: Design, wall: dict[str,
             "intervals": {"exceedance": "Clopper-Pearson (pointwise) on effective counts",
                           "curve": "DKW simultaneous band, half-width dkw_halfwidth",
                           "quantiles": "the pointwise band inverted; upper null: more realisations needed"},
-            "demands": demands, "asce": asce, **wall}
+            "demands": demands, "asce": asce, **advice(result, per, spec.confidence, QUANTILES, asce), **wall}
 
 
 def figure_exceedance(result, summary: dict[str, Any]):
@@ -247,7 +236,7 @@ def markdown(summary: dict[str, Any]) -> str:
     lines = [f"# Design demands: {summary['scene']}", "", f"**{summary['conditional']}**", "",
              f"{summary['realisations']} realisations (seed {summary['seed']}); P(strike) = {p['probability']:.4g} "
              f"({conf} interval {p['lower']:.3g} to {p['upper']:.3g}). A realisation that never strikes is a demand "
-             "of 0 and stays in every curve. Intervals: " + "; ".join(f"{k}: {v}" for k, v in
+             "of 0 in the unconditional curves and quantiles; given a strike, it is left out. Intervals: " + "; ".join(f"{k}: {v}" for k, v in
                                                                        summary["intervals"].items()) + ".", "",
              "## Inundation cases", "", "| case | overrides | weight | realisations | P(strike) | u_max (m/s) |",
              "|---|---|---|---|---|---|"]
@@ -260,18 +249,13 @@ def markdown(summary: dict[str, Any]) -> str:
     lines += ["", f"Draws (uniform where a range is given): mass {_range(draws['mass_kg'], 'kg')}, heading "
                   f"{_range(draws['heading_deg'], 'deg')}, start x {_range(draws['start_x_m'], 'm')}, start y "
                   f"{_range(draws['start_y_m'], 'm')}.", "",
-              "## Demands", "", f"Quantiles with their {conf} intervals ('-': more realisations needed).", "",
-              "| demand | P50 | P90 | P99 | largest |", "|---|---|---|---|---|"]
-    for d in summary["demands"].values():
-        cells = [f"{_num(q['value'])} [{_num(q['lower'])}, {_num(q['upper'])}]" for q in d["quantiles"].values()]
-        lines.append(f"| {d['label']} ({d['unit']}) | {' | '.join(cells)} | {_num(d['max'])} |")
+              *advice_lines(summary), *demand_lines(summary)]
     lines += ["", "## ASCE 7-22 Section 6.11 for the same inputs", ""]
     if asce["values"] is None:
         lines.append("No site speed and no strike: no ASCE value to set beside the curves.")
     else:
-        case = "" if asce["u_case"] is None else f", case {asce['u_case']}"
-        lines += [f"F_i = I_tsu C_o u_max sqrt(k m_d) with u_max = {asce['u_max_m_s']:.3g} m/s ({asce['u_basis']}"
-                  f"{case}), m_d = {asce['mass_kg']:.4g} kg (the heaviest drawn), I_tsu = "
+        lines += [f"F_i = I_tsu C_o u_max sqrt(k m_d) with u_max = {asce['u_max_m_s']:.3g} m/s ({asce['u_basis']}, "
+                  f"case {asce['u_case']}), m_d = {asce['mass_kg']:.4g} kg (the heaviest drawn), I_tsu = "
                   f"{asce['importance_I_tsu']:g} (risk category {asce['risk_category']}), C_o = "
                   f"{asce['orientation_C_o']:g}, k_s = {asce['structure_stiffness_N_m']:.4g} N/m, k_d = "
                   f"{asce['debris_stiffness_N_m']:.4g} N/m; {asce['governing']} is the lesser stiffness; "
@@ -281,14 +265,13 @@ def markdown(summary: dict[str, Any]) -> str:
                   f"{asce['load_height_m']:.3g} m ({asce['height_basis']}), read through the pulse and after it.", "",
                   "The code's dynamic response ratio (the column's first mode, an SDOF of its period T1 and "
                   "damping, under the rectangular pulse): R_max = max response / static response.", "",
-                  "| line | F (N) | t_d (s) | T1 (s) | t_d/T1 | R_max |", "|---|---|---|---|---|---|",
-                  *[f"| {k}{' (capped)' if v['capped'] else ''} | {_num(v['peak_force_N'])} | {_num(v['duration_s'])} "
+                  "| line | F | t_d (s) | T1 (s) | t_d/T1 | R_max |", "|---|---|---|---|---|---|",
+                  *[f"| {k}{' (capped)' if v['capped'] else ''} | {_force(v['peak_force_N'])} | {_num(v['duration_s'])} "
                     f"| {_num(v['first_period_s'])} | {_num(v['td_over_T1'], 3)} | {_num(v['R_max'], 3)} |"
                     for k, v in asce["values"].items()], "",
                   "Where each input comes from:", "",
-                  f"- u_max: {asce['u_basis']}; the simulated flow's largest, two column widths upstream of the face "
-                  f"(orchestrator/results/asce_design.py): {_num(asce.get('u_simulated_m_s'), 3)} m/s in case "
-                  f"{asce.get('u_simulated_case')}",
+                  f"- u_max: {asce['u_basis']} (two column widths upstream of the face, "
+                  "orchestrator/results/asce_design.py), in the fastest case",
                   *[f"- {k}: {v}" for k, v in asce["sources"].items()], "",
                   "| demand | with k_s | P(exceed k_s value) | with k_d | P(exceed k_d value) |",
                   "|---|---|---|---|---|"]
@@ -296,10 +279,11 @@ def markdown(summary: dict[str, Any]) -> str:
             cells = []
             for k in ("k_s", "k_d"):
                 e = d["asce"][k]
-                cells += [_num(asce["values"][k][key]), f"{e['probability']:.3g} [{e['lower']:.3g}, {e['upper']:.3g}]"]
-            lines.append(f"| {d['label']} ({d['unit']}) | {' | '.join(cells)} |")
+                cells += [fmt_demand(asce["values"][k][key], d["unit"]), f"{e['probability']:.3g} [{e['lower']:.3g}, {e['upper']:.3g}]"]
+            lines.append(f"| {d['label']} | {' | '.join(cells)} |")
     lines += ["", "![exceedance](exceedance.png)", "",
-              "Files: design.csv (one row per realisation and body), design.json (these figures), exceedance.png.",
+              "Files: design.csv (one row per strike, and per body that never struck), design.json (these figures), "
+              "exceedance.png.",
               f"Wall time {summary['wall_time_s']:g} s (flows {summary['flow_phase_wall_s']:g} s) on "
               f"{summary['executor']} with {summary['workers']} worker(s).", ""]
     return "\n".join(lines)

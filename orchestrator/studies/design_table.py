@@ -21,15 +21,19 @@ __all__ = ["DEMANDS", "DESIGN_COLUMNS", "allocate", "case_names", "debris_types"
 DEMANDS = {"peak_force_N": ("peak impact force", "N"), "base_shear_N": ("base shear", "N"),
            "base_moment_Nm": ("base moment", "N m"), "top_displacement_m": ("top displacement", "m")}
 
-DESIGN_COLUMNS = ["case", "realisation", "case_weight", "sample_weight", "body", "mass_kg", "start_x_m",
-                  "start_y_m", "start_yaw_deg", "struck", "strikes", "impact_time_s", "impact_speed_m_s",
-                  "impact_velocity_m_s", "impact_height_m", "obliquity_deg", "duration_s", "impulse_Ns",
-                  *DEMANDS, "wall_time_s"]
-"""design.csv: one row per realisation and body: its case and weights (the case's, normalised,
-and each of its realisations' share ``case_weight / n_case``), the body's drawn mass and start,
-its first column strike (time, centre speed, normal velocity, contact height, obliquity,
-pulse duration and impulse) and its demands (0 when it never struck); the realisation's share
-of the batch's wall time."""
+DESIGN_COLUMNS = ["case", "realisation", "case_weight", "sample_weight", "body", "mass_kg", "draft_m", "start_depth_m",
+                  "carried", "start_x_m", "start_y_m", "start_yaw_deg", "struck", "strikes", "strike", "impact_time_s",
+                  "impact_speed_m_s", "impact_velocity_m_s", "flow_speed_m_s", "flow_speed_max_m_s", "impact_height_m",
+                  "face", "obliquity_deg", "eccentricity_m", "torsion_Nm", "duration_s", "impulse_Ns", *DEMANDS,
+                  "wall_time_s"]
+"""design.csv: one row per column strike (``strike`` 1, 2, ... of its body, in time order), and
+one row for a body that never struck (``strike`` 0, demands 0): its case and weights (the
+case's, normalised, and each of its realisations' share ``case_weight / n_case``), the body's
+drawn mass and start, its draft and the deepest water at its start (``carried`` False: it
+cannot float there and is not carried), its number of column strikes, then the strike: time,
+centre speed, normal velocity, the water it came in with (depth-averaged and fastest), contact
+height, face, obliquity, eccentricity and torsion (:mod:`orchestrator.studies.design_strikes`),
+pulse duration and impulse, and its demands; the realisation's share of the batch's wall time."""
 
 
 def allocate(n: int, weights: Sequence[float]) -> list[int]:
@@ -71,7 +75,10 @@ def debris_types(scene) -> dict[str, str | None]:
 
 
 def realisation_demands(table: pd.DataFrame) -> pd.DataFrame:
-    """One row per (case, realisation): each demand's largest over its bodies, whether any body
-    struck, and the realisation's sample weight."""
+    """One row per (case, realisation): each demand's largest over its strikes (every strike of
+    every body), whether any body struck, its number of column strikes, and its sample weight."""
     agg = {k: "max" for k in DEMANDS} | {"struck": "any", "sample_weight": "first", "case_weight": "first"}
-    return table.groupby(["case", "realisation"], sort=False).agg(agg).reset_index()
+    table = table.assign(strikes_counted=(pd.to_numeric(table["strike"], errors="coerce").fillna(0) > 0).astype(int))
+    agg["strikes_counted"] = "sum"
+    per = table.groupby(["case", "realisation"], sort=False).agg(agg).reset_index()
+    return per.rename(columns={"strikes_counted": "strikes"})

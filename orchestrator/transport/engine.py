@@ -100,6 +100,9 @@ class TransportSettings:
     separation_s: float = 0.005
     min_impact_velocity_m_s: float = 0.05
     first_pulse_only: bool = False
+    #: with ``first_pulse_only``: every column strike gets its pulse, not only a body's first
+    #: (the design study: a realisation's demand is its largest strike); walls and pairs none
+    every_column_pulse: bool = False
     hydro: HydroCoefficients = field(default_factory=HydroCoefficients)
     #: None: the run starts at t = 0. A speed (m/s): bodies that all start at rest begin at the
     #: last record frame up to which the water at every sub-volume of every body moves slower
@@ -281,7 +284,7 @@ def run_transport(bodies, flume: FlumeBounds, t_end_s: float, flow: FlowField | 
     surface = (lambda x, y, t: flow.surface(x, y, t0 + t)) if flow is not None else None
     book = EventBook(built.geom_owner, built.geom_names, bodies, built.body_ids, built.dof_adr, column,
                      flume.bed_z_m, settings.separation_s, surface, settings.min_impact_velocity_m_s,
-                     settings.first_pulse_only, _front_at_face_s(flow, column, t0))
+                     settings.first_pulse_only, _front_at_face_s(flow, column, t0), settings.every_column_pulse)
     mass = np.array([b.mass_kg for b in bodies])
     inertia = np.array([b.inertia_kg_m2 for b in bodies])
     # the water each body carries (body axes): translation (kg) and rotation (kg m^2), as the

@@ -35,7 +35,8 @@ keeps each result; the column's base shear (about 15 ms a strike) is computed at
 (:meth:`EventBook.finish`) for the strikes that are reported, so its cost is counted apart from
 the stepping. With ``first_pulse_only`` a body's later column strikes (its rebound sequence)
 and the wall and body-body strikes are tabled without loads (NaN), which is all an ensemble of
-starts reads; they are resolved all the same.
+starts reads; they are resolved all the same. ``every_column_pulse`` (the design study) gives
+every column strike its pulse and still none to the walls and body pairs.
 """
 
 from __future__ import annotations
@@ -108,7 +109,8 @@ class EventBook:
 
     def __init__(self, owner, geom_names, bodies, body_ids, dof_adr, column=None, bed_z_m: float = 0.0,
                  separation_s: float = 0.005, surface=None, min_impact_velocity_m_s: float = 0.05,
-                 first_pulse_only: bool = False, front_at_face_s: float = math.nan):
+                 first_pulse_only: bool = False, front_at_face_s: float = math.nan,
+                 every_column_pulse: bool = False):
         self.owner = np.asarray(owner)
         self.front_at_face_s = float(front_at_face_s)
         self.body_ids = np.asarray(body_ids)
@@ -121,6 +123,7 @@ class EventBook:
         self.surface = surface
         self.min_impact_velocity_m_s = float(min_impact_velocity_m_s)
         self.first_pulse_only = bool(first_pulse_only)
+        self.every_column_pulse = bool(every_column_pulse)
         self.last_seen: dict[tuple, float] = {}
         self.open: dict[tuple, _Event] = {}
         self.touching: set[tuple] = set()
@@ -230,8 +233,10 @@ class EventBook:
             if e.kind == "body":
                 pairs.append(self._pair_row(e))
             else:
-                # first_pulse_only: a pulse for each body's first column strike only
-                pulse = not self.first_pulse_only or (e.kind == "column" and e.body not in struck)
+                # first_pulse_only: a pulse for each body's first column strike only (every
+                # column strike's with every_column_pulse), none for the walls
+                pulse = not self.first_pulse_only or (e.kind == "column" and (self.every_column_pulse
+                                                                             or e.body not in struck))
                 impacts.append(self._impact_row(e, pulse=pulse))
                 if e.kind == "column":
                     struck.add(e.body)
