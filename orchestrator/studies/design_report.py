@@ -36,6 +36,7 @@ from analytical.pulses import Rectangular
 from orchestrator.core.files import write_json_atomic, write_text_atomic
 from orchestrator.report.figures import WIDTH_IN, empty, pyplot, save_figure
 from orchestrator.scene.schema import Design, column_for_analysis
+from orchestrator.scene.scenefile import load_scene
 from orchestrator.studies.design_advice import advice, advice_lines, demand_lines, fmt_demand
 from orchestrator.studies.design_asce import scene_asce_inputs
 from orchestrator.studies.design_table import DEMANDS, realisation_demands
@@ -63,12 +64,14 @@ def code_pulse_demands(force_N: float, duration_s: float, column, height_m: floa
             "R_max": dynamic_response_ratio(duration_s, period, "rectangular", column.damping_ratio)}
 
 
-def asce_values(result, spec: Design, heights_m: np.ndarray) -> dict[str, Any]:
+def asce_values(result, spec: Design, heights_m: np.ndarray, scene=None) -> dict[str, Any]:
     """ASCE 7-22 6.11's values for the study's inputs (module notes): the inputs are the scene's
-    (:func:`~orchestrator.studies.design_asce.scene_asce_inputs`, as `analytical asce7 --scene` and
-    `analytical impact --scene` read them), u_max the fastest case's at the site."""
+    (``scene``, without the cases' overrides; None: the first case's), read by
+    :func:`~orchestrator.studies.design_asce.scene_asce_inputs` as `analytical asce7 --scene` and
+    `analytical impact --scene` read them; u_max the scene's stated ``inundation.speed_m_s``, else the
+    fastest case's at the site; the code's pulse at the strike point k_s is taken at."""
     cases = result.cases
-    scene = cases[0].scene
+    scene = cases[0].scene if scene is None else scene
     column = column_for_analysis(scene)
     inputs = scene_asce_inputs(scene, spec=spec)
     per_case, best = [], None
@@ -88,11 +91,17 @@ def asce_values(result, spec: Design, heights_m: np.ndarray) -> dict[str, Any]:
                            "importance_I_tsu": inputs.importance, "risk_category": inputs.risk_category,
                            "orientation_C_o": inputs.orientation, "prototype": inputs.prototype,
                            "scale": inputs.scale_reason, "sources": inputs.sources, "values": None}
+    simulated = best
+    if inputs.stated_speed_m_s is not None:
+        best = {"case": None, "u_max_m_s": inputs.stated_speed_m_s,
+                "basis": "the designer's stated speed at the site, inundation.speed_m_s"}
     if best is None:
         return out
     design = inputs.design(best["u_max_m_s"], best["basis"])
     heights = heights_m[np.isfinite(heights_m) & (heights_m > 0)]
     height = float(min(heights.max(), column.height_m)) if heights.size else 0.5 * column.height_m
+    if inputs.strike_height_m is not None:
+        height, heights = inputs.strike_height_m, None
     values = {}
     for label, impact in (("k_s", design.design if design.governing == "k_s" else design.other),
                           ("k_d", design.design if design.governing == "k_d" else design.other)):
@@ -103,7 +112,10 @@ def asce_values(result, spec: Design, heights_m: np.ndarray) -> dict[str, Any]:
     out.update(values=values, governing=design.governing, binding=design.binding, force_N=design.force_N,
                u_max_m_s=best["u_max_m_s"], u_basis=best["basis"],
                u_case=best["case"], load_height_m=height, cap_N=design.cap_N, cap_note=design.cap_note(),
-               height_basis="the highest contact height any realisation struck at" if heights.size
+               u_simulated_m_s=None if simulated is None else simulated["u_max_m_s"],
+               u_simulated_case=None if simulated is None else simulated["case"],
+               height_basis="the strike point of k_s" if heights is None
+               else "the highest contact height any realisation struck at" if heights.size
                else "half the column's height (no realisation struck)")
     return out
 
@@ -122,7 +134,7 @@ def summarise(result, scene_path, sets: list[str], spec: Design, wall: dict[str,
     strike = exceedance([per.loc[per["case"] == c.name, "struck"].to_numpy(float) for c in cases], weights,
                         spec.confidence).exceeds(0.5)
     heights = result.table.loc[result.table["struck"], "impact_height_m"].to_numpy(float)
-    asce = asce_values(result, spec, heights)
+    asce = asce_values(result, spec, heights, load_scene(scene_path, list(sets)))
     demands = {}
     for key, (label, unit) in DEMANDS.items():
         exc = exceedance(groups[key], weights, spec.confidence)
@@ -254,8 +266,9 @@ def markdown(summary: dict[str, Any]) -> str:
     if asce["values"] is None:
         lines.append("No site speed and no strike: no ASCE value to set beside the curves.")
     else:
-        lines += [f"F_i = I_tsu C_o u_max sqrt(k m_d) with u_max = {asce['u_max_m_s']:.3g} m/s ({asce['u_basis']}, "
-                  f"case {asce['u_case']}), m_d = {asce['mass_kg']:.4g} kg (the heaviest drawn), I_tsu = "
+        case = "" if asce["u_case"] is None else f", case {asce['u_case']}"
+        lines += [f"F_i = I_tsu C_o u_max sqrt(k m_d) with u_max = {asce['u_max_m_s']:.3g} m/s ({asce['u_basis']}"
+                  f"{case}), m_d = {asce['mass_kg']:.4g} kg (the heaviest drawn), I_tsu = "
                   f"{asce['importance_I_tsu']:g} (risk category {asce['risk_category']}), C_o = "
                   f"{asce['orientation_C_o']:g}, k_s = {asce['structure_stiffness_N_m']:.4g} N/m, k_d = "
                   f"{asce['debris_stiffness_N_m']:.4g} N/m; {asce['governing']} is the lesser stiffness; "
@@ -270,8 +283,9 @@ def markdown(summary: dict[str, Any]) -> str:
                     f"| {_num(v['first_period_s'])} | {_num(v['td_over_T1'], 3)} | {_num(v['R_max'], 3)} |"
                     for k, v in asce["values"].items()], "",
                   "Where each input comes from:", "",
-                  f"- u_max: {asce['u_basis']} (two column widths upstream of the face, "
-                  "orchestrator/results/asce_design.py), in the fastest case",
+                  f"- u_max: {asce['u_basis']}; the simulated flow's largest, two column widths upstream of the face "
+                  f"(orchestrator/results/asce_design.py): {_num(asce.get('u_simulated_m_s'), 3)} m/s in case "
+                  f"{asce.get('u_simulated_case')}",
                   *[f"- {k}: {v}" for k, v in asce["sources"].items()], "",
                   "| demand | with k_s | P(exceed k_s value) | with k_d | P(exceed k_d value) |",
                   "|---|---|---|---|---|"]
