@@ -58,7 +58,7 @@ def strike_point(scene: Scene) -> tuple[float | None, str]:
     if scene.inundation is not None:
         depth = float(scene.inundation.depth_m)
         if depth < length:
-            return depth, f"the scene's inundation depth (inundation.depth_m, {depth:g} m)"
+            return depth, "the scene's inundation depth, inundation.depth_m"
         if cantilever:
             return length, f"the column's top ({length:g} m; the inundation depth, {depth:g} m, is over it)"
         return 0.5 * length, (f"mid-height, the member's softest point (the inundation depth, {depth:g} m, reaches "
