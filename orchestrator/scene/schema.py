@@ -62,7 +62,7 @@ __all__ = [
 
 
 class ColumnSection(SceneSection):
-    """The obstacle: a rectangular box standing on the floor, centred at (x_m, y_m).
+    """The obstacle: a box on the floor centred at (x_m, y_m).
 
     The structural fields match :class:`analytical.column.Column` (same names, same
     defaults for the measured values) so :func:`column_for_analysis` can build one. With
@@ -77,7 +77,7 @@ class ColumnSection(SceneSection):
         None, description="a prototype column by section; null = the fields below as given")
     size_x_m: float = Field(gt=0, description="footprint along the flow (m); from `section` when given")
     size_y_m: float = Field(gt=0, description="footprint across the flow (m); from `section` when given")
-    height_m: float = Field(gt=0, description="height above the floor (m); at most 100 m (a storey is 3-6 m)")
+    height_m: float = Field(gt=0, description="height above the floor (m), at most 100 m")
     wall_thickness_m: float = Field(gt=0, description="wall of the hollow section (m); from `section` when given")
     section_area_m2: float | None = Field(None, gt=0, description="section area A (m2); null = the box's")
     section_second_moment_m4: float | None = Field(
