@@ -51,13 +51,19 @@ def holds_case(case: Path, scene) -> bool:
         existing = load_scene(folder.scene_path)
     except InputError:
         return False
-    coupling = (folder.plan() or {}).get("debris_coupling")
-    return same_case(existing, scene, coupling or "none")  # no plan.json: no one-way case
+    return same_case(existing, scene, _coupling(folder))
+
+
+def _coupling(folder: CaseFolder) -> str:
+    """The case's debris coupling (plan.json); "none" without a readable plan (no one-way case)."""
+    plan = folder.model_plan()
+    return plan.debris_coupling if plan else "none"
 
 
 def _plan_warnings(case: Path) -> list[str]:
     """The planner's warnings recorded in the case's plan.json."""
-    return list((CaseFolder(case).plan() or {}).get("warnings", []))
+    plan = CaseFolder(case).model_plan()
+    return list(plan.warnings) if plan else []
 
 
 def prepare_case(scene_path: str | Path, out_dir: str | Path, sets: Sequence[str] = (),
@@ -90,7 +96,7 @@ def _retransport(case: Path, scene, sets: Sequence[str]) -> bool:
     the bodies are carried again through the recorded flow (:func:`carry_debris`). False when
     the folder is not such a case."""
     folder = CaseFolder(case)
-    if (folder.plan() or {}).get("debris_coupling") != "one-way" or not folder.scene_path.is_file():
+    if _coupling(folder) != "one-way" or not folder.scene_path.is_file():
         return False
     try:
         existing = load_scene(folder.scene_path)
@@ -143,7 +149,7 @@ def carry_debris(case: str | Path, already: bool = False, quiet: bool = False) -
     bodies were carried through this very record before.
     """
     folder = CaseFolder(case)
-    if (folder.plan() or {}).get("debris_coupling") != "one-way":
+    if _coupling(folder) != "one-way":
         return None
     if already and "transport" in (folder.run_record() or {}):
         return None

@@ -140,7 +140,7 @@ def test_run_of_a_missing_folder_names_it(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("plan, said", [("garbage", "could not be read"),
-                                        ("{}", "not a debrisfoam plan (missing 'solver')")])
+                                        ("{}", "has no 'scene_name'")])
 def test_run_of_a_case_whose_plan_json_is_broken_names_the_file(tmp_path, capsys, plan, said):
     """plan.json is the case's record of its plan: unreadable or not a plan, it is bad input (was exit 1)."""
     (tmp_path / "plan.json").write_text(plan)
@@ -149,7 +149,8 @@ def test_run_of_a_case_whose_plan_json_is_broken_names_the_file(tmp_path, capsys
     assert f"{tmp_path / 'plan.json'}: plan.json: {said}" in err
 
 
-PLAN = '{"solver": "interFoam", "decomposition": {"n": [1, 1, 1]}, "domain_m": [[0, 1], [0, 1], [0, 1]]}'
+#: a plan.json `debrisfoam render` wrote (a tiny interFoam case on 2 ranks)
+PLAN = (ROOT / "tests" / "data" / "post" / "tiny-nodebris" / "plan.json").read_text()
 CONTROL = "FoamFile { version 2.0; format ascii; class dictionary; object controlDict; }\nendTime 1;\n"
 
 

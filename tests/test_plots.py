@@ -284,7 +284,7 @@ def test_tracks_have_no_empty_band_and_the_areas_stay_inside(real):
         assert plan_box.y1 > 0.8
         patches = [p for p in plan.patches if "deg" in p.get_label()]
         assert len(patches) == 2
-        walls = results.data.plan["domain_m"][1]
+        walls = results.data.plan.domain_m[1]
         for p in patches:
             assert p.get_clip_path() is None and p.get_clip_box() is not None  # the axes clip them
             y = p.get_path().vertices[:, 1]

@@ -454,7 +454,7 @@ def test_impacts_carry_the_water_level_at_the_column_face_and_whether_the_body_f
     assert row["face_water_level_m"] == pytest.approx(np.interp(row["time_s"], g["time_s"], g["WG4_elevation_m"]))
     track = results.bodies[results.bodies["body"] == row["body"]]
     at = track.iloc[int(np.argmin(np.abs(track["time_s"] - row["time_s"])))]
-    half = np.array(results.data.plan["bodies"][0]["size_m"]) / 2
+    half = np.array(results.data.plan.bodies[0].size_m) / 2
     q_z = np.abs([at["q_zx"], at["q_zy"], at["q_zz"]])
     assert row["body_clearance_m"] == pytest.approx(at["z_m"] - q_z @ half - results.data.bed_z_m)
     assert row["body_clearance_m"] > AFLOAT_CLEARANCE_M and row["afloat"]

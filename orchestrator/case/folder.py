@@ -19,7 +19,9 @@ from typing import Any
 
 from foamlib import FoamCase
 
+from orchestrator.core.errors import InputError
 from orchestrator.core.files import read_json, read_json_object, write_json_atomic, write_text_atomic
+from orchestrator.plan.model import ModelPlan
 
 SCENE_YAML = "scene.yaml"
 PLAN_JSON = "plan.json"
@@ -58,7 +60,7 @@ class CaseFolder:
     """A case folder on disk: where each record lives, and reading and writing them.
 
     >>> folder = CaseFolder("runs/1debris")          # doctest: +SKIP
-    >>> folder.plan()["cell_count"]                  # doctest: +SKIP
+    >>> folder.model_plan().cell_count               # doctest: +SKIP
     """
 
     def __init__(self, path: str | Path):
@@ -117,9 +119,48 @@ class CaseFolder:
 
     # ------------------------------------------------------------------ records
     def plan(self, notes: list[str] | None = None) -> dict | None:
-        """plan.json, or None when missing or unreadable (a line added to ``notes``)."""
+        """plan.json as a raw mapping, or None when missing or unreadable (a line added to ``notes``).
+        Read only by the modules tests/test_layers.py allows; every other reader takes
+        :meth:`model_plan`."""
         data = read_json(self.plan_path, notes)
         return data if isinstance(data, dict) else None
+
+    def model_plan(self, notes: list[str] | None = None) -> ModelPlan | None:
+        """plan.json as the planner's :class:`ModelPlan`, or None when missing, unreadable or not
+        the plan `debrisfoam render` writes (a line added to ``notes`` says why)."""
+        data = self.plan(notes)
+        if data is None:
+            return None
+        try:
+            return self._typed_plan(data)
+        except InputError as exc:
+            if notes is not None:
+                notes.append(f"{self.plan_path.name} is not a plan this debrisfoam reads ({exc.field}: {exc.rule}); "
+                             "ignored")
+            return None
+
+    def require_plan(self) -> ModelPlan:
+        """plan.json as the planner's :class:`ModelPlan`; InputError naming the file when it is
+        missing, unreadable or not the plan `debrisfoam render` writes."""
+        path = self.plan_path
+        if not path.is_file():
+            raise InputError("plan.json", f"missing: render the case first (debrisfoam render SCENE -o {self.path})",
+                             str(path))
+        notes: list[str] = []
+        data = self.plan(notes)
+        if data is None:
+            why = notes[0].removeprefix(f"{path.name} ").removesuffix("; ignored") if notes else "not a JSON object"
+            raise InputError("plan.json", why, str(path))
+        return self._typed_plan(data)
+
+    def _typed_plan(self, data: dict) -> ModelPlan:
+        try:
+            return ModelPlan.from_dict(data)
+        except InputError as exc:
+            raise exc.with_source(str(self.plan_path)) from None
+        except (KeyError, TypeError, ValueError, AttributeError, IndexError) as exc:
+            raise InputError("plan.json", f"not the plan `debrisfoam render` writes ({exc!r})",
+                             str(self.plan_path)) from None
 
     def run_record(self, notes: list[str] | None = None) -> dict | None:
         """run.json, or None when missing or unreadable."""

@@ -79,8 +79,8 @@ def figure_tracks(results, comp):
     scene = data.scene
     bodies = results.bodies
     x_lo, x_hi, y_lo, y_hi = None, None, None, None
-    if data.plan and data.plan.get("domain_m"):
-        (x_lo, x_hi), (y_lo, y_hi) = data.plan["domain_m"][0], data.plan["domain_m"][1]
+    if data.plan:
+        (x_lo, x_hi), (y_lo, y_hi) = data.plan.domain_m[0], data.plan.domain_m[1]
     elif scene is not None:
         (x_lo, x_hi), (y_lo, y_hi), _ = flume_extent(scene)
     # frame: the debris path, the column, the gauges and the start of the spreading areas

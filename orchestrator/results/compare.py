@@ -236,9 +236,9 @@ def arrival_table(scene, gauge_summary: pd.DataFrame) -> pd.DataFrame:
 
 
 def _body_geometry(data, body: str) -> tuple[float, tuple[float, float, float]] | None:
-    for b in (data.plan or {}).get("bodies", []):
-        if b["name"] == body:
-            return float(b["mass_kg"]), tuple(float(v) for v in b["size_m"])
+    for b in (data.plan.bodies if data.plan else ()):
+        if b.name == body:
+            return float(b.mass_kg), tuple(float(v) for v in b.size_m)
     if data.scene is not None:
         for b in data.scene.debris:
             if b.name == body:
@@ -397,7 +397,7 @@ def _seed_procedure(results, column, notes: list[str]):
 
 def _source_points(data) -> np.ndarray:
     """Initial debris centroids (x, y), m: the plan's bodies, else the scene's."""
-    pts = [b["centre_of_mass_m"][:2] for b in (data.plan or {}).get("bodies", [])]
+    pts = [b.centre_of_mass_m[:2] for b in (data.plan.bodies if data.plan else ())]
     if not pts and data.scene is not None:
         pts = [b.centre_m[:2] for b in data.scene.debris]
     return np.asarray(pts, dtype=float).reshape(-1, 2)
@@ -438,7 +438,7 @@ def _spreading(results) -> tuple[pd.DataFrame, dict[str, np.ndarray]]:
     areas: dict[str, np.ndarray] = {}
     if src.size == 0:
         return pd.DataFrame(), areas
-    x_end = float(data.plan["domain_m"][0][1]) if data.plan else float(src[:, 0].max() + 5.0)
+    x_end = float(data.plan.domain_m[0][1]) if data.plan else float(src[:, 0].max() + 5.0)
     for name, spec in SPREADING_ANGLES_DEG.items():
         areas[name] = spreading_area(src, spec["half_angle_deg"], x_end)
     rows = []

@@ -16,6 +16,7 @@ import re
 import numpy as np
 import pandas as pd
 
+from orchestrator.plan.model import GaugePlan
 from orchestrator.results.metrics import (
     ARRIVAL_FRACTION,
     ARRIVAL_THRESHOLD_FALLBACK_M,
@@ -39,7 +40,7 @@ def gauge_tables(data: CaseData, threshold_m: float | None) -> tuple[pd.DataFram
     :data:`~orchestrator.results.metrics.ARRIVAL_FRACTION` of the impoundment depth).
     """
     samples = read_gauge_samples(data.case)
-    plan_gauges = {g["name"]: g for g in (data.plan or {}).get("gauges", [])}
+    plan_gauges = {g.name: g for g in data.plan.gauges} if data.plan else {}
     faces = _gauge_cell_faces(data)
     threshold = threshold_m
     if threshold is None:
@@ -49,7 +50,7 @@ def gauge_tables(data: CaseData, threshold_m: float | None) -> tuple[pd.DataFram
     rows = []
     for name in names:
         records = samples[name]
-        g = plan_gauges.get(name, {})
+        g = plan_gauges.get(name)
         t, e, obstructed = _elevations(records, data.bed_z_m, g, faces)
         series[name] = pd.Series(e, index=t)
         rows.append(_summary_row(data, name, g, t, e, threshold) | {
@@ -63,13 +64,13 @@ def gauge_tables(data: CaseData, threshold_m: float | None) -> tuple[pd.DataFram
     return wide, pd.DataFrame(rows, columns=GAUGE_SUMMARY_COLUMNS)
 
 
-def _elevations(records, bed: float, gauge: dict, faces) -> tuple[np.ndarray, np.ndarray, int]:
+def _elevations(records, bed: float, gauge: GaugePlan | None, faces) -> tuple[np.ndarray, np.ndarray, int]:
     """(times, elevations, obstructed samples) of one gauge's samples; NaN where obstructed."""
     diffs = [np.diff(np.sort(z)) for _, z, _ in records if z.size > 1]
     positive = np.concatenate(diffs) if diffs else np.empty(0)
     positive = positive[positive > 0]
     spacing = float(positive.min()) if positive.size else None
-    top = float(gauge.get("z_top", max((float(z.max()) for _, z, _ in records if z.size), default=bed)))
+    top = float(gauge.z_top if gauge else max((float(z.max()) for _, z, _ in records if z.size), default=bed))
     values, obstructed = [], 0
     for _, z, a in records:
         h, coverage = gauge_elevation(z, a, bed, top, spacing, faces)
@@ -80,9 +81,9 @@ def _elevations(records, bed: float, gauge: dict, faces) -> tuple[np.ndarray, np
     return np.array([r[0] for r in records]), np.array(values), obstructed
 
 
-def _summary_row(data: CaseData, name: str, gauge: dict, t: np.ndarray, e: np.ndarray, threshold: float) -> dict:
+def _summary_row(data: CaseData, name: str, gauge: GaugePlan | None, t: np.ndarray, e: np.ndarray, threshold: float) -> dict:
     """A gauge's position, initial level, arrival and peak."""
-    x, y = gauge.get("x", float("nan")), gauge.get("y", float("nan"))
+    x, y = (gauge.x, gauge.y) if gauge else (float("nan"), float("nan"))
     finite = np.isfinite(e)
     first = float(e[finite][0]) if finite.any() else float("nan")
     t_first = float(t[finite][0]) if finite.any() else float("nan")
@@ -126,12 +127,12 @@ def _gauge_cell_faces(data: CaseData) -> np.ndarray | None:
     except OSError:
         return None
     scheme = re.search(r"\bgauges\s*\{[^}]*?interpolationScheme\s+(\w+)\s*;", control)
-    segments = ((data.plan or {}).get("background") or {}).get("z")
+    segments = data.plan.background.z if data.plan else ()
     if not scheme or scheme.group(1) != "cell" or not segments:
         return None
-    faces = [float(segments[0]["start_m"])]
+    faces = [float(segments[0].start_m)]
     for seg in segments:  # blockMesh's simpleGrading: geometric cells, last over first = grading
-        a, b, n, r = float(seg["start_m"]), float(seg["end_m"]), int(seg["cells"]), float(seg.get("grading", 1.0))
+        a, b, n, r = float(seg.start_m), float(seg.end_m), int(seg.cells), float(seg.grading)
         sizes = np.ones(n) if n == 1 or abs(r - 1.0) < 1e-12 else (r ** (1.0 / (n - 1))) ** np.arange(n)
         faces += list(a + np.cumsum(sizes) / sizes.sum() * (b - a))
     return np.array(faces)

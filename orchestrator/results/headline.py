@@ -37,8 +37,8 @@ def _cells(data: CaseData) -> int | None:
     for key in ("total", "planned"):
         if cells.get(key):
             return int(cells[key])
-    if data.plan and data.plan.get("cell_count"):
-        return int(data.plan["cell_count"])
+    if data.plan and data.plan.cell_count:
+        return int(data.plan.cell_count)
     return None
 
 

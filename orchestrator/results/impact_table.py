@@ -107,11 +107,11 @@ def _face_gauge(data: CaseData) -> str | None:
     col = scene.column
     face = col.x_m - col.size_x_m / 2
     best = None
-    for g in data.plan.get("gauges", []):
-        dx = face - float(g.get("x", np.nan))
-        if 0.0 <= dx <= FACE_GAUGE_REACH_M and abs(float(g.get("y", np.nan)) - col.y_m) <= col.size_y_m / 2:
+    for g in data.plan.gauges:
+        dx = face - float(g.x)
+        if 0.0 <= dx <= FACE_GAUGE_REACH_M and abs(float(g.y) - col.y_m) <= col.size_y_m / 2:
             if best is None or dx < best[0]:
-                best = (dx, g["name"])
+                best = (dx, g.name)
     return best[1] if best else None
 
 
@@ -132,12 +132,12 @@ def impact_context(data: CaseData, impacts: pd.DataFrame, gauges: pd.DataFrame, 
     elif data.scene is not None and data.scene.column is not None:
         missing.append("no gauge at the column's upstream face: impacts.csv's water level there is the one-way "
                        "flow record's where there is one, else none (add a gauge with `at: column_upstream_face`)")
-    sizes = {b["name"]: np.asarray(b["size_m"], float) for b in (data.plan or {}).get("bodies", [])}
+    sizes = {b.name: np.asarray(b.size_m, float) for b in (data.plan.bodies if data.plan else ())}
     if not sizes and data.scene is not None:  # one-way: the bodies are the scene's
         sizes = {b.name: np.asarray(b.size_m, float) for b in data.scene.debris}
     if bodies.empty or not sizes:
         return out
-    gap = float((data.plan or {}).get("bed_gap_m", 0.0) or 0.0)
+    gap = float(data.plan.bed_gap_m or 0.0) if data.plan else 0.0
     clearances = [_clearance(data, bodies, sizes, r.body, float(r.time_s)) for r in out.itertuples()]
     out["body_clearance_m"] = [np.nan if c is None else c for c in clearances]
     out["afloat"] = [None if c is None else bool(c > gap + AFLOAT_CLEARANCE_M) for c in clearances]

@@ -28,6 +28,7 @@ from orchestrator.core.errors import DebrisfoamError, InputError
 from orchestrator.case.bodystate import read_body_properties
 from orchestrator.case.folder import EPS_T, CaseFolder
 from orchestrator.case.outputs import numeric_dirs
+from orchestrator.plan.model import ModelPlan
 from orchestrator.run.monitor import parse_log
 from orchestrator.scene.scenefile import load_scene
 from orchestrator.scene.schema import column_for_analysis
@@ -54,7 +55,7 @@ class CaseData:
     """
 
     case: Path
-    plan: dict | None
+    plan: ModelPlan | None
     scene: Any | None
     run: dict | None
     solver: str | None
@@ -68,15 +69,15 @@ class CaseData:
         except Exception:  # an unreadable dictionary: fall back on the plan
             names = []
         if not names and self.plan:
-            names = [b["name"] for b in self.plan.get("bodies", [])]
+            names = [b.name for b in self.plan.bodies]
         if not names and self.scene is not None:  # one-way: the bodies are the scene's, not the flow's
             names = [b.name for b in self.scene.debris]
         return names
 
     @property
     def body_masses_kg(self) -> dict[str, float]:
-        if self.plan and self.plan.get("bodies"):
-            return {b["name"]: float(b["mass_kg"]) for b in self.plan["bodies"]}
+        if self.plan and self.plan.bodies:
+            return {b.name: float(b.mass_kg) for b in self.plan.bodies}
         if self.scene is not None:
             return {b.name: float(b.mass_kg) for b in self.scene.debris}
         return {}
@@ -87,8 +88,8 @@ class CaseData:
 
     @property
     def bed_z_m(self) -> float:
-        if self.plan and self.plan.get("domain_m"):
-            return float(self.plan["domain_m"][2][0])
+        if self.plan:
+            return float(self.plan.domain_m[2][0])
         return 0.0
 
     def column_base_m(self) -> np.ndarray | None:
@@ -112,10 +113,10 @@ def load_case(case_dir: str | Path) -> CaseData:
                                      "(render one with `debrisfoam render SCENE -o DIR`)", str(case))
     folder = CaseFolder(case.resolve())
     notes: list[str] = []
-    plan = folder.plan(notes)
+    plan = folder.model_plan(notes)
     run = folder.run_record(notes)
     scene = _load_scene(folder, notes)
-    solver = (run or {}).get("solver") or (plan or {}).get("solver")
+    solver = (run or {}).get("solver") or (plan.solver if plan else None)
     column = column_for_analysis(scene) if scene is not None and scene.column is not None else None
     return CaseData(folder.path, plan, scene, run, solver, column, notes)
 

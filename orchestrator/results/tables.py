@@ -207,7 +207,7 @@ def atmosphere_warning(data: CaseData, balance: pd.DataFrame | None) -> str | No
     loss = atmosphere_loss(balance)
     if loss is None or loss[1] is None:
         return None
-    top = ((data.plan or {}).get("domain_m") or [None, None, [None, None]])[2][1]
+    top = data.plan.domain_m[2][1] if data.plan else None
     where = f" at z = {top:.3g} m" if top is not None else ""
     return (f"water left through the top of the air space{where}: {loss[0] * 100:.2f} % of the initial water "
             f"by the end (past {ATMOSPHERE_LOSS_WARNING * 100:g} % at t = {loss[1]:.3g} s); the water balance "

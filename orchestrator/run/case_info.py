@@ -8,32 +8,17 @@ read once, from plan.json, system/controlDict and constant/dynamicMeshDict.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from orchestrator.case import bodystate
 from orchestrator.case.bodystate import BodyProperties
 from orchestrator.case.folder import CaseFolder
 from orchestrator.core.errors import InputError
+from orchestrator.plan.model import ModelPlan
 from orchestrator.run.control import read_control
 
 __all__ = ["CaseInfo", "load_case_info"]
-
-
-@dataclass(frozen=True)
-class NamedBody:
-    name: str
-
-
-@dataclass(frozen=True)
-class MeshStepsPlan:
-    """What :func:`orchestrator.case.foam.mesh_steps` needs of a plan, read from plan.json and
-    constant/dynamicMeshDict: the solver, the decomposition, the bed friction and the bodies' names."""
-
-    solver: str
-    decomposition: tuple
-    bed_friction_per_m: float  # the drag layer's Forchheimer coefficient (0: no drag layer)
-    bodies: tuple[NamedBody, ...]
 
 
 @dataclass(frozen=True)
@@ -44,7 +29,9 @@ class CaseInfo:
 
     case: Path
     solver: str
-    plan: MeshStepsPlan  # what foam.mesh_steps / solve_steps read
+    #: the case's plan.json, its bodies those of constant/dynamicMeshDict (what foam.mesh_steps /
+    #: solve_steps read)
+    plan: ModelPlan
     ranks: int
     planned_cells: int
     end_time_s: float
@@ -74,32 +61,13 @@ class CaseInfo:
         return tuple(b.name for b in self.bodies)
 
 
-def _read_plan(folder: CaseFolder) -> dict:
-    plan_path = folder.plan_path
-    if not plan_path.is_file():
-        raise InputError("plan.json", f"missing: render the case first (debrisfoam render SCENE -o {folder.path})",
-                         str(plan_path))
-    notes: list[str] = []
-    plan = folder.plan(notes)
-    if plan is None:
-        why = notes[0].removeprefix(f"{plan_path.name} ").removesuffix("; ignored") if notes else "not a JSON object"
-        raise InputError("plan.json", why, str(plan_path))
-    return plan
-
-
 def load_case_info(case_dir: str | Path, np_override: int | None = None) -> CaseInfo:
     """Read plan.json, system/controlDict and constant/dynamicMeshDict of a rendered case."""
     case = Path(case_dir).resolve()
     folder = CaseFolder(case)
-    plan = _read_plan(folder)
-    try:
-        solver = plan["solver"]
-        n = tuple(int(v) for v in plan["decomposition"]["n"])
-        domain = tuple(tuple(float(v) for v in a) for a in plan["domain_m"])
-    except (KeyError, TypeError) as exc:
-        raise InputError("plan.json", f"not a debrisfoam plan (missing {exc})", str(folder.plan_path)) from None
+    plan = folder.require_plan()
     control = read_control(case)
-    ranks = int(np_override) if np_override else n[0] * n[1] * n[2]
+    ranks = int(np_override) if np_override else plan.cores
     if ranks < 1:
         raise InputError("--np", f"must be >= 1, got {ranks}")
     try:  # a file foamlib cannot parse raises its DictionaryError, a ValueError
@@ -107,35 +75,32 @@ def load_case_info(case_dir: str | Path, np_override: int | None = None) -> Case
     except (KeyError, TypeError, ValueError) as exc:
         raise InputError(str(bodystate.DYNAMIC_MESH_DICT), f"not the dictionary `debrisfoam render` writes ({exc!r})",
                          str(case)) from None
-    sizes = {b["name"]: tuple(float(v) for v in b["size_m"]) for b in plan.get("bodies", [])}
-    missing = [b.name for b in bodies if b.name not in sizes]
+    planned = {b.name: b for b in plan.bodies}
+    missing = [b.name for b in bodies if b.name not in planned]
     if missing:
         raise InputError("bodies", f"no size for bodies {missing} of constant/dynamicMeshDict", str(folder.plan_path))
-    steps_plan = MeshStepsPlan(solver, n, float(plan.get("bed_friction_per_m", 0.0)),
-                               tuple(NamedBody(b.name) for b in bodies))
     return CaseInfo(
         case=case,
-        solver=solver,
-        plan=steps_plan,
+        solver=plan.solver,
+        plan=replace(plan, bodies=tuple(planned[b.name] for b in bodies)),
         ranks=ranks,
-        planned_cells=int(plan.get("cell_count", 0)),
+        planned_cells=int(plan.cell_count),
         end_time_s=float(control["endTime"]),
         write_interval_s=float(control["writeInterval"]),
-        velocity_scale_m_s=float(plan.get("velocity_scale_m_s") or 5.0),
-        water_depth_m=float(plan.get("water_depth_m") or 0.0),
+        velocity_scale_m_s=float(plan.velocity_scale_m_s or 5.0),
+        water_depth_m=float(plan.water_depth_m or 0.0),
         adjustable_time_step=str(control["adjustTimeStep"]).lower() in ("yes", "on", "true", "1")
         if "adjustTimeStep" in control else False,
         max_courant=float(control["maxCo"]) if "maxCo" in control else 1.0,
         delta_t_s=float(control["deltaT"]),
         max_delta_t_s=float(control["maxDeltaT"]) if "maxDeltaT" in control else float(
-            plan.get("max_delta_t_s") or control["deltaT"]),
-        domain_m=domain,
-        two_d=bool(plan.get("two_d", False)),
-        downstream_type=str(plan.get("downstream_type", "wall")),
+            plan.max_delta_t_s or control["deltaT"]),
+        domain_m=tuple(tuple(float(v) for v in a) for a in plan.domain_m),
+        two_d=bool(plan.two_d),
+        downstream_type=str(plan.downstream_type),
         bodies=bodies,
-        body_sizes_m=sizes,
-        holds=tuple((str(b["name"]), float(b["hold_until_s"])) for b in plan.get("bodies", [])
-                    if float(b.get("hold_until_s") or 0.0) > 0.0),
-        stall_limit_s=float(plan["stall_limit_s"]) if plan.get("stall_limit_s") else None,
-        water_balance_limit=float(plan["water_balance_limit"]) if plan.get("water_balance_limit") else None,
+        body_sizes_m={b.name: tuple(float(v) for v in b.size_m) for b in plan.bodies},
+        holds=tuple((b.name, float(b.hold_until_s)) for b in plan.bodies if float(b.hold_until_s or 0.0) > 0.0),
+        stall_limit_s=float(plan.stall_limit_s) if plan.stall_limit_s else None,
+        water_balance_limit=float(plan.water_balance_limit) if plan.water_balance_limit else None,
     )
