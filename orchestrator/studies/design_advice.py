@@ -41,8 +41,8 @@ from analytical.study_comparison import SEED_IMPACT_COUNT
 from orchestrator.studies.design_strikes import FACES
 from orchestrator.studies.design_table import DEMANDS
 
-__all__ = ["LAW_FORCE_SE", "OBLIQUE_DEG", "RECOMMENDED", "band", "fmt_demand", "given_strike", "recommendation",
-           "strike_summary"]
+__all__ = ["LAW_FORCE_SE", "OBLIQUE_DEG", "RECOMMENDED", "advice", "advice_lines", "band", "conditional_exceedance",
+           "demand_lines", "fmt_demand", "given_strike", "recommendation", "strike_summary"]
 
 #: The fractile the page recommends, given a strike (module notes: the tool's convention).
 RECOMMENDED = ("P90", 0.90)
@@ -55,25 +55,25 @@ LAW_FORCE_SE = SEED_TABLE2_MDOF["peak_force_N"][1] / math.sqrt(SEED_IMPACT_COUNT
 OBLIQUE_DEG = 30.0
 
 
-def given_strike(per: pd.DataFrame, cases, confidence: float, quantiles: dict[str, float]) -> dict[str, Any]:
-    """Each demand's quantiles given a strike (module notes): ``per`` is one row per realisation
-    (:func:`~orchestrator.studies.design_table.realisation_demands`); None where nothing struck."""
-    groups, weights = {k: [] for k in DEMANDS}, []
+def conditional_exceedance(per: pd.DataFrame, cases, key: str, confidence: float):
+    """``key``'s exceedance given a strike (module notes), or None when nothing struck."""
+    groups, weights = [], []
     for c in cases:
         mine = per[(per["case"] == c.name) & per["struck"].astype(bool)]
         n = int((per["case"] == c.name).sum())
-        if not len(mine) or not n:
-            continue
-        weights.append(c.weight * len(mine) / n)
-        for k in DEMANDS:
-            groups[k].append(mine[k].to_numpy(float))
+        if len(mine) and n:
+            weights.append(c.weight * len(mine) / n)
+            groups.append(mine[key].to_numpy(float))
+    return exceedance(groups, weights, confidence) if weights else None
+
+
+def given_strike(per: pd.DataFrame, cases, confidence: float, quantiles: dict[str, float]) -> dict[str, Any]:
+    """Each demand's quantiles given a strike (module notes): ``per`` is one row per realisation
+    (:func:`~orchestrator.studies.design_table.realisation_demands`); None where nothing struck."""
     out: dict[str, Any] = {"strikes": int(per["struck"].astype(bool).sum())}
     for k in DEMANDS:
-        if not weights:
-            out[k] = None
-            continue
-        exc = exceedance(groups[k], weights, confidence)
-        out[k] = {name: exc.quantile(p).to_dict() for name, p in quantiles.items()}
+        exc = conditional_exceedance(per, cases, k, confidence)
+        out[k] = None if exc is None else {name: exc.quantile(p).to_dict() for name, p in quantiles.items()}
     return out
 
 
@@ -224,9 +224,9 @@ def advice_lines(summary: dict[str, Any]) -> list[str]:
         lines += ["No realisation struck the column: no design value from the curves.", ""]
     else:
         law = next(iter(rec["demands"].values()))["band"]
-        flow = (f"times {law['flow_low']:.3g} to {law['flow_high']:.3g}, each case's stated speed at the column "
+        flow = (f" and times {law['flow_low']:.3g} to {law['flow_high']:.3g}, each case's stated speed at the column "
                 "over its simulated flow's there (a peak force is linear in the strike's speed)" if law["flow_stated"]
-                else "not known: no case states its speed at the column (inundation.speed_m_s)")
+                else "; the flow's part is not known: no case states its speed at the column (inundation.speed_m_s)")
         lines += [f"**Recommended: {rec['fractile']} given a strike x I_tsu ({rec['importance_I_tsu']:g}).** "
                   "The tool's convention, not a code's: ASCE 7-22 6.11 assumes the debris strikes, so the value "
                   "set beside its F_i is the one given a strike; a characteristic load is an upper fractile of its "
@@ -241,7 +241,7 @@ def advice_lines(summary: dict[str, Any]) -> list[str]:
                          f"{fmt_demand(d['upper'], unit) if d['upper'] is not None else '(more realisations needed)'} |")
         lines += ["", f"The band: the quantile's {conf} interval (the realisations' sampling), times 1 ± "
                       f"{law['law_relative'] * 100:.1f} % (the contact law's calibration: the standard error of the "
-                      f"mean peak force it was fitted to, {LAW_FORCE_SE * 100:.1f} %, at {conf}), {flow}. Not in it: "
+                      f"mean peak force it was fitted to, {LAW_FORCE_SE * 100:.1f} %, at {conf}){flow}. Not in it: "
                       "a full-scale law's difference from the laboratory one and the flow model's error beyond its "
                       "speed at the site.", ""]
     per = s["strikes_per_striking_realisation"]

@@ -37,7 +37,8 @@ from orchestrator.core.files import write_json_atomic, write_text_atomic
 from orchestrator.report.figures import WIDTH_IN, empty, pyplot, save_figure
 from orchestrator.scene.schema import Design, column_for_analysis
 from orchestrator.scene.scenefile import load_scene
-from orchestrator.studies.design_advice import advice, advice_lines, demand_lines, fmt_demand
+from orchestrator.studies.design_advice import advice, advice_lines, conditional_exceedance, demand_lines, \
+    fmt_demand
 from orchestrator.studies.design_asce import scene_asce_inputs
 from orchestrator.studies.design_table import DEMANDS, realisation_demands
 
@@ -180,6 +181,14 @@ def figure_exceedance(result, summary: dict[str, Any]):
         ax.fill_between(curve["level"], np.maximum(curve["lower"], 1e-12), curve["upper"], step="pre", alpha=0.25,
                         color="C0", lw=0, label=f"{conf} interval of each probability (Clopper-Pearson)")
         ax.step(curve["level"], curve["probability"], where="pre", color="C0", label="this tool's realisations")
+        given = conditional_exceedance(per, result.cases, key, summary["confidence"])
+        if given is not None:
+            g = given.curve()
+            ax.step(g["level"], g["probability"], where="pre", color="C2", ls="--", label="given a strike")
+        rec = summary.get("recommended")
+        if rec is not None:
+            ax.axvline(rec["demands"][key]["value"], color="C2", ls=":", lw=1.2,
+                       label=f"recommended: {rec['fractile']} given a strike x I_tsu")
         floor = max(float(curve["probability"].min()) / 3.0, 1e-5)
         for name, q in summary["demands"][key]["quantiles"].items():
             ax.plot([q["value"]], [1.0 - QUANTILES[name]], "k.", ms=5)
