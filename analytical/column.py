@@ -178,6 +178,9 @@ class Column:
         if n > MAX_ELEMENTS:
             raise InputError("column.elements", f"{n:,} elements is a dense eigenproblem of {2 * n:,} degrees of "
                              f"freedom (about {48 * (2 * n) ** 2 / 1e9:.3g} GB): at most {MAX_ELEMENTS:,}")
+        if self.ends == "fixed-fixed" and n < 2:
+            raise InputError("column.elements", "must be >= 2 for a fixed-fixed member (one element held at both "
+                             f"ends has nothing free to move), got {n}")
         object.__setattr__(self, "elements", n)
 
         for name in ("section_area_m2", "section_second_moment_m4", "base_spring_Nm_rad"):

@@ -102,3 +102,9 @@ def test_bad_ends_are_named():
     with pytest.raises(InputError) as err:
         Column(ends="fixed-fixed", base="spring", base_spring_Nm_rad=1e6)
     assert err.value.field == "column.base"
+    with pytest.raises(InputError) as err:
+        member("fixed-fixed", elements=1)
+    assert err.value.field == "column.elements"
+    # two elements: the mid-node alone, still the closed form there (192 E I / L^3)
+    two = member("fixed-fixed", elements=2)
+    assert lateral_stiffness(two, L / 2) == pytest.approx(192 * two.bending_stiffness_Nm2 / L**3, rel=1e-7)
