@@ -4,13 +4,12 @@ and tests/test_bed_friction.py run the real thing)."""
 
 from __future__ import annotations
 
-import json
-
 import numpy as np
 import pytest
 
 from conftest import ROOT, run_cli
 from orchestrator.case import bodystate
+from orchestrator.case.folder import CaseFolder
 from orchestrator.run import body_policy, waterdepth
 from orchestrator.run.bedwatch import BedWatch, breakaway_ratio, footprint_mean_radius, underside_m
 from orchestrator.case.bodystate import BodyState
@@ -73,10 +72,10 @@ def test_the_ring_is_kept_off_the_other_bodies_overset_holes():
 
 
 def test_the_columns_ring_the_bodies_kept_on_the_bed_one_point_per_layer(case):
-    plan = json.loads((case / "plan.json").read_text())
+    plan = CaseFolder(case).require_plan()
     axis = waterdepth.z_axis(plan, waterdepth._scene(case))
-    assert axis.z.max() > max(w["max_m"][2] for w in plan["water"])  # up to the reservoir's level
-    assert axis.dz[:4] == pytest.approx([plan["bed_gap_m"] / 4] * 4)  # the gap's four layers
+    assert axis.z.max() > max(w.max_m[2] for w in plan.water)  # up to the reservoir's level
+    assert axis.dz[:4] == pytest.approx([plan.bed_gap_m / 4] * 4)  # the gap's four layers
     # a still 25 mm wet bed read through its layers: exactly 25 mm
     wet = axis.z < 0.025
     assert float(axis.dz[wet].sum()) == pytest.approx(0.025)
@@ -100,8 +99,7 @@ def test_the_columns_ring_the_bodies_kept_on_the_bed_one_point_per_layer(case):
 def test_a_point_sampled_in_a_body_mesh_as_well_counts_once(case, tmp_path):
     # v1912's sets writes a point that lies in a body's overset mesh once per mesh: a still 25 mm
     # bed read through such a column must still be 25 mm, not twice that
-    plan = json.loads((case / "plan.json").read_text())
-    axis = waterdepth.z_axis(plan, waterdepth._scene(case))
+    axis = waterdepth.z_axis(CaseFolder(case).require_plan(), waterdepth._scene(case))
     wet = axis.z < 0.025
     rows = [(x, 0.0, z, 1.0 if w else 0.0) for x in (0.1, 0.5) for z, w in zip(axis.z, wet)]
     rows += [(0.5, 0.0, z, 1.0 if w else 0.0) for z, w in zip(axis.z, wet)]  # x = 0.5: in a body mesh on the other rank too

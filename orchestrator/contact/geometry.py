@@ -188,16 +188,11 @@ class Obstacles:
 @dataclass(frozen=True)
 class ModelledDomain:
     """Where the CFD has walls: the modelled domain (``((x0, x1), (y0, y1), (z0, z1))``, m) and
-    what its downstream end is (``"wall"`` or ``"outlet"``). A :class:`~orchestrator.plan.model.ModelPlan`
-    has both; :meth:`from_plan_json` reads them from a plan.json mapping."""
+    what its downstream end is (``"wall"`` or ``"outlet"``), as a :class:`~orchestrator.plan.model.ModelPlan`
+    has them."""
 
     domain_m: tuple
     downstream_type: str
-
-    @classmethod
-    def from_plan_json(cls, plan: dict) -> "ModelledDomain":
-        return cls(tuple(tuple(float(v) for v in axis) for axis in plan["domain_m"]),
-                   str(plan.get("downstream_type", "wall")))
 
 
 def scene_obstacles(scene: Scene, plan=None) -> Obstacles:
@@ -209,7 +204,7 @@ def scene_obstacles(scene: Scene, plan=None) -> Obstacles:
     modelled domain's boundaries are used instead (``plan.domain_m``; its upstream end is a
     wall also when the reservoir is cut short, and the downstream end is a wall only if
     ``plan.downstream_type == "wall"``): those are where the CFD has walls. Any object with
-    ``domain_m`` and ``downstream_type`` serves (:class:`ModelledDomain` from a plan.json).
+    ``domain_m`` and ``downstream_type`` serves (:class:`ModelledDomain`).
     """
     if plan is not None:
         (x0, x1), (y0, y1), _ = plan.domain_m

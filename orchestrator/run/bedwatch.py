@@ -172,28 +172,26 @@ class BedWatch:
     @classmethod
     def for_case(cls, case: Path, margin_m: float, say: Callable[[str], None], friction: bool = True) -> "BedWatch":
         folder = CaseFolder(case)
-        plan = folder.plan() or {}
+        plan = folder.require_plan()
         scene = yaml.safe_load(folder.scene_path.read_text())
         rho = float(scene.get("fluids", {}).get("water_density_kg_m3", 998.2))
         g = float(scene.get("fluids", {}).get("gravity_m_s2", 9.81))
         mu = {d["name"]: float((d.get("contact") or {}).get("bed_friction_coefficient", 0.3))
               for d in scene.get("debris") or []}
         bodies, initial = {}, {}
-        for b in plan.get("bodies") or []:
-            size = tuple(float(v) for v in b["size_m"])
-            mass = float(b["mass_kg"])
-            bodies[b["name"]] = BodyAfloat(b["name"], mass, size, mass / (rho * size[0] * size[1]),
-                                           mu.get(b["name"], 0.3))
-            x, y = (float(v) for v in b["centre_of_mass_m"][:2])
-            initial[b["name"]] = max((float(w["max_m"][2]) - float(w["min_m"][2]) for w in plan.get("water") or []
-                                      if w["min_m"][0] <= x <= w["max_m"][0] and w["min_m"][1] <= y <= w["max_m"][1]),
-                                     default=0.0)
+        for b in plan.bodies:
+            size = tuple(float(v) for v in b.size_m)
+            mass = float(b.mass_kg)
+            bodies[b.name] = BodyAfloat(b.name, mass, size, mass / (rho * size[0] * size[1]), mu.get(b.name, 0.3))
+            x, y = (float(v) for v in b.centre_of_mass_m[:2])
+            initial[b.name] = max((float(w.max_m[2]) - float(w.min_m[2]) for w in plan.water
+                                   if w.min_m[0] <= x <= w.max_m[0] and w.min_m[1] <= y <= w.max_m[1]), default=0.0)
         axis = waterdepth.z_axis(plan, scene) if bodies else None
         if axis is not None:
             waterdepth.install(case, axis)  # the lift of every body; columns once a restart needs them
-        bed_z = float(plan["domain_m"][2][0])
+        bed_z = float(plan.domain_m[2][0])
         return cls(case, bodies, axis, margin_m, rho, g, bed_z, initial, say, friction,
-                   gap_m=float(plan.get("bed_gap_m") or 0.0))
+                   gap_m=float(plan.bed_gap_m or 0.0))
 
     # ---- the measurement
     def depth(self, sample: waterdepth.Sample | None, state: BodyState,

@@ -49,7 +49,7 @@ import yaml
 from orchestrator.case.folder import CaseFolder
 from orchestrator.case.outputs import read_force_series
 from orchestrator.core.errors import InputError
-from orchestrator.plan.grid import Segment
+from orchestrator.plan.model import ModelPlan
 
 #: the function object's name, its file in system/ and its folder in postProcessing/
 NAME = "bodyDepth"
@@ -120,15 +120,15 @@ def _scene(case: Path) -> dict[str, Any]:
     return yaml.safe_load(CaseFolder(case).scene_path.read_text())
 
 
-def z_axis(plan: dict[str, Any], scene: dict[str, Any]) -> ZAxis:
+def z_axis(plan: ModelPlan, scene: dict[str, Any]) -> ZAxis:
     """The background's layers up to the highest still water (the reservoir) plus a cell."""
     h = float(scene["mesh"]["cell_size_m"])
-    (z0, z1) = (float(v) for v in plan["domain_m"][2])
-    water_top = max((float(w["max_m"][2]) for w in plan.get("water") or []), default=z1)
+    (z0, z1) = (float(v) for v in plan.domain_m[2])
+    water_top = max((float(w.max_m[2]) for w in plan.water), default=z1)
     planes = {round(z0, 12)}
-    for seg in plan["background"]["z"]:
-        start, end, n = float(seg["start_m"]), float(seg["end_m"]), int(seg["cells"])
-        first, last = Segment(start, end, n, float(seg.get("grading", 1.0))).cell_sizes_m()
+    for seg in plan.background.z:
+        start, end, n = float(seg.start_m), float(seg.end_m), int(seg.cells)
+        first, last = seg.cell_sizes_m()
         q = (last / first) ** (1.0 / (n - 1)) if n > 1 else 1.0
         sizes = first * q ** np.arange(n)  # blockMesh's geometric progression
         planes.update(round(v, 12) for v in start + np.cumsum(sizes) * (end - start) / sizes.sum())
@@ -138,12 +138,12 @@ def z_axis(plan: dict[str, Any], scene: dict[str, Any]) -> ZAxis:
     return ZAxis(0.5 * (planes[1:] + planes[:-1]), np.diff(planes), h)
 
 
-def grid_for(plan: dict[str, Any], axis: ZAxis,
+def grid_for(plan: ModelPlan, axis: ZAxis,
              around: Sequence[tuple[Sequence[float], Sequence[float], Sequence[float]]]) -> Grid:
     """Columns a background cell apart around the bodies `around` ((centre, orientation, size) each):
     the ring `axis.ring_m` off each footprint, widened by `TRAVEL_CELLS` both ways so that it still
     covers the ring of a body that has slid that far."""
-    (x0, x1), (y0, y1), _ = (tuple(float(v) for v in a) for a in plan["domain_m"])
+    (x0, x1), (y0, y1), _ = (tuple(float(v) for v in a) for a in plan.domain_m)
     h = axis.cell_m
     inner, outer = axis.ring_m
     travel = TRAVEL_CELLS * h
@@ -211,10 +211,10 @@ def install(case_dir: str | Path, axis: ZAxis,
     """Write system/bodyDepth (the columns around the bodies `around`, the lift of every body) and
     include it in controlDict's functions (once). The solver reads it when it (re)starts."""
     case = Path(case_dir)
-    plan = CaseFolder(case).plan() or {}
+    plan = CaseFolder(case).require_plan()
     grid = grid_for(plan, axis, around)
     path = case / "system" / NAME
-    text = _function_object(grid, [b["name"] for b in plan.get("bodies") or []])
+    text = _function_object(grid, [b.name for b in plan.bodies])
     if not path.is_file() or path.read_text() != text:
         path.write_text(text)
     control = case / "system" / "controlDict"

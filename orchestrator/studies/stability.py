@@ -37,8 +37,9 @@ from orchestrator.case.outputs import (
     water_balance_summary,
 )
 from orchestrator.contact.events import read_events
-from orchestrator.contact.geometry import BoxState, ModelledDomain, find_contacts, scene_obstacles
+from orchestrator.contact.geometry import BoxState, find_contacts, scene_obstacles
 from orchestrator.core.numbers import finite_or_none
+from orchestrator.plan.model import ModelPlan
 from orchestrator.scene.scenefile import load_scene
 from orchestrator.studies.sweep.store import load_store, read_member_record
 
@@ -79,18 +80,18 @@ class Assessment:
     failed_checks: list[str] = field(default_factory=list)
 
 
-def _clearances(case: Path, plan: dict | None, scene) -> tuple[float | None, str | None, float | None, float | None]:
+def _clearances(case: Path, plan: ModelPlan | None, scene) -> tuple[float | None, str | None, float | None, float | None]:
     """(deepest penetration into column/walls/bodies, into what, deepest bed sink, min clearance)
     over every step of the run's bodies.csv, from the bodies' boxes."""
     tracks_path = case / "bodies.csv"
-    if not plan or not plan.get("bodies") or not tracks_path.is_file() or scene is None:
+    if not plan or not plan.bodies or not tracks_path.is_file() or scene is None:
         return None, None, None, None
     # a restart repeats the step it starts from: keep the later report of each body and time
     tracks = pd.read_csv(tracks_path).drop_duplicates(["time_s", "body"], keep="last")
     if tracks.empty:
         return None, None, None, None
-    bodies = {b["name"]: b for b in plan["bodies"]}
-    obstacles = scene_obstacles(scene, ModelledDomain.from_plan_json(plan))
+    bodies = {b.name: b for b in plan.bodies}
+    obstacles = scene_obstacles(scene, plan)
     q_cols = [f"q_{a}{b}" for a in "xyz" for b in "xyz"]
     deepest, what, sink, clearance = 0.0, None, 0.0, math.inf
     for _, rows in tracks.groupby("time_s", sort=True):
@@ -101,8 +102,8 @@ def _clearances(case: Path, plan: dict | None, scene) -> tuple[float | None, str
                 continue
             rot = np.array([getattr(r, c) for c in q_cols], float).reshape(3, 3)
             states.append(BoxState(r.body, (r.x_m, r.y_m, r.z_m), rot, (r.u_m_s, r.v_m_s, r.w_m_s), (0, 0, 0),
-                                    b["size_m"], b["mass_kg"], b["moment_of_inertia_kg_m2"]))
-            half = 0.5 * np.abs(rot) @ np.asarray(b["size_m"], float)  # the box's half extent in z
+                                    b.size_m, b.mass_kg, b.moment_of_inertia_kg_m2))
+            half = 0.5 * np.abs(rot) @ np.asarray(b.size_m, float)  # the box's half extent in z
             sink = max(sink, -(r.z_m - half[2] - obstacles.bed.point_m[2]))
         for c in find_contacts(states, obstacles, 1.0):
             clearance = min(clearance, c.distance_m)
@@ -152,7 +153,7 @@ def assess(case_dir: str | Path, member: dict | None = None) -> Assessment:
         raise InputError("case_dir", "not a directory", str(case))
     folder = CaseFolder(case)
     run = folder.run_record()
-    plan = folder.plan()
+    plan = folder.model_plan()
     scene = load_scene(folder.scene_path) if folder.scene_path.is_file() else None
     outcome, diagnosis = _outcome(run, member)
     run = run or {}
