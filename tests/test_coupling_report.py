@@ -18,16 +18,13 @@ import pytest
 from analytical.errors import InputError
 from orchestrator.report.coupling import compare_coupling, write_coupling_report
 from tests.conftest import run_cli
-from tests.test_layouts_report import synthetic_case
+from tests.test_layouts_report import plan_json, synthetic_case
 
 
 def _two_way(case: Path, dx: float = 0.0, dz: float = 0.0, dyaw: float = 0.0, strike_s: float | None = None) -> Path:
-    """The synthetic run as a two-way one: its bodies moved by (dx, 0, dz) and turned by dyaw,
-    its first strike at strike_s (None: as it is), its background mesh as large."""
-    plan = json.loads((case / "plan.json").read_text())
-    plan.update(debris_coupling="two-way", background={"cell_count": 900})
-    plan.pop("flow_record", None)
-    (case / "plan.json").write_text(json.dumps(plan))
+    """The synthetic run as a two-way one (the plan of its scene run two-way, on the same background):
+    its bodies moved by (dx, 0, dz) and turned by dyaw, its first strike at strike_s (None: as it is)."""
+    (case / "plan.json").write_text(plan_json(case, debris_coupling="two-way"))
     bodies = pd.read_csv(case / "results" / "bodies.csv")
     bodies["x_m"] += dx
     bodies["z_m"] += dz
@@ -41,10 +38,7 @@ def _two_way(case: Path, dx: float = 0.0, dz: float = 0.0, dyaw: float = 0.0, st
 
 
 def _one_way(case: Path) -> Path:
-    plan = json.loads((case / "plan.json").read_text())
-    plan["background"] = {"cell_count": 900}
-    (case / "plan.json").write_text(json.dumps(plan))
-    return case
+    return case  # synthetic_case's run is one-way
 
 
 def test_the_tracks_differ_by_the_offset_until_the_first_strike(tmp_path):

@@ -188,7 +188,7 @@ BROKEN_CSV = 'a,b\n1,2,3,4\n"x'
 
 def test_report_layouts_of_a_run_whose_results_table_is_broken_names_the_table(tmp_path, capsys):
     (tmp_path / "results").mkdir()
-    (tmp_path / "plan.json").write_text("{}")
+    (tmp_path / "plan.json").write_text(PLAN)
     (tmp_path / "results" / "summary.json").write_text('{"status": "finished"}')
     (tmp_path / "results" / "gauges.csv").write_text(BROKEN_CSV)
     code, err = _cli(capsys, "report", "layouts", tmp_path, "-o", tmp_path / "page")
@@ -292,7 +292,7 @@ def test_report_layouts_of_a_run_whose_plan_json_is_no_plan_names_the_file(tmp_p
     (run / "results" / "summary.json").write_text('{"status": "finished"}')
     out = tmp_path / "page"
     code, err = _cli(capsys, "report", "layouts", run, "-o", out)
-    assert code == 2 and f"{run}: plan.json: not a JSON object" in err, err
+    assert code == 2 and f"{run}: plan.json: not the plan `debrisfoam render` writes" in err, err
     assert not any(out.iterdir())  # the folder -o names is made (and tried) before the runs are read
 
 

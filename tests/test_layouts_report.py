@@ -15,7 +15,9 @@ import pandas as pd
 import pytest
 import yaml
 
+from orchestrator.plan.planner import plan_case
 from orchestrator.report.layouts import find_runs, flow_agreement, layout_row, load_layout, write_layouts_report
+from orchestrator.scene.resolve import scene_from_dict
 from tests.conftest import run_cli
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -33,6 +35,13 @@ def _scene(name: str) -> str:
     return yaml.safe_dump(scene)
 
 
+def plan_json(case: Path, **run) -> str:
+    """The plan.json `debrisfoam render` writes for the case's scene.yaml (its run section changed by ``run``)."""
+    scene = yaml.safe_load((case / "scene.yaml").read_text())
+    scene["run"].update(run)
+    return plan_case(scene_from_dict(scene)).to_json()
+
+
 def _write(path: Path, frame: pd.DataFrame) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
     frame.to_csv(path, index=False)
@@ -43,9 +52,7 @@ def synthetic_case(case: Path, name: str, wg2_offset_m: float = 0.0, force_offse
     two contacts between the bodies, one with a wall."""
     case.mkdir(parents=True)
     (case / "scene.yaml").write_text(_scene(name))
-    (case / "plan.json").write_text(json.dumps({"debris_coupling": "one-way", "solver": "interFoam",
-                                                "domain_m": [[-0.32, 1.6], [-0.2, 0.2], [0.0, 0.3]],
-                                                "flow_record": {"region_m": [[0.8, 1.6], [-0.2, 0.2], [0.0, 0.3]]}}))
+    (case / "plan.json").write_text(plan_json(case))  # one-way: the flow recorded over x = 0.63 to 1.60 m
     (case / "run.json").write_text(json.dumps({
         "status": "finished", "ranks": 2, "runner": {"solver_wall_s": 300.0},
         "steps": [{"name": "blockMesh", "wall_s": 2.0, "exit_status": 0, "log": "log.blockMesh"}],
@@ -121,7 +128,7 @@ def synthetic_sweep(root: Path) -> Path:
     failed = sweep / "ccc"
     failed.mkdir()
     (failed / "scene.yaml").write_text(_scene("two-c"))
-    (failed / "plan.json").write_text(json.dumps({"debris_coupling": "one-way"}))
+    (failed / "plan.json").write_text(plan_json(failed))
     (failed / "run.json").write_text(json.dumps({"status": "failed", "segments": [
         {"log": "log.interFoam", "exit_status": 1}]}))
     (failed / "member.json").write_text(json.dumps({"member": 3, "status": "failed",
@@ -193,7 +200,7 @@ def test_the_page_states_the_figures_and_links_every_figure_it_draws(tmp_path):
     assert "2 contacts between two bodies, from 0.050 s to 0.120 s" in text
     assert "0.10-0.30 m/s" in text
     assert "1 contacts with the flume's side walls, 2 with the record's end walls" in text
-    assert "recorded over x = 0.80 to 1.60 m" in text and "Reached the end: debris1 from 0.180 s (x = 1.60 m)" in text
+    assert "recorded over x = 0.63 to 1.60 m" in text and "Reached the end: debris1 from 0.180 s (x = 1.60 m)" in text
     assert "| 45 / 2 / -1 deg |" in text  # debris1's first strike: yaw / pitch / roll
     # the one-way statement: the flows coincide but for what the plans make different; the seed's finding assumed
     assert "two-a and two-b run the same plan: between them, the gauges by at most 2.0 mm" in text

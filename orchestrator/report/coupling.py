@@ -94,8 +94,8 @@ def _checked(path: str | Path, coupling: str, argument: str, allow_stopped: bool
         hint = "; --allow-stopped compares it up to where it stopped" if lay.summary and not allow_stopped else ""
         raise InputError(argument, f"{path} has no finished, post-processed run ({lay.status}: "
                                    f"{lay.error or 'run `debrisfoam post` on it'}{hint})")
-    if lay.plan.get("debris_coupling") != coupling:
-        raise InputError(argument, f"{path} is a {lay.plan.get('debris_coupling')!r} run, not a {coupling} one")
+    if lay.coupling != coupling:
+        raise InputError(argument, f"{path} is a {lay.coupling!r} run, not a {coupling} one")
     return lay
 
 
@@ -212,7 +212,7 @@ def drive_runs(cmp: CouplingComparison, flow: FlowField | None = None) -> Drive:
 
 
 def _background_cells(lay: Layout) -> int | None:
-    return (lay.plan.get("background") or {}).get("cell_count")
+    return lay.plan.background.cell_count() if lay.plan else None
 
 
 def compare_coupling(one_way: str | Path, two_way: str | Path, allow_stopped: bool = False) -> CouplingComparison:

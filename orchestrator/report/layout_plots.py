@@ -74,10 +74,10 @@ def _frame(lay):
     scene = lay.scene
     if scene is not None and scene.column is not None:
         xs += [scene.column.x_m - scene.column.size_x_m, scene.column.x_m + scene.column.size_x_m]
-    region = (lay.plan.get("flow_record") or {}).get("region_m")
+    region = lay.record_region_m
     if xs and region:
         xs += list(region[0])
-    domain = lay.plan.get("domain_m")
+    domain = lay.domain_m
     box = None
     if domain:
         (x0, x1), (y0, y1) = domain[0], domain[1]
@@ -106,7 +106,7 @@ def figure_layout_tracks(lay):
         ax.add_patch(Rectangle((box[0], box[2]), box[1] - box[0], box[3] - box[2], fill=False, lw=1.2, color="0.3",
                                label="walls of the simulated domain"))
     draw_spreading_areas(ax, lay.areas(), box)
-    region = (lay.plan.get("flow_record") or {}).get("region_m")
+    region = lay.record_region_m
     if region and box is not None:  # the transport closes the record's ends with walls
         for x in region[0]:
             ax.plot([x, x], [box[2], box[3]], color="#7b3294", lw=1.2, ls="--", label="ends of the flow record")

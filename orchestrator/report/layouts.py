@@ -44,6 +44,7 @@ from orchestrator.core.errors import InputError
 from orchestrator.case.folder import CaseFolder
 from orchestrator.contact.events import read_events
 from orchestrator.core.files import read_json_object, write_text_atomic
+from orchestrator.plan.model import ModelPlan
 from orchestrator.report import layout_plots
 from orchestrator.report.layout_page import markdown
 from orchestrator.results.compare import SPREADING_ANGLES_DEG, spreading_area
@@ -78,7 +79,7 @@ class Layout:
     error: str | None = None
     log: str | None = None
     scene: Any | None = None
-    plan: dict = field(default_factory=dict)
+    plan: ModelPlan | None = None
     run: dict = field(default_factory=dict)
     member: dict = field(default_factory=dict)
     summary: dict = field(default_factory=dict)
@@ -110,6 +111,21 @@ class Layout:
         return sorted(self.bodies["body"].unique()) if not self.bodies.empty else []
 
     @property
+    def coupling(self) -> str | None:
+        """How the debris met the flow (plan.json debris_coupling); None without a plan."""
+        return self.plan.debris_coupling if self.plan else None
+
+    @property
+    def domain_m(self) -> tuple | None:
+        """((x0, x1), (y0, y1), (z0, z1)) of the modelled flume; None without a plan."""
+        return self.plan.domain_m if self.plan else None
+
+    @property
+    def record_region_m(self) -> tuple | None:
+        """((x0, x1), (y0, y1), (bed, top)) of a one-way run's flow record; None otherwise."""
+        return self.plan.flow_record.region_m if self.plan and self.plan.flow_record else None
+
+    @property
     def slug(self) -> str:
         return "".join(c if c.isalnum() or c in "-_" else "-" for c in self.name)
 
@@ -119,8 +135,7 @@ class Layout:
             return {}
         start = self.bodies.sort_values("time_s", kind="stable").groupby("body", sort=False).first()
         src = start[["x_m", "y_m"]].to_numpy(float)
-        domain = self.plan.get("domain_m")
-        x_end = float(domain[0][1]) if domain else float(src[:, 0].max() + 5.0)
+        x_end = float(self.domain_m[0][1]) if self.domain_m else float(src[:, 0].max() + 5.0)
         return {name: spreading_area(src, spec["half_angle_deg"], x_end) for name, spec in SPREADING_ANGLES_DEG.items()}
 
 
@@ -234,11 +249,10 @@ def impact_table(layout: Layout) -> pd.DataFrame:
 def load_layout(case_dir: str | Path) -> Layout:
     """Read one layout's run (see the module notes); a run without results is read as far as it goes."""
     folder = CaseFolder(case_dir)
-    plan, run = folder.plan(), folder.run_record() or {}
+    plan, run = folder.model_plan(), folder.run_record() or {}
     if plan is None and folder.plan_path.is_file():  # a member folder the sweep never rendered has none
-        raise InputError(folder.plan_path.name, "not a JSON object (the plan `debrisfoam render` writes): render "
-                         "the case again", str(folder.path))
-    plan = plan or {}
+        raise InputError(folder.plan_path.name, "not the plan `debrisfoam render` writes (a JSON object of its "
+                         "keys): render the case again", str(folder.path))
     member_path = folder.path / MEMBER_JSON
     member = read_json_object(member_path) or {}
     summary = folder.summary() or {}
@@ -305,7 +319,7 @@ def _wall(layout: Layout) -> dict[str, float | None]:
 def layout_row(layout: Layout) -> dict[str, Any]:
     """The layout's figures for the page's first table (and layouts.csv)."""
     row: dict[str, Any] = {"layout": layout.name, "status": layout.status, "bodies": len(layout.body_names),
-                           "coupling": layout.plan.get("debris_coupling"), "cells": layout.summary.get("cells"),
+                           "coupling": layout.coupling, "cells": layout.summary.get("cells"),
                            "reached_time_s": layout.summary.get("reached_time_s"), **_wall(layout)}
     strikes = layout.strikes
     per_body = {b: 0 for b in layout.body_names}
