@@ -200,3 +200,23 @@ def test_the_page_recommends_p90_given_a_strike_times_i_tsu_in_kn(tmp_path):
     assert "**Recommended: P90 given a strike x I_tsu (1.25).**" in page and "the tool's convention" in page.lower()
     assert f"**{1.25 * p90 / 1e3:.3g} kN**" in page and "| | given a strike |" in page
     assert "e+0" not in page.split("## ASCE")[0]  # forces in kN or MN, not in raw newtons
+
+
+def test_the_front_celerity_is_stokers_bore_speed_on_a_stoker_record():
+    """Stoker's bore (5.62 m impoundment on a 1.29 m wet bed, the street example's nominal case)
+    sampled as a record: the front's speed 3 to 8 column widths upstream of the face is the
+    bore's celerity S (7.0 m/s), 1.75 times the 4.0 m/s water behind it."""
+    from analytical.dambreak import StokerSolution
+    from orchestrator.studies.design_strikes import front_celerity
+
+    sol = StokerSolution(5.62, 1.29)
+    x, y, t = np.arange(-1.0, 40.01, 0.25), np.linspace(-10.0, 10.0, 3), np.arange(2.0, 6.0, 0.005)
+    depth = np.array([sol.profile(x, max(tk, 1e-9)).depth_m for tk in t])
+    eta = np.broadcast_to(depth[:, :, None], (t.size, x.size, y.size)).copy()
+    flow = FlowField(t, x, y, np.linspace(0.0, 5.62, 3), 0.0, eta, np.zeros((t.size, x.size, y.size, 3, 3)))
+    column = PlacedColumn(35.0, 0.0, Column(size_x_m=1.0, size_y_m=1.0, height_m=5.0))
+    speed = sol.state.shock_speed_m_s
+    assert front_celerity(flow, column) == pytest.approx(speed, rel=0.02)
+    assert speed / sol.state.u2_m_s == pytest.approx(1.75, abs=0.01)
+    far = PlacedColumn(80.0, 0.0, column.column)  # beyond the record: not measured
+    assert front_celerity(flow, far) is None

@@ -64,7 +64,7 @@ from orchestrator.scene.scenefile import load_scene
 from orchestrator.studies.design_table import DEMANDS, DESIGN_COLUMNS, allocate, case_names, debris_types, mass_range, \
     realisation_demands
 from orchestrator.studies.engine_watch import engine_watch, raise_if_unstable
-from orchestrator.studies.design_strikes import carried, strike_rows
+from orchestrator.studies.design_strikes import carried, front_celerity, strike_rows
 from orchestrator.studies.ensemble import DEFAULT_BATCH_SIZE, EXECUTORS, Perturbation, ensemble_flow, forget_flow, \
     keep_flow, start_clash
 from orchestrator.studies.sweep.executors import dask_executor
@@ -79,7 +79,8 @@ __all__ = ["DEMANDS", "DESIGN_COLUMNS", "DesignCase", "DesignResult", "allocate"
 
 @dataclass
 class DesignCase:
-    """One inundation case: its name, overrides, normalised weight, realisations, flow and site."""
+    """One inundation case: its name, overrides, normalised weight, realisations, flow and site
+    (and the front's speed on the column's line, :func:`~orchestrator.studies.design_strikes.front_celerity`)."""
 
     name: str
     sets: list[str]
@@ -90,6 +91,7 @@ class DesignCase:
     npz: Path | None = None
     site: SiteFlow | None = None
     flow_wall_s: float = 0.0
+    front_celerity_m_s: float | None = None
 
 
 @dataclass
@@ -283,6 +285,7 @@ def design(scene_path: str | Path, out_dir: str | Path, sets: Sequence[str] = ()
             say=say, confirmed=confirmed)
         case.site = site_flow_speed(case.flow_case, case.scene)
         bodies, flume, column = transport_setup(case.scene, flow)
+        case.front_celerity_m_s = front_celerity(flow, column)
         types = debris_types(case.scene)
         starts = [design_starts(bodies, flume, column, case.scene.design, k, r, types=types)
                   for r in range(case.realisations)]

@@ -176,8 +176,10 @@ def advice(result, per: pd.DataFrame, confidence: float, quantiles: dict[str, fl
         inundation = getattr(c.scene, "inundation", None) if c.scene is not None else None
         stated = getattr(inundation, "speed_m_s", None)
         site = c.site.u_max_m_s if c.site is not None else None
+        front = getattr(c, "front_celerity_m_s", None)
         speeds.append({"case": c.name, "stated_m_s": stated, "simulated_m_s": site,
-                       "stated_over_simulated": stated / site if stated and site else None})
+                       "stated_over_simulated": stated / site if stated and site else None,
+                       "front_m_s": front, "front_over_simulated": front / site if front and site else None})
     importance = float(asce.get("importance_I_tsu") or 1.0)
     u_max = {c["case"]: c["u_max_m_s"] for c in asce["cases"]}
     return {"given_strike": conditional, "flow_speeds": speeds,
@@ -267,12 +269,15 @@ def advice_lines(summary: dict[str, Any]) -> list[str]:
               f"- Strike speed over its case's simulated u_max: {_ratio(s['speed_over_u_max'])}; over the "
               f"depth-averaged water the body came in with (its last length of travel): "
               f"{_ratio(s['speed_over_flow'])}; over the fastest water over that depth: "
-              f"{_ratio(s['speed_over_fastest_water'])} (that water over u_max: {_ratio(s['fastest_water_over_u_max'])}).",
+              f"{_ratio(s['speed_over_fastest_water'])} (that water over u_max: {_ratio(s['fastest_water_over_u_max'])}); "
+              "the front's speed over u_max: " + (", ".join(f"{f['case']} {f['front_over_simulated']:.2f}" for f in
+                                                         summary["flow_speeds"] if f["front_over_simulated"])
+                                                  or "not measured") + ".",
               "", "Why a strike can outrun u_max: u_max is a depth average two column widths upstream of the face "
               "(ASCE 7-22's flow velocity); a floating body is carried by the water at its draft, near the surface, "
-              "which in a bore runs faster than the depth average (at a breaking front up to the bore's own celerity, "
-              "1.75 times the speed behind it in Stoker's bores of the street example). A strike at most as fast as "
-              "the fastest water it came in with is carried by that water. "
+              "which in a bore runs faster than the depth average, and a body the front picks up can ride it at the "
+              "front's own speed (the cases' table: front, the front's speed 3 to 8 column widths upstream of the "
+              "face). A strike at most as fast as the fastest water it came in with is carried by that water. "
               + (f"{s['faster_than_the_water']} strike(s) ran more than 5 % faster than any water the body came in "
                  "with: the water does not explain them (design.csv, flow_speed_max_m_s)."
                  if s["faster_than_the_water"] else "No strike ran more than 5 % faster than that water."), ""]

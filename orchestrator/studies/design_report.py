@@ -152,6 +152,7 @@ def summarise(result, scene_path, sets: list[str], spec: Design, wall: dict[str,
             "cases": [{"name": c.name, "overrides": c.sets[len(sets):], "weight": c.weight,
                        "realisations": c.realisations, "flow_case": str(c.flow_case),
                        "strike_probability": float(per.loc[per["case"] == c.name, "struck"].mean()),
+                       "front_celerity_m_s": c.front_celerity_m_s,
                        "flow_phase_wall_s": round(c.flow_wall_s, 2)} for c in cases],
             "draws": {"mass_kg": list(spec.mass_kg) if spec.mass_kg else _masses_drawn(result.table),
                       "heading_deg": list(spec.heading_deg) if spec.heading_deg else "placement tolerance",
@@ -259,13 +260,14 @@ def markdown(summary: dict[str, Any]) -> str:
              f"({conf} interval {p['lower']:.3g} to {p['upper']:.3g}). A realisation that never strikes is a demand "
              "of 0 in the unconditional curves and quantiles; given a strike, it is left out. Intervals: " + "; ".join(f"{k}: {v}" for k, v in
                                                                        summary["intervals"].items()) + ".", "",
-             "## Inundation cases", "", "| case | overrides | weight | realisations | P(strike) | u_max (m/s) |",
-             "|---|---|---|---|---|---|"]
+             "## Inundation cases", "", "| case | overrides | weight | realisations | P(strike) | u_max (m/s) | "
+             "front (m/s) |", "|---|---|---|---|---|---|---|"]
     asce = summary["asce"]
     u = {c["case"]: c["u_max_m_s"] for c in asce["cases"]}
     for c in summary["cases"]:
         lines.append(f"| {c['name']} | {', '.join(c['overrides']) or 'the scene as it is'} | {c['weight']:.3g} | "
-                     f"{c['realisations']} | {c['strike_probability']:.3g} | {_num(u.get(c['name']), 3)} |")
+                     f"{c['realisations']} | {c['strike_probability']:.3g} | {_num(u.get(c['name']), 3)} | "
+                     f"{_num(c.get('front_celerity_m_s'), 3)} |")
     draws = summary["draws"]
     lines += ["", f"Draws (uniform where a range is given): mass {_range(draws['mass_kg'], 'kg')}, heading "
                   f"{_range(draws['heading_deg'], 'deg')}, start x {_range(draws['start_x_m'], 'm')}, start y "

@@ -24,6 +24,9 @@ depth, its demands are 0, and the page counts it (:func:`carried`).
   horizontal speed anywhere over that depth (:func:`approach_flow`). A floating body is carried
   by the water at its draft, near the surface, which can be faster than the depth average: a
   strike faster than ``flow_speed_max_m_s`` is one the water around it does not explain.
+
+**The front.** A body the bore's front picks up can ride it at the front's own speed, faster than
+the water behind it; :func:`front_celerity` measures that speed in each case's record.
 """
 
 from __future__ import annotations
@@ -36,8 +39,8 @@ import numpy as np
 from orchestrator.transport.flow import FlowCoverageError, FlowField
 from orchestrator.transport.mujoco_model import PlacedColumn, TransportBody
 
-__all__ = ["FACES", "FLOW_LEVELS", "approach_flow", "carried", "draft_m", "start_depth_m", "strike_geometry",
-           "strike_rows"]
+__all__ = ["FACES", "FLOW_LEVELS", "approach_flow", "carried", "draft_m", "front_celerity", "start_depth_m",
+           "strike_geometry", "strike_rows"]
 
 #: The column's faces by their outward normal (plan): the flow comes from -x.
 FACES = {"upstream": (-1.0, 0.0), "downstream": (1.0, 0.0), "side +y": (0.0, 1.0), "side -y": (0.0, -1.0)}
@@ -129,6 +132,22 @@ def approach_flow(flow: FlowField, track, time_s: float, speed_m_s: float, lengt
     except FlowCoverageError:
         return math.nan, math.nan
     return mean, fastest
+
+
+def front_celerity(flow: FlowField, column: PlacedColumn) -> float | None:
+    """The flow's front speed on the column's line, from its arrivals 8 and 3 column widths
+    upstream of the face (out of the column's reflected wave); None where the record does not
+    cover them or the front does not pass both."""
+    width = column.column.size_x_m
+    face = column.x_m - width / 2.0
+    x0, x1 = face - 8.0 * width, face - 3.0 * width
+    try:
+        t0, t1 = flow.front_arrival_s(x0, column.y_m), flow.front_arrival_s(x1, column.y_m)
+    except FlowCoverageError:
+        return None
+    if not (math.isfinite(t0) and math.isfinite(t1)) or t1 <= t0:
+        return None
+    return (x1 - x0) / (t1 - t0)
 
 
 def strike_rows(result, body: TransportBody, column: PlacedColumn, flow: FlowField | None,
