@@ -1,7 +1,7 @@
 """A design study's page: design.json, exceedance.png and design.md (docs/design.md).
 
 * **Exceedance.** For each demand (:data:`~orchestrator.studies.design.DEMANDS`), the
-  realisations' demands (largest over the bodies; 0 without a strike) grouped by inundation case
+  realisations' demands (their largest strike; 0 without one) grouped by inundation case
   and weighted by it (:func:`analytical.exceedance.exceedance`): the curve ``P(X >= x)`` with
   its pointwise Clopper-Pearson band, the DKW half-width of the simultaneous band, and P50, P90,
   P99 with their intervals (``upper`` None: more realisations needed for that quantile).
@@ -18,6 +18,8 @@
   point up to the inundation depth; the highest strike stands for it), with the code's dynamic
   response ratio ``R_max`` at ``t_d / T1`` (:func:`code_pulse_demands`). Each code value gets
   ``P(X > value)`` with its interval.
+* **What a designer signs** (:mod:`orchestrator.studies.design_advice`): the quantiles given a
+  strike, the recommended design value with its band, and the strikes as they struck.
 """
 
 from __future__ import annotations
