@@ -79,8 +79,8 @@ class Layout:
     error: str | None = None
     log: str | None = None
     scene: Any | None = None
-    plan: ModelPlan | None = None
     run: dict = field(default_factory=dict)
+    plan: ModelPlan | None = None
     member: dict = field(default_factory=dict)
     summary: dict = field(default_factory=dict)
     bodies: pd.DataFrame = field(default_factory=pd.DataFrame)
@@ -261,9 +261,9 @@ def load_layout(case_dir: str | Path) -> Layout:
         (member.get("params") or {}).get("scene") or folder.path.name
     if not summary:
         status, error, log = _failure(folder, run, member)
-        return Layout(name, folder.path, status, error, log, scene, plan, run, member)
+        return Layout(name, folder.path, status, error, log, scene, run, plan, member)
     results = folder.results_dir
-    layout = Layout(name, folder.path, summary.get("status") or "unknown", None, None, scene, plan, run, member,
+    layout = Layout(name, folder.path, summary.get("status") or "unknown", None, None, scene, run, plan, member,
                     summary)
     layout.bodies = _csv(results / "bodies.csv")
     layout.strikes = impact_table(layout)
