@@ -236,13 +236,9 @@ def arrival_table(scene, gauge_summary: pd.DataFrame) -> pd.DataFrame:
 
 
 def _body_geometry(data, body: str) -> tuple[float, tuple[float, float, float]] | None:
-    for b in (data.plan.bodies if data.plan else ()):
+    for b in data.debris:
         if b.name == body:
             return float(b.mass_kg), tuple(float(v) for v in b.size_m)
-    if data.scene is not None:
-        for b in data.scene.debris:
-            if b.name == body:
-                return float(b.mass_kg), tuple(float(v) for v in b.size_m)
     return None
 
 

@@ -132,9 +132,7 @@ def impact_context(data: CaseData, impacts: pd.DataFrame, gauges: pd.DataFrame, 
     elif data.scene is not None and data.scene.column is not None:
         missing.append("no gauge at the column's upstream face: impacts.csv's water level there is the one-way "
                        "flow record's where there is one, else none (add a gauge with `at: column_upstream_face`)")
-    sizes = {b.name: np.asarray(b.size_m, float) for b in (data.plan.bodies if data.plan else ())}
-    if not sizes and data.scene is not None:  # one-way: the bodies are the scene's
-        sizes = {b.name: np.asarray(b.size_m, float) for b in data.scene.debris}
+    sizes = {b.name: np.asarray(b.size_m, float) for b in data.debris}
     if bodies.empty or not sizes:
         return out
     gap = float(data.plan.bed_gap_m or 0.0) if data.plan else 0.0

@@ -63,24 +63,25 @@ class CaseData:
     notes: list[str] = field(default_factory=list)
 
     @property
+    def debris(self) -> tuple:
+        """The case's bodies, each with ``name``, ``mass_kg`` and ``size_m``: the plan's
+        (:class:`~orchestrator.plan.model.BodyPlan`, bodies in the flow), else the scene's
+        (one-way: the bodies are carried through the recorded flow, not in it)."""
+        if self.plan and self.plan.bodies:
+            return self.plan.bodies
+        return tuple(self.scene.debris) if self.scene is not None else ()
+
+    @property
     def body_names(self) -> list[str]:
         try:
             names = [b.name for b in read_body_properties(self.case)]
-        except Exception:  # an unreadable dictionary: fall back on the plan
+        except Exception:  # an unreadable dictionary: fall back on the plan, else the scene
             names = []
-        if not names and self.plan:
-            names = [b.name for b in self.plan.bodies]
-        if not names and self.scene is not None:  # one-way: the bodies are the scene's, not the flow's
-            names = [b.name for b in self.scene.debris]
-        return names
+        return names or [b.name for b in self.debris]
 
     @property
     def body_masses_kg(self) -> dict[str, float]:
-        if self.plan and self.plan.bodies:
-            return {b.name: float(b.mass_kg) for b in self.plan.bodies}
-        if self.scene is not None:
-            return {b.name: float(b.mass_kg) for b in self.scene.debris}
-        return {}
+        return {b.name: float(b.mass_kg) for b in self.debris}
 
     @property
     def depth_m(self) -> float | None:
