@@ -53,6 +53,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache, partial
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -69,26 +70,36 @@ from analytical.contact_law import (
     SEED_IMPACT_VELOCITY_M_S,
     SEED_TABLE1_EVENT,
     SEED_TABLE2_MDOF,
+    STUDY_FIT_DT_S,
+    STUDY_FIT_POST_S,
+    STUDY_FIT_PRE_S,
     ContactLaw,
     column_impact,
     study_fit,
 )
+from analytical.contact_studyfit import HalfSineModes, fast_study_fit
 from analytical.errors import InputError
 
 __all__ = [
     "FIGURES",
     "SEED_IMPACT_COUNT",
     "LawFit",
+    "MultiStart",
     "Population",
     "Scatter",
     "UnitFigures",
     "STUDY_COLUMN",
     "VELOCITY_HEAD_M",
+    "STARTS",
     "calibrate",
+    "calibrate_multistart",
+    "ensemble_population",
+    "half_sine_modes",
     "contact_drop",
     "lowered",
     "scatter",
     "strike_population",
+    "table2_impulse_relation",
     "table2_standard_errors",
     "unit_figures",
 ]
@@ -139,9 +150,18 @@ class Population:
     lateral_offset_m: np.ndarray
     vertical_offset_m: np.ndarray
     obliquity_deg: np.ndarray
+    effective_mass_kg: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.water_level_m)
+
+    def body(self, i: int) -> dict:
+        """:func:`analytical.contact_law.column_impact`'s body keywords of strike ``i``: none (the
+        container and its added mass) or, with effective masses given, a body of that mass and no
+        added mass (struck at the nose's centre, its normal mass is that mass)."""
+        if self.effective_mass_kg is None:
+            return {}
+        return {"mass_kg": float(self.effective_mass_kg[i]), "added_mass_coefficient": 0.0}
 
 
 def strike_population(count: int = 32, seed: int = 2019, geometry: bool = True) -> Population:
@@ -158,6 +178,34 @@ def strike_population(count: int = 32, seed: int = 2019, geometry: bool = True) 
     vertical = scale * height * (u[:, 2] - 0.5)
     obliquity = scale * MAX_OBLIQUITY_DEG * (2.0 * u[:, 3] - 1.0)
     return Population(water, water + _CM_ABOVE_WATER_M + vertical, lateral, vertical, obliquity)
+
+
+def ensemble_population(contact_height_m, water_level_m, effective_mass_kg, obliquity_deg=None,
+                        column: Column | None = None) -> Population:
+    """Strikes as a flow delivered them (a transport ensemble's first strikes): each a body of
+    its effective mass along the normal (added mass included) meeting the column head-on at the
+    nose's centre at its contact height, at its obliquity (default 0), loaded by the study's fit
+    at its water level at the face (where that is NaN: at the contact height, as the ensemble's
+    own fit). Heights in m above the column's base, within the column."""
+    column = STUDY_COLUMN if column is None else column
+    contact = np.asarray(contact_height_m, dtype=float)
+    n = contact.size
+    level = np.asarray(water_level_m, dtype=float)
+    mass = np.asarray(effective_mass_kg, dtype=float)
+    angle = np.zeros(n) if obliquity_deg is None else np.asarray(obliquity_deg, dtype=float)
+    if n < 2 or contact.ndim != 1 or any(a.shape != (n,) for a in (level, mass, angle)):
+        raise InputError("ensemble", f"needs at least 2 strikes, each with a contact height, water level and "
+                                     f"effective mass, got {contact.shape}, {level.shape}, {mass.shape}")
+    level = np.where(np.isfinite(level), level, contact)
+    for name, values in (("impact_height_m", contact), ("face_water_level_m", level)):
+        if not np.all(np.isfinite(values) & (values > 0.0) & (values <= column.height_m)):
+            raise InputError(name, f"must lie on the column, 0 < height <= {column.height_m} m")
+    if not np.all(np.isfinite(mass) & (mass > 0.0)):
+        raise InputError("effective_mass_kg", "must be positive and finite")
+    if not np.all(np.isfinite(angle) & (np.abs(angle) < 90.0)):
+        raise InputError("obliquity_deg", "must be within (-90, 90) degrees")
+    zero = np.zeros(n)
+    return Population(level, contact, zero, zero.copy(), angle, mass)
 
 
 @dataclass(frozen=True)
@@ -185,21 +233,38 @@ class UnitFigures:
                 "impulse_Ns": mean_speed_m_s * float(np.mean(self.fit_impulse_Ns))}
 
 
-def unit_figures(law: ContactLaw, population: Population, column: Column | None = None) -> UnitFigures:
+def unit_figures(law: ContactLaw, population: Population, column: Column | None = None,
+                 fast: bool = True) -> UnitFigures:
     """Strike the column at 1 m/s in each of the population's geometries and fit each base
-    shear with the study's procedure (on :data:`STUDY_COLUMN` by default)."""
+    shear with the study's procedure (on :data:`STUDY_COLUMN` by default). ``fast``: the fit
+    in closed form (:func:`analytical.contact_studyfit.fast_study_fit`, the same fit to about
+    1e-5); False: :func:`analytical.contact_law.study_fit` itself, the reference."""
     column = STUDY_COLUMN if column is None else column
+    t = np.arange(-STUDY_FIT_PRE_S, STUDY_FIT_POST_S, STUDY_FIT_DT_S)
     rows = []
     for i in range(len(population)):
+        level = float(population.water_level_m[i])
         r = column_impact(law, 1.0, float(population.contact_height_m[i]), column=column,
                           obliquity_deg=float(population.obliquity_deg[i]),
                           lateral_offset_m=float(population.lateral_offset_m[i]),
-                          vertical_offset_m=float(population.vertical_offset_m[i]))
-        f = study_fit(r, float(population.water_level_m[i]), column)
+                          vertical_offset_m=float(population.vertical_offset_m[i]), **population.body(i))
+        if fast:  # the record study_fit hands to the fit: the base shear on its grid
+            shear = r.base_shear
+            y = np.interp(t, shear.time_s, shear.response_N, left=0.0, right=float(shear.response_N[-1]))
+            f = fast_study_fit(t, y, half_sine_modes(column, level))
+        else:
+            f = study_fit(r, level, column)
         rows.append((f.magnitude_N, f.duration_s, f.impulse_Ns, f.start_s, r.peak_force_N, r.duration_s,
                      r.impulse_Ns, r.restitution, r.effective_mass_kg))
     a = np.array(rows)
     return UnitFigures(law, population, *(a[:, j] for j in range(a.shape[1])))
+
+
+@lru_cache(maxsize=512)
+def half_sine_modes(column: Column, level_m: float) -> HalfSineModes:
+    """The fit's closed-form column at one load height (cached: a population's heights recur at
+    every trial law)."""
+    return HalfSineModes(column, level_m)
 
 
 #: The velocity head at the study's mean strike speed, u^2 / (2 g) at 1.60 m/s (m): how far the water
@@ -219,7 +284,7 @@ def lowered(population: Population, drop_m: float) -> Population:
     floor = SEED_CONTAINER_SIZE_M[2] / 2.0
     contact = np.maximum(population.contact_height_m - drop, floor)
     return Population(population.water_level_m, contact, population.lateral_offset_m,
-                      population.vertical_offset_m, population.obliquity_deg)
+                      population.vertical_offset_m, population.obliquity_deg, population.effective_mass_kg)
 
 
 def contact_drop(law: ContactLaw, population: Population, drops_m=(0.0, 0.05, 0.10, VELOCITY_HEAD_M),
@@ -244,11 +309,20 @@ def contact_drop(law: ContactLaw, population: Population, drops_m=(0.0, 0.05, 0.
 
 
 # ------------------------------------------------------------------------------ the fit
+#: The parameter box of the fit: ``k`` (N/m) and ``zeta``.
+STIFFNESS_BOUNDS_N_M = (1.0e4, 1.0e6)
+DAMPING_BOUNDS = (0.0, 0.9)
+#: The multi-start's starts (k in N/m, zeta): spread over the box's middle, ``k`` over a factor of
+#: 15 and ``zeta`` over 0.1-0.8, each ``k`` with another ``zeta`` (none at the shipped law).
+STARTS = ((2.0e4, 0.5), (3.5e4, 0.1), (6.0e4, 0.8), (1.0e5, 0.3), (1.8e5, 0.65), (3.0e5, 0.2))
+
+
 @dataclass(frozen=True)
 class LawFit:
-    """A law fitted to Table 2's means: its parameters and their standard errors (from the
-    whitened residuals' Jacobian), the chi-square and its degrees of freedom, the fitted
-    means and their z-scores against Table 2 (``(model - study) / SE``)."""
+    """A law fitted to Table 2's means from ``start``: its parameters and their standard errors
+    (from the whitened residuals' Jacobian in ``(ln k, zeta)``, whose singular values are
+    ``singular_values``), the chi-square and its degrees of freedom, the fitted means and their
+    z-scores against Table 2 (``(model - study) / SE``), the optimiser's verdict."""
 
     law: ContactLaw
     free: tuple[str, ...]
@@ -263,6 +337,9 @@ class LawFit:
     z: dict
     evaluations: int
     figures: UnitFigures
+    start: tuple = ()
+    singular_values: tuple = ()
+    converged: bool = True
 
     def to_dict(self) -> dict:
         return {"law": self.law.to_dict(), "free": list(self.free), "stiffness_se_N_m": self.stiffness_se_N_m,
@@ -270,14 +347,16 @@ class LawFit:
                 "dof": self.dof, "p_value": self.p_value, "means": self.means,
                 "table2_means": {k: SEED_TABLE2_MDOF[k][0] for k in FIGURES},
                 "standard_errors": self.standard_errors, "z": self.z, "evaluations": self.evaluations,
-                "strikes": len(self.figures.population)}
+                "strikes": len(self.figures.population), "start": list(self.start),
+                "singular_values": list(self.singular_values), "converged": self.converged}
 
 
 def calibrate(population: Population | None = None, column: Column | None = None, damped: bool = True,
-              start: tuple[float, float] = (7.0e4, 0.3)) -> LawFit:
+              start: tuple[float, float] = (7.0e4, 0.3), fast: bool = True, max_nfev: int = 40) -> LawFit:
     """Fit ``k`` (and ``zeta`` when ``damped``) so that the population's mean study-fitted
     peak, duration and impulse at the mean speed match Table 2's: least squares on the three
-    ``(model - study) / SE`` (the model's speed term taken at the model's value)."""
+    ``(model - study) / SE`` (the model's speed term taken at the model's value), from ``start``.
+    ``fast``: :func:`unit_figures`' closed-form fit (False: the reference)."""
     population = strike_population() if population is None else population
     column = STUDY_COLUMN if column is None else column
     targets = {k: SEED_TABLE2_MDOF[k][0] for k in FIGURES}
@@ -287,7 +366,7 @@ def calibrate(population: Population | None = None, column: Column | None = None
         key = tuple(np.round(x, 12))
         if key not in cache:
             zeta = float(x[1]) if damped else 0.0
-            cache[key] = unit_figures(ContactLaw(math.exp(x[0]), max(zeta, 0.0), "fit"), population, column)
+            cache[key] = unit_figures(ContactLaw(math.exp(x[0]), max(zeta, 0.0), "fit"), population, column, fast)
         return cache[key]
 
     def residual(x):
@@ -295,11 +374,11 @@ def calibrate(population: Population | None = None, column: Column | None = None
         se = table2_standard_errors(means)
         return np.array([(means[k] - targets[k]) / se[k] for k in FIGURES])
 
-    x0 = [math.log(start[0])] + ([start[1]] if damped else [])
-    lo = [math.log(1e4)] + ([0.0] if damped else [])
-    hi = [math.log(1e6)] + ([0.9] if damped else [])
+    lo = [math.log(STIFFNESS_BOUNDS_N_M[0])] + ([DAMPING_BOUNDS[0]] if damped else [])
+    hi = [math.log(STIFFNESS_BOUNDS_N_M[1])] + ([DAMPING_BOUNDS[1]] if damped else [])
+    x0 = np.clip([math.log(start[0])] + ([start[1]] if damped else []), lo, hi)
     sol = least_squares(residual, x0, bounds=(lo, hi), diff_step=1e-3, x_scale=[0.1] + ([0.05] if damped else []),
-                        xtol=1e-4, ftol=1e-6, max_nfev=40)
+                        xtol=1e-4, ftol=1e-6, max_nfev=max_nfev)
     x = sol.x
     k = math.exp(x[0])
     zeta = float(x[1]) if damped else 0.0
@@ -316,7 +395,52 @@ def calibrate(population: Population | None = None, column: Column | None = None
     dof = len(FIGURES) - len(x)
     law = ContactLaw(k, zeta, "calibrated")
     return LawFit(law, ("stiffness_N_m", "damping_ratio") if damped else ("stiffness_N_m",), k_se, z_se, corr,
-                  chi2, dof, float(chi2_dist.sf(chi2, dof)), means, se, z, len(cache), fig)
+                  chi2, dof, float(chi2_dist.sf(chi2, dof)), means, se, z, len(cache), fig,
+                  tuple(float(v) for v in start[: len(x)]),
+                  tuple(float(v) for v in np.linalg.svd(jac, compute_uv=False)), bool(sol.status > 0))
+
+
+@dataclass(frozen=True)
+class MultiStart:
+    """The damped law fitted from every start (:data:`STARTS`) and the best of them (least
+    chi-square), and what Table 2 constrains (:meth:`constrained`)."""
+
+    fits: tuple[LawFit, ...]
+
+    @property
+    def best(self) -> LawFit:
+        return min(self.fits, key=lambda f: f.chi2)
+
+    def constrained(self, floor: float = 1.0) -> int:
+        """How many independent combinations of the parameters Table 2's three means fix: the
+        whitened Jacobian's singular values above ``floor`` (a combination fixed to better than
+        one unit of ``ln k`` or ``zeta`` by one standard error of the means)."""
+        return int(sum(v > floor for v in self.best.singular_values))
+
+    def to_dict(self) -> dict:
+        best = self.best
+        return {"starts": [{"start": list(f.start), "stiffness_N_m": f.law.stiffness_N_m,
+                            "damping_ratio": f.law.damping_ratio, "chi2": f.chi2, "evaluations": f.evaluations,
+                            "converged": f.converged} for f in self.fits],
+                "best": best.to_dict(), "constrained": self.constrained(),
+                "table2_impulse_from_peak_and_duration_Ns": table2_impulse_relation()}
+
+
+def table2_impulse_relation() -> float:
+    """``(2 / pi) x peak x duration`` of Table 2's means (N s): what its mean impulse would be if
+    every fitted half-sine had the mean peak and duration; against its 0.52 N s it says how much
+    of the third mean is a number of its own."""
+    return 2.0 / math.pi * SEED_TABLE2_MDOF["peak_force_N"][0] * SEED_TABLE2_MDOF["duration_s"][0]
+
+
+def calibrate_multistart(population: Population | None = None, column: Column | None = None,
+                         starts=STARTS, mapper=map, max_nfev: int = 40) -> MultiStart:
+    """:func:`calibrate` (damped) from each of ``starts``; ``mapper`` maps a one-argument function
+    over them (``map``, or a process pool's: the starts are independent)."""
+    population = strike_population() if population is None else population
+    column = STUDY_COLUMN if column is None else column
+    fit = partial(calibrate, population, column, True, fast=True, max_nfev=max_nfev)
+    return MultiStart(tuple(mapper(fit, [tuple(s) for s in starts])))
 
 
 # ------------------------------------------------------------------------------ the scatter
