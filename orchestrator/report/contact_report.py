@@ -26,6 +26,8 @@ from analytical.contact_calibration import (
     VELOCITY_HEAD_M,
     calibrate,
     contact_drop,
+    calibrate_multistart,
+    ensemble_population,
     scatter,
     strike_population,
     unit_figures,
@@ -38,10 +40,12 @@ from analytical.contact_law import (
     column_impact,
     study_fit,
 )
+from analytical.contact_modal import column_modes
 from analytical.pulses import HalfSine
+from orchestrator.core.errors import InputError
 from orchestrator.core.files import write_json_atomic, write_text_atomic
 
-__all__ = ["write_contact_law_report"]
+__all__ = ["ensemble_strikes", "write_contact_law_report"]
 
 _LABELS = {"peak_force_N": ("peak force", "N", 1.0), "duration_s": ("duration", "ms", 1e3),
            "impulse_Ns": ("impulse", "N s", 1.0)}
@@ -126,19 +130,82 @@ def _plot(path: Path, check, kd, figures, draws: int = 20_000) -> None:
     plt.close(fig)
 
 
-def write_contact_law_report(out_dir: Path, count: int = 32) -> dict:
-    """Calibrate on Table 2 over ``count`` strike geometries, draw the scatter over twice as many
-    (an independent set), check Table 1, and write the folder's files."""
+def ensemble_strikes(path: Path, count: int, seed: int = 47):
+    """The first column strikes of an ensemble's ensemble.csv (``struck`` rows with a contact
+    height and an effective mass) as a calibration population
+    (:func:`analytical.contact_calibration.ensemble_population`): at most ``count`` of them, drawn
+    without replacement with a fixed seed; and what was taken (dict)."""
+    import pandas as pd
+
+    try:
+        table = pd.read_csv(path)
+    except (OSError, ValueError, UnicodeDecodeError) as exc:
+        raise InputError("--ensemble", f"cannot read {path}: {exc}", source=str(path)) from None
+    missing = [c for c in ("impact_height_m", "effective_mass_kg") if c not in table.columns]
+    if missing:
+        raise InputError("--ensemble", f"{path} has no column {', '.join(missing)} (an ensemble.csv of "
+                                       "`debrisfoam ensemble` has them)", source=str(path))
+    if "struck" in table.columns:
+        table = table[table["struck"].astype(str).str.strip().str.lower().isin(("true", "1", "1.0"))]
+    for name in ("face_water_level_m", "obliquity_deg"):
+        if name not in table.columns:
+            table = table.assign(**{name: np.nan if name == "face_water_level_m" else 0.0})
+    cols = ["impact_height_m", "effective_mass_kg", "face_water_level_m", "obliquity_deg"]
+    table = table[cols].apply(pd.to_numeric, errors="coerce")
+    table = table[np.isfinite(table["impact_height_m"]) & np.isfinite(table["effective_mass_kg"])]
+    struck = len(table)
+    if struck > count:
+        pick = np.sort(np.random.default_rng(seed).choice(struck, size=count, replace=False))
+        table = table.iloc[pick]
+    population = ensemble_population(table["impact_height_m"].to_numpy(), table["face_water_level_m"].to_numpy(),
+                                     table["effective_mass_kg"].to_numpy(), table["obliquity_deg"].to_numpy(),
+                                     STUDY_COLUMN)
+    info = {"source": str(path), "struck": struck, "used": len(population),
+            "level_from_contact": int(np.sum(~np.isfinite(table["face_water_level_m"].to_numpy()))),
+            "effective_mass_kg": _range(population.effective_mass_kg),
+            "face_water_level_m": _range(population.water_level_m),
+            "impact_height_m": _range(population.contact_height_m)}
+    return population, info
+
+
+def _range(values) -> dict:
+    v = np.asarray(values, dtype=float)
+    return {"mean": float(np.mean(v)), "min": float(np.min(v)), "max": float(np.max(v))}
+
+
+def _multistart(population, workers: int):
+    """The damped fit from every start, ``workers`` processes at a time (the starts are
+    independent; each process takes the column's modes from the parent)."""
+    column_modes(STUDY_COLUMN)
+    if workers <= 1:
+        return calibrate_multistart(population)
+    from concurrent.futures import ProcessPoolExecutor
+
+    with ProcessPoolExecutor(max_workers=workers) as pool:
+        return calibrate_multistart(population, mapper=pool.map)
+
+
+def write_contact_law_report(out_dir: Path, count: int = 32, ensemble: Path | None = None, workers: int = 2) -> dict:
+    """Calibrate on Table 2 over ``count`` strike geometries from every start of
+    :data:`~analytical.contact_calibration.STARTS` (``workers`` at a time), draw the scatter over
+    twice as many (an independent set), check Table 1, and write the folder's files. ``ensemble``:
+    an ensemble.csv whose first strikes (at most ``count``) replace the assumed geometry, in the
+    calibration and the scatter."""
     start = time.perf_counter()
     out_dir.mkdir(parents=True, exist_ok=True)
-    population = strike_population(count)
-    damped = calibrate(population, start=(CONTAINER.stiffness_N_m, CONTAINER.damping_ratio))
+    if ensemble is None:
+        population, source = strike_population(count), {"source": "assumed", "used": count}
+    else:
+        population, source = ensemble_strikes(Path(ensemble), count)
+    multi = _multistart(population, workers)
+    damped = multi.best
     elastic = calibrate(population, damped=False, start=(damped.law.stiffness_N_m, 0.0))
     head_on = calibrate(strike_population(max(4, count // 4), geometry=False),
                         start=(damped.law.stiffness_N_m, damped.law.damping_ratio))
     law = damped.law
     drops = contact_drop(law, population, level=damped.figures)
-    figures = unit_figures(law, strike_population(2 * count, seed=_SCATTER_SEED))
+    figures = (damped.figures if ensemble is not None
+               else unit_figures(law, strike_population(2 * count, seed=_SCATTER_SEED)))
     sc = scatter(figures).to_dict()
     e = SEED_TABLE1_EVENT
     check_strike = column_impact(law, e.velocity_m_s, e.height_m, column=STUDY_COLUMN)
@@ -147,10 +214,12 @@ def write_contact_law_report(out_dir: Path, count: int = 32) -> dict:
     shipped = {"stiffness_N_m": CONTAINER.stiffness_N_m, "damping_ratio": CONTAINER.damping_ratio}
     calibration = {
         "column": {"base": STUDY_COLUMN.base, "f1_Hz": float(column_model(STUDY_COLUMN).frequencies_Hz[0])},
+        "population": source,
         "fitted_law": law.to_dict(),
         "shipped_law": CONTAINER.to_dict(),
         "shipped_matches_fit": {k: shipped[k] / v - 1.0 if v else shipped[k] - v
                                 for k, v in (("stiffness_N_m", law.stiffness_N_m), ("damping_ratio", law.damping_ratio))},
+        "multistart": multi.to_dict(),
         "damped_fit": damped.to_dict(),
         "elastic_fit": elastic.to_dict(),
         "head_on_fit": head_on.to_dict(),
@@ -179,7 +248,7 @@ def write_contact_law_report(out_dir: Path, count: int = 32) -> dict:
               "duration_std_s": float(np.std(figures.fit_duration_s, ddof=1)),
               "fit_start_s": [float(figures.fit_start_s.min()), float(figures.fit_start_s.max())]}
     summary = {"calibration": calibration, "scatter": sc, "geometry_spread": spread, "strikes": count,
-               "scatter_strikes": 2 * count, "wall_time_s": time.perf_counter() - start}
+               "scatter_strikes": len(figures.population), "wall_time_s": time.perf_counter() - start}
     write_text_atomic(out_dir / "report.md", _report(summary))
     write_json_atomic(out_dir / "summary.json", summary)
     return summary
@@ -252,6 +321,41 @@ law held, so 3 degrees of freedom):
 {verdict}"""
 
 
+def _population_text(source: dict, strikes: int) -> str:
+    if source.get("source", "assumed") == "assumed":
+        return (f"{strikes} geometries (water level 0.16-0.50 m, mean 0.40 m; contact anywhere on the nose; "
+                "obliquity +-15 degrees; the container's added mass along the normal)")
+    m, h, c = source["effective_mass_kg"], source["face_water_level_m"], source["impact_height_m"]
+    return (f"the {source['used']} first strikes (of {source['struck']}) of the ensemble `{source['source']}`: "
+            f"each its effective mass along the normal ({m['min']:.3f}-{m['max']:.3f} kg, mean {m['mean']:.3f}) "
+            f"head-on at the nose's centre at its contact height ({c['min']:.2f}-{c['max']:.2f} m, mean "
+            f"{c['mean']:.2f}) and obliquity, loaded at its water level at the face ({h['min']:.2f}-{h['max']:.2f} m, "
+            f"mean {h['mean']:.2f}; {source['level_from_contact']} without one at the contact height)")
+
+
+def _multistart_section(ms: dict) -> str:
+    rows = "\n".join(f"| {s['start'][0]:.3g} N/m, {s['start'][1]:.2f} | {s['stiffness_N_m']:.4g} N/m, "
+                     f"{s['damping_ratio']:.3f} | {s['chi2']:.3f} | {s['evaluations']} | "
+                     f"{'yes' if s['converged'] else 'no'} |" for s in ms["starts"])
+    best = ms["best"]
+    sv = best["singular_values"]
+    relation = ms["table2_impulse_from_peak_and_duration_Ns"]
+    return f"""The damped law is fitted from {len(ms['starts'])} starts spread over the box (k 1e4-1e6 N/m, zeta 0-0.9);
+the best end point is the law:
+
+| start (k, zeta) | end (k, zeta) | chi-square | evaluations | converged |
+|---|---|---:|---:|---|
+{rows}
+
+At the best fit the whitened Jacobian of the three means in (ln k, zeta) has singular values
+{' and '.join(f'{v:.3g}' for v in sv)}: Table 2 fixes {ms['constrained']} combination(s) of the parameters to
+better than one unit each (standard errors k +- {best['stiffness_se_N_m']:.2g} N/m, zeta +-
+{best['damping_ratio_se']:.3f}, correlation {best['correlation']:+.2f}). Its three means hold about two
+independent numbers: (2 / pi) x peak x duration of its means is {relation:.3f} N s against its mean impulse
+0.52 +- {best['standard_errors']['impulse_Ns']:.3f} N s, so the chi-square's one degree of freedom is mostly
+that relation, which every fitted half-sine satisfies."""
+
+
 def _report(summary: dict) -> str:
     cal, sc, spread = summary["calibration"], summary["scatter"], summary["geometry_spread"]
     d, el, ho = cal["damped_fit"], cal["elastic_fit"], cal["head_on_fit"]
@@ -269,8 +373,7 @@ is described in [../../contact-law.md](../../contact-law.md).
 The study's Table 2 MDOF row: {_fmt('peak_force_N', 171.07)} +- 62.9 N, 4.7 +- 0.5 ms, 0.52 +- 0.22 N s (mean
 +- std over 22 impacts at 1.60 +- 0.13 m/s). Standard errors of those means (std / sqrt(22), with the table's
 rounding and the mean speed's uncertainty): {se['peak_force_N']:.1f} N, {se['duration_s'] * 1e3:.3f} ms,
-{se['impulse_Ns']:.3f} N s. The law strikes the column in {d['strikes']} geometries (water level 0.16-0.50 m,
-mean 0.40 m; contact anywhere on the nose; obliquity +-15 degrees; the container's added mass along the normal),
+{se['impulse_Ns']:.3f} N s. The law strikes the column in {_population_text(cal['population'], d['strikes'])},
 each base shear is fitted with the study's procedure (half-sine, MDOF column loaded at the water level; the
 column's base spring tuned to its measured {summary['calibration']['column']['f1_Hz']:.1f} Hz, docs/fitting.md), and
 the population's means at 1.60 m/s are fitted to Table 2's by weighted least squares.
@@ -281,6 +384,8 @@ the population's means at 1.60 m/s are fitted to Table 2's by weighted least squ
 {_fit_row('undamped spring', el)}
 {_fit_row('damped, head-on only', ho)}
 
+{_multistart_section(cal['multistart'])}
+
 {_verdict(d, el, law)} A third parameter (a Hertz-type exponent) would leave no degree of freedom: the
 three means carry little more than two numbers, since a fitted half-sine's impulse is (2 / pi) x peak x
 duration for every impact. Calibrated on head-on strikes alone the law would be
@@ -290,7 +395,7 @@ k = {ho['law']['stiffness_N_m']:.3g} N/m, damping ratio {ho['law']['damping_rati
 
 {_drop_section(cal["contact_below_load"], se)}
 
-## Predicted scatter ({summary['scatter_strikes']} other geometries x {sc['draws']:,} speed draws)
+## Predicted scatter ({summary['scatter_strikes']} strikes x {sc['draws']:,} speed draws)
 
 {_scatter_markdown(sc)}
 The law's spread comes from the speed (8 % of its mean) and the geometry: the effective mass at the contact
