@@ -22,11 +22,13 @@ from orchestrator.case.folder import CaseFolder
 from orchestrator.case.render import render_case
 from orchestrator.plan.identity import same_case, same_flow
 from orchestrator.scene.scenefile import dump_scene_yaml
+from orchestrator.plan.model import ModelPlan
 from orchestrator.plan.planner import plan_case
 from orchestrator.plan.resources import Demand, check_resources
 from orchestrator.report.postprocess import post_case
 from orchestrator.report.preview import preview_scene
 from orchestrator.run.runner import run_case
+from orchestrator.scene.schema import Scene
 from orchestrator.scene.scenefile import load_scene
 from orchestrator.transport.case_transport import TransportSummary, transport_case
 
@@ -67,15 +69,17 @@ def _plan_warnings(case: Path) -> list[str]:
 
 
 def prepare_case(scene_path: str | Path, out_dir: str | Path, sets: Sequence[str] = (),
-                 confirmed: bool = False) -> tuple[Path, bool]:
+                 confirmed: bool = False, planned: tuple[Scene, ModelPlan] | None = None) -> tuple[Path, bool]:
     """Render the scene into out_dir unless that folder already holds this very case.
 
     Returns (case folder, rendered now?). Raises InputError when out_dir holds
     something else, and the resource guard's errors when rendering (``confirmed``: see
     :func:`render_from_file`); a case already rendered is resumed without asking again.
+    ``planned``: the scene file with ``sets`` already loaded and planned (by the CLI), not
+    loaded again.
     """
     out = Path(out_dir)
-    scene = load_scene(scene_path, list(sets))
+    scene = planned[0] if planned else load_scene(scene_path, list(sets))
     if out.is_dir() and any(out.iterdir()):
         if holds_case(out, scene):
             return out, False
@@ -86,7 +90,8 @@ def prepare_case(scene_path: str | Path, out_dir: str | Path, sets: Sequence[str
             f"{out} already holds a different case (its scene.yaml differs from {scene_path} with these "
             "overrides); choose another folder, or remove it to start again",
         )
-    render_from_file(scene_path, out, list(sets), confirmed=confirmed)
+    plan = planned[1] if planned else plan_case(scene, str(scene_path))
+    render_planned(scene, plan, scene_path, out, list(sets), confirmed=confirmed)
     return out, True
 
 
@@ -116,15 +121,17 @@ def _retransport(case: Path, scene, sets: Sequence[str]) -> bool:
 
 def run_full_case(scene_path: str | Path, out_dir: str | Path | None = None, sets: Sequence[str] = (),
                   np: int | None = None, quiet: bool = False,
-                  stop_event: threading.Event | None = None, confirmed: bool = False) -> dict[str, Any]:
+                  stop_event: threading.Event | None = None, confirmed: bool = False,
+                  planned: tuple[Scene, ModelPlan] | None = None) -> dict[str, Any]:
     """Render (if needed), run (resuming), post-process; returns the final summary.
 
     stop_event: set it (from another thread) to stop the run as Ctrl-C would; the run
     raises RunInterrupted and resumes when called again. confirmed: go ahead over the
-    resource guard's soft limits (:func:`render_from_file`).
+    resource guard's soft limits (:func:`render_from_file`). planned: see :func:`prepare_case`.
     """
     t0 = time.perf_counter()
-    case, rendered = prepare_case(scene_path, out_dir or default_case_dir(scene_path), sets, confirmed=confirmed)
+    case, rendered = prepare_case(scene_path, out_dir or default_case_dir(scene_path), sets, confirmed=confirmed,
+                                  planned=planned)
     if not quiet:
         print(f"debrisfoam: {'rendered' if rendered else 'resuming'} {case}", flush=True)
     for message in _plan_warnings(case):  # before anything runs, on every start
@@ -208,7 +215,14 @@ def render_from_file(scene_path: str | Path, out_dir: Path, sets: Sequence[str] 
     (:mod:`orchestrator.plan.resources`); confirmed, the soft limits join the warnings.
     """
     scene = load_scene(scene_path, list(sets))
-    plan = plan_case(scene, str(scene_path))
+    return render_planned(scene, plan_case(scene, str(scene_path)), scene_path, out_dir, sets, force=force, mesh=mesh,
+                          confirmed=confirmed)
+
+
+def render_planned(scene: Scene, plan: ModelPlan, scene_path: str | Path, out_dir: Path, sets: Sequence[str] = (),
+                   force: bool = False, mesh: bool = False, confirmed: bool = False) -> dict[str, Any]:
+    """:func:`render_from_file` of the scene file ``scene_path`` with ``sets``, already loaded
+    (``scene``) and planned (``plan``)."""
     large = check_resources(Demand.of_plan(plan), str(scene_path), confirmed=confirmed)
     case = render_case(scene, plan, out_dir, force=force, overrides=sets)
     summary: dict[str, Any] = {"case": str(case), "solver": plan.solver, "planned_cells": int(plan.cell_count),

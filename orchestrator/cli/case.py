@@ -20,7 +20,7 @@ from orchestrator.cli.common import (
     emit,
     missing_feature,
     output_path,
-    plan_scene,
+    planned_scene,
     warn,
     writable_folder,
 )
@@ -35,13 +35,13 @@ YES_HELP = ("go ahead when the plan is over a soft resource limit (memory over h
 
 def cmd_render(args: argparse.Namespace) -> int:
     out = writable_folder(args.out, "-o/--out")  # only checked: render makes it when the scene is valid
-    plan_scene(args.scene, args.set)
+    scene, plan = planned_scene(args.scene, args.set)
     try:
-        from orchestrator.pipeline import render_from_file
+        from orchestrator.pipeline import render_planned
     except ImportError:
         return missing_feature("`render` (scene schema, planner and templates)", 3)
-    summary = confirm_large(lambda yes: render_from_file(args.scene, out, list(args.set or []), force=args.force,
-                                                         mesh=args.mesh, confirmed=yes), args.yes)
+    summary = confirm_large(lambda yes: render_planned(scene, plan, args.scene, out, list(args.set or []),
+                                                       force=args.force, mesh=args.mesh, confirmed=yes), args.yes)
     emit({k: v for k, v in summary.items() if args.json or k != "warnings"}, args.json)
     warn(summary["warnings"])
     return EXIT_OK
@@ -159,7 +159,7 @@ def _post_lines(summary) -> dict[str, Any]:
 
 
 def cmd_case(args: argparse.Namespace) -> int:
-    plan_scene(args.scene, args.set)
+    planned = planned_scene(args.scene, args.set)
     from orchestrator.pipeline import run_full_case
     from orchestrator.run.runner import RunInterrupted
 
@@ -167,7 +167,7 @@ def cmd_case(args: argparse.Namespace) -> int:
         writable_folder(args.out, "-o/--out")
     try:
         summary = confirm_large(lambda yes: run_full_case(args.scene, args.out, list(args.set or []), np=args.np,
-                                                          quiet=args.quiet, confirmed=yes), args.yes)
+                                                          quiet=args.quiet, confirmed=yes, planned=planned), args.yes)
     except RunInterrupted as exc:  # resumable: the same command continues the run
         if args.debug:
             raise

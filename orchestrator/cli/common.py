@@ -34,6 +34,7 @@ __all__ = [
     "missing_feature",
     "output_path",
     "plan_scene",
+    "planned_scene",
     "warn",
     "writable_folder",
 ]
@@ -121,14 +122,20 @@ def output_path(path: str | Path, flag: str, force: bool, folder: bool) -> Path:
     return out
 
 
-def plan_scene(scene_path: str | Path, sets: list[str] | None):
-    """The scene's plan, loaded and planned with the light modules only: a verb refuses a bad scene
-    or an impossible mesh (the planner's label limit) before it loads the stages that render and
-    run (a second or more of imports) and before it writes anything."""
+def planned_scene(scene_path: str | Path, sets: list[str] | None):
+    """(scene, plan) of the scene file, loaded and planned with the light modules only: a verb
+    refuses a bad scene or an impossible mesh (the planner's label limit) before it loads the
+    stages that render and run (a second or more of imports) and before it writes anything."""
     from orchestrator.plan.planner import plan_case
     from orchestrator.scene.scenefile import load_scene
 
-    return plan_case(load_scene(scene_path, list(sets or [])), str(scene_path))
+    scene = load_scene(scene_path, list(sets or []))
+    return scene, plan_case(scene, str(scene_path))
+
+
+def plan_scene(scene_path: str | Path, sets: list[str] | None):
+    """The plan of :func:`planned_scene`."""
+    return planned_scene(scene_path, sets)[1]
 
 
 _T = TypeVar("_T")
