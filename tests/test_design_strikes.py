@@ -220,3 +220,25 @@ def test_the_front_celerity_is_stokers_bore_speed_on_a_stoker_record():
     assert speed / sol.state.u2_m_s == pytest.approx(1.75, abs=0.01)
     far = PlacedColumn(80.0, 0.0, column.column)  # beyond the record: not measured
     assert front_celerity(flow, far) is None
+
+
+def test_strikes_faster_than_their_water_are_counted_with_their_masses():
+    """Three striking realisations: one struck at its water's speed, one at twice the fastest
+    water it came in with, one ahead of the front (still water, 0 m/s) whose largest strike is
+    the fast one; the summary counts the two, their median mass and the governing share."""
+    rows = []
+    for r, mass, strikes in ((0, 20000.0, [(1, 4.0, 4.0, 5e6)]), (1, 8000.0, [(1, 8.0, 4.0, 9e6)]),
+                             (2, 3000.0, [(1, 8.5, 0.0, 9e6), (2, 1.0, 4.0, 1e6)])):
+        for k, speed, water, force in strikes:
+            rows.append({"case": "c", "realisation": r, "case_weight": 1.0, "sample_weight": 1 / 3, "body": "b",
+                         "mass_kg": mass, "carried": True, "struck": True, "strikes": len(strikes), "strike": k,
+                         "impact_speed_m_s": speed, "flow_speed_m_s": water, "flow_speed_max_m_s": water,
+                         "face": "upstream", "obliquity_deg": 0.0, "eccentricity_m": 0.0, "torsion_Nm": 0.0,
+                         "peak_force_N": force, "base_shear_N": force, "base_moment_Nm": force,
+                         "top_displacement_m": 1e-9 * force})
+    table = pd.DataFrame(rows, columns=DESIGN_COLUMNS)
+    s = strike_summary(table, realisation_demands(table), {"c": 3.5})
+    assert s["faster_than_the_water"] == 2 and s["faster_mass_kg"] == pytest.approx(5500.0)
+    assert s["other_mass_kg"] == pytest.approx(3000.0 / 2 + 20000.0 / 2)
+    assert s["largest_faster_than_the_water"] == pytest.approx(2 / 3)
+    assert s["speed_over_fastest_water"]["max"] == pytest.approx(2.0)  # the still water's ratio left out

@@ -41,7 +41,7 @@ from analytical.study_comparison import SEED_IMPACT_COUNT
 from orchestrator.studies.design_strikes import FACES
 from orchestrator.studies.design_table import DEMANDS
 
-__all__ = ["LAW_FORCE_SE", "OBLIQUE_DEG", "RECOMMENDED", "advice", "advice_lines", "band", "conditional_exceedance",
+__all__ = ["FASTER_THAN_WATER", "LAW_FORCE_SE", "OBLIQUE_DEG", "RECOMMENDED", "advice", "advice_lines", "band", "conditional_exceedance",
            "demand_lines", "fmt_demand", "given_strike", "recommendation", "strike_summary"]
 
 #: The fractile the page recommends, given a strike (module notes: the tool's convention).
@@ -50,6 +50,10 @@ RECOMMENDED = ("P90", 0.90)
 #: The contact law's calibration: the relative standard error of the mean peak force it was
 #: fitted to (the study's Table 2 MDOF row over its 22 impacts).
 LAW_FORCE_SE = SEED_TABLE2_MDOF["peak_force_N"][1] / math.sqrt(SEED_IMPACT_COUNT) / SEED_TABLE2_MDOF["peak_force_N"][0]
+
+#: A strike faster than this times the fastest water its body came in with is one the water does
+#: not explain (counted on the page).
+FASTER_THAN_WATER = 1.05
 
 #: A strike this far off the face's normal (deg) is counted as oblique on the page.
 OBLIQUE_DEG = 30.0
@@ -144,12 +148,18 @@ def strike_summary(table: pd.DataFrame, per: pd.DataFrame, u_max: dict[str, floa
     out["largest_not_first"] = float((largest["strike"] > 1).mean()) if len(largest) else None
     site = strikes["case"].map(u_max).astype(float)
     speed = strikes["impact_speed_m_s"].astype(float)
+    mean, fastest = strikes["flow_speed_m_s"].astype(float), strikes["flow_speed_max_m_s"].astype(float)
     out["speed_over_u_max"] = _stats(speed / site)
-    out["speed_over_flow"] = _stats(speed / strikes["flow_speed_m_s"].astype(float))
-    out["speed_over_fastest_water"] = _stats(speed / strikes["flow_speed_max_m_s"].astype(float))
-    out["fastest_water_over_u_max"] = _stats(strikes["flow_speed_max_m_s"].astype(float) / site)
-    faster = speed > 1.05 * strikes["flow_speed_max_m_s"].astype(float)
+    out["speed_over_flow"] = _stats((speed / mean).replace(np.inf, np.nan))
+    out["speed_over_fastest_water"] = _stats((speed / fastest).replace(np.inf, np.nan))
+    out["fastest_water_over_u_max"] = _stats(fastest / site)
+    # faster than any water the body came in with (0: it ran ahead of the front into still water)
+    faster = speed > FASTER_THAN_WATER * fastest
     out["faster_than_the_water"] = int(faster.sum())
+    out["faster_mass_kg"] = _stats(strikes.loc[faster, "mass_kg"])["median"]
+    out["other_mass_kg"] = _stats(strikes.loc[~faster, "mass_kg"])["median"]
+    out["largest_faster_than_the_water"] = (float(largest.index.isin(strikes.index[faster]).mean())
+                                            if len(largest) else None)
     return out
 
 
@@ -229,6 +239,8 @@ def advice_lines(summary: dict[str, Any]) -> list[str]:
         flow = (f" and times {law['flow_low']:.3g} to {law['flow_high']:.3g}, each case's stated speed at the column "
                 "over its simulated flow's there (a peak force is linear in the strike's speed)" if law["flow_stated"]
                 else "; the flow's part is not known: no case states its speed at the column (inundation.speed_m_s)")
+        if law["flow_stated"] and law["flow_low"] == law["flow_high"] == 1.0:
+            flow = "; each case's simulated speed at the column is its stated one or faster (no flow part)"
         lines += [f"**Recommended: {rec['fractile']} given a strike x I_tsu ({rec['importance_I_tsu']:g}).** "
                   "The tool's convention, not a code's: ASCE 7-22 6.11 assumes the debris strikes, so the value "
                   "set beside its F_i is the one given a strike; a characteristic load is an upper fractile of its "
@@ -276,12 +288,23 @@ def advice_lines(summary: dict[str, Any]) -> list[str]:
               "", "Why a strike can outrun u_max: u_max is a depth average two column widths upstream of the face "
               "(ASCE 7-22's flow velocity); a floating body is carried by the water at its draft, near the surface, "
               "which in a bore runs faster than the depth average, and a body the front picks up can ride it at the "
-              "front's own speed (the cases' table: front, the front's speed 3 to 8 column widths upstream of the "
-              "face). A strike at most as fast as the fastest water it came in with is carried by that water. "
-              + (f"{s['faster_than_the_water']} strike(s) ran more than 5 % faster than any water the body came in "
-                 "with: the water does not explain them (design.csv, flow_speed_max_m_s)."
-                 if s["faster_than_the_water"] else "No strike ran more than 5 % faster than that water."), ""]
+              "front's own speed (the cases' table: front, 3 to 8 column widths upstream of the face). A strike at "
+              "most as fast as the fastest water it came in with is carried by that water. One faster than that is "
+              "not: the bore's front throws a light container (while the rising water covers it beyond its draft, "
+              "buoyancy and the water's acceleration act on a displaced mass several times its own), and riding high "
+              "with little wetted area it slows only over seconds. That is the one-way forcing at a steep front, not "
+              "a measured behaviour: "
+              + (f"{s['faster_than_the_water']} strike(s) ran more than {(FASTER_THAN_WATER - 1) * 100:.0f} % faster "
+                 f"than any water their body came in with (median mass {_kg(s['faster_mass_kg'])}, the others' "
+                 f"{_kg(s['other_mass_kg'])}), and the largest strike of {_pct(s['largest_faster_than_the_water'])} "
+                 "of the striking realisations is one of them (design.csv: impact_speed_m_s beside "
+                 "flow_speed_max_m_s)." if s["faster_than_the_water"]
+                 else f"no strike ran more than {(FASTER_THAN_WATER - 1) * 100:.0f} % faster than that water."), ""]
     return lines
+
+
+def _kg(value) -> str:
+    return "-" if value is None else f"{value:,.0f} kg"
 
 
 def _num1(value) -> str:
