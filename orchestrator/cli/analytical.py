@@ -318,8 +318,8 @@ def cmd_contact_law(args: argparse.Namespace) -> int:
         raise InputError("--strikes", f"must be >= 2, got {args.strikes}")
     if args.workers < 1:
         raise InputError("--workers", f"must be >= 1, got {args.workers}")
-    summary = write_contact_law_report(output_path(args.out, "-o/--out", args.force, folder=True), count=args.strikes,
-                                       ensemble=args.ensemble, workers=args.workers)
+    out = output_path(args.out, "-o/--out", args.force, folder=True)
+    summary = write_contact_law_report(out, count=args.strikes, ensemble=args.ensemble, workers=args.workers)
     cal = summary["calibration"]
     emit({"stiffness_N_m": cal["fitted_law"]["stiffness_N_m"], "damping_ratio": cal["fitted_law"]["damping_ratio"],
            "table1_peak_force_N": cal["fitted_pulse"]["peak_force_N"],
@@ -534,11 +534,8 @@ def add_analytical_parser(verbs) -> None:
                                                 "(22 impacts) and check it on its Table 1 event, to files")
     p.add_argument("-o", "--out", default="docs/results/contact-law",
                    help="output folder (default docs/results/contact-law)")
-    p.add_argument("--strikes", type=int, default=32, help="strike geometries of the calibration (default 32); with "
-                                                            "--ensemble the most of its strikes taken")
-    p.add_argument("--ensemble", default=None, help="an ensemble's ensemble.csv: calibrate on its first strikes' "
-                                                    "effective masses, contact heights, water levels at the face and "
-                                                    "obliquities instead of the assumed geometry")
+    p.add_argument("--strikes", type=int, default=32, help="strikes of the calibration (default 32)")
+    p.add_argument("--ensemble", help="ensemble.csv: calibrate on its first strikes' effective masses and heights")
     p.add_argument("--workers", type=int, default=2, help="processes running the fit's starts (default 2)")
     p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
     p.add_argument("--json", action="store_true", help="print JSON")
