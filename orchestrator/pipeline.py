@@ -53,13 +53,7 @@ def holds_case(case: Path, scene) -> bool:
         existing = load_scene(folder.scene_path)
     except InputError:
         return False
-    return same_case(existing, scene, _coupling(folder))
-
-
-def _coupling(folder: CaseFolder) -> str:
-    """The case's debris coupling (plan.json); "none" without a readable plan (no one-way case)."""
-    plan = folder.model_plan()
-    return plan.debris_coupling if plan else "none"
+    return same_case(existing, scene, folder.debris_coupling())
 
 
 def _plan_warnings(case: Path) -> list[str]:
@@ -101,7 +95,7 @@ def _retransport(case: Path, scene, sets: Sequence[str]) -> bool:
     the bodies are carried again through the recorded flow (:func:`carry_debris`). False when
     the folder is not such a case."""
     folder = CaseFolder(case)
-    if _coupling(folder) != "one-way" or not folder.scene_path.is_file():
+    if folder.debris_coupling() != "one-way" or not folder.scene_path.is_file():
         return False
     try:
         existing = load_scene(folder.scene_path)
@@ -156,7 +150,7 @@ def carry_debris(case: str | Path, already: bool = False, quiet: bool = False) -
     bodies were carried through this very record before.
     """
     folder = CaseFolder(case)
-    if _coupling(folder) != "one-way":
+    if folder.debris_coupling() != "one-way":
         return None
     if already and "transport" in (folder.run_record() or {}):
         return None

@@ -139,6 +139,16 @@ class CaseFolder:
                              "ignored")
             return None
 
+    def debris_coupling(self) -> str:
+        """The case's debris coupling: the typed plan's, else the ``debris_coupling`` a plan.json from
+        an older debrisfoam records (its other fields may no longer read as a ModelPlan), else "none".
+        What decides whether a one-way case's transport section belongs to its identity."""
+        plan = self.model_plan()
+        if plan is not None:
+            return plan.debris_coupling
+        coupling = (self.plan() or {}).get("debris_coupling")
+        return coupling if isinstance(coupling, str) else "none"
+
     def require_plan(self) -> ModelPlan:
         """plan.json as the planner's :class:`ModelPlan`; InputError naming the file when it is
         missing, unreadable or not the plan `debrisfoam render` writes."""

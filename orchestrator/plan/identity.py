@@ -42,7 +42,10 @@ LATE_KEYS = ((("run", "max_delta_t_s"), None), (("run", "stall_limit_s"), None),
              (("mesh", "column_approach_cell_size_m"), None), (("column", "section"), None), (("column", "section_area_m2"), None),
              (("column", "section_second_moment_m4"), None), (("column", "stiffness_factor"), 1.0),
              (("column", "base_spring_Nm_rad"), None), (("mesh", "wet_bed_cells"), 1),
-             (("fluids", "turbulence"), "laminar"), (("bed", "slip"), False))
+             (("fluids", "turbulence"), "laminar"), (("bed", "slip"), False),
+             (("column", "ends"), "cantilever"), (("column", "strike_height_m"), None), (("column", "heading_deg"), 0.0),
+             (("reservoir", "sill_height_m"), 0.0), (("reservoir", "opening_width_m"), None),
+             (("reservoir", "opening_y_m"), 0.0), (("reservoir", "opening_length_m"), 0.1))
 #: Keys of every debris body added after the first runs, with the value they are left out at.
 LATE_BODY_KEYS = (("type", None),)
 #: Scene sections added after the first runs: left out when at their defaults.
