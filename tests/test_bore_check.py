@@ -3,7 +3,9 @@ writes its page from a sweep's folders."""
 
 from __future__ import annotations
 
+import functools
 import json
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -13,6 +15,9 @@ import yaml
 
 from analytical.dambreak import StokerSolution
 from orchestrator.core.errors import InputError
+from orchestrator.plan.model import ModelPlan
+from orchestrator.plan.planner import plan_case
+from orchestrator.scene.scenefile import load_scene
 from orchestrator.studies.bore_check import bore_check, check_run, write_bore_report
 from tests.conftest import render_and_run, run_cli
 
@@ -61,6 +66,12 @@ def test_bad_input_names_the_field(h1, gauges, field):
         bore_check(t, levels, gauges, H0, h1)
 
 
+@functools.cache
+def _plan() -> ModelPlan:
+    """A plan as `debrisfoam render` writes it (the members' own closure and cell count set over it)."""
+    return plan_case(load_scene(ROOT / "cases" / "tiny-nodebris.yaml"))
+
+
 def _member(folder, turbulence, cells, stretch):
     t, levels = _records(stretch=stretch)
     (folder / "results").mkdir(parents=True)
@@ -70,7 +81,7 @@ def _member(folder, turbulence, cells, stretch):
              "wet_bed_cells": cells}, "run": {"end_time_s": 3.5},
              "gauges": [{"name": n, "x_m": x, "y_m": 0.0} for n, x in GAUGES.items()]}
     (folder / "scene.yaml").write_text(yaml.safe_dump(scene))
-    (folder / "plan.json").write_text(json.dumps({"turbulence": turbulence, "cell_count": 1000}))
+    (folder / "plan.json").write_text(replace(_plan(), turbulence=turbulence, cell_count=1000).to_json())
     (folder / "run.json").write_text(json.dumps({"runner": {"solver_wall_s": 12.5}}))
 
 

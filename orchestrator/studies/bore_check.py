@@ -18,7 +18,6 @@ a deeper one; ``debrisfoam report bore`` writes the page (docs/results/wet-bed/)
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import asdict, dataclass
 from pathlib import Path
@@ -27,6 +26,7 @@ import numpy as np
 import pandas as pd
 
 from analytical.dambreak import StokerSolution
+from orchestrator.case.folder import CaseFolder
 from orchestrator.core.errors import InputError
 from orchestrator.results.metrics import ARRIVAL_FRACTION, arrival_time
 
@@ -122,12 +122,13 @@ def sweep_checks(sweep_dir: str | Path) -> pd.DataFrame:
         import yaml
 
         scene = yaml.safe_load((case / "scene.yaml").read_text())
-        plan = json.loads((case / "plan.json").read_text())
-        run = json.loads((case / "run.json").read_text()) if (case / "run.json").is_file() else {}
         check = check_run(case)
-        row = {"member": case.name, "turbulence": plan.get("turbulence", "laminar"),
+        folder = CaseFolder(case)
+        plan = folder.require_plan()
+        run = folder.run_record() or {}
+        row = {"member": case.name, "turbulence": plan.turbulence,
                "wet_bed_cells": int(scene.get("mesh", {}).get("wet_bed_cells", 1)),
-               "cell_size_m": float(scene["mesh"]["cell_size_m"]), "cells": int(plan["cell_count"]),
+               "cell_size_m": float(scene["mesh"]["cell_size_m"]), "cells": int(plan.cell_count),
                "wall_time_s": (run.get("runner") or {}).get("solver_wall_s"), **asdict(check)}
         rows.append(row)
     if not rows:

@@ -196,14 +196,14 @@ def transport_case(case_dir: str | Path, *, settings: TransportSettings | None =
     coupled run writes (module notes). Raises InputError when the case is not one-way or its
     record does not cover the run."""
     folder = CaseFolder(case_dir)
-    plan = folder.plan() or {}
-    if plan.get("debris_coupling") != "one-way":
-        raise InputError(str(folder.plan_path), f"debris_coupling is {plan.get('debris_coupling')!r}: only a one-way "
+    coupling = folder.debris_coupling()
+    if coupling != "one-way":
+        raise InputError(str(folder.plan_path), f"debris_coupling is {coupling!r}: only a one-way "
                                                 "case carries its bodies through a recorded flow")
     scene = load_scene(folder.scene_path)
     flow, npz = case_flow(folder.path, say=say)
     bodies, flume, column = transport_setup(scene, flow)
-    t_end = float(plan.get("end_time_s", scene.run.end_time_s))
+    t_end = float(folder.require_plan().end_time_s)  # a one-way plan reads typed: case_flow has read it
     result = run_transport(bodies, flume, t_end, flow=flow, column=column,
                            settings=scene_settings(scene, settings))
     write_text_atomic(folder.path / "bodies.csv", result.tracks.to_csv(index=False, float_format="%.10g"))

@@ -76,10 +76,7 @@ class RecordFiles:
 
 
 def _one_way_plan(folder: CaseFolder) -> ModelPlan:
-    data = folder.plan()
-    if data is None:
-        raise FlowRecordError("plan.json", f"{folder.plan_path} is missing or unreadable")
-    plan = ModelPlan.from_dict(data)
+    plan = folder.require_plan()
     if plan.flow_record is None:
         raise FlowRecordError("plan.flow_record", f"{folder.path} is a {plan.debris_coupling} case: it records no flow")
     return plan
