@@ -101,6 +101,7 @@ import numpy as np
 from scipy.special import elliprd
 
 from analytical.errors import InputError, require_positive
+from analytical.study import SEED_CONTAINER_SIZE_M, SEED_DEBRIS_MASS_KG
 
 __all__ = [
     "AXES",
@@ -257,5 +258,5 @@ def box_added_mass(size_m, mass_kg: float, water_density_kg_m3: float = WATER_DE
     return AddedMass((length, beam, height), m, draft, displaced, floating, coefficients, masses, inertias)
 
 
-SEED_CONTAINER_ADDED_MASS = box_added_mass((0.15, 0.06, 0.06), 0.236)
+SEED_CONTAINER_ADDED_MASS = box_added_mass(SEED_CONTAINER_SIZE_M, SEED_DEBRIS_MASS_KG)
 """The study's 1:40 container afloat in fresh water (see the module docstring's table)."""

@@ -33,6 +33,7 @@ from dataclasses import dataclass
 from analytical.errors import InputError, require_positive
 from analytical.pulses import Rectangular, make_pulse
 from analytical.sdof import max_force_response
+from analytical.study import SEED_DEBRIS_STIFFNESS_N_M, SEED_STRUCTURE_STIFFNESS_N_M
 
 __all__ = [
     "ORIENTATION_CONTAINER",
@@ -47,10 +48,6 @@ __all__ = [
     "SIMPLIFIED_STATIC_LOAD_N",
     "dynamic_response_ratio",
     "SEED_STRUCTURE_STIFFNESS_N_M",
-    "SEED_DEBRIS_MASS_KG",
-    "SEED_TABLE1_VELOCITY_M_S",
-    "SEED_TABLE1_FORCE_KS_N",
-    "SEED_TABLE1_FORCE_KD_N",
     "SEED_DEBRIS_STIFFNESS_N_M",
     "FULL_SCALE_MIN_MASS_KG",
     "MAX_FLOW_SPEED_M_S",
@@ -261,41 +258,6 @@ def dynamic_response_ratio(
     tn = require_positive("natural_period_s", natural_period_s)
     pulse = make_pulse(shape, 1.0, td)
     return max_force_response(pulse, 1.0 / tn, damping_ratio).peak_N
-
-
-# --------------------------------------------------------------------------------------------
-# The seed study's values (Stolle et al. 2019 set-up; seed Sec. 3.1 and Tables 1-2)
-# --------------------------------------------------------------------------------------------
-
-SEED_STRUCTURE_STIFFNESS_N_M = 4.685e5
-"""Column stiffness k_s, N/m (seed Sec. 3.2.1; bounds 4.653e5-4.701e5)."""
-
-SEED_DEBRIS_MASS_KG = 0.236
-"""Mass of the 1:40 container debris, kg (seed Sec. 3.1)."""
-
-SEED_TABLE1_VELOCITY_M_S = 1.50
-"""Measured impact velocity of the seed's Figure 4 / Table 1 event, m/s (as printed)."""
-
-SEED_TABLE1_FORCE_KS_N = 322.83
-"""Seed Table 1, 'ASCE 7-22 using k_s' magnitude, N."""
-
-SEED_TABLE1_FORCE_KD_N = 822.34
-"""Seed Table 1, 'ASCE 7-22 using k_d' magnitude, N."""
-
-SEED_DEBRIS_STIFFNESS_N_M = SEED_STRUCTURE_STIFFNESS_N_M * (SEED_TABLE1_FORCE_KD_N / SEED_TABLE1_FORCE_KS_N) ** 2
-"""Debris stiffness k_d the seed used, N/m (about 3.040e6), backed out from its Table 1.
-
-The seed takes k_d and k_s from Stolle et al. (2019) without printing k_d. Both Table 1 ASCE
-rows use the same u, m_d, I_tsu and C_o, so their magnitudes are in the ratio
-``F(k_d)/F(k_s) = sqrt(k_d/k_s)`` whatever u and m_d are: 822.34 / 322.83 = 2.5473, hence
-``k_d = k_s * 2.5473^2 = 6.4887 k_s = 3.040e6 N/m``. The Table 2 means give the same ratio
-(875.25 / 343.60 = 2.5473).
-
-Note: with u = 1.50 m/s exactly, the k_s row comes out 324.2 N, 0.43 % above the printed
-322.83 N: the printed row corresponds to u = 1.4936 m/s (the velocity was presumably rounded to
-1.50 in the text). Durations (0.0014 s, 0.0006 s) and impulses (0.46 N s) agree to the printed
-digits either way.
-"""
 
 
 FULL_SCALE_MIN_MASS_KG = 100.0

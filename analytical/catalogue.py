@@ -39,15 +39,9 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
-from analytical.asce7 import SEED_DEBRIS_MASS_KG, SEED_DEBRIS_STIFFNESS_N_M
-from analytical.contact_law import (
-    CONTAINER_DAMPING_RATIO,
-    CONTAINER_STIFFNESS_N_M,
-    SEED_CONTAINER_SIZE_M,
-    SEED_CONTAINER_WALL_M,
-    box_inertia,
-)
+from analytical.contact_law import CONTAINER_DAMPING_RATIO, CONTAINER_STIFFNESS_N_M, box_inertia
 from analytical.errors import InputError, require_positive
+from analytical.study import SEED_CONTAINER_SIZE_M, SEED_CONTAINER_WALL_M, SEED_DEBRIS_MASS_KG, SEED_DEBRIS_STIFFNESS_N_M
 
 __all__ = [
     "FAMILIES",

@@ -13,7 +13,7 @@ standard error.
 The strike population (:func:`strike_population`, stated assumptions)
 ----------------------------------------------------------------------
 * speed: the study's, normal with mean 1.60 m/s and standard deviation 0.13 m/s (backed out
-  of Table 2's ASCE rows, :data:`analytical.contact_law.SEED_IMPACT_VELOCITY_M_S`);
+  of Table 2's ASCE rows, :data:`analytical.study.SEED_IMPACT_VELOCITY_M_S`);
 * water level at the face (the study's load point): 0.16-0.50 m with the study's mean 0.40 m,
   a Beta(2.4, 1) distribution on that range (a uniform one would have a mean of 0.33 m).
   The container's centre of mass floats 3.7 mm above the water line (draft 26.3 mm of 60 mm);
@@ -80,14 +80,10 @@ from scipy.stats import chi2 as chi2_dist
 from scipy.stats import qmc
 
 from analytical.added_mass import box_added_mass
-from analytical.asce7 import ORIENTATION_CONTAINER, SEED_DEBRIS_MASS_KG
+from analytical.asce7 import ORIENTATION_CONTAINER
 from analytical.column import Column
 from analytical.contact_law import (
-    SEED_CONTAINER_SIZE_M,
-    SEED_IMPACT_HEIGHTS_M,
-    SEED_IMPACT_VELOCITY_M_S,
     SEED_TABLE1_EVENT,
-    SEED_TABLE2_MDOF,
     STUDY_FIT_DT_S,
     STUDY_FIT_POST_S,
     STUDY_FIT_PRE_S,
@@ -97,10 +93,17 @@ from analytical.contact_law import (
 )
 from analytical.contact_studyfit import HalfSineModes, fast_study_fit
 from analytical.errors import InputError
+from analytical.study import (
+    SEED_CONTAINER_SIZE_M,
+    SEED_DEBRIS_MASS_KG,
+    SEED_IMPACT_COUNT,
+    SEED_IMPACT_HEIGHTS_M,
+    SEED_IMPACT_VELOCITY_M_S,
+    SEED_TABLE2_MDOF,
+)
 
 __all__ = [
     "FIGURES",
-    "SEED_IMPACT_COUNT",
     "LawFit",
     "MultiStart",
     "Population",
@@ -121,9 +124,6 @@ __all__ = [
     "table2_standard_errors",
     "unit_figures",
 ]
-
-SEED_IMPACT_COUNT = 22
-"""The number of impacts behind Table 2."""
 
 FIGURES = ("peak_force_N", "duration_s", "impulse_Ns")
 

@@ -41,7 +41,6 @@ import numpy as np
 from scipy.optimize import brentq
 
 from analytical.added_mass import box_added_mass
-from analytical.asce7 import SEED_DEBRIS_MASS_KG, SEED_DEBRIS_STIFFNESS_N_M
 from analytical.column import Column
 from analytical.errors import InputError, require_finite, require_positive
 from analytical.fitting import PulseFit, fit_mdof
@@ -53,15 +52,22 @@ from analytical.impact import (
     impact,
     inverse_inertia_tensor,
 )
+from analytical.study import (
+    SEED_CONTAINER_SIZE_M,
+    SEED_CONTAINER_WALL_M,
+    SEED_DEBRIS_MASS_KG,
+    SEED_DEBRIS_STIFFNESS_N_M,
+    SEED_IMPACT_HEIGHTS_M,
+    SEED_MEAN_HEIGHT_M,
+    SEED_TABLE1,
+    SEED_TABLE1_VELOCITY_M_S,
+    SEED_TABLE2_MDOF,
+)
 
 __all__ = [
     "ASCE7_KD",
     "CONTAINER",
     "LAWS",
-    "SEED_CONTAINER_SIZE_M",
-    "SEED_CONTAINER_WALL_M",
-    "SEED_IMPACT_HEIGHTS_M",
-    "SEED_IMPACT_VELOCITY_M_S",
     "SEED_TABLE1_EVENT",
     "SEED_TABLE2_MDOF",
     "ContactLaw",
@@ -88,28 +94,11 @@ class ImpactEvent:
     impulse_Ns: float
 
 
-SEED_TABLE1_EVENT = ImpactEvent(
-    velocity_m_s=1.50, height_m=0.40, mass_kg=SEED_DEBRIS_MASS_KG,
-    peak_force_N=236.93, duration_s=0.0047, impulse_Ns=0.71,
-)
+SEED_TABLE1_EVENT = ImpactEvent(SEED_TABLE1_VELOCITY_M_S, SEED_MEAN_HEIGHT_M, SEED_DEBRIS_MASS_KG,
+                                *SEED_TABLE1["MDOF fit"])
 """The study's Table 1 event: measured velocity 1.50 m/s, MDOF-fitted half-sine (its Fig. 4).
 The height is the mean of its 22 impacts (0.40 m); the event's own height is not given."""
 
-SEED_TABLE2_MDOF = {"peak_force_N": (171.07, 62.91), "duration_s": (0.0047, 0.0005), "impulse_Ns": (0.52, 0.22)}
-"""The study's Table 2, MDOF row: (mean, standard deviation) over its 22 impacts."""
-
-SEED_IMPACT_VELOCITY_M_S = (1.60, 0.13)
-"""Mean and standard deviation of the 22 impact velocities, backed out of Table 2's ASCE rows
-(impulse = 2 C_o m u: 0.49 +- 0.04 N s with C_o = 0.65, m = 0.236 kg)."""
-
-SEED_IMPACT_HEIGHTS_M = (0.16, 0.50, 0.40)
-"""Lowest, highest and mean impact height on the column (the water surface at its face)."""
-
-SEED_CONTAINER_SIZE_M = (0.15, 0.06, 0.06)
-"""The 1:40 20-ft container: length, width, height."""
-
-SEED_CONTAINER_WALL_M = 0.005
-"""Its polyethylene wall thickness."""
 
 
 # ------------------------------------------------------------------------------ the law

@@ -14,7 +14,7 @@ obstacle into the body) the body is a single mass, its **effective mass at the c
 (``r`` from the centre of mass to the contact point, ``I^-1`` the inverse inertia tensor in
 the global frame, ``C_a`` the added-mass coefficient on the translational part). The body
 presses on a **compression-only linear contact spring** ``k`` (the debris stiffness, default
-:data:`analytical.asce7.SEED_DEBRIS_STIFFNESS_N_M`), optionally with a dashpot (default none),
+:data:`analytical.study.SEED_DEBRIS_STIFFNESS_N_M`), optionally with a dashpot (default none),
 and the spring acts on the obstacle:
 
 * :class:`RigidWall`: the spring is grounded. Undamped, this is Haehnel & Daly's model: a
@@ -68,7 +68,7 @@ Defaults and why
   end-on (longitudinally), laboratory work found the water adds little to the impact force:
   Haehnel & Daly (2004) for logs, and Ko et al. (2015) for shipping-container models struck
   in water and in air; ASCE 7-16/7-22 Clause 6.11 accordingly has no added-mass term, and the
-  seed's debris stiffness (:data:`~analytical.asce7.SEED_DEBRIS_STIFFNESS_N_M`) was backed out
+  seed's debris stiffness (:data:`~analytical.study.SEED_DEBRIS_STIFFNESS_N_M`) was backed out
   of that formula without one, so adding mass on top would double count. (The papers could
   not be retrieved here; these are their findings as widely quoted.) For sensitivity, Matsutomi's
   apparent-mass coefficient for driftwood in a bore, ``C_MA = 1.7``, means ``C_a = 0.7``
@@ -119,7 +119,6 @@ import math
 
 import numpy as np
 
-from analytical.asce7 import SEED_DEBRIS_STIFFNESS_N_M
 from analytical.contact_integration import NormalIntegrator
 from analytical.contact_modal import ModalIntegrator, modal_blocks
 from analytical.errors import InputError, require_finite, require_positive
@@ -136,6 +135,7 @@ from analytical.impact_results import ImpactEnergy, ImpactResult
 from analytical.mdof import mdof_response
 from analytical.pulses import Tabulated
 from analytical.sdof import ForceResponse
+from analytical.study import SEED_DEBRIS_STIFFNESS_N_M
 
 __all__ = [
     "DEFAULT_ADDED_MASS_COEFFICIENT",

@@ -30,9 +30,9 @@ import numpy as np
 from scipy import stats
 
 from analytical.column import Column
-from analytical.contact_law import SEED_IMPACT_VELOCITY_M_S, SEED_TABLE2_MDOF
 from analytical.errors import InputError, require_finite, require_positive
 from analytical.fitting import fit_mdof
+from analytical.study import SEED_IMPACT_COUNT, SEED_IMPACT_VELOCITY_M_S, SEED_TABLE2_MDOF
 
 __all__ = [
     "FIT_PRE_CONTACT_S",
@@ -47,10 +47,6 @@ __all__ = [
     "fit_like_the_study",
     "strike_component",
 ]
-
-SEED_IMPACT_COUNT = 22
-"""The study's impacts behind Table 2 (the seed, section 3.1: 22 single-debris experiments
-at 0.40 m inundation kept)."""
 
 SIGNIFICANCE = 0.05
 """The two-sided level below which the means are said to differ."""

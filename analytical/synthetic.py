@@ -19,33 +19,23 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from analytical.asce7 import SEED_DEBRIS_STIFFNESS_N_M, asce7_impact
+from analytical.asce7 import asce7_impact
 from analytical.column import Column
 from analytical.fitting import PulseFit, fit_mdof, fit_sdof, prepare_record
 from analytical.mdof import mdof_response
 from analytical.pulses import HalfSine
+from analytical.study import (
+    SEED_DEBRIS_MASS_KG,
+    SEED_DEBRIS_STIFFNESS_N_M,
+    SEED_MEAN_HEIGHT_M,
+    SEED_TABLE1_MDOF,
+    SEED_TABLE1_SDOF,
+    SEED_TABLE2,
+    SEED_VELOCITY_M_S,
+)
 
-#: The seed's Table 2 (mean, std) for each method: magnitude N, duration s, impulse N s.
-SEED_TABLE2 = {
-    "asce_kd": {"magnitude_N": (875.25, 70.22), "duration_s": (0.0006, 0.0000), "impulse_Ns": (0.49, 0.04)},
-    "asce_ks": {"magnitude_N": (343.60, 27.57), "duration_s": (0.0014, 0.0000), "impulse_Ns": (0.49, 0.04)},
-    "sdof": {"magnitude_N": (333.96, 106.94), "duration_s": (0.0026, 0.0010), "impulse_Ns": (0.57, 0.32)},
-    "mdof": {"magnitude_N": (171.07, 62.91), "duration_s": (0.0047, 0.0005), "impulse_Ns": (0.52, 0.22)},
-}
-#: The seed's Fig. 7 findings: peak modelled / peak measured base shear, (min, max, mean).
-#: For ASCE with k_d the seed prints "an average of 1.3 and ranges from 1.5 to 5.8": the mean
-#: cannot lie below the minimum, so that mean is a typo in the seed; we keep only the range.
-SEED_FIG7_RATIOS = {
-    "sdof": (1.2, 2.1, 1.8),
-    "mdof": (0.8, 1.1, 0.9),
-    "asce_ks": (1.2, 4.4, 2.5),
-    "asce_kd": (1.5, 5.8, None),
-}
 #: Methods that stand for the seed's SDOF fit when comparing with its figures.
 SEED_EQUIVALENT = {"sdof_column_mass": "sdof"}
-#: Impact velocities implied by the seed's Table 2 ASCE rows (F = 0.65 u sqrt(k_s m)), m/s.
-SEED_VELOCITY_M_S = (1.59, 0.13)
-DEBRIS_MASS_KG = 0.236
 METHODS = ("asce_kd", "asce_ks", "sdof", "sdof_column_mass", "mdof")
 
 
@@ -122,7 +112,7 @@ def analyse_record(
     column: Column | None = None,
     fit_column: Column | None = None,
     debris_stiffness_N_m: float = SEED_DEBRIS_STIFFNESS_N_M,
-    mass_kg: float = DEBRIS_MASS_KG,
+    mass_kg: float = SEED_DEBRIS_MASS_KG,
 ) -> RecordAnalysis:
     """The seed's procedure on one record.
 
@@ -176,9 +166,6 @@ def ratio_statistics(analyses: list[RecordAnalysis]) -> dict[str, tuple[float, f
     return out
 
 
-#: The study's Table 1 MDOF pulse (magnitude N, duration s) and its mean load height, m.
-SEED_TABLE1_MDOF = (236.93, 0.0047)
-SEED_MEAN_HEIGHT_M = 0.40
 
 
 @dataclass(frozen=True)
@@ -252,11 +239,6 @@ def table1_sdof_check(column: Column, fit_column: Column, sample_rate_Hz: float 
     return out
 
 
-#: The study's Table 1 SDOF pulse (magnitude N, duration s).
-SEED_TABLE1_SDOF = (471.49, 0.0030)
-#: The study's Fig. 4 comparison on that event: its SDOF fit's response under the measured peak by
-#: 40 %, its MDOF fit's by 8.7 % (section 3.3).
-SEED_TABLE1_UNDER = {"sdof": 0.40, "mdof": 0.087}
 
 
 def sdof_row_response(t, column: Column | None = None, start_s: float = 0.0) -> np.ndarray:

@@ -11,15 +11,17 @@ import pytest
 from analytical.asce7 import (
     IMPORTANCE_FACTORS,
     ORIENTATION_CONTAINER,
-    SEED_DEBRIS_MASS_KG,
-    SEED_DEBRIS_STIFFNESS_N_M,
-    SEED_STRUCTURE_STIFFNESS_N_M,
-    SEED_TABLE1_VELOCITY_M_S,
     AsceImpact,
     asce7_impact,
     dynamic_response_ratio,
     effective_stiffness,
     importance_factor,
+)
+from analytical.study import (
+    SEED_DEBRIS_MASS_KG,
+    SEED_DEBRIS_STIFFNESS_N_M,
+    SEED_STRUCTURE_STIFFNESS_N_M,
+    SEED_TABLE1_VELOCITY_M_S,
 )
 from analytical.errors import InputError
 from analytical.pulses import Rectangular, make_pulse

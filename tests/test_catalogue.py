@@ -18,7 +18,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from analytical.asce7 import SEED_DEBRIS_STIFFNESS_N_M
+from analytical.study import SEED_DEBRIS_STIFFNESS_N_M
 from analytical.catalogue import (
     SOURCES,
     container_inertia,

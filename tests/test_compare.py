@@ -10,7 +10,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from analytical.asce7 import SEED_DEBRIS_STIFFNESS_N_M, asce7_impact
+from analytical.asce7 import asce7_impact
+from analytical.study import SEED_DEBRIS_STIFFNESS_N_M
 from orchestrator.results import compare
 from orchestrator.report.postprocess import post_case
 from orchestrator.results.tables import tables

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from analytical.added_mass import SEED_CONTAINER_ADDED_MASS
-from analytical.asce7 import SEED_DEBRIS_STIFFNESS_N_M
+from analytical.study import SEED_DEBRIS_STIFFNESS_N_M, SEED_TABLE2_MDOF
 from analytical.column import Column
 from analytical.contact_calibration import (
     FIGURES,
@@ -23,7 +23,6 @@ from analytical.contact_law import (
     ASCE7_KD,
     CONTAINER,
     SEED_TABLE1_EVENT,
-    SEED_TABLE2_MDOF,
     ContactLaw,
     box_inertia,
     column_impact,

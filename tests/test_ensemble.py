@@ -13,7 +13,7 @@ import pandas as pd
 import pytest
 
 from analytical.column import Column
-from analytical.contact_law import SEED_IMPACT_VELOCITY_M_S
+from analytical.study import SEED_IMPACT_VELOCITY_M_S
 from analytical.errors import InputError
 from orchestrator.studies.ensemble import (
     TABLE_COLUMNS,

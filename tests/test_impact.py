@@ -15,7 +15,7 @@ import math
 import numpy as np
 import pytest
 
-from analytical.asce7 import SEED_DEBRIS_STIFFNESS_N_M
+from analytical.study import SEED_DEBRIS_STIFFNESS_N_M
 from analytical.column import Column
 from analytical.column_fem import column_model
 from analytical.contact_integration import ColumnBlock, NormalIntegrator, column_blocks

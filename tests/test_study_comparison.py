@@ -10,12 +10,11 @@ import pytest
 from scipy import stats
 
 from analytical.column import Column
-from analytical.contact_law import SEED_IMPACT_VELOCITY_M_S, SEED_TABLE2_MDOF
+from analytical.study import SEED_IMPACT_COUNT, SEED_IMPACT_VELOCITY_M_S, SEED_TABLE2_MDOF
 from analytical.errors import InputError
 from analytical.mdof import mdof_response
 from analytical.pulses import make_pulse
 from analytical.study_comparison import (
-    SEED_IMPACT_COUNT,
     STUDY_FIGURES,
     compare_table,
     compare_with_study,

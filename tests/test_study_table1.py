@@ -9,12 +9,12 @@ import pytest
 
 from analytical.column import Column
 from analytical.contact_calibration import STUDY_COLUMN
-from analytical.contact_law import SEED_TABLE2_MDOF
+from analytical.study import SEED_TABLE1_MDOF, SEED_TABLE1_SDOF, SEED_TABLE2_MDOF
 from analytical.fitting import DURATION_BOUNDS_S, fit_sdof_starts
 from analytical.mdof import mdof_response
 from analytical.oscillator import oscillator_response
 from analytical.pulses import HalfSine
-from analytical.synthetic import SEED_TABLE1_MDOF, SEED_TABLE1_SDOF, table1_column_models
+from analytical.synthetic import table1_column_models
 
 T = np.arange(0.0, 0.06, 1e-4)  # 10 kHz, 60 ms, 10 ms of quiet before the impact
 

@@ -119,8 +119,6 @@ def cmd_asce7(args: argparse.Namespace) -> int:
         DEBRIS_STIFFNESS_RANGE_N_M,
         IMPORTANCE_FACTORS,
         STRUCTURE_STIFFNESS_RANGE_N_M,
-        SEED_DEBRIS_STIFFNESS_N_M,
-        SEED_STRUCTURE_STIFFNESS_N_M,
         asce7_design,
         check_debris_mass,
         check_debris_stiffness,
@@ -128,6 +126,7 @@ def cmd_asce7(args: argparse.Namespace) -> int:
         check_full_scale_mass,
         check_structure_stiffness,
     )
+    from analytical.study import SEED_DEBRIS_STIFFNESS_N_M, SEED_STRUCTURE_STIFFNESS_N_M
 
     check_flow_speed(args.velocity, "--velocity")
     if args.importance is not None and args.importance not in set(IMPORTANCE_FACTORS.values()):
@@ -276,7 +275,8 @@ def _study_impact_inputs(args: argparse.Namespace):
 
 
 def cmd_impact(args: argparse.Namespace) -> int:
-    from analytical.asce7 import SEED_DEBRIS_MASS_KG, SEED_DEBRIS_STIFFNESS_N_M, asce7_design, check_flow_speed
+    from analytical.asce7 import asce7_design, check_flow_speed
+    from analytical.study import SEED_DEBRIS_MASS_KG, SEED_DEBRIS_STIFFNESS_N_M
     from analytical.contact_law import column_impact
 
     check_flow_speed(args.velocity, "--velocity")
@@ -475,8 +475,8 @@ def _add_column_args(p: argparse.ArgumentParser) -> None:
 
 def add_analytical_parser(verbs) -> None:
     """The ``analytical`` verb and its sub-verbs, on the top parser's ``verbs``."""
-    from analytical.asce7 import SEED_DEBRIS_STIFFNESS_N_M as SEED_KD
-    from analytical.asce7 import SEED_STRUCTURE_STIFFNESS_N_M as SEED_KS
+    from analytical.study import SEED_DEBRIS_STIFFNESS_N_M as SEED_KD
+    from analytical.study import SEED_STRUCTURE_STIFFNESS_N_M as SEED_KS
 
     an = verbs.add_parser("analytical", help="analytical models (ASCE 7-22, SDOF, MDOF, fitting, dam break)")
     an_verbs = an.add_subparsers(dest="analytical_verb", required=True, parser_class=ArgParser)

@@ -7,7 +7,8 @@ import math
 
 import pandas as pd
 
-from analytical.asce7 import SEED_DEBRIS_STIFFNESS_N_M, asce7_design
+from analytical.asce7 import asce7_design
+from analytical.study import SEED_DEBRIS_STIFFNESS_N_M
 from orchestrator.results.asce_design import SiteFlow
 
 __all__ = ["asce_markdown"]

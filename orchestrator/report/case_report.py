@@ -22,22 +22,19 @@ from pathlib import Path
 
 import pandas as pd
 
-from analytical.contact_law import SEED_IMPACT_HEIGHTS_M
+from analytical.study import SEED_ARRIVALS, SEED_IMPACT_HEIGHTS_M
 from orchestrator.core.errors import InputError
 from orchestrator.case.folder import SUMMARY_JSON, CaseFolder
 from orchestrator.core.files import read_json_object, write_text_atomic
 from orchestrator.report.asce_section import asce_markdown
 from orchestrator.report.study_table import comparison_markdown, comparison_note
 from orchestrator.results.asce_design import asce_design_table, site_flow_speed
-from orchestrator.results.compare import SEED_ARRIVALS
 from orchestrator.results.readers import load_case
 from orchestrator.results.study_fit import compare_strikes
 
 __all__ = ["write_case_report"]
 
 PLOTS = ("preview.png", "gauges.png", "column_forces.png", "impacts.png", "tracks.png")
-#: The study's experiment and model arrivals (s) by gauge name (results.compare.SEED_ARRIVALS).
-STUDY_ARRIVALS_S = {name: (experiment, model) for name, experiment, model in SEED_ARRIVALS.values()}
 #: Wall-time target of the default run (min).
 WALL_TARGET_MIN = 30.0
 
@@ -57,10 +54,9 @@ def _within(value, low: float, high: float) -> str:
 def _rows(head: dict, first_impact: dict | None) -> list[tuple[str, str, str, str]]:
     rows = []
     arrivals = head.get("comparisons", {}).get("arrival_errors_s", {})
-    for gauge in ("WG2", "WG3"):
+    for gauge, experiment, model in SEED_ARRIVALS.values():
         g = head.get("gauges", {}).get(gauge, {})
         errors = arrivals.get(gauge, {})
-        experiment, model = STUDY_ARRIVALS_S[gauge]
         rows.append((f"bore arrival at {gauge}", _fmt(g.get("arrival_s"), ".3f", " s"),
                      f"experiment {experiment} s, the study's model {model} s; Chanson {_fmt(errors.get('Chanson'), '+.3f', ' s')} off",
                      "-"))

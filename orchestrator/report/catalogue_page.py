@@ -10,8 +10,7 @@ from __future__ import annotations
 import math
 
 from analytical.catalogue import LAB_SCALE, SOURCES, debris_type, list_debris
-from analytical.contact_law import SEED_IMPACT_VELOCITY_M_S, SEED_TABLE2_MDOF
-from analytical.asce7 import SEED_DEBRIS_MASS_KG
+from analytical.study import SEED_DEBRIS_MASS_KG, SEED_IMPACT_VELOCITY_M_S, SEED_TABLE2_MDOF
 from analytical.sections import KINDS, MATERIALS, RC_CRACKED_FACTOR, column_section
 
 __all__ = ["catalogue_data", "markdown"]

@@ -32,14 +32,8 @@ from analytical.contact_calibration import (
     strike_population,
     unit_figures,
 )
-from analytical.contact_law import (
-    ASCE7_KD,
-    CONTAINER,
-    SEED_TABLE1_EVENT,
-    SEED_TABLE2_MDOF,
-    column_impact,
-    study_fit,
-)
+from analytical.contact_law import ASCE7_KD, CONTAINER, SEED_TABLE1_EVENT, column_impact, study_fit
+from analytical.study import SEED_IMPACT_VELOCITY_M_S, SEED_TABLE2_MDOF
 from analytical.contact_modal import column_modes
 from analytical.pulses import HalfSine
 from orchestrator.core.errors import InputError
@@ -104,7 +98,7 @@ def _plot(path: Path, check, kd, figures, draws: int = 20_000) -> None:
                  fontsize=10)
     ax.legend(fontsize=8, loc="upper right")
     rng = np.random.default_rng(0)
-    speeds = rng.normal(1.60, 0.13, draws)
+    speeds = rng.normal(*SEED_IMPACT_VELOCITY_M_S, draws)
     pick = rng.integers(0, len(figures.population), draws)
     unit = {"peak_force_N": figures.fit_peak_force_N, "duration_s": figures.fit_duration_s,
             "impulse_Ns": figures.fit_impulse_Ns}

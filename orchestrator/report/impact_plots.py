@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from analytical.contact_law import SEED_TABLE2_MDOF
+from analytical.study import SEED_TABLE2_MDOF
 from analytical.mdof import mdof_response
 from orchestrator.report.figures import SMALL, WIDTH_IN, empty, legend, legend_axes, note, pyplot, save_figure
 

@@ -14,6 +14,7 @@ from typing import Any, Sequence
 import numpy as np
 import pandas as pd
 
+from analytical.study import SEED_ARRIVALS
 from orchestrator.core.files import write_text_atomic
 from orchestrator.report.asce_section import asce_markdown
 from orchestrator.results.compare import CONTAINER_MATERIAL, SPREADING_ANGLES_DEG
@@ -102,11 +103,12 @@ def write_report(results, comp, figures: dict, tables: dict[str, Path], plots: d
         "gauge": "gauge", "x_m": "x (m)", "y_m": "y (m)", "initial_level_m": "initial level (m)",
         "initial_level_from": "from", "threshold_m": "threshold (m)", "arrival_s": "arrival (s)",
         "peak_elevation_m": "peak (m)", "time_of_peak_s": "at (s)", "obstructed_samples": "obstructed"}))
+    (x2, (g2, e2, m2)), (x3, (g3, e3, m3)) = SEED_ARRIVALS.items()
     out += ["### Arrival times against Ritter, Stoker, Chanson and the study", "",
             "Error = simulated - reference. The analytical arrival is the front's tip (zero depth); the "
             "simulated one is the threshold crossing above, so a resolved front reads a little late by "
-            "construction. The study's times: experiment 0.91 s (WG2, x = 2.40 m) and 1.39 s (WG3, 3.20 m); "
-            "its LS-DYNA model 0.88 s and 1.20 s.", ""]
+            f"construction. The study's times: experiment {e2:.2f} s ({g2}, x = {x2:.2f} m) and {e3:.2f} s "
+            f"({g3}, {x3:.2f} m); its LS-DYNA model {m2:.2f} s and {m3:.2f} s.", ""]
     out.append(markdown_table(comp.arrivals, {
         "gauge": "gauge", "x_m": "x (m)", "reference": "reference", "reference_arrival_s": "reference (s)",
         "simulated_arrival_s": "simulated (s)", "error_s": "error (s)", "error_percent": "error (%)"}))

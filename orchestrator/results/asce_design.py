@@ -31,7 +31,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from analytical.asce7 import SEED_DEBRIS_STIFFNESS_N_M, asce7_design
+from analytical.asce7 import asce7_design
+from analytical.study import SEED_DEBRIS_STIFFNESS_N_M
 from orchestrator.transport.flow import FlowField
 from orchestrator.transport.flow_record import FLOW_RECORD_NPZ
 

@@ -7,8 +7,8 @@
     Bore arrival time at every gauge downstream of the gate against Ritter (dry,
     frictionless), Stoker (the scene's wet-bed depth, frictionless; only with a wet bed),
     Chanson (dry bed, the scene's Darcy f; only with friction), and, at the study's gauge
-    positions (x = 2.40 m and 3.20 m), the study's measured arrival (0.91 s, 1.39 s) and its
-    LS-DYNA model's (0.88 s, 1.20 s); error = simulated - reference (s and %). The
+    positions, the study's measured arrival and its LS-DYNA model's
+    (:data:`analytical.study.SEED_ARRIVALS`); error = simulated - reference (s and %). The
     analytical arrival is the front's tip; the simulated one is the threshold crossing of
     :mod:`orchestrator.results.metrics` (2 % of h0 above the initial level), so a resolved front
     arrives a little after the tip by construction.
@@ -69,7 +69,8 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from analytical.asce7 import SEED_DEBRIS_STIFFNESS_N_M, asce7_impact
+from analytical.asce7 import asce7_impact
+from analytical.study import SEED_ARRIVALS, SEED_DEBRIS_STIFFNESS_N_M, SEED_TABLE1
 from analytical.dambreak import dam_break
 from orchestrator.core.errors import DebrisfoamError
 from analytical.fitting import fit_mdof, fit_sdof
@@ -81,8 +82,6 @@ from orchestrator.results.tables import write_table
 
 __all__ = [
     "CONTAINER_MATERIAL",
-    "SEED_ARRIVALS",
-    "SEED_TABLE1",
     "SPREADING_ANGLES_DEG",
     "Comparison",
     "arrival_table",
@@ -93,17 +92,8 @@ __all__ = [
     "write_tables",
 ]
 
-#: The study's bore arrival times (its 4.1.2) by gauge position x (m): (experiment s, seed model s).
-SEED_ARRIVALS = {2.40: ("WG2", 0.91, 0.88), 3.20: ("WG3", 1.39, 1.20)}
 #: How close (m) a gauge must be to a seed gauge position to be compared with it.
 SEED_GAUGE_TOLERANCE_M = 0.02
-#: The study's Table 1 (its Fig. 4b event, u = 1.50 m/s): magnitude N, duration s, impulse N s.
-SEED_TABLE1 = {
-    "ASCE 7-22, k_d": (822.34, 0.0006, 0.46),
-    "ASCE 7-22, k_s": (322.83, 0.0014, 0.46),
-    "SDOF fit": (471.49, 0.0030, 0.91),
-    "MDOF fit": (236.93, 0.0047, 0.71),
-}
 #: Spreading half-angles (degrees either side of the flow) and their sources; see the module notes.
 SPREADING_ANGLES_DEG = {
     "Naito et al. (2014)": {"half_angle_deg": 22.5, "verified": True,

@@ -81,11 +81,10 @@ from typing import Any, Callable, Sequence
 import numpy as np
 import pandas as pd
 
-from analytical.contact_law import SEED_IMPACT_VELOCITY_M_S, SEED_TABLE2_MDOF
+from analytical.study import SEED_IMPACT_COUNT, SEED_IMPACT_VELOCITY_M_S, SEED_TABLE2_MDOF
 from analytical.contact_modal import column_modes
 from analytical.impact_bodies import ColumnTarget
 from orchestrator.core.errors import DebrisfoamError, InputError
-from analytical.study_comparison import SEED_IMPACT_COUNT
 from orchestrator.core.files import write_json_atomic, write_text_atomic
 from orchestrator.pipeline import prepare_case
 from orchestrator.results.study_fit import HEIGHT_SOURCES, compare_strikes, study_fit_figures

@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 from matplotlib.patches import Rectangle
 
-from analytical.contact_law import SEED_IMPACT_HEIGHTS_M
+from analytical.study import SEED_IMPACT_HEIGHTS_M
 from orchestrator.core.files import write_text_atomic
 from orchestrator.report.figures import SMALL, WIDTH_IN, empty, legend, note, pyplot, save_figure
 from orchestrator.report.study_table import comparison_markdown, comparison_note

@@ -17,7 +17,7 @@ import pandas as pd
 import yaml
 
 from orchestrator.core.errors import InputError
-from orchestrator.results.compare import SEED_ARRIVALS
+from analytical.study import SEED_ARRIVALS
 
 __all__ = ["FlumeMember", "flume_members", "write_flume_report"]
 

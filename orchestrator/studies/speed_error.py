@@ -21,8 +21,8 @@ every finished member:
   clear of the column (more than :data:`COLUMN_CLEARANCE` column widths upstream of its
   face), from Chanson's arrival at the gauge to the end of the run (before it Chanson's
   bed is dry while the run's wet bed holds still water);
-* **errors against the study's figures**: arrival at WG2 (x = 2.40 m) and WG3 (3.20 m)
-  against the experiment (0.91 s, 1.39 s) and the study's LS-DYNA model (0.88 s, 1.20 s).
+* **errors against the study's figures**: arrival at WG2 and WG3 against the experiment and
+  the study's LS-DYNA model (:data:`analytical.study.SEED_ARRIVALS`).
 
 It then marks the Pareto front (no other member is both cheaper and closer), works out
 the planner's speed-up over each baseline member (at the same cell size, and at equal

@@ -19,6 +19,7 @@ import math
 from pathlib import Path
 from typing import Any
 
+from analytical.study import SEED_ARRIVALS
 from orchestrator.core.files import write_bytes_atomic, write_json_atomic, write_text_atomic
 from orchestrator.core.numbers import finite_or_none
 from orchestrator.studies.speed_error import COLUMN_CLEARANCE, REPORT_DIR, TIME_LABELS, SpeedError
@@ -111,8 +112,9 @@ def markdown(study: SpeedError) -> str:
         "- *gauge RMSE vs finest*: water level at every gauge against the reference on its time base, RMS over "
         "the gauges; *peak force*: the peak column force along the flume against the reference's.",
         "- *vs Chanson*: simulated minus Chanson's (f = the scene's) arrival time; *vs experiment*: minus the "
-        "study's measured arrivals (0.91 s at WG2, 1.39 s at WG3). Arrival = the level rising 2 % of h0 above "
-        "its initial value.",
+        "study's measured arrivals ("
+        + ", ".join(f"{measured:.2f} s at {gauge}" for gauge, measured, _ in SEED_ARRIVALS.values())
+        + "). Arrival = the level rising 2 % of h0 above its initial value.",
         f"- *depth RMSE vs Chanson*: gauges downstream of the gate and more than {COLUMN_CLEARANCE:g} column widths "
         "upstream of the column, from Chanson's arrival to the end of the run.",
         "- *Pareto*: on the front of time against gauge RMSE vs finest (*finest*) or against the mean |arrival "

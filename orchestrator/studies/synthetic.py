@@ -25,8 +25,6 @@ from analytical.mdof import mdof_response
 from analytical.synthetic import (
     METHODS,
     SEED_EQUIVALENT,
-    SEED_FIG7_RATIOS,
-    SEED_TABLE2,
     RecordAnalysis,
     analyse_record,
     make_records,
@@ -35,6 +33,7 @@ from analytical.synthetic import (
     sdof_start_rules,
     table1_sdof_check,
 )
+from analytical.study import SEED_FIG7_RATIOS, SEED_TABLE1, SEED_TABLE2
 from orchestrator.core.files import write_json_atomic
 
 LABELS = {
@@ -369,10 +368,12 @@ def sdof_explanation(rules: dict, table1: dict, ident: dict, primary: str) -> li
               "eq. [6] read with k, m_s and omega as separate inputs) the same fit scales up by m_s omega^2 / k. "
               "On the 70 Hz column that reading with the departure rule gives magnitude, duration and impulse "
               "within the study's SDOF row (above), and a Fig. 7 ratio whose range overlaps the study's.", ""]
+    mdof, sdof = SEED_TABLE1["MDOF fit"], SEED_TABLE1["SDOF fit"]
     lines += ["### The SDOF fit of the MDOF response to Table 1's MDOF pulse", "",
-              "Table 1's MDOF pulse (236.93 N, 4.7 ms) on the MDOF column 0.40 m up, a noise-free record starting "
-              "at the impact (t = 0), fitted by the SDOF with its frequency bounds centred on the column's first "
-              "frequency (the study: SDOF 471.49 N, 3.0 ms, 0.91 N s):", "",
+              f"Table 1's MDOF pulse ({mdof[0]:.2f} N, {mdof[1] * 1e3:.1f} ms) on the MDOF column 0.40 m up, a "
+              "noise-free record starting at the impact (t = 0), fitted by the SDOF with its frequency bounds "
+              "centred on the column's first "
+              f"frequency (the study: SDOF {sdof[0]:.2f} N, {sdof[1] * 1e3:.1f} ms, {sdof[2]:.2f} N s):", "",
               "| column | gain | magnitude (N) | duration (ms) | impulse (N s) | start (ms) | f (Hz) | rmse (N) | "
               "Fig. 7 ratio | duration 95 % interval (ms) | Jacobian condition | corr(magnitude, duration) |",
               "|---|---|---|---|---|---|---|---|---|---|---|---|"]
