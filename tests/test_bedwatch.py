@@ -203,8 +203,8 @@ def test_a_body_at_rest_on_the_bed_is_stuck_and_a_sliding_one_gets_a_yaw_damper(
     text = (case / "constant" / "dynamicMeshDict").read_text()
     assert "stickPoint" in text and "stickOrientation" in text and "sphericalAngularDamper" in text
     # the yaw damper is mu N r over the floor's yaw rate: the same time constant as the linear one
-    body = watch.bodies["debris1"]
     radius = footprint_mean_radius(0.15, 0.06)
+    assert watch.friction_radius_m("debris1") == pytest.approx(radius)
     assert watch.friction_spin["debris1"] == pytest.approx(0.05 / radius)
     # a body sliding at 0.2 m/s is not stuck; ending the stick leaves its hold
     assert body_policy.unstick_bodies(case, ["debris1"]) == ["debris1"]
@@ -212,7 +212,7 @@ def test_a_body_at_rest_on_the_bed_is_stuck_and_a_sliding_one_gets_a_yaw_damper(
     watch.at_restart("0.1", [sliding])
     assert body_policy.stuck_bodies(case) == set() and body_policy.bed_constraints(case)["debris1"] == "hold"
     assert watch.friction_speed["debris1"] == pytest.approx(0.2)
-    assert body.bed_friction > 0
+    assert watch.bed_friction["debris1"] > 0
     # freed from the bed, a stuck body loses its stick with its hold
     assert body_policy.stick_bodies(case, ["debris1"]) == ["debris1"]
     assert body_policy.release_holds(case, ["debris1"]) == ["debris1"]

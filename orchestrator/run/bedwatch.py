@@ -81,6 +81,7 @@ import yaml
 
 from orchestrator.case.bodystate import BodyState
 from orchestrator.case.folder import CaseFolder
+from orchestrator.plan.model import BodyPlan
 from orchestrator.run import body_policy, waterdepth
 
 #: below this horizontal speed the friction damper is sized for it (m/s)
@@ -119,21 +120,6 @@ def breakaway_ratio(force_xy: Sequence[float], moment_z: float, mu: float, norma
     return (math.hypot(*force_xy[:2]) / limit) ** 2 + (moment_z / (limit * radius_m)) ** 2
 
 
-@dataclass(frozen=True)
-class BodyAfloat:
-    """What decides whether a body floats: its mass, size, draft and bed friction."""
-
-    name: str
-    mass_kg: float
-    size_m: tuple[float, float, float]
-    draft_m: float
-    bed_friction: float
-
-    @property
-    def friction_radius_m(self) -> float:
-        return footprint_mean_radius(self.size_m[0], self.size_m[1])
-
-
 def underside_m(state: BodyState, size: Sequence[float], bed_z: float = 0.0) -> float:
     """Height of a body's lowest point above the bed plane."""
     rot = np.asarray(state.orientation, dtype=float).reshape(3, 3)
@@ -146,7 +132,9 @@ class BedWatch:
     """The runner's watch over bodies on the bed (see the module notes)."""
 
     case: Path
-    bodies: dict[str, BodyAfloat]
+    #: the planned bodies (mass, size) and each one's Coulomb bed friction (scene contact.bed_friction_coefficient)
+    bodies: dict[str, BodyPlan]
+    bed_friction: dict[str, float]
     axis: waterdepth.ZAxis | None
     margin_m: float
     rho: float
@@ -178,11 +166,9 @@ class BedWatch:
         g = float(scene.get("fluids", {}).get("gravity_m_s2", 9.81))
         mu = {d["name"]: float((d.get("contact") or {}).get("bed_friction_coefficient", 0.3))
               for d in scene.get("debris") or []}
-        bodies, initial = {}, {}
+        bodies = {b.name: b for b in plan.bodies}
+        initial = {}
         for b in plan.bodies:
-            size = tuple(float(v) for v in b.size_m)
-            mass = float(b.mass_kg)
-            bodies[b.name] = BodyAfloat(b.name, mass, size, mass / (rho * size[0] * size[1]), mu.get(b.name, 0.3))
             x, y = (float(v) for v in b.centre_of_mass_m[:2])
             initial[b.name] = max((float(w.max_m[2]) - float(w.min_m[2]) for w in plan.water
                                    if w.min_m[0] <= x <= w.max_m[0] and w.min_m[1] <= y <= w.max_m[1]), default=0.0)
@@ -190,8 +176,19 @@ class BedWatch:
         if axis is not None:
             waterdepth.install(case, axis)  # the lift of every body; columns once a restart needs them
         bed_z = float(plan.domain_m[2][0])
-        return cls(case, bodies, axis, margin_m, rho, g, bed_z, initial, say, friction,
+        return cls(case, bodies, {name: mu.get(name, 0.3) for name in bodies}, axis, margin_m, rho, g, bed_z, initial,
+                   say, friction,
                    gap_m=float(plan.bed_gap_m or 0.0))
+
+    # ---- the bodies
+    def draft_m(self, name: str) -> float:
+        """The body's draft afloat in the case's water: its mass over rho times its footprint."""
+        body = self.bodies[name]
+        return float(body.mass_kg) / (self.rho * float(body.size_m[0]) * float(body.size_m[1]))
+
+    def friction_radius_m(self, name: str) -> float:
+        """The mean distance of the body's footprint from its centre (`footprint_mean_radius`)."""
+        return footprint_mean_radius(float(self.bodies[name].size_m[0]), float(self.bodies[name].size_m[1]))
 
     # ---- the measurement
     def depth(self, sample: waterdepth.Sample | None, state: BodyState,
@@ -212,7 +209,7 @@ class BedWatch:
         after a `rest_on_bed`, the margin above the depth it was put back at."""
         body = self.bodies[state.name]
         # a body below the gap's top is raised onto it when freed (at_restart)
-        need = max(underside_m(state, body.size_m, self.bed_z), self.gap_m) + body.draft_m + self.margin_m
+        need = max(underside_m(state, body.size_m, self.bed_z), self.gap_m) + self.draft_m(state.name) + self.margin_m
         rested = self.rested_at_depth.get(state.name)
         return need if rested is None else max(need, rested + self.margin_m)
 
@@ -235,11 +232,10 @@ class BedWatch:
         force, moment = load
         x, y = state.centre_of_mass_m[:2]
         moment_z = float(moment[2]) - (x * float(force[1]) - y * float(force[0]))  # about its centre
-        body = self.bodies[state.name]
-        return breakaway_ratio(force, moment_z, body.bed_friction, normal, body.friction_radius_m)
+        return breakaway_ratio(force, moment_z, self.bed_friction[state.name], normal, self.friction_radius_m(state.name))
 
     def at_rest(self, state: BodyState) -> bool:
-        spin = abs(float(state.angular_velocity_rad_s[2])) * self.bodies[state.name].friction_radius_m
+        spin = abs(float(state.angular_velocity_rad_s[2])) * self.friction_radius_m(state.name)
         return math.hypot(*state.velocity_m_s[:2]) < STICK_SPEED_M_S and spin < STICK_SPEED_M_S
 
     def can_float(self, state: BodyState, measured: tuple[float, int] | None, lift: float | None) -> bool:
@@ -288,14 +284,13 @@ class BedWatch:
                 freed.append(state.name)
                 kind = ""
             if kind in ("hold", "rest") and self.friction:
-                body = self.bodies[state.name]
                 normal = self.normal_force_N(state, depth)
                 state = self._static_friction(time_name, state, normal)
                 speed = max(math.hypot(*state.velocity_m_s[:2]), FRICTION_FLOOR_M_S)
-                radius = body.friction_radius_m
+                radius = self.friction_radius_m(state.name)
                 spin = max(abs(float(state.angular_velocity_rad_s[2])), FRICTION_FLOOR_M_S / radius)
-                coeffs[state.name] = body.bed_friction * normal / speed
-                yaw[state.name] = body.bed_friction * normal * radius / spin
+                coeffs[state.name] = self.bed_friction[state.name] * normal / speed
+                yaw[state.name] = self.bed_friction[state.name] * normal * radius / spin
                 self.friction_speed[state.name], self.friction_spin[state.name] = speed, spin
             else:
                 coeffs[state.name] = yaw[state.name] = None
@@ -354,7 +349,7 @@ class BedWatch:
                 return f"{state.name} slides at {speed:.3g} m/s, its bed friction was set for {speed0:.3g} m/s"
             spin0 = self.friction_spin.get(state.name)
             spin = max(abs(float(state.angular_velocity_rad_s[2])),
-                       FRICTION_FLOOR_M_S / self.bodies[state.name].friction_radius_m)
+                       FRICTION_FLOOR_M_S / self.friction_radius_m(state.name))
             if spin0 is not None and not spin0 / FRICTION_BAND <= spin <= spin0 * FRICTION_BAND:
                 return f"{state.name} turns at {spin:.3g} rad/s, its bed friction was set for {spin0:.3g} rad/s"
             if loads_due and self.at_rest(state) and (self.load_ratio(state) or 0.0) < 1.0:
