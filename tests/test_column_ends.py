@@ -74,7 +74,7 @@ def test_slow_load_gives_the_static_reactions(ends):
     assert d.base_shear_N[0] == pytest.approx(shear, rel=1e-6)
     assert d.base_moment_Nm[0] == pytest.approx(moment, rel=1e-6, abs=1e-9)
     # the displacement at the load: P / k there
-    assert d.top_displacement_m[0] == pytest.approx(p / closed_form(ends, column.bending_stiffness_Nm2, a), rel=1e-6)
+    assert d.strike_displacement_m[0] == pytest.approx(p / closed_form(ends, column.bending_stiffness_Nm2, a), rel=1e-6)
 
 
 def test_restrained_top_modal_and_newmark_agree():
@@ -108,3 +108,69 @@ def test_bad_ends_are_named():
     # two elements: the mid-node alone, still the closed form there (192 E I / L^3)
     two = member("fixed-fixed", elements=2)
     assert lateral_stiffness(two, L / 2) == pytest.approx(192 * two.bending_stiffness_Nm2 / L**3, rel=1e-7)
+
+
+def largest_deflection(ends: str, ei: float, p: float, a: float) -> float:
+    """Roark's largest deflection of the member under P at a from its base (a > L / 2), Euler-Bernoulli:
+    fixed-fixed 2 P a^3 b^2 / (3 EI (3a + b)^2), pinned P b (L^2 - b^2)^1.5 / (9 sqrt(3) EI L), a
+    cantilever's top P a^2 (3L - a) / (6 EI)."""
+    b = L - a
+    return {"cantilever": p * a**2 * (3 * L - a) / (6 * ei),
+            "fixed-fixed": 2 * p * a**3 * b**2 / (3 * ei * (3 * a + b) ** 2),
+            "pinned": p * b * (L**2 - b**2) ** 1.5 / (9 * math.sqrt(3) * ei * L)}[ends]
+
+
+@pytest.mark.parametrize("ends", ["cantilever", "fixed-fixed", "pinned"])
+def test_the_displacement_is_the_members_largest_not_its_tops(ends):
+    """Held slowly at 3.0 m: the design's displacement is the member's largest (a cantilever's top;
+    a member held at its top moves most between the load and mid-height, its top not at all), the
+    strike point's is P / k_s there, and every node's is the MDOF model's static deflection."""
+    from analytical.column_fem import static_deflection
+
+    a, p = 3.0, 1000.0
+    column = member(ends)
+    d = column_demands(Tabulated([0.0, 2.0, 4.0], [0.0, p, p]), column, a, t=[3.9])
+    ei = column.bending_stiffness_Nm2
+    assert d.peak_displacement_m == pytest.approx(largest_deflection(ends, ei, p, a), rel=1e-4)
+    assert d.peak_strike_displacement_m == pytest.approx(p / closed_form(ends, ei, a), rel=1e-6)
+    assert d.peak_top_displacement_m == (pytest.approx(d.peak_displacement_m, rel=1e-9) if ends == "cantilever"
+                                         else pytest.approx(0.0, abs=1e-15))
+    if ends != "cantilever":
+        assert d.peak_displacement_m > 1.01 * d.peak_strike_displacement_m
+    nodes = d.displacement_height_m[:-1]
+    static = [static_deflection(column, a, z, p) for z in nodes[::16]]
+    assert d.displacement_m[:-1:16, 0] == pytest.approx(static, rel=1e-6, abs=1e-6 * max(static))
+
+
+def test_the_largest_displacement_under_a_short_pulse_is_the_mdof_models_integrated_directly():
+    """A 10 ms rectangular pulse on the fixed-fixed member at 3.0 m: the largest displacement over
+    the member and time (modal superposition) against M u'' + C u' + K u = f integrated directly on
+    the same MDOF model's matrices (Newmark, average acceleration, 2e-6 s)."""
+    from scipy import linalg
+
+    from analytical.column_demand import strike_demands
+
+    column = member("fixed-fixed", elements=40)
+    model = column_model(column)
+    pulse, a = Rectangular(1.0e6, 0.01), 3.0
+    dt, t_end = 2.0e-6, 0.03
+    times = np.arange(1, int(round(t_end / dt)) + 1) * dt
+    d = column_demands(pulse, column, a, t=times)
+    k, m, c = (x.toarray() for x in (model.stiffness, model.mass, model.damping))
+    f = model.load_vector(a)[model.free_dofs] * 1.0e6
+    lu = linalg.lu_factor(k + 2.0 / dt * c + 4.0 / dt**2 * m)
+    u, v, acc = np.zeros(f.size), np.zeros(f.size), np.zeros(f.size)
+    lateral = np.asarray(model.free_dofs) % 2 == 0
+    peak = 0.0
+    for t in times:
+        load = f if t <= pulse.end_s else 0.0 * f
+        rhs = load + m @ (4.0 / dt**2 * u + 4.0 / dt * v + acc) + c @ (2.0 / dt * u + v)
+        u_new = linalg.lu_solve(lu, rhs)
+        v_new = 2.0 / dt * (u_new - u) - v
+        acc = 4.0 / dt**2 * (u_new - u) - 4.0 / dt * v - acc
+        u, v = u_new, v_new
+        peak = max(peak, float(np.max(np.abs(u[lateral]))))
+    assert d.peak_displacement_m == pytest.approx(peak, rel=2e-3)
+    # a strike along the face's normal: the design row's displacement is that peak
+    assert strike_demands(pulse, (-1.0, 0.0, 0.0), column, a)["displacement_m"] == pytest.approx(
+        column_demands(pulse, column, a).peak_displacement_m, rel=1e-12)

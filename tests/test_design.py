@@ -1,6 +1,6 @@
 """Design studies (`debrisfoam design`): the exceedance estimator and its intervals against known
 distributions, inundation cases combined by their weights as a closed-form mixture, the column's
-base moment and top displacement against the static cantilever, the draws, the realisations'
+base moment and displacement against the static cantilever, the draws, the realisations'
 demands on a synthetic flow, the page, the verb's bad input (exit 2 naming the file and the
 field), and the verb end to end on the tiny one-way scene with OpenFOAM."""
 from __future__ import annotations
@@ -225,7 +225,7 @@ def test_the_page_sets_asce_beside_the_curves(tmp_path):
                          "strike": int(struck), "face": "upstream" if struck else math.nan,
                          "impact_speed_m_s": 0.9 if struck else math.nan, "impact_height_m": 0.05 if struck else
                          math.nan, "peak_force_N": f, "base_shear_N": 1.2 * f, "base_moment_Nm": 0.05 * f,
-                         "top_displacement_m": 1e-7 * f, "wall_time_s": 0.1})
+                         "displacement_m": 1e-7 * f, "wall_time_s": 0.1})
     table = pd.DataFrame(rows, columns=DESIGN_COLUMNS)
     cases = [DesignCase("deep", [], 0.75, 30, scene), DesignCase("shallow", [], 0.25, 10, scene)]
     result = DesignResult(table, cases, {})

@@ -180,7 +180,7 @@ def test_the_page_recommends_p90_given_a_strike_times_i_tsu_in_kn(tmp_path):
                          "obliquity_deg": 40.0 * (k == 2) if struck else math.nan,
                          "eccentricity_m": 0.01 if struck else math.nan, "torsion_Nm": 0.01 * f if struck else math.nan,
                          "peak_force_N": f, "base_shear_N": 1.2 * f, "base_moment_Nm": 0.05 * f,
-                         "top_displacement_m": 1e-7 * f, "wall_time_s": 0.1})
+                         "displacement_m": 1e-7 * f, "wall_time_s": 0.1})
     table = pd.DataFrame(rows, columns=DESIGN_COLUMNS)
     result = DesignResult(table, [DesignCase("c", [], 1.0, 60, scene)], {})
     write_report(tmp_path, result, TINY, [], Design(risk_category="III"),
@@ -235,7 +235,7 @@ def test_strikes_faster_than_their_water_are_counted_with_their_masses():
                          "impact_speed_m_s": speed, "flow_speed_m_s": water, "flow_speed_max_m_s": water,
                          "face": "upstream", "obliquity_deg": 0.0, "eccentricity_m": 0.0, "torsion_Nm": 0.0,
                          "peak_force_N": force, "base_shear_N": force, "base_moment_Nm": force,
-                         "top_displacement_m": 1e-9 * force})
+                         "displacement_m": 1e-9 * force})
     table = pd.DataFrame(rows, columns=DESIGN_COLUMNS)
     s = strike_summary(table, realisation_demands(table), {"c": 3.5})
     assert s["faster_than_the_water"] == 2 and s["faster_mass_kg"] == pytest.approx(5500.0)

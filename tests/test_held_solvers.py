@@ -34,7 +34,7 @@ def test_the_solvers_go_aside_and_come_back_with_every_body_and_its_edits(render
     (case / "constant").mkdir(parents=True)
     source = rendered / bodystate.DYNAMIC_MESH_DICT
     (case / bodystate.DYNAMIC_MESH_DICT).write_text(source.read_text())
-    before = bodystate.read_body_properties(case)
+    before = bodystate.read_mesh_poses(case)
     names = [b.name for b in before]
     assert len(names) == 3 and not held.solvers_held(case)
 
@@ -45,12 +45,12 @@ def test_the_solvers_go_aside_and_come_back_with_every_body_and_its_edits(render
     text = (case / bodystate.DYNAMIC_MESH_DICT).read_text()
     assert "heldSolvers" in text
     # every reader and editor finds the bodies while their solvers are aside
-    assert bodystate.read_body_properties(case) == before
+    assert bodystate.read_mesh_poses(case) == before
     assert body_policy.stick_bodies(case, [names[2]]) == [names[2]]
     assert body_policy.still_bodies(case) == set(names)
     assert held.hold_solvers(case, False) and not held.solvers_held(case)
     assert body_policy.stuck_bodies(case) == set(names)  # the edit made while aside is kept
-    assert bodystate.read_body_properties(case) == before
+    assert bodystate.read_mesh_poses(case) == before
 
 
 def test_a_case_without_bodies_or_dictionary_is_left_alone(tmp_path):

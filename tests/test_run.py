@@ -80,9 +80,8 @@ def render(tmp_path: Path, name: str, data: dict) -> Path:
 
 def set_velocities(case: Path, velocities: dict[str, tuple[float, float, float]]) -> None:
     """Start the bodies with these velocities (their t = 0 state in dynamicMeshDict)."""
-    props = {p.name: p for p in bodystate.read_body_properties(case)}
-    bodystate.write_states(case, [BodyState(n, 0.0, props[n].initial_centre_of_mass_m, props[n].initial_orientation, v)
-                                  for n, v in velocities.items()])
+    poses = {p.name: p for p in bodystate.read_mesh_poses(case)}
+    bodystate.write_states(case, [poses[n].with_changes(velocity_m_s=v) for n, v in velocities.items()])
 
 
 def force_rows(case: Path) -> dict[float, np.ndarray]:
@@ -486,12 +485,12 @@ def test_write_and_restore_states_in_dynamic_mesh_dict(body_case, tmp_path):
 
     case = tmp_path / "case"
     shutil.copytree(body_case, case)
-    props = {p.name: p for p in bodystate.read_body_properties(case)}
+    mesh = {pose.name: (pose, inertia) for pose, inertia in bodystate.read_mesh_bodies(case)}
     before = (case / bodystate.DYNAMIC_MESH_DICT).read_text()
     assert "momentOfInertia (0.0002213017544" in before
     q = bodystate.orthonormal([1, 1e-9, 0, -1e-9, 1, 0, 0, 0, 1.0000000001])
     s1 = BodyState("debris1", 0.3, (1.0123456789012, 0.0011, 0.0987654321), q, (0.1, 0.2, -0.3), (0.5, -0.25, 2.0))
-    s2 = BodyState("debris2", 0.3, (0.75, 0.125, 0.1), props["debris2"].initial_orientation, (0.2, 0.0, 0.0))
+    s2 = BodyState("debris2", 0.3, (0.75, 0.125, 0.1), mesh["debris2"][0].orientation, (0.2, 0.0, 0.0))
     # a fake decomposed time with v1912's (first body's) state file in each processor
     for p in ("processor0", "processor1"):
         (case / p / "0.3" / "uniform").mkdir(parents=True)
@@ -507,15 +506,15 @@ def test_write_and_restore_states_in_dynamic_mesh_dict(body_case, tmp_path):
     assert list(c1["velocity"]) == [0.1, 0.2, -0.3]
     # angularMomentum = I (Q^T omega): back to omega
     pi = np.array(c1["angularMomentum"], dtype=float)
-    omega = np.asarray(q).reshape(3, 3) @ (pi / np.asarray(props["debris1"].moment_of_inertia_kg_m2))
+    omega = np.asarray(q).reshape(3, 3) @ (pi / np.asarray(mesh["debris1"][1]))
     assert omega == pytest.approx((0.5, -0.25, 2.0))
     c2 = d["solvers"]["debris2"]["sixDoFRigidBodyMotionCoeffs"]
-    assert list(c2["initialOrientation"]) == pytest.approx(list(props["debris2"].initial_orientation))
+    assert list(c2["initialOrientation"]) == pytest.approx(list(mesh["debris2"][0].orientation))
     # untouched entries keep their digits and their layout
     after = (case / bodystate.DYNAMIC_MESH_DICT).read_text()
     assert "momentOfInertia (0.0002213017544" in after and "// principal moments about the centre of mass" in after
     # the initial pose is the mesh's, whatever was written since
-    assert bodystate.read_body_properties(case)[0].initial_centre_of_mass_m == props["debris1"].initial_centre_of_mass_m
+    assert bodystate.read_mesh_poses(case)[0].centre_of_mass_m == mesh["debris1"][0].centre_of_mass_m
     states, source = bodystate.recorded_states(case, "0.3")
     assert source == "log" and states == [s1, s2]
     with pytest.raises(InputError, match="bodies: no state at t = 0.4 for debris2"):
@@ -982,7 +981,7 @@ def test_a_pinned_body_stays_where_it_is(tmp_path, openfoam):
     assert body_policy.pinned_bodies(case) == {"debris1"}
     run_case(case, quiet=True)
     tracks = pd.read_csv(case / "bodies.csv")
-    start = bodystate.read_body_properties(case)[0].initial_centre_of_mass_m
+    start = bodystate.read_mesh_poses(case)[0].centre_of_mass_m
     assert len(tracks) > 10 and tracks["time_s"].max() > 0.39  # the bore passes it from about 0.3 s
     assert np.abs(tracks[["x_m", "y_m", "z_m"]].to_numpy() - np.asarray(start)).max() < 1e-9
     assert np.abs(tracks[["u_m_s", "v_m_s", "w_m_s"]].to_numpy()).max() < 1e-9

@@ -29,7 +29,7 @@ from typing import Sequence
 
 import numpy as np
 
-from orchestrator.case.bodystate import BodyState, read_body_properties
+from orchestrator.case.bodystate import BodyState, read_mesh_poses
 from orchestrator.case.folder import processor_dirs
 from orchestrator.core.errors import InputError
 from orchestrator.core.files import write_text_atomic
@@ -92,15 +92,15 @@ class BodyPoints:
         case = Path(case)
         merged = read_points(case / "constant" / _POINTS)
         ranges = {}
-        for props in read_body_properties(case):
-            own = read_points(case / "bodies" / props.name / "constant" / _POINTS)
+        for pose in read_mesh_poses(case):
+            own = read_points(case / "bodies" / pose.name / "constant" / _POINTS)
             starts = np.flatnonzero(np.all(merged == own[0], axis=1))
             start = next((int(s) for s in starts if s + len(own) <= len(merged)
                           and np.array_equal(merged[s:s + len(own)], own)), None)
             if start is None:
-                raise InputError(f"bodies/{props.name}", "its points are not in the merged mesh (mergeMeshes "
+                raise InputError(f"bodies/{pose.name}", "its points are not in the merged mesh (mergeMeshes "
                                  "appends them)", f"{case}/constant/polyMesh/points")
-            ranges[props.name] = (start, start + len(own))
+            ranges[pose.name] = (start, start + len(own))
         procs = processor_dirs(case)
         if not procs:
             return cls(case, [_Part(case, merged, {n: np.arange(a, b) for n, (a, b) in ranges.items()})])
@@ -114,7 +114,7 @@ class BodyPoints:
     def follow(self, time_name: str, states: Sequence[BodyState]) -> list[str]:
         """Move the points written at `time_name` of every body whose pose in `states` is not
         where they are (by more than TOLERANCE_M) to that pose; return the bodies moved."""
-        props = {p.name: p for p in read_body_properties(self.case)}
+        poses = {p.name: p for p in read_mesh_poses(self.case)}
         moved: set[str] = set()
         for part in self.parts:
             path = part.root / time_name / _POINTS
@@ -126,9 +126,9 @@ class BodyPoints:
                 index = part.owners.get(state.name)
                 if index is None or index.size == 0:
                     continue
-                p = props[state.name]
-                turn = state.rotation @ np.asarray(p.initial_orientation, float).reshape(3, 3).T
-                target = (part.points0[index] - np.asarray(p.initial_centre_of_mass_m)) @ turn.T
+                pose = poses[state.name]
+                turn = state.rotation @ pose.rotation.T
+                target = (part.points0[index] - np.asarray(pose.centre_of_mass_m)) @ turn.T
                 target += np.asarray(state.centre_of_mass_m)
                 if np.abs(points[index] - target).max() > TOLERANCE_M:
                     points[index] = target

@@ -43,7 +43,6 @@ from orchestrator.core.errors import InputError
 from orchestrator.core.files import write_text_atomic
 
 __all__ = [
-    "BodyProperties",
     "BodyState",
     "DYNAMIC_MESH_DICT",
     "HELD_SOLVERS",
@@ -56,7 +55,8 @@ __all__ = [
     "motion_entries",
     "orthonormal",
     "prepare_restart",
-    "read_body_properties",
+    "read_mesh_bodies",
+    "read_mesh_poses",
     "read_record",
     "read_state_file",
     "record_states",
@@ -117,18 +117,6 @@ class BodyState:
         return replace(self, **changes)
 
 
-@dataclass(frozen=True)
-class BodyProperties:
-    """What dynamicMeshDict says of a body: mass, principal inertia, and the pose its
-    mesh was built in (`initial_*`: the pose of the points in constant/polyMesh)."""
-
-    name: str
-    mass_kg: float
-    moment_of_inertia_kg_m2: Vec
-    initial_centre_of_mass_m: Vec
-    initial_orientation: tuple[float, ...]
-
-
 # --------------------------------------------------------------------------- dictionaries
 
 
@@ -158,18 +146,27 @@ def body_coefficients(parsed) -> list[tuple[str, Any]]:
     return [(str(name), solvers[name][_COEFFS]) for name in solvers.keys() if _COEFFS in solvers[name]]
 
 
-def read_body_properties(case_dir: str | Path) -> list[BodyProperties]:
-    """Every six-DoF body of `constant/dynamicMeshDict`, in `solvers` order ([] if none)."""
+def read_mesh_bodies(case_dir: str | Path) -> list[tuple[BodyState, Vec]]:
+    """Every six-DoF body of `constant/dynamicMeshDict`, in `solvers` order ([] if none): the pose
+    its mesh was built in (`initialCentreOfMass` / `initialOrientation`, the pose of the points in
+    constant/polyMesh; before a restart writes them, the coefficients' own) as a BodyState at
+    t = 0, and its principal moments of inertia (kg m^2). Mass and size are the plan's (BodyPlan)."""
     path = Path(case_dir) / DYNAMIC_MESH_DICT
     if not path.is_file():
         return []
     bodies = []
     for name, coeffs in body_coefficients(read_dictionary(path)):
         c = plain(coeffs)  # a dict: a missing entry is KeyError('mass'), as in any dict
+        float(c["mass"])  # what render writes, so a dictionary without it is not one of its cases
         centre = _vec(c.get("initialCentreOfMass"), _vec(c["centreOfMass"]))
         orient = _vec(c.get("initialOrientation"), _vec(c.get("orientation"), _IDENTITY))
-        bodies.append(BodyProperties(name, float(c["mass"]), _vec(c["momentOfInertia"]), centre, orient))
+        bodies.append((BodyState(name, 0.0, centre, orient), _vec(c["momentOfInertia"])))
     return bodies
+
+
+def read_mesh_poses(case_dir: str | Path) -> list[BodyState]:
+    """Each body's pose its mesh was built in, at t = 0 (:func:`read_mesh_bodies`)."""
+    return [pose for pose, _ in read_mesh_bodies(case_dir)]
 
 
 def motion_entries(case_dir: str | Path, key: str) -> dict[str, dict[str, Any]]:
@@ -228,14 +225,14 @@ def orthonormal(orientation: Sequence[float]) -> tuple[float, ...]:
     return tuple(float(v) for v in r.ravel())
 
 
-def angular_momentum_body(props: BodyProperties, state: BodyState) -> Vec:
+def angular_momentum_body(inertia_kg_m2: Sequence[float], state: BodyState) -> Vec:
     """OpenFOAM's `angularMomentum`: pi = I (Q^T omega), in the body frame (kg m^2/s).
 
     OpenFOAM reports the angular velocity omega = Q I^-1 pi in the global frame.
     """
     q = np.asarray(state.orientation, dtype=float).reshape(3, 3)
     local = q.T @ np.asarray(state.angular_velocity_rad_s, dtype=float)
-    return tuple(float(v) for v in np.asarray(props.moment_of_inertia_kg_m2) * local)
+    return tuple(float(v) for v in np.asarray(inertia_kg_m2, dtype=float) * local)
 
 
 def coefficient_states(case_dir: str | Path, time_s: float = 0.0) -> list[BodyState]:
@@ -243,13 +240,13 @@ def coefficient_states(case_dir: str | Path, time_s: float = 0.0) -> list[BodySt
     of a run): centreOfMass, orientation, velocity, angularMomentum (-> angular velocity),
     acceleration."""
     path = Path(case_dir) / DYNAMIC_MESH_DICT
-    props = {p.name: p for p in read_body_properties(case_dir)}
+    inertias = {pose.name: inertia for pose, inertia in read_mesh_bodies(case_dir)}
     states = []
     for name, coeffs in body_coefficients(read_dictionary(path)):
-        p, c = props[name], plain(coeffs)
+        c = plain(coeffs)
         q = np.asarray(_vec(c.get("orientation"), _IDENTITY)).reshape(3, 3)
         pi = np.asarray(_vec(c.get("angularMomentum"), (0.0, 0.0, 0.0)))
-        omega = q @ (pi / np.asarray(p.moment_of_inertia_kg_m2))
+        omega = q @ (pi / np.asarray(inertias[name]))
         states.append(BodyState(name, time_s, _vec(c["centreOfMass"]), tuple(float(v) for v in q.ravel()),
                                 _vec(c.get("velocity"), (0.0, 0.0, 0.0)), tuple(float(v) for v in omega), None,
                                 _vec(c.get("acceleration"), (0.0, 0.0, 0.0))))
@@ -263,23 +260,23 @@ def write_states(case_dir: str | Path, states: Sequence[BodyState]) -> None:
     body mesh was built in), and never changed afterwards. Raises InputError naming a body it lacks.
     """
     path = Path(case_dir) / DYNAMIC_MESH_DICT
-    props = {p.name: p for p in read_body_properties(case_dir)}
+    mesh = {pose.name: (pose, inertia) for pose, inertia in read_mesh_bodies(case_dir)}
     with edit_dictionary(path) as parsed:
         coeffs = dict(body_coefficients(parsed))
         for state in states:
             if state.name not in coeffs:
                 raise InputError("solvers", f"no body {state.name!r} (bodies: {', '.join(coeffs)})", str(path))
             c = coeffs[state.name]
-            p = props[state.name]
-            c["initialCentreOfMass"] = _floats(p.initial_centre_of_mass_m)
-            c["initialOrientation"] = _floats(p.initial_orientation)
+            pose, inertia = mesh[state.name]
+            c["initialCentreOfMass"] = _floats(pose.centre_of_mass_m)
+            c["initialOrientation"] = _floats(pose.orientation)
             c["centreOfMass"] = _floats(state.centre_of_mass_m)
             if "centreOfRotation" in c:
                 del c["centreOfRotation"]
             c["orientation"] = _floats(orthonormal(state.orientation))
             c["velocity"] = _floats(state.velocity_m_s)
             c["acceleration"] = _floats(state.acceleration_m_s2)
-            c["angularMomentum"] = _floats(angular_momentum_body(p, state))
+            c["angularMomentum"] = _floats(angular_momentum_body(inertia, state))
 
 
 def state_file_paths(case_dir: str | Path, time_name: str) -> list[Path]:
@@ -346,7 +343,7 @@ def forget_after(case_dir: str | Path, time_s: float) -> None:
 
 def prepare_restart(case_dir: str | Path, time_name: str, states: Sequence[BodyState], source: str) -> None:
     """Make a restart at `time_name` start every body from `states` (the v1912 recipe above)."""
-    names = [p.name for p in read_body_properties(case_dir)]
+    names = [p.name for p in read_mesh_poses(case_dir)]
     missing = sorted(set(names) - {s.name for s in states})
     if missing:
         raise InputError("bodies", f"no state at t = {time_name} for {', '.join(missing)}", str(case_dir))

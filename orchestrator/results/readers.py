@@ -25,7 +25,7 @@ import numpy as np
 import pandas as pd
 
 from orchestrator.core.errors import DebrisfoamError, InputError
-from orchestrator.case.bodystate import read_body_properties
+from orchestrator.case.bodystate import read_mesh_poses
 from orchestrator.case.folder import EPS_T, CaseFolder
 from orchestrator.case.outputs import numeric_dirs
 from orchestrator.plan.model import ModelPlan
@@ -74,7 +74,7 @@ class CaseData:
     @property
     def body_names(self) -> list[str]:
         try:
-            names = [b.name for b in read_body_properties(self.case)]
+            names = [b.name for b in read_mesh_poses(self.case)]
         except Exception:  # an unreadable dictionary: fall back on the plan, else the scene
             names = []
         return names or [b.name for b in self.debris]

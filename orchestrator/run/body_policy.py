@@ -21,7 +21,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Sequence
 
-from orchestrator.case.bodystate import edit_motion_entries, motion_entries, read_body_properties
+from orchestrator.case.bodystate import edit_motion_entries, motion_entries, read_mesh_poses
 from orchestrator.case.dictionary import edit_dictionary, plain, read_dictionary
 
 __all__ = [
@@ -211,7 +211,7 @@ def set_bed_friction(case_dir: str | Path, coefficients: dict[str, float | None]
     restraints). The runner sizes them to the Coulomb friction of a body sliding on the bed
     (`orchestrator.run.bedwatch`). Returns the bodies changed."""
     yaw = yaw or {}
-    centres = {p.name: p.initial_centre_of_mass_m for p in read_body_properties(case_dir)}
+    centres = {p.name: p.centre_of_mass_m for p in read_mesh_poses(case_dir)}
 
     def edit(name: str, restraints: dict) -> dict | None:
         new = {k: v for k, v in restraints.items() if k not in (BED_FRICTION, *BED_FRICTION_AXES)}

@@ -12,10 +12,9 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 from orchestrator.case import bodystate
-from orchestrator.case.bodystate import BodyProperties
 from orchestrator.case.folder import CaseFolder
 from orchestrator.core.errors import InputError
-from orchestrator.plan.model import ModelPlan
+from orchestrator.plan.model import BodyPlan, ModelPlan
 from orchestrator.run.control import read_control
 
 __all__ = ["CaseInfo", "load_case_info"]
@@ -45,7 +44,8 @@ class CaseInfo:
     domain_m: tuple[tuple[float, float], ...]
     two_d: bool
     downstream_type: str
-    bodies: tuple[BodyProperties, ...]
+    #: the plan's bodies in constant/dynamicMeshDict's order (the solver's)
+    bodies: tuple[BodyPlan, ...]
     body_sizes_m: dict[str, tuple[float, float, float]]
     #: (body, time) of bodies held on the bed until that time (plan.json hold_until_s)
     holds: tuple[tuple[str, float], ...] = ()
@@ -71,7 +71,7 @@ def load_case_info(case_dir: str | Path, np_override: int | None = None) -> Case
     if ranks < 1:
         raise InputError("--np", f"must be >= 1, got {ranks}")
     try:  # a file foamlib cannot parse raises its DictionaryError, a ValueError
-        bodies = tuple(bodystate.read_body_properties(case))
+        bodies = tuple(bodystate.read_mesh_poses(case))
     except (KeyError, TypeError, ValueError) as exc:
         raise InputError(str(bodystate.DYNAMIC_MESH_DICT), f"not the dictionary `debrisfoam render` writes ({exc!r})",
                          str(case)) from None
@@ -98,7 +98,7 @@ def load_case_info(case_dir: str | Path, np_override: int | None = None) -> Case
         domain_m=tuple(tuple(float(v) for v in a) for a in plan.domain_m),
         two_d=bool(plan.two_d),
         downstream_type=str(plan.downstream_type),
-        bodies=bodies,
+        bodies=tuple(planned[b.name] for b in bodies),
         body_sizes_m={b.name: tuple(float(v) for v in b.size_m) for b in plan.bodies},
         holds=tuple((b.name, float(b.hold_until_s)) for b in plan.bodies if float(b.hold_until_s or 0.0) > 0.0),
         stall_limit_s=float(plan.stall_limit_s) if plan.stall_limit_s else None,

@@ -56,11 +56,11 @@ class Geometry:
         # also when the reservoir is cut short; the downstream end only if it is a wall)
         self.obstacles = geo.scene_obstacles(
             self.scene, geo.ModelledDomain(info.domain_m, info.downstream_type))
-        self.props = {p.name: p for p in info.bodies}
+        self.bodies = {b.name: b for b in info.bodies}  # the plan's: mass and inertia
         self.sizes = info.body_sizes_m
 
     def state(self, s: BodyState):
-        p = self.props[s.name]
+        p = self.bodies[s.name]
         return geo.BoxState(
             name=s.name, centre_of_mass_m=s.centre_of_mass_m,
             orientation=np.asarray(bodystate.orthonormal(s.orientation)).reshape(3, 3),

@@ -25,7 +25,7 @@
 4. **Demands.** Realisations are stepped together in batches
    (:func:`~orchestrator.transport.batch.run_batch`); every column strike of every body gets its
    contact force (the contact law in series with the MDOF column) and from that pulse the
-   column's peak base shear, base moment and top displacement
+   column's peak base shear, base moment and largest displacement along the member
    (:func:`analytical.column_demand.strike_demands`, resultants of the two bending directions),
    one row of design.csv each, with its face, obliquity, eccentricity and torsion and the water
    the body came in with. An unstable engine (:mod:`~orchestrator.studies.engine_watch`) ends

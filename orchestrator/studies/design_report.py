@@ -12,7 +12,7 @@
   read as the analytical verbs read them (:mod:`orchestrator.studies.design_asce`): ``u_max`` of
   the case whose flow is fastest at the site (the envelope of the cases; each case's own is in
   design.json), the heaviest mass the study draws, ``I_tsu`` of the risk category. For base shear, base moment
-  and top displacement the code's load is its own rectangular pulse (``F_i`` over
+  and the member's largest displacement the code's load is its own rectangular pulse (``F_i`` over
   ``t_d = 2 m_d u_max / F_ni``) on the same MDOF column (:func:`analytical.column_demand.column_demands`)
   at the highest contact height any realisation struck at (the code loads the most critical
   point up to the inundation depth; the highest strike stands for it), with the code's dynamic
@@ -55,14 +55,14 @@ CONDITIONAL = ("Conditional on the scene's inundation: every probability here is
 
 def code_pulse_demands(force_N: float, duration_s: float, column, height_m: float) -> dict[str, float]:
     """The code's load, a rectangular pulse of ``force_N`` over ``duration_s``, on the MDOF column
-    at ``height_m``: peak base shear, base moment and top displacement, read through the pulse and
+    at ``height_m``: peak base shear, base moment and the member's largest displacement, read through the pulse and
     after it (:func:`analytical.column_demand.column_demands`), and the code's dynamic response
     ratio for it: ``t_d / T1`` and ``R_max``, the largest response of the column's first mode (an
     SDOF of its period and damping) over the static one (:func:`analytical.asce7.dynamic_response_ratio`)."""
     d = column_demands(Rectangular(force_N, duration_s), column, height_m)
     period = 1.0 / float(column_model(column).frequencies_Hz[0])
     return {"peak_force_N": force_N, "base_shear_N": d.peak_base_shear_N, "base_moment_Nm": d.peak_base_moment_Nm,
-            "top_displacement_m": d.peak_top_displacement_m, "duration_s": duration_s,
+            "displacement_m": d.peak_displacement_m, "duration_s": duration_s,
             "first_period_s": period, "td_over_T1": duration_s / period,
             "R_max": dynamic_response_ratio(duration_s, period, "rectangular", column.damping_ratio)}
 
@@ -287,7 +287,7 @@ def markdown(summary: dict[str, Any]) -> str:
                   f"{asce['debris_stiffness_N_m']:.4g} N/m; {asce['governing']} is the lesser stiffness; "
                   f"{asce['cap_note']}.", "",
                   f"**F_i = {_force(asce['force_N'])}, bound by {_binding(asce['binding'])}.** Base shear, base "
-                  "moment and top displacement: the code's rectangular pulse on the same MDOF column at "
+                  "moment and the member's largest displacement: the code's rectangular pulse on the same MDOF column at "
                   f"{asce['load_height_m']:.3g} m ({asce['height_basis']}), read through the pulse and after it.", "",
                   "The code's dynamic response ratio (the column's first mode, an SDOF of its period T1 and "
                   "damping, under the rectangular pulse): R_max = max response / static response.", "",

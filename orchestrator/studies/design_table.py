@@ -19,7 +19,11 @@ __all__ = ["DEMANDS", "DESIGN_COLUMNS", "allocate", "case_names", "debris_types"
 
 #: The demands of a design study: column of design.csv -> (what it is, unit).
 DEMANDS = {"peak_force_N": ("peak impact force", "N"), "base_shear_N": ("base shear", "N"),
-           "base_moment_Nm": ("base moment", "N m"), "top_displacement_m": ("top displacement", "m")}
+           "base_moment_Nm": ("base moment", "N m"),
+           "displacement_m": ("member's largest displacement", "m")}
+"""``displacement_m``: the largest over the member's length (its nodes and the strike point) and
+over time (:func:`analytical.column_demand.strike_demands`): a cantilever's top; a member held at
+its top as well moves most between the strike point and mid-height."""
 
 DESIGN_COLUMNS = ["case", "realisation", "case_weight", "sample_weight", "body", "mass_kg", "draft_m", "start_depth_m",
                   "carried", "start_x_m", "start_y_m", "start_yaw_deg", "struck", "strikes", "strike", "impact_time_s",
