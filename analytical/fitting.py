@@ -312,6 +312,16 @@ def _result(model, shape, prep, x, a, b, fitted, **structural) -> PulseFit:
     )
 
 
+def _sdof_start(time_s, column, prep: "_Prepared", earliest_start_s) -> tuple[float, float, float, float]:
+    """The SDOF fit's stiffness, natural frequency and damping ratio (the column's, else the study's)
+    and the earliest start a pulse may have (the record's quiet end, or ``earliest_start_s``)."""
+    stiffness = float(getattr(column, "stiffness_N_m", 4.685e5))
+    freq0 = float(getattr(column, "natural_frequency_Hz", 70.0))
+    zeta0 = float(getattr(column, "damping_ratio", 0.045))
+    t_first = float(np.asarray(time_s, dtype=float)[0])
+    return stiffness, freq0, zeta0, max(t_first, prep.quiet_s if earliest_start_s is None else float(earliest_start_s))
+
+
 def fit_sdof(time_s, force_N, column=None, shape: str = "half-sine", window_s: float = 0.04,
              mass_kg: float | None = None, earliest_start_s: float | None = None,
              identifiability: bool = True) -> PulseFit:
@@ -338,13 +348,9 @@ def fit_sdof(time_s, force_N, column=None, shape: str = "half-sine", window_s: f
     (about 20 more fits of three parameters each).
     """
     prep = prepare_record(time_s, force_N, window_s=window_s)
-    stiffness = float(getattr(column, "stiffness_N_m", 4.685e5))
-    freq0 = float(getattr(column, "natural_frequency_Hz", 70.0))
-    zeta0 = float(getattr(column, "damping_ratio", 0.045))
+    stiffness, freq0, zeta0, earliest = _sdof_start(time_s, column, prep, earliest_start_s)
     f_lo, f_hi = freq0 - SDOF_FREQUENCY_TOL_HZ, freq0 + SDOF_FREQUENCY_TOL_HZ
     z_lo, z_hi = max(1e-4, zeta0 - SDOF_DAMPING_TOL), min(0.99, zeta0 + SDOF_DAMPING_TOL)
-    t_first = float(np.asarray(time_s, dtype=float)[0])
-    earliest = max(t_first, prep.quiet_s if earliest_start_s is None else float(earliest_start_s))
     if earliest > prep.onset_s:
         raise InputError("earliest_start_s", f"must not be after the impact onset found in the record "
                                              f"({prep.onset_s:.6g} s), got {earliest_start_s}")
@@ -503,13 +509,9 @@ def fit_sdof_starts(time_s, force_N, column=None, starts: int = 12, seed: int = 
     if isinstance(starts, bool) or not isinstance(starts, int) or starts < 1:
         raise InputError("starts", f"must be an integer >= 1, got {starts!r}")
     prep = prepare_record(time_s, force_N, window_s=window_s)
-    freq0 = float(getattr(column, "natural_frequency_Hz", 70.0))
-    zeta0 = float(getattr(column, "damping_ratio", 0.045))
-    stiffness = float(getattr(column, "stiffness_N_m", 4.685e5))
+    stiffness, freq0, zeta0, earliest = _sdof_start(time_s, column, prep, earliest_start_s)
     f_lo, f_hi = freq0 - SDOF_FREQUENCY_TOL_HZ, freq0 + SDOF_FREQUENCY_TOL_HZ
     z_lo, z_hi = max(1e-4, zeta0 - SDOF_DAMPING_TOL), min(0.99, zeta0 + SDOF_DAMPING_TOL)
-    t_first = float(np.asarray(time_s, dtype=float)[0])
-    earliest = max(t_first, prep.quiet_s if earliest_start_s is None else float(earliest_start_s))
     s_lo, s_hi = _start_bounds(prep, earliest)
     gain = None if mass_kg is None else stiffness / require_positive("mass_kg", mass_kg)
 

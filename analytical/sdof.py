@@ -7,11 +7,7 @@ response over all time (response spectra, dynamic load factors), undamped and re
 included. Independent closed forms (Chopra 2017, ch. 3-4) for the half-sine and rectangular
 pulses are given as references for testing.
 
-References
-----------
-Chopra, A. K. (2017). *Dynamics of Structures*, 5th ed., Pearson: Sec. 2.2 (damped free
-vibration), 3.2 (damped harmonic vibration), 4.1-4.3 (Duhamel's integral, step force),
-4.7-4.8 (rectangular and half-cycle sine pulses).
+References: Chopra (2017), *Dynamics of Structures*, the sections :mod:`analytical.oscillator` lists.
 """
 
 from __future__ import annotations

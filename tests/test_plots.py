@@ -151,18 +151,16 @@ def _four_impacts(comp):
 @pytest.mark.parametrize("case", ["tiny-1debris", "tiny-nodebris", "tiny-nodebris-stopped"])
 @pytest.mark.parametrize("name", FIGURES)
 def test_every_figure_fits_a_report(real, case, name):
-    results, comp = real[case]
-    builder = getattr(plots, f"figure_{name}")
-    fig = builder(results) if name == "column_forces" else builder(results, comp)
-    try:
-        check_figure(fig)
-    finally:
-        pyplot().close(fig)
+    _check_built(name, *real[case])
 
 
 @pytest.mark.parametrize("name", FIGURES)
 def test_a_case_without_outputs_still_gets_readable_figures(bare, name):
-    results, comp = bare
+    _check_built(name, *bare)
+
+
+def _check_built(name, results, comp):
+    """Build figure ``name`` of the case and check it fits a report."""
     builder = getattr(plots, f"figure_{name}")
     fig = builder(results) if name == "column_forces" else builder(results, comp)
     try:

@@ -443,6 +443,16 @@ def water_balance_diagnosis(balance, limit: float) -> Diagnosis | None:
         t, None)
 
 
+def _run_reaches(run: list[float], past_limit: bool, time_s: float, steps: int) -> bool:
+    """Keep ``run``, the times of the consecutive steps past a limit (a step within it clears
+    it); True once it holds ``steps`` of them."""
+    if not past_limit:
+        run.clear()
+        return False
+    run.append(time_s)
+    return len(run) >= steps
+
+
 class HealthWatch:
     """Looks at every step (and the parser's NaN flag) and names a divergence."""
 
@@ -469,27 +479,21 @@ class HealthWatch:
     def check_step(self, step: StepRecord) -> Diagnosis | None:
         lim = self.limits
         co = step.max_courant
-        if co is not None and co > lim.courant_factor * self.max_courant:
-            self._co_run.append(step.time_s)
-            if len(self._co_run) >= lim.courant_steps:
-                return Diagnosis(
-                    "courant",
-                    f"Courant number runaway: max Co {co:.3g} > {lim.courant_factor:g} x maxCo "
-                    f"({self.max_courant:g}) for {len(self._co_run)} steps",
-                    step.time_s, self._co_run[0])
-        else:
-            self._co_run.clear()
+        if _run_reaches(self._co_run, co is not None and co > lim.courant_factor * self.max_courant, step.time_s,
+                        lim.courant_steps):
+            return Diagnosis(
+                "courant",
+                f"Courant number runaway: max Co {co:.3g} > {lim.courant_factor:g} x maxCo "
+                f"({self.max_courant:g}) for {len(self._co_run)} steps",
+                step.time_s, self._co_run[0])
         dt = step.delta_t_s
-        if dt is not None and lim.min_delta_t_s is not None and dt < lim.min_delta_t_s:
-            self._dt_run.append(step.time_s)
-            if len(self._dt_run) >= lim.delta_t_steps:
-                return Diagnosis(
-                    "delta_t",
-                    f"time step collapsed: deltaT {dt:.3g} s < {lim.min_delta_t_s:.3g} s for "
-                    f"{len(self._dt_run)} steps",
-                    step.time_s, self._dt_run[0])
-        else:
-            self._dt_run.clear()
+        if _run_reaches(self._dt_run, dt is not None and lim.min_delta_t_s is not None and dt < lim.min_delta_t_s,
+                        step.time_s, lim.delta_t_steps):
+            return Diagnosis(
+                "delta_t",
+                f"time step collapsed: deltaT {dt:.3g} s < {lim.min_delta_t_s:.3g} s for "
+                f"{len(self._dt_run)} steps",
+                step.time_s, self._dt_run[0])
         if lim.max_body_speed_m_s is not None:
             for body in step.bodies:
                 if not body.speed_m_s <= lim.max_body_speed_m_s:
