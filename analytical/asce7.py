@@ -308,13 +308,8 @@ ashore (the 2,600 t power barge PLTD Apung 1, Banda Aceh 2004)."""
 
 def check_structure_stiffness(stiffness_N_m: float, field: str = "structure_stiffness_N_m") -> float:
     """``stiffness_N_m`` within :data:`STRUCTURE_STIFFNESS_RANGE_N_M`, else InputError on ``field``."""
-    k = require_positive(field, stiffness_N_m)
-    lo, hi = STRUCTURE_STIFFNESS_RANGE_N_M
-    if not lo <= k <= hi:
-        raise InputError(field, f"{k:g} N/m is no lateral stiffness of a struck element: the plausible range is "
-                                f"{lo:.0e}-{hi:.0e} N/m (the study's acrylic column 4.685e5, a 1 m RC column 3.4e7 "
-                                "N/m); a value in another unit?")
-    return k
+    return _stiffness_within(stiffness_N_m, field, STRUCTURE_STIFFNESS_RANGE_N_M, "lateral stiffness of a struck element",
+                             "the study's acrylic column 4.685e5, a 1 m RC column 3.4e7 N/m); a value in another unit?")
 
 
 def check_debris_mass(mass_kg: float, field: str = "mass_kg") -> float:
@@ -338,12 +333,18 @@ def check_flow_speed(velocity_m_s: float, field: str = "velocity_m_s") -> float:
 
 def check_debris_stiffness(stiffness_N_m: float, field: str = "debris_stiffness_N_m") -> float:
     """``stiffness_N_m`` within :data:`DEBRIS_STIFFNESS_RANGE_N_M`, else InputError on ``field``."""
+    return _stiffness_within(stiffness_N_m, field, DEBRIS_STIFFNESS_RANGE_N_M, "debris stiffness",
+                             "the study's 1:40 model container 3.04e6 N/m; full-scale containers and logs 1e7-1e8 "
+                             "N/m); a value in MN/m or kip/in given as N/m?")
+
+
+def _stiffness_within(stiffness_N_m: float, field: str, bounds: tuple[float, float], what: str, examples: str) -> float:
+    """``stiffness_N_m`` (> 0) within ``bounds``, else InputError on ``field`` naming ``what`` it
+    is not and ``examples`` (the bracket's text and its hint) of what it may be."""
     k = require_positive(field, stiffness_N_m)
-    lo, hi = DEBRIS_STIFFNESS_RANGE_N_M
+    lo, hi = bounds
     if not lo <= k <= hi:
-        raise InputError(field, f"{k:g} N/m is no debris stiffness: the plausible range is {lo:.0e}-{hi:.0e} N/m (the "
-                                f"study's 1:40 model container 3.04e6 N/m; full-scale containers and logs 1e7-1e8 "
-                                "N/m); a value in MN/m or kip/in given as N/m?")
+        raise InputError(field, f"{k:g} N/m is no {what}: the plausible range is {lo:.0e}-{hi:.0e} N/m ({examples}")
     return k
 
 

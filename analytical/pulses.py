@@ -184,18 +184,9 @@ class _ShapedPulse:
 
 
 @dataclass(frozen=True)
-class HalfSine(_ShapedPulse):
-    """Half-sine pulse ``F sin(pi (t - t_s)/t_d)`` on ``t_s <= t < t_s + t_d``.
-
-    Parameters
-    ----------
-    magnitude_N:
-        Peak force ``F``, N (signed).
-    duration_s:
-        Duration ``t_d``, s (> 0).
-    start_s:
-        Start time ``t_s``, s.
-    """
+class _SimplePulse(_ShapedPulse):
+    """A pulse given by its force ``F`` (N, signed; the peak), duration ``t_d`` (s, > 0) and
+    start ``t_s`` (s)."""
 
     magnitude_N: float
     duration_s: float
@@ -203,6 +194,11 @@ class HalfSine(_ShapedPulse):
 
     def __post_init__(self):
         self._validate_common()
+
+
+@dataclass(frozen=True)
+class HalfSine(_SimplePulse):
+    """Half-sine pulse ``F sin(pi (t - t_s)/t_d)`` on ``t_s <= t < t_s + t_d``."""
 
     @property
     def omega_rad_s(self) -> float:
@@ -238,25 +234,8 @@ class HalfSine(_ShapedPulse):
 
 
 @dataclass(frozen=True)
-class Rectangular(_ShapedPulse):
-    """Rectangular pulse: ``F`` on ``t_s <= t < t_s + t_d`` (ASCE 7-22 Section 6.11 shape).
-
-    Parameters
-    ----------
-    magnitude_N:
-        Force ``F``, N (signed).
-    duration_s:
-        Duration ``t_d``, s (> 0).
-    start_s:
-        Start time ``t_s``, s.
-    """
-
-    magnitude_N: float
-    duration_s: float
-    start_s: float = 0.0
-
-    def __post_init__(self):
-        self._validate_common()
+class Rectangular(_SimplePulse):
+    """Rectangular pulse: ``F`` on ``t_s <= t < t_s + t_d`` (ASCE 7-22 Section 6.11 shape)."""
 
     @property
     def impulse_Ns(self) -> float:
