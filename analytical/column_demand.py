@@ -237,7 +237,8 @@ def strike_demands(force: Tabulated, normal, column: Column, height_m: float) ->
     ``-normal`` (the unit normal from the column into the body) at ``height_m``. The horizontal
     load's x part bends the column's x model, its y part the same column turned by 90 degrees
     (as :class:`analytical.impact_bodies.ColumnTarget` does); each peak is of the resultant of
-    the two directions' histories (the displacement's point by point along the member)."""
+    the two directions' histories (the displacement's point by point along the member); a column
+    that bends alike both ways is carried once, at the resultant gain (the same peaks)."""
     n = np.asarray(normal, dtype=float)
     if n.shape != (3,) or not np.all(np.isfinite(n)):
         raise InputError("normal", f"must be a finite 3-vector, got {normal!r}")
@@ -247,8 +248,10 @@ def strike_demands(force: Tabulated, normal, column: Column, height_m: float) ->
         if abs(gain) <= 1e-12:
             continue
         turned = column if axis == 0 else _turned(column)
-        d = column_demands(force, turned, height_m)
-        histories.append((gain, d))
+        if histories and turned == column:  # a column that bends alike both ways: one history, its resultant gain
+            histories = [(math.hypot(histories[0][0], gain), histories[0][1])]
+            break
+        histories.append((gain, column_demands(force, turned, height_m)))
     if not histories:
         return {"base_shear_N": 0.0, "base_moment_Nm": 0.0, "displacement_m": 0.0}
     out = {}
