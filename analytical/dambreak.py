@@ -135,8 +135,24 @@ def _ritter_fan(x: np.ndarray, t: float, c0: float, g: float) -> tuple[np.ndarra
     return (2.0 * c0 - xi) ** 2 / (9.0 * g), (2.0 / 3.0) * (c0 + xi)
 
 
+class _Reservoir:
+    """What Ritter's and Chanson's solutions share: a reservoir ``h0_m`` deep under gravity ``g``."""
+
+    h0_m: float
+    g: float
+
+    def _require_positive(self, *names: str) -> None:
+        for name in names:
+            object.__setattr__(self, name, require_positive(name, getattr(self, name)))
+
+    @property
+    def c0_m_s(self) -> float:
+        """Shallow-water wave celerity of the reservoir, ``sqrt(g h0)`` (m/s)."""
+        return math.sqrt(self.g * self.h0_m)
+
+
 @dataclass(frozen=True)
-class RitterSolution:
+class RitterSolution(_Reservoir):
     """Ritter (1892): dam break on a dry, frictionless horizontal bed.
 
     With ``c0 = sqrt(g h0)``, for ``t > 0``:
@@ -157,13 +173,7 @@ class RitterSolution:
     g: float = G_DEFAULT
 
     def __post_init__(self):
-        object.__setattr__(self, "h0_m", require_positive("h0_m", self.h0_m))
-        object.__setattr__(self, "g", require_positive("g", self.g))
-
-    @property
-    def c0_m_s(self) -> float:
-        """Shallow-water wave celerity of the reservoir, ``sqrt(g h0)`` (m/s)."""
-        return math.sqrt(self.g * self.h0_m)
+        self._require_positive("h0_m", "g")
 
     @property
     def front_speed_m_s(self) -> float:
@@ -384,7 +394,7 @@ def chanson_front_celerity(t_s, h0_m: float, friction: float, g: float = G_DEFAU
 
 
 @dataclass(frozen=True)
-class ChansonSolution:
+class ChansonSolution(_Reservoir):
     """Chanson (2006, 2009): turbulent dam-break wave on a dry horizontal bed with friction.
 
     Method of characteristics with two regions (``c0 = sqrt(g h0)``, ``U(t)`` from
@@ -424,14 +434,7 @@ class ChansonSolution:
     g: float = G_DEFAULT
 
     def __post_init__(self):
-        object.__setattr__(self, "h0_m", require_positive("h0_m", self.h0_m))
-        object.__setattr__(self, "friction", require_positive("friction", self.friction))
-        object.__setattr__(self, "g", require_positive("g", self.g))
-
-    @property
-    def c0_m_s(self) -> float:
-        """``sqrt(g h0)`` (m/s)."""
-        return math.sqrt(self.g * self.h0_m)
+        self._require_positive("h0_m", "friction", "g")
 
     @property
     def time_scale_s(self) -> float:

@@ -174,20 +174,14 @@ def _check_column(scene: Scene, source: str | None) -> None:
         return
     _check_column_size(scene, source)
     (x0, x1), (y0, y1), _ = flume_extent(scene)
-    if col.x_m - col.size_x_m / 2 < x0 - TOL or col.x_m + col.size_x_m / 2 > x1 + TOL:
-        raise InputError(
-            "column.x_m",
-            f"column spans x = {col.x_m - col.size_x_m / 2:g}..{col.x_m + col.size_x_m / 2:g} m, outside the "
-            f"flume ({x0:g}..{x1:g} m)",
-            source,
-        )
-    if col.y_m - col.size_y_m / 2 < y0 - TOL or col.y_m + col.size_y_m / 2 > y1 + TOL:
-        raise InputError(
-            "column.y_m",
-            f"column spans y = {col.y_m - col.size_y_m / 2:g}..{col.y_m + col.size_y_m / 2:g} m, outside the "
-            f"flume ({y0:g}..{y1:g} m)",
-            source,
-        )
+    for axis, centre, size, (lo, hi) in (("x", col.x_m, col.size_x_m, (x0, x1)), ("y", col.y_m, col.size_y_m, (y0, y1))):
+        if centre - size / 2 < lo - TOL or centre + size / 2 > hi + TOL:
+            raise InputError(
+                f"column.{axis}_m",
+                f"column spans {axis} = {centre - size / 2:g}..{centre + size / 2:g} m, outside the "
+                f"flume ({lo:g}..{hi:g} m)",
+                source,
+            )
     if col.x_m - col.size_x_m / 2 < -TOL:
         raise InputError(
             "column.x_m",
