@@ -284,6 +284,54 @@ def test_a_study_folder_is_not_replaced_without_force(tmp_path):
     assert proc.returncode == 2 and "--force" in proc.stderr
 
 
+def test_the_design_value_in_design_json_and_on_the_page_agree(tmp_path, monkeypatch, capfd, current):
+    """`design --json` end to end on a synthetic current (no OpenFOAM, as tests/test_design_guards.py
+    runs it): design.json holds the recommended design value with its band, fractile, units, strike
+    count and what binds F_i; the page prints the same figures and --json the same value."""
+    import orchestrator.studies.design as design_module
+    from orchestrator.cli import main
+    from orchestrator.studies.design_advice import fmt_demand
+
+    flow, npz = current
+    scene = load_scene(TINY)
+    monkeypatch.setattr(design_module, "ensemble_flow", lambda path, folder, sets, **kw: (scene, folder, flow, npz))
+    monkeypatch.setattr(design_module, "site_flow_speed", lambda case, scene: None)
+    out = tmp_path / "study"
+    (out / "flows").mkdir(parents=True)  # where the flows would be (a study folder may hold them already)
+    code = main(["design", str(TINY), "-n", "6", "-o", str(out), "--workers", "1", "--batch-size", "6", "--json",
+                 "--set", "design.risk_category=III"])
+    assert code == 0
+    head = json.loads(capfd.readouterr().out)
+    summary = json.loads((out / "design.json").read_text())
+    page, table = (out / "design.md").read_text(), pd.read_csv(out / "design.csv")
+    rec, asce = summary["recommended"], summary["asce"]
+    strikes = int((table["strike"] > 0).sum())
+    assert strikes > 0 and rec["strikes"] == summary["strikes"]["strikes"] == strikes
+    assert rec["striking_realisations"] == table.groupby("realisation")["struck"].any().sum()
+    assert rec["fractile"] == "P90" and rec["given"] == "a strike" and rec["importance_I_tsu"] == 1.25
+    assert rec["asce_binds"] == asce["binding"] and rec["asce_force_N"] == asce["force_N"]
+    assert {k: d["unit"] for k, d in rec["demands"].items()} == {k: unit for k, (_, unit) in DEMANDS.items()}
+    force = rec["demands"]["peak_force_N"]
+    struck = table.loc[table["strike"] > 0, "peak_force_N"]
+    assert struck.min() <= force["quantile"] <= struck.max()
+    assert force["value"] == pytest.approx(1.25 * force["quantile"], rel=1e-12)
+    assert force["lower"] <= force["value"] and (force["upper"] is None or force["upper"] >= force["value"])
+    # the page: the same value, band and fractile, the same strike count, the same binding
+    assert "**Recommended: P90 given a strike x I_tsu (1.25).**" in page
+    for key, d in rec["demands"].items():
+        upper = fmt_demand(d["upper"], d["unit"]) if d["upper"] is not None else "(more realisations needed)"
+        assert (f"| {summary['demands'][key]['label']} | {fmt_demand(d['quantile'], d['unit'])} | "
+                f"**{fmt_demand(d['value'], d['unit'])}** | {fmt_demand(d['lower'], d['unit'])} to {upper} |") in page
+    assert f"- {strikes} column strikes in {rec['striking_realisations']} striking realisations" in page
+    binds = {"k_s": "the k_s line", "k_d": "the k_d line"}.get(asce["binding"], f"the {asce['binding']}")
+    assert f"bound by {binds}" in page
+    assert "member's largest displacement" in page and "top displacement" not in page
+    # --json prints design.json's value
+    assert head["recommended"]["demands"] == {k: {n: d[n] for n in ("value", "lower", "upper", "unit")}
+                                              for k, d in rec["demands"].items()}
+    assert head["recommended"]["strikes"] == strikes and head["recommended"]["asce_binds"] == asce["binding"]
+
+
 @pytest.mark.openfoam
 def test_the_verb_runs_each_inundation_case_once_and_writes_the_page(tmp_path, openfoam):
     out = tmp_path / "study"

@@ -184,8 +184,10 @@ def warn(messages, where: str = "") -> None:
         print(f"debrisfoam: warning: {where}{message}", file=sys.stderr)
 
 
-def emit(result: dict[str, Any], as_json: bool, out=sys.stdout) -> None:
-    """A verb's result: indented JSON, or one aligned ``key  value`` line per item."""
+def emit(result: dict[str, Any], as_json: bool, out=None) -> None:
+    """A verb's result: indented JSON, or one aligned ``key  value`` line per item, on ``out``
+    (None: the current ``sys.stdout``, not the one there when this module was imported)."""
+    out = sys.stdout if out is None else out
     if as_json:
         json.dump(result, out, indent=2, default=json_default)
         out.write("\n")

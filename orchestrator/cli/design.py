@@ -18,7 +18,7 @@ from orchestrator.core.errors import InputError
 from orchestrator.scene.shipped import resolve_scene
 
 __all__ = ["REALISATION_LIMIT_S", "STEP_CPU_S", "add_design_parser", "cmd_design", "confirm_realisations",
-           "realisation_seconds"]
+           "realisation_seconds", "recommended_head"]
 
 #: CPU seconds one body's transport step costs, batched (128 realisations a model), measured on
 #: idle cores: 8.5e-6 s for cases/design-street.yaml (2,000 realisations of 13 s at 0.68 ms steps in
@@ -149,11 +149,20 @@ def cmd_design(args: argparse.Namespace) -> int:
             **{f"{k}_P90": d["quantiles"]["P90"]["value"] for k, d in s["demands"].items()},
             "asce_force_N": s["asce"]["force_N"] if s["asce"]["values"] else None,
             "asce_binds": s["asce"]["binding"] if s["asce"]["values"] else None,
-            "wall_time_s": s["wall_time_s"]}
+            "recommended": recommended_head(s.get("recommended")), "wall_time_s": s["wall_time_s"]}
     if not args.json:
         head.update({name: str(path) for name, path in result.files.items()})
     emit(head, args.json)
     return EXIT_OK
+
+
+def recommended_head(rec: dict | None) -> dict | None:
+    """--json's design value: design.json's ``recommended`` without the band's parts (None: no strike)."""
+    if rec is None:
+        return None
+    keys = ("fractile", "given", "importance_I_tsu", "strikes", "striking_realisations", "asce_binds", "asce_force_N")
+    return {**{k: rec.get(k) for k in keys},
+            "demands": {k: {n: d[n] for n in ("value", "lower", "upper", "unit")} for k, d in rec["demands"].items()}}
 
 
 def add_design_parser(verbs) -> None:

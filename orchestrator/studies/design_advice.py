@@ -108,7 +108,7 @@ def recommendation(conditional: dict[str, Any], importance: float, stated_over_s
     for key in DEMANDS:
         q = conditional[key][name]
         b = band(q, stated_over_site, confidence)
-        out["demands"][key] = {"quantile": q["value"], "value": q["value"] * importance,
+        out["demands"][key] = {"unit": DEMANDS[key][1], "quantile": q["value"], "value": q["value"] * importance,
                                "lower": b["lower"] * importance,
                                "upper": b["upper"] * importance if b["upper"] is not None else None,
                                "band": b}
@@ -192,10 +192,13 @@ def advice(result, per: pd.DataFrame, confidence: float, quantiles: dict[str, fl
                        "front_m_s": front, "front_over_simulated": front / site if front and site else None})
     importance = float(asce.get("importance_I_tsu") or 1.0)
     u_max = {c["case"]: c["u_max_m_s"] for c in asce["cases"]}
-    return {"given_strike": conditional, "flow_speeds": speeds,
-            "recommended": recommendation(conditional, importance, [s["stated_over_simulated"] for s in speeds],
-                                          confidence),
-            "strikes": strike_summary(result.table, per, u_max)}
+    strikes = strike_summary(result.table, per, u_max)
+    rec = recommendation(conditional, importance, [s["stated_over_simulated"] for s in speeds], confidence)
+    if rec is not None:  # what a designer copies, whole: the counts behind it and what binds the code's F_i
+        rec.update(strikes=strikes["strikes"], striking_realisations=strikes["striking_realisations"],
+                   realisations=int(len(per)), confidence=confidence,
+                   asce_binds=asce.get("binding"), asce_force_N=asce.get("force_N"))
+    return {"given_strike": conditional, "flow_speeds": speeds, "recommended": rec, "strikes": strikes}
 
 
 def _cell(q: dict[str, Any] | None, unit: str) -> str:
