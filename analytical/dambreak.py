@@ -150,6 +150,12 @@ class _Reservoir:
         """Shallow-water wave celerity of the reservoir, ``sqrt(g h0)`` (m/s)."""
         return math.sqrt(self.g * self.h0_m)
 
+    def _before_the_break(self, x_m, t_s):
+        """The positions (flat) and their shape, the time, and the depth and velocity at rest
+        there: the reservoir behind the gate (x < 0), dry beyond."""
+        x, shape = _positions(x_m)
+        return x, shape, _time(t_s), np.where(x < 0.0, self.h0_m, 0.0), np.zeros_like(x)
+
 
 @dataclass(frozen=True)
 class RitterSolution(_Reservoir):
@@ -182,10 +188,7 @@ class RitterSolution(_Reservoir):
 
     def profile(self, x_m, t_s) -> Profile:
         """Depth (m) and velocity (m/s) at positions ``x_m`` (m, any shape) at time ``t_s`` (s)."""
-        x, shape = _positions(x_m)
-        t = _time(t_s)
-        h = np.where(x < 0.0, self.h0_m, 0.0)
-        u = np.zeros_like(x)
+        x, shape, t, h, u = self._before_the_break(x_m, t_s)
         if t == 0.0:
             return _profile(h, u, shape)
         c0 = self.c0_m_s
@@ -473,10 +476,7 @@ class ChansonSolution(_Reservoir):
 
     def profile(self, x_m, t_s) -> Profile:
         """Depth (m) and velocity (m/s) at positions ``x_m`` (m, any shape) at time ``t_s`` (s)."""
-        x, shape = _positions(x_m)
-        t = _time(t_s)
-        h = np.where(x < 0.0, self.h0_m, 0.0)
-        u = np.zeros_like(x)
+        x, shape, t, h, u = self._before_the_break(x_m, t_s)
         if t == 0.0:
             return _profile(h, u, shape)
         c0 = self.c0_m_s

@@ -23,6 +23,17 @@ def run_cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
     )
 
 
+def check_report_verb(verb: str, sweep: Path, out: Path) -> None:
+    """`debrisfoam report VERB SWEEP` writes its page (exit 0, report.md named in --json) and an
+    empty folder is bad input (exit 2) naming that it holds no post-processed member."""
+    proc = run_cli("report", verb, str(sweep), "-o", str(out / "page"), "--json")
+    assert proc.returncode == 0, proc.stderr
+    assert json.loads(proc.stdout)["report"].endswith("report.md")
+    (out / "empty").mkdir()
+    bad = run_cli("report", verb, str(out / "empty"), "-o", str(out / "page2"))
+    assert bad.returncode == 2 and "no post-processed member" in bad.stderr
+
+
 def render_and_run(scene: Path, case: Path, *sets: str) -> dict:
     """Render ``scene`` into ``case`` (with ``--set`` overrides) and run it with the CLI, each step
     asserted to succeed; the case's plan.json."""

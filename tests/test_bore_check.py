@@ -19,7 +19,7 @@ from orchestrator.plan.model import ModelPlan
 from orchestrator.plan.planner import plan_case
 from orchestrator.scene.scenefile import load_scene
 from orchestrator.studies.bore_check import bore_check, check_run, write_bore_report
-from tests.conftest import render_and_run, run_cli
+from tests.conftest import check_report_verb, render_and_run, run_cli
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -106,15 +106,8 @@ def test_an_empty_sweep_and_an_unposted_run_are_named(tmp_path):
 
 
 def test_the_verb_writes_the_page_and_an_empty_sweep_is_bad_input(tmp_path):
-    from tests.conftest import run_cli
-
     _member(tmp_path / "sweep" / "a", "kOmegaSST", 6, 1.0)
-    proc = run_cli("report", "bore", str(tmp_path / "sweep"), "-o", str(tmp_path / "page"), "--json")
-    assert proc.returncode == 0, proc.stderr
-    assert json.loads(proc.stdout)["report"].endswith("report.md")
-    (tmp_path / "empty").mkdir()
-    bad = run_cli("report", "bore", str(tmp_path / "empty"), "-o", str(tmp_path / "page2"))
-    assert bad.returncode == 2 and "no post-processed member" in bad.stderr
+    check_report_verb("bore", tmp_path / "sweep", tmp_path)
 
 
 #: The RANS flow over a resolved wet bed and a slip bed against Stoker at h1/h0 = 0.0375, 2 cm

@@ -3,15 +3,13 @@ member's, the front's speed between the gauges, bad sweeps named."""
 
 from __future__ import annotations
 
-import json
-
 import pandas as pd
 import pytest
 import yaml
 
 from orchestrator.core.errors import InputError
 from orchestrator.studies.flume_report import flume_members, write_flume_report
-from tests.conftest import run_cli
+from tests.conftest import check_report_verb
 
 FACE_X = 4.89
 
@@ -54,9 +52,4 @@ def test_a_member_without_a_gauge_and_an_empty_sweep_are_named(tmp_path):
 
 def test_the_verb_writes_the_page_and_refuses_an_empty_sweep(tmp_path):
     _member(tmp_path / "sweep" / "a", (0.876, 1.186, 1.708))
-    proc = run_cli("report", "flume", str(tmp_path / "sweep"), "-o", str(tmp_path / "page"), "--json")
-    assert proc.returncode == 0, proc.stderr
-    assert json.loads(proc.stdout)["report"].endswith("report.md")
-    (tmp_path / "empty").mkdir()
-    bad = run_cli("report", "flume", str(tmp_path / "empty"), "-o", str(tmp_path / "page2"))
-    assert bad.returncode == 2 and "no post-processed member" in bad.stderr
+    check_report_verb("flume", tmp_path / "sweep", tmp_path)
