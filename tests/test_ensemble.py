@@ -388,3 +388,39 @@ def test_the_verb_runs_the_flow_once_and_realisations_on_both_executors(tmp_path
     timings = ["wall_time_s", "study_fit_wall_s"]  # wall-clock costs differ from run to run
     pd.testing.assert_frame_equal(on_dask.drop(columns=timings), local.iloc[:2].drop(columns=timings))
     assert json.loads((out / "ensemble.json").read_text())["executor"] == "dask"
+
+
+def test_the_same_seed_gives_the_same_ensemble_csv_with_the_added_mass_tables_kept(current, monkeypatch):
+    """A batch keeps one added-mass table per body size (analytical.hydrodynamics.added_mass_table)
+    instead of building it for every body of every batch: the same seed gives the same ensemble.csv,
+    byte for byte, as with a table built afresh for each body, and a caller's copy is its own."""
+    import orchestrator.transport.engine as engine
+    from analytical.added_mass import box_added_mass
+    from analytical.hydrodynamics import ADDED_MASS_TABLE_POINTS, added_mass_table
+
+    def afresh(size_m, water_density_kg_m3=998.0, points=ADDED_MASS_TABLE_POINTS):
+        volume = size_m[0] * size_m[1] * size_m[2]
+        table = np.zeros((points, 6))
+        for k, f in enumerate(np.linspace(0.0, 1.0, points)):
+            if f > 0.0:
+                table[k] = box_added_mass(size_m, water_density_kg_m3 * volume * f, water_density_kg_m3).diagonal
+        return table
+
+    size = container().size_m
+    mine = added_mass_table(size)
+    np.testing.assert_array_equal(mine, afresh(size))
+    mine[:] = 0.0  # the caller's copy
+    np.testing.assert_array_equal(added_mass_table(size), afresh(size))
+
+    flow, npz = current
+    starts = ensemble_starts([container(), container("debris2", x=0.3, y=0.15)], FLUME, COLUMN, Perturbation(),
+                             seed=11, n=3)
+
+    def csv() -> str:
+        table = _rows(run_ensemble(starts, FLUME, COLUMN, 1.3, flow, npz, "local", workers=1, batch_size=3,
+                                   study_fit=False))
+        return table.drop(columns=["wall_time_s", "study_fit_wall_s"]).to_csv(index=False, float_format="%.10g")
+
+    kept, again = csv(), csv()
+    monkeypatch.setattr(engine, "added_mass_table", afresh)
+    assert kept == again == csv() and "True" in kept
