@@ -44,6 +44,7 @@ from orchestrator.studies.ensemble import (  # noqa: E402
 from orchestrator.transport.case_transport import case_flow, scene_settings, transport_setup  # noqa: E402
 
 MARK = "## Batched realisations"
+PROFILE = "## Where a realisation's time goes"
 FIRST = ["impact_time_s", "impact_velocity_m_s", "impact_speed_m_s", "peak_force_N"]
 
 
@@ -123,7 +124,8 @@ def main() -> None:
     path = ROOT / "benchmarks" / "ensemble.md"
     text = path.read_text() if path.is_file() else ""
     head = text.split(MARK)[0].rstrip("\n")
-    path.write_text((head + "\n\n" if head else "") + "\n".join(section))
+    kept = "".join(text.partition(PROFILE)[1:])  # the profile's section after this one stays
+    path.write_text((head + "\n\n" if head else "") + "\n".join(section) + (f"\n{kept}" if kept else ""))
     print(f"wrote {path.relative_to(ROOT)}")
 
 
