@@ -478,3 +478,30 @@ def test_decomposition_keeps_every_body_mesh_on_one_rank(tmp_path, openfoam, cor
     per_rank = np.bincount(rank.astype(int))
     body_cells = max(b.grid.cell_count() for b in plan.bodies)
     assert np.abs(per_rank - per_rank.mean()).max() <= 2 * body_cells
+
+
+def test_the_flow_record_is_a_file_of_its_own_that_controldict_includes(tmp_path):
+    """The runner edits system/controlDict every segment (foamlib parses it whole): the 1-debris
+    flow record's grid (tens of thousands of points, 4 MB) lives in system/flowRecord, included from
+    controlDict's functions, so that parse stays that of a few kB; the included file holds every point."""
+    from orchestrator.plan.planner import plan_case
+    from orchestrator.run.control import read_control, set_control
+    from orchestrator.scene.scenefile import load_scene
+
+    scene = load_scene(Path(__file__).resolve().parents[1] / "cases" / "1debris.yaml")
+    plan = plan_case(scene, "1debris")
+    case = render_case(scene, plan, tmp_path / "case")
+    record = plan.flow_record
+    name = record.name
+    control = (case / "system" / "controlDict").read_text()
+    included = (case / "system" / name).read_text()
+    assert f'#include "{name}"' in control and "cloud" not in control
+    assert len(control) < 20_000
+    n_points = len(record.x_m) * len(record.y_m) * len(record.z_m)
+    assert n_points > 10_000
+    points = re.findall(r"^\s+\(\S+ \S+ \S+\)$", included, flags=re.M)
+    assert len(points) == n_points
+    assert "FoamFile" not in included  # an included entry, not a dictionary file of its own
+    set_control(case, endTime=0.25)
+    assert read_control(case)["endTime"] == 0.25
+    assert f'#include "{name}"' in (case / "system" / "controlDict").read_text()

@@ -444,6 +444,8 @@ def case_files(context: dict[str, Any]) -> list[tuple[str, str, dict[str, Any]]]
     ]
     if context["turbulence"]:
         files += [("0/k.j2", "0/k", {}), ("0/omega.j2", "0/omega", {}), ("0/nut.j2", "0/nut", {})]
+    if context.get("flow_record"):
+        files.append(("system/flowRecord.j2", f"system/{context['flow_record']['name']}", {}))
     if overset or context["bed_friction"]:
         files.append(("system/topoSetDict.j2", "system/topoSetDict", {}))
     if context["bed_friction"]:
