@@ -175,10 +175,12 @@ def test_one_way_renders_interfoam_without_bodies_and_a_flow_record():
     assert not any(p.startswith("bodies/") for p in files) and "constant/dynamicMeshDict" not in files
     control = files["system/controlDict"]
     assert "application     interFoam;" in control and "overset" not in control
-    block = control[control.index("    flowRecord\n"):]
+    assert '#include "flowRecord"' in control
+    block = files["system/flowRecord"]
+    assert block.startswith("/*") and "\nflowRecord\n{" in block
     assert "type    cloud;" in block and "axis    xyz;" in block and "fields          (alpha.water U);" in block
     assert "interpolationScheme cell;" in block and "writeInterval   0.02;" in block
-    assert block.count("\n                    (") == plan.flow_record.points
+    assert block.count("\n                (") == plan.flow_record.points
     assert "maxCo           1;" in control
 
 
