@@ -54,7 +54,7 @@ IMPACT_COLUMNS = [
     "normal_x", "normal_y", "normal_z", "impact_velocity_m_s", "normal_velocity_in_m_s",
     "tangential_velocity_in_m_s", "obliquity_deg", "peak_force_N", "time_of_peak_s", "duration_s",
     "impulse_Ns", "rebound_normal_velocity_m_s", "rebound_u_m_s", "rebound_v_m_s", "rebound_w_m_s",
-    "rebound_speed_m_s", "restitution", "force_history",
+    "rebound_speed_m_s", "restitution", "force_history", "time_since_front_s",
 ]
 
 

@@ -90,6 +90,7 @@ def _impact_row(e: dict, n: np.ndarray, metrics: PulseMetrics, number: int) -> d
         "rebound_u_m_s": v_out[0], "rebound_v_m_s": v_out[1], "rebound_w_m_s": v_out[2],
         "rebound_speed_m_s": float(np.linalg.norm(v_out)), "restitution": _number(e, "restitution"),
         "force_history": e.get("force_history", ""),
+        "time_since_front_s": _number(e, "time_since_front_s"),  # a one-way strike's (the flow record's front)
     }
 
 

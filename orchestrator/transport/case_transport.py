@@ -147,6 +147,7 @@ def _event(row: dict[str, Any], number: int, kind_type: str) -> dict[str, Any]:
         "restitution": float(row["restitution"]), "obliquity_deg": float(row["obliquity_deg"]),
         "height_m": float(row["height_m"]), "face_water_level_m": float(row["face_water_level_m"]),
         "body_clearance_m": float(row["body_clearance_m"]), "afloat": bool(row["afloat"]),
+        "time_since_front_s": float(row.get("time_since_front_s", math.nan)),
         "source": "one-way transport",
     }
     return {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in event.items()}

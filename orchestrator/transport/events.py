@@ -55,12 +55,12 @@ from orchestrator.contact.events import IMPACT_COLUMNS as RESULTS_IMPACT_COLUMNS
 __all__ = ["AFLOAT_CLEARANCE_M", "BODY_EVENT_COLUMNS", "IMPACT_COLUMNS", "EventBook"]
 
 IMPACT_COLUMNS = RESULTS_IMPACT_COLUMNS + ["peak_base_shear_N", "pulse_restitution", "effective_mass_kg",
-                                           "added_mass_along_normal_kg", "time_since_front_s"]
-"""results/impacts.csv's columns (orchestrator.contact.events.IMPACT_COLUMNS) and five more: the
-column model's peak base shear, the strike's restitution, the body's effective mass at the
-contact point along the normal (its mass, the water it carries and its rotation), the added
-mass of that water along the normal and, for a column strike, the time since the front reached
-the column's face (negative: the body struck ahead of the front)."""
+                                           "added_mass_along_normal_kg"]
+"""results/impacts.csv's columns (orchestrator.contact.events.IMPACT_COLUMNS, among them a column
+strike's time since the front reached the column's face, negative when the body struck ahead of
+it) and four more: the column model's peak base shear, the strike's restitution, the body's
+effective mass at the contact point along the normal (its mass, the water it carries and its
+rotation) and the added mass of that water along the normal."""
 
 BODY_EVENT_COLUMNS = [
     "event", "time_s", "body", "other", "point_x_m", "point_y_m", "point_z_m", "normal_x", "normal_y", "normal_z",
