@@ -216,6 +216,10 @@ def test_contact_law_report_writes_its_files(tmp_path):
     assert out["stiffness_N_m"] > 0 and 0 < out["damping_ratio"] < 1
     for name in ("calibration.json", "scatter.csv", "scatter.md", "contact_law.png", "summary.json", "report.md"):
         assert (tmp_path / "cl" / name).stat().st_size > 0, name
+    summary = json.loads((tmp_path / "cl" / "summary.json").read_text())
+    shipped = summary["calibration"]["shipped_on_population"]
+    assert shipped["law"]["stiffness_N_m"] == CONTAINER.stiffness_N_m and shipped["dof"] == 3
+    assert f"k = {CONTAINER.stiffness_N_m:.3g} N/m" in (tmp_path / "cl" / "report.md").read_text()
     assert run_cli("analytical", "contact-law", "-o", str(tmp_path / "x"), "--strikes", "1").returncode == 2
 
 
