@@ -12,7 +12,7 @@ COUPLING ?=
 OUT      ?= runs/1debris$(if $(COUPLING),-$(COUPLING),)
 CASE_SET := $(if $(CELL),--set mesh.cell_size_m=$(CELL),) $(if $(COUPLING),--set run.debris_coupling=$(COUPLING),)
 
-.PHONY: approach prototype-1debris design-street forcing-variants help venv openfoam test test-all test-fast docs-check case-1debris case-layouts results-layouts compare-coupling sweep speed-error speed-error-debris stability flume-as-built wet-bed synthetic-study contact-law results-1debris ensemble-1debris spreading scene-doc catalogue-doc bench bench-transport clean
+.PHONY: approach prototype-1debris design-street design-1debris forcing-variants help venv openfoam test test-all test-fast docs-check case-1debris case-layouts results-layouts compare-coupling sweep speed-error speed-error-debris stability flume-as-built wet-bed synthetic-study contact-law results-1debris ensemble-1debris spreading scene-doc catalogue-doc bench bench-transport clean
 
 help:
 	@echo "make help                   this list: every target"
@@ -22,6 +22,7 @@ help:
 	@echo "make results-1debris        after it: its table, plots and summary to docs/results/case-1debris/"
 	@echo "make prototype-1debris      the 1-debris scene at 40:1 one-way (about as long as case-1debris), beside the lab run Froude-scaled (docs/results/prototype-1debris/)"
 	@echo "make design-street          debrisfoam design on the street scene: 3 flows and 2000 realisations (runs/design-street, docs/results/design-street)"
+	@echo "make design-1debris         debrisfoam design on the 1-debris scene: its flow and 200 realisations (runs/design-1debris, docs/results/design-1debris)"
 	@echo "make ensemble-1debris [N=200] the 1-debris flow once, N perturbed starts through it (runs/ensemble-1debris, docs/results/ensemble-1debris)"
 	@echo "make spreading              one-way ensembles of the 1-debris scene and the 3- and 6-container layouts, their tracks against measured spreading (docs/results/spreading)"
 	@echo "make case-layouts           the study's four debris layouts one-way (about 27 min on 2 idle cores), then results-layouts"
@@ -146,6 +147,14 @@ design-street: venv openfoam
 	mkdir -p docs/results/design-street
 	cp runs/design-street/design.md runs/design-street/design.json runs/design-street/exceedance.png \
 	   docs/results/design-street/
+
+# make design-1debris: `debrisfoam design` on the study's 1-debris scene at lab scale (its one-way flow,
+# reused when run again, and 200 realisations), the page to docs/results/design-1debris/.
+design-1debris: venv openfoam
+	$(NICE) $(VENV)/bin/debrisfoam design cases/1debris.yaml -n 200 -o runs/design-1debris --force --yes
+	mkdir -p docs/results/design-1debris
+	cp runs/design-1debris/design.md runs/design-1debris/design.json runs/design-1debris/exceedance.png \
+	   docs/results/design-1debris/
 
 # make spreading: one-way ensembles of the 1-debris scene (SPREAD_N=200) and the 3x1, 1x3 and 2x3
 # layouts (SPREAD_LAYOUT_N=100 each), then their tracks against Goseberg et al. 2016's measured spreading
