@@ -37,7 +37,7 @@ help:
 	@echo "make test-fast              the Python tests without OpenFOAM and without the slow ones"
 	@echo "make clean                  remove the venv and build files"
 	@echo "make docs-check             the docs: links resolve, no history, README at most 800 words, docs/*.md at most 15,000, make help complete, figures the planner gives"
-	@echo "make flume-as-built         the gate's sill and opening, the wet bed's depth, the column's position: arrivals one change at a time (about 15 min; docs/results/flume-as-built/)"
+	@echo "make flume-as-built         the gate's sill and opening, the wet bed's depth, the column's position: arrivals one change at a time and the sill and opening together (about 15 min; docs/results/flume-as-built/)"
 	@echo "make wet-bed                the bore against Stoker's wet-bed solution, laminar and RANS (about 25 min; docs/results/wet-bed/)"
 	@echo "make synthetic-study        the seed's SDOF/MDOF/ASCE analysis on 22 synthetic records"
 	@echo "make scene-doc              docs/scene.md, the scene reference, from the schema"
