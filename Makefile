@@ -32,12 +32,12 @@ help:
 	@echo "make speed-error-debris     mesh study with one container to its impact, then its report"
 	@echo "make compare-coupling       the short flume to the first strike two-way and one-way on one mesh, side by side (about 30 min)"
 	@echo "make stability              the hard cases of cases/hard/ (about 2 h), then their stability table"
-	@echo "make test                   the default test suite, real OpenFOAM runs included (about 15 min; installs the venv and OpenFOAM first)"
+	@echo "make test                   the default test suite, real OpenFOAM runs included (about 6 min on 2 idle cores; installs the venv and OpenFOAM first)"
 	@echo "make test-all               every test, the slow ones too (about 45 min on 2 idle cores)"
 	@echo "make test-fast              the Python tests without OpenFOAM and without the slow ones"
 	@echo "make clean                  remove the venv and build files"
 	@echo "make docs-check             the docs: links resolve, no history, README at most 800 words, docs/*.md at most 15,000, make help complete, figures the planner gives"
-	@echo "make flume-as-built         the gate's sill and opening, the wet bed's depth, the column's position: arrivals one change at a time and the sill and opening together (about 15 min; docs/results/flume-as-built/)"
+	@echo "make flume-as-built         the gate's sill and opening, the wet bed's depth, the column's position: arrivals one change at a time and the sill and opening together (about 7 min; docs/results/flume-as-built/)"
 	@echo "make wet-bed                the bore against Stoker's wet-bed solution, laminar and RANS (about 25 min; docs/results/wet-bed/)"
 	@echo "make synthetic-study        the seed's SDOF/MDOF/ASCE analysis on 22 synthetic records"
 	@echo "make scene-doc              docs/scene.md, the scene reference, from the schema"
@@ -231,7 +231,7 @@ wet-bed: venv openfoam
 	$(VENV)/bin/debrisfoam report bore runs/sweeps/wet-bed -o docs/results/wet-bed --force
 
 # The flume as built: cases/sweeps/flume-as-built.yaml (10 hydrodynamic members, one change each from
-# cases/nodebris.yaml; about 15 min on 2 idle cores; run again to resume), then docs/results/flume-as-built/.
+# cases/nodebris.yaml; about 7 min on 2 idle cores; run again to resume), then docs/results/flume-as-built/.
 flume-as-built: venv openfoam
 	-$(NICE) $(VENV)/bin/debrisfoam sweep cases/sweeps/flume-as-built.yaml
 	$(VENV)/bin/debrisfoam report flume runs/sweeps/flume-as-built -o docs/results/flume-as-built --force
