@@ -313,7 +313,8 @@ def test_the_design_value_in_design_json_and_on_the_page_agree(tmp_path, monkeyp
     assert {k: d["unit"] for k, d in rec["demands"].items()} == {k: unit for k, (_, unit) in DEMANDS.items()}
     force = rec["demands"]["peak_force_N"]
     struck = table.loc[table["strike"] > 0, "peak_force_N"]
-    assert struck.min() <= force["quantile"] <= struck.max()
+    tol = 1e-9 * struck.abs().max()  # design.csv and design.json round to 10 significant digits
+    assert struck.min() - tol <= force["quantile"] <= struck.max() + tol
     assert force["value"] == pytest.approx(1.25 * force["quantile"], rel=1e-12)
     assert force["lower"] <= force["value"] and (force["upper"] is None or force["upper"] >= force["value"])
     # the page: the same value, band and fractile, the same strike count, the same binding

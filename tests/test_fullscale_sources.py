@@ -110,8 +110,8 @@ def test_no_full_scale_test_record_is_complete():
 
 def test_the_design_law_is_the_lab_law_froude_scaled():
     law = froude_scaled_design_law()
-    assert law.stiffness_N_m == pytest.approx(CONTAINER_STIFFNESS_N_M * 40 ** 2) == pytest.approx(1.2144e8)
-    assert law.damping_ratio == CONTAINER_DAMPING_RATIO == 0.558
+    assert law.stiffness_N_m == pytest.approx(CONTAINER_STIFFNESS_N_M * 40 ** 2) == pytest.approx(1.0144e8)
+    assert law.damping_ratio == CONTAINER_DAMPING_RATIO == 0.620
     assert froude_scaled_design_law("container-40ft-loaded").stiffness_N_m == law.stiffness_N_m
 
 
@@ -123,16 +123,16 @@ def test_the_design_law_cannot_be_checked_against_a_full_scale_test():
 
 
 def test_the_design_law_beside_the_lehigh_series_bound():
-    """(b) What can be said: at the top of Lehigh's elastic speeds (4 mph) the design law's peak is 47-56 % of
-    the programme's largest quoted force (half a million pounds), its duration 10-12 ms against 'maybe 100th
+    """(b) What can be said: at the top of Lehigh's elastic speeds (4 mph) the design law's peak is 48-57 % of
+    the programme's largest quoted force (half a million pounds), its duration 11-13 ms against 'maybe 100th
     of a second'. A bound, not a calibration: the quoted force is tied to no speed or mass."""
     rows = {(r["mass_source"], round(r["velocity_m_s"], 5)): r for r in lehigh_series_bound(froude_scaled_design_law())}
     top_light, top_heavy = rows[("nsf_container_weight", 1.78816)], rows[("lehigh_container_weight", 1.78816)]
-    assert top_light["law_peak_N"] == pytest.approx(1.0473e6, rel=1e-3)
-    assert top_heavy["law_peak_N"] == pytest.approx(1.2392e6, rel=1e-3)
-    assert top_light["ratio"] == pytest.approx(0.471, abs=1e-3) and top_heavy["ratio"] == pytest.approx(0.557, abs=1e-3)
-    assert top_light["law_duration_s"] == pytest.approx(0.0102, abs=1e-4)
-    assert top_heavy["law_duration_s"] == pytest.approx(0.0121, abs=1e-4)
+    assert top_light["law_peak_N"] == pytest.approx(1.0635e6, rel=1e-3)
+    assert top_heavy["law_peak_N"] == pytest.approx(1.2584e6, rel=1e-3)
+    assert top_light["ratio"] == pytest.approx(0.478, abs=1e-3) and top_heavy["ratio"] == pytest.approx(0.566, abs=1e-3)
+    assert top_light["law_duration_s"] == pytest.approx(0.0109, abs=1e-4)
+    assert top_heavy["law_duration_s"] == pytest.approx(0.0129, abs=1e-4)
     # below the quoted largest force at every stated speed and mass: the law does not exceed it
     assert all(r["ratio"] < 1.0 for r in rows.values())
 

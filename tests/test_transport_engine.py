@@ -309,7 +309,7 @@ def test_the_still_water_before_the_bore_is_skipped_and_changes_nothing():
     assert arrival - 0.04 - 0.05 / 3.43 <= begin <= arrival
     assert skipped.steps < 0.6 * whole.steps
     a, b = whole.track("box"), skipped.track("box")
-    late = a[a["time_s"] >= begin]
+    late = a[a["time_s"] >= begin - 1e-9]  # the two clocks agree to rounding
     assert len(late) == len(b)
     np.testing.assert_allclose(b[["x_m", "y_m", "z_m"]].to_numpy(), late[["x_m", "y_m", "z_m"]].to_numpy(), atol=1e-6)
     assert a["x_m"].iloc[-1] - a["x_m"].iloc[0] > 0.3  # the bore carried it
