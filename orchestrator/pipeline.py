@@ -30,7 +30,7 @@ from orchestrator.report.preview import preview_scene
 from orchestrator.run.runner import run_case
 from orchestrator.scene.schema import Scene
 from orchestrator.scene.scenefile import load_scene
-from orchestrator.transport.case_transport import TransportSummary, transport_case
+from orchestrator.transport.case_transport import TransportSummary, contact_laws, transport_case
 
 #: Post-processing draws with matplotlib's pyplot (and pyvista), which are not thread-safe:
 #: cases run in threads of one process (a sweep's local executor) post-process one at a time.
@@ -146,14 +146,23 @@ def run_full_case(scene_path: str | Path, out_dir: str | Path | None = None, set
 def carry_debris(case: str | Path, already: bool = False, quiet: bool = False) -> TransportSummary | None:
     """A one-way case's transport after its flow run (None for any other case).
 
-    Skipped when the flow run had already finished and run.json records a transport: the
-    bodies were carried through this very record before.
+    Skipped when the flow run had already finished and run.json records a transport with the
+    contact laws the scene's bodies have today: the bodies were carried through this very record
+    before. A record of other laws (the shipped law recalibrated, or none recorded) is carried again.
     """
     folder = CaseFolder(case)
     if folder.debris_coupling() != "one-way":
         return None
-    if already and "transport" in (folder.run_record() or {}):
-        return None
+    done = (folder.run_record() or {}).get("transport") if already else None
+    if done is not None:
+        laws = contact_laws(load_scene(folder.scene_path))
+        if done.get("contact_laws") == laws:
+            return None
+        if not quiet:
+            today = ", ".join(f"{n}: k {v['stiffness_N_m']:.4g} N/m, zeta {v['damping_ratio']:.3g}"
+                              for n, v in laws.items())
+            print(f"debrisfoam: {case}: its bodies were carried with other contact laws than today's ({today}); "
+                  "they are carried again through its recorded flow", flush=True)
     return transport_case(case, say=(lambda _: None) if quiet else (lambda m: print(m, flush=True)))
 
 

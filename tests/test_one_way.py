@@ -107,6 +107,26 @@ def test_running_a_finished_one_way_case_again_does_not_carry_the_bodies_again(o
     assert json.loads((case / "run.json").read_text())["transport"] == before
 
 
+@pytest.mark.openfoam
+def test_a_finished_case_carried_with_another_contact_law_is_carried_again(one_way_case, openfoam):
+    """run.json keeps the contact laws the bodies were carried with; when the tool's law is not
+    that one (the shipped law recalibrated), running the case again carries the bodies again
+    through the same flow record, and says so."""
+    from analytical.contact_law import CONTAINER
+
+    case, _ = one_way_case
+    run = json.loads((case / "run.json").read_text())
+    assert run["transport"]["contact_laws"]["debris1"]["stiffness_N_m"] == CONTAINER.stiffness_N_m
+    run["transport"]["contact_laws"]["debris1"]["stiffness_N_m"] = 7.59e4
+    (case / "run.json").write_text(json.dumps(run))
+    proc = run_cli("case", str(SCENE), "-o", str(case))
+    assert proc.returncode == 0, proc.stderr
+    assert "carried again" in proc.stdout and "transport:" in proc.stdout
+    again = json.loads((case / "run.json").read_text())["transport"]
+    assert again["contact_laws"]["debris1"]["stiffness_N_m"] == CONTAINER.stiffness_N_m
+    assert again["flow_record"] == run["transport"]["flow_record"]
+
+
 def test_the_scenes_transport_section_sets_the_forcing():
     """transport.* reaches the engine's hydrodynamic coefficients; the defaults are the engine's."""
     from orchestrator.transport.case_transport import scene_settings

@@ -43,7 +43,8 @@ from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn, Trans
 from orchestrator.transport.flow import FlowField
 from orchestrator.transport.flow_record import read_flow_record
 
-__all__ = ["TRANSPORT_DIR", "TransportSummary", "case_flow", "scene_bodies", "scene_settings", "transport_case"]
+__all__ = ["TRANSPORT_DIR", "TransportSummary", "case_flow", "contact_laws", "scene_bodies", "scene_settings",
+           "transport_case"]
 
 #: The transport's own files in the case folder.
 TRANSPORT_DIR = "transport"
@@ -59,6 +60,14 @@ class TransportSummary:
     flow_record: Path
     flow_record_bytes: int
     wall_s: float
+
+
+def contact_laws(scene: Scene) -> dict[str, dict[str, float]]:
+    """Each body's contact law as the tool resolves it today (its stiffness and damping), as run.json's
+    transport record keeps it: a case carried with another law (a scene's or the shipped one) is
+    carried again (:func:`orchestrator.pipeline.carry_debris`)."""
+    return {b.name: {k: float(v) for k, v in body_contact_law(b.contact).to_dict().items() if k != "law"}
+            for b in scene.debris}
 
 
 def scene_bodies(scene: Scene) -> list[TransportBody]:
@@ -222,7 +231,7 @@ def transport_case(case_dir: str | Path, *, settings: TransportSettings | None =
                         "departures": [{k: (round(v, 6) if isinstance(v, float) else v) for k, v in d.items()}
                                        for d in departures],
                         "flow_record": str(npz.relative_to(folder.path)),
-                        "flow_record_bytes": npz.stat().st_size}
+                        "flow_record_bytes": npz.stat().st_size, "contact_laws": contact_laws(scene)}
     run["transport_wall_s"] = round(result.wall_s + result.pulse_wall_s, 3)
     folder.write_run_record(run)
     say(f"debrisfoam: transport: {len(scene.debris)} bod{'y' if len(scene.debris) == 1 else 'ies'} over "
