@@ -40,6 +40,7 @@ __all__ = [
     "cmd_report_approach",
     "cmd_report_case",
     "cmd_report_coupling",
+    "cmd_report_flow_pair",
     "cmd_report_forcing_variants",
     "cmd_report_layouts",
     "cmd_report_speed_error",
@@ -292,6 +293,15 @@ def cmd_report_spreading(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def cmd_report_flow_pair(args: argparse.Namespace) -> int:
+    from orchestrator.report.flow_pair import read_flow_pair, write_flow_pair_report
+
+    pair = read_flow_pair(args.first, args.second)
+    files = write_flow_pair_report(pair, output_path(args.out, "-o/--out", args.force, folder=True))
+    emit({kind: str(path) for kind, path in files.items()}, args.json)
+    return EXIT_OK
+
+
 def cmd_report_coupling(args: argparse.Namespace) -> int:
     from orchestrator.report.coupling import (compare_coupling, drive_runs, one_way_record, scan_runs,
                                               write_coupling_report)
@@ -491,6 +501,15 @@ def add_study_parsers(verbs) -> None:
     p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_report_spreading)
+
+    p = rp_verbs.add_parser("flow-pair", help="one ensemble through two meshes' flows: the study comparison with "
+                                              "the flow's own uncertainty (make ensemble-flow-pair)")
+    p.add_argument("first", metavar="FIRST", help="the ensemble folder compared (debrisfoam ensemble)")
+    p.add_argument("second", metavar="SECOND", help="the same starts through another mesh's flow")
+    p.add_argument("-o", "--out", required=True, help="output folder (report.md, summary.json)")
+    p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_report_flow_pair)
 
     p = rp_verbs.add_parser("coupling", help="one scene run one-way and two-way on the same mesh, side by side: "
                                              "the tracks' difference until the first strike, the strikes, the "
