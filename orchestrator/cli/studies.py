@@ -454,7 +454,8 @@ def add_study_parsers(verbs) -> None:
                                          "Froude-scaled twin), stability (a sweep's "
                                          "runs checked), bore (a sweep's bores against Stoker's), approach "
                                          "(the strike speed against the flow record near the column), "
-                                         "forcing-variants (the one-way forcing's variants)")
+                                         "forcing-variants (the one-way forcing's variants), flow-pair (an "
+                                         "ensemble's Table 2 test with the flow's own uncertainty)")
     rp_verbs = rp.add_subparsers(dest="report_verb", required=True, parser_class=ArgParser)
     p = rp_verbs.add_parser("speed-error", help="wall time against error for every member of a sweep (and of "
                                                 "baseline sweeps): table and Pareto plot in SWEEP_DIR/report/")
