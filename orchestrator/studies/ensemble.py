@@ -534,12 +534,13 @@ def ensemble_flow(scene_path: str | Path, flow_dir: str | Path, sets: Sequence[s
     scene = load_scene(scene_path, list(sets))
     if not scene.debris:
         raise InputError("debris", "the scene has no debris: an ensemble perturbs the bodies' starts", str(scene_path))
-    coupling = plan_case(scene, str(scene_path)).debris_coupling
+    plan = plan_case(scene, str(scene_path))
+    coupling = plan.debris_coupling
     if coupling != "one-way":
         raise InputError("run.debris_coupling", f"the scene plans {coupling} (run.debris_coupling "
                                                 f"{scene.run.debris_coupling}): an ensemble carries its bodies through "
                                                 "one recorded flow; set run.debris_coupling=one-way", str(scene_path))
-    case, rendered = prepare_case(scene_path, flow_dir, sets, confirmed=confirmed)
+    case, rendered = prepare_case(scene, plan, scene_path, flow_dir, sets, confirmed=confirmed)
     say(f"debrisfoam: flow: {'rendered' if rendered else 'reusing'} {case}")
     run_case(case, quiet=quiet, stream=stream)
     flow, npz = case_flow(case, say=say)
