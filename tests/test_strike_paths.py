@@ -12,7 +12,7 @@ import pytest
 from analytical.added_mass import box_added_mass
 from analytical.contact_law import box_inertia
 from analytical.hydrodynamics import HydroCoefficients
-from orchestrator.contact.geometry import BoxState, find_contacts, scene_obstacles
+from orchestrator.contact.geometry import box_state, find_contacts, scene_obstacles
 from orchestrator.contact.resolution import body_contact_law, resolve
 from orchestrator.scene.schema import column_for_analysis
 from orchestrator.scene.scenefile import load_scene
@@ -52,8 +52,8 @@ def test_the_same_state_struck_one_way_and_two_way_gives_the_same_pulse_and_base
     one_way = run.pulses[int(first["event"])]
     centre, rotation, velocity, omega = run.strike_states[int(first["event"])]
 
-    state = BoxState(debris.name, centre, rotation, velocity, omega, debris.size_m, debris.mass_kg,
-                     box_inertia(debris.size_m, debris.mass_kg, debris.wall_thickness_m))
+    state = box_state(debris.name, centre, rotation, velocity, omega, debris.size_m, debris.mass_kg,
+                      box_inertia(debris.size_m, debris.mass_kg, debris.wall_thickness_m))
     contacts = find_contacts([state], scene_obstacles(scene), 0.002)
     (contact,) = [c for c in contacts if c.kind == "column"]
     two_way, _ = resolve(contact, [state], scene)
