@@ -21,7 +21,6 @@ from orchestrator.case import foam
 from orchestrator.case.folder import CaseFolder
 from orchestrator.case.render import render_case
 from orchestrator.plan.identity import same_case, same_flow
-from orchestrator.scene.scenefile import dump_scene_yaml
 from orchestrator.plan.model import ModelPlan
 from orchestrator.plan.planner import load_and_plan
 from orchestrator.plan.resources import Demand, check_resources
@@ -101,7 +100,7 @@ def _retransport(folder: CaseFolder, existing: Scene, transport, sets: Sequence[
     scene's ``transport`` section into the folder's scene.yaml (``existing``) and forget its
     transport record, so that the bodies are carried again through the recorded flow
     (:func:`carry_debris`)."""
-    folder.write_scene_yaml(dump_scene_yaml(existing.model_copy(update={"transport": transport}), list(sets)))
+    folder.write_scene(existing.model_copy(update={"transport": transport}), sets)
     run = folder.run_record() or {}
     if run.pop("transport", None) is not None:
         run.pop("transport_wall_s", None)

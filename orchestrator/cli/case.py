@@ -159,12 +159,12 @@ def _post_lines(summary) -> dict[str, Any]:
 
 
 def cmd_case(args: argparse.Namespace) -> int:
+    if args.out is not None:
+        writable_folder(args.out, "-o/--out")  # only checked, before anything is computed (as render)
     scene, plan = planned_scene(args.scene, args.set)
     from orchestrator.pipeline import run_full_case
     from orchestrator.run.runner import RunInterrupted
 
-    if args.out is not None:
-        writable_folder(args.out, "-o/--out")
     try:
         summary = confirm_large(lambda yes: run_full_case(scene, plan, args.scene, args.out, list(args.set or []),
                                                           np=args.np, quiet=args.quiet, confirmed=yes), args.yes)
