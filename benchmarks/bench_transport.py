@@ -27,7 +27,8 @@ sys.path.insert(0, str(ROOT))
 
 from orchestrator.transport.engine import run_transport  # noqa: E402
 from orchestrator.transport.flow import FlowField  # noqa: E402
-from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn, TransportBody  # noqa: E402
+from orchestrator.scene.schema import DebrisBody  # noqa: E402
+from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn  # noqa: E402
 
 T_END_S = 3.5
 SIZE = (0.15, 0.06, 0.06)
@@ -43,8 +44,8 @@ def layout(count: int) -> list[tuple[float, float]]:
     return [(float(x), float(y)) for x in xs for y in ys][:count]
 
 
-def bodies(count: int) -> list[TransportBody]:
-    return [TransportBody(f"debris{i + 1}", SIZE, 0.236, (x, y, 0.03), wall_thickness_m=0.005)
+def bodies(count: int) -> list[DebrisBody]:
+    return [DebrisBody(name=f"debris{i + 1}", size_m=SIZE, mass_kg=0.236, centre_m=(x, y, 0.03), wall_thickness_m=0.005)
             for i, (x, y) in enumerate(layout(count))]
 
 

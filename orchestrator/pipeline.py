@@ -21,9 +21,8 @@ from orchestrator.case import foam
 from orchestrator.case.folder import CaseFolder
 from orchestrator.case.render import render_case
 from orchestrator.plan.identity import same_case, same_flow
-from orchestrator.scene.scenefile import dump_scene_yaml
 from orchestrator.plan.model import ModelPlan
-from orchestrator.plan.planner import plan_case
+from orchestrator.plan.planner import load_and_plan
 from orchestrator.plan.resources import Demand, check_resources
 from orchestrator.report.postprocess import post_case
 from orchestrator.report.preview import preview_scene
@@ -42,18 +41,23 @@ def default_case_dir(scene_path: str | Path) -> Path:
     return Path("runs") / Path(scene_path).stem
 
 
-def holds_case(case: Path, scene) -> bool:
+def folder_scene(folder: CaseFolder) -> Scene | None:
+    """The scene.yaml of a case folder, loaded; None when it has none or it is no valid scene."""
+    if not folder.scene_path.is_file():
+        return None
+    try:
+        return load_scene(folder.scene_path)
+    except InputError:
+        return None
+
+
+def holds_case(case: Path, scene: Scene) -> bool:
     """Does the folder ``case`` hold this scene's case? Its scene.yaml and ``scene`` compared by
     :func:`orchestrator.plan.identity.same_case` for the case's coupling (plan.json): the answer a
     sweep's member ids give too."""
     folder = CaseFolder(case)
-    if not folder.scene_path.is_file():
-        return False
-    try:
-        existing = load_scene(folder.scene_path)
-    except InputError:
-        return False
-    return same_case(existing, scene, folder.debris_coupling())
+    existing = folder_scene(folder)
+    return existing is not None and same_case(existing, scene, folder.debris_coupling())
 
 
 def _plan_warnings(case: Path) -> list[str]:
@@ -62,73 +66,65 @@ def _plan_warnings(case: Path) -> list[str]:
     return list(plan.warnings) if plan else []
 
 
-def prepare_case(scene_path: str | Path, out_dir: str | Path, sets: Sequence[str] = (),
-                 confirmed: bool = False, planned: tuple[Scene, ModelPlan] | None = None) -> tuple[Path, bool]:
+def prepare_case(scene: Scene, plan: ModelPlan, scene_path: str | Path, out_dir: str | Path,
+                 sets: Sequence[str] = (), confirmed: bool = False) -> tuple[Path, bool]:
     """Render the scene into out_dir unless that folder already holds this very case.
 
-    Returns (case folder, rendered now?). Raises InputError when out_dir holds
-    something else, and the resource guard's errors when rendering (``confirmed``: see
-    :func:`render_from_file`); a case already rendered is resumed without asking again.
-    ``planned``: the scene file with ``sets`` already loaded and planned (by the CLI), not
-    loaded again.
+    ``scene`` and ``plan``: the scene file ``scene_path`` with ``sets``, loaded and planned once
+    by the caller (:func:`orchestrator.plan.planner.load_and_plan`). Returns (case folder,
+    rendered now?). Raises InputError when out_dir holds something else, and the resource
+    guard's errors when rendering (``confirmed``: see :func:`render_from_file`); a case already
+    rendered is resumed without asking again.
     """
     out = Path(out_dir)
-    scene = planned[0] if planned else load_scene(scene_path, list(sets))
     if out.is_dir() and any(out.iterdir()):
-        if holds_case(out, scene):
+        folder = CaseFolder(out)
+        existing = folder_scene(folder)
+        coupling = folder.debris_coupling()
+        if existing is not None and same_case(existing, scene, coupling):
             return out, False
-        if _retransport(out, scene, sets):
+        if existing is not None and coupling == "one-way" and same_flow(existing, scene):
+            _retransport(folder, existing, scene.transport, sets)
             return out, False
         raise InputError(
             "-o/--out",
             f"{out} already holds a different case (its scene.yaml differs from {scene_path} with these "
             "overrides); choose another folder, or remove it to start again",
         )
-    plan = planned[1] if planned else plan_case(scene, str(scene_path))
     render_planned(scene, plan, scene_path, out, list(sets), confirmed=confirmed)
     return out, True
 
 
-def _retransport(case: Path, scene, sets: Sequence[str]) -> bool:
+def _retransport(folder: CaseFolder, existing: Scene, transport, sets: Sequence[str]) -> None:
     """A one-way case whose flow is the scene's and whose transport section is not: take the
-    scene's transport section into its scene.yaml and forget its transport record, so that
-    the bodies are carried again through the recorded flow (:func:`carry_debris`). False when
-    the folder is not such a case."""
-    folder = CaseFolder(case)
-    if folder.debris_coupling() != "one-way" or not folder.scene_path.is_file():
-        return False
-    try:
-        existing = load_scene(folder.scene_path)
-    except InputError:
-        return False
-    if not same_flow(existing, scene):
-        return False
-    folder.write_scene_yaml(dump_scene_yaml(existing.model_copy(update={"transport": scene.transport}), list(sets)))
+    scene's ``transport`` section into the folder's scene.yaml (``existing``) and forget its
+    transport record, so that the bodies are carried again through the recorded flow
+    (:func:`carry_debris`)."""
+    folder.write_scene(existing.model_copy(update={"transport": transport}), sets)
     run = folder.run_record() or {}
     if run.pop("transport", None) is not None:
         run.pop("transport_wall_s", None)
         folder.write_run_record(run)
-    print(f"debrisfoam: {case}: the transport settings changed; the bodies are carried again through its "
+    print(f"debrisfoam: {folder.path}: the transport settings changed; the bodies are carried again through its "
           "recorded flow", file=sys.stderr, flush=True)
-    return True
 
 
-def run_full_case(scene_path: str | Path, out_dir: str | Path | None = None, sets: Sequence[str] = (),
-                  np: int | None = None, quiet: bool = False,
-                  stop_event: threading.Event | None = None, confirmed: bool = False,
-                  planned: tuple[Scene, ModelPlan] | None = None) -> dict[str, Any]:
+def run_full_case(scene: Scene, plan: ModelPlan, scene_path: str | Path, out_dir: str | Path | None = None,
+                  sets: Sequence[str] = (), np: int | None = None, quiet: bool = False,
+                  stop_event: threading.Event | None = None, confirmed: bool = False) -> dict[str, Any]:
     """Render (if needed), run (resuming), post-process; returns the final summary.
 
-    stop_event: set it (from another thread) to stop the run as Ctrl-C would; the run
-    raises RunInterrupted and resumes when called again. confirmed: go ahead over the
-    resource guard's soft limits (:func:`render_from_file`). planned: see :func:`prepare_case`.
+    ``scene``, ``plan``: see :func:`prepare_case`. stop_event: set it (from another thread) to
+    stop the run as Ctrl-C would; the run raises RunInterrupted and resumes when called again.
+    confirmed: go ahead over the resource guard's soft limits (:func:`render_from_file`).
     """
     t0 = time.perf_counter()
-    case, rendered = prepare_case(scene_path, out_dir or default_case_dir(scene_path), sets, confirmed=confirmed,
-                                  planned=planned)
+    case, rendered = prepare_case(scene, plan, scene_path, out_dir or default_case_dir(scene_path), sets,
+                                  confirmed=confirmed)
     if not quiet:
         print(f"debrisfoam: {'rendered' if rendered else 'resuming'} {case}", flush=True)
-    for message in _plan_warnings(case):  # before anything runs, on every start
+    warnings = _plan_warnings(case)  # the case's own plan.json: a resumed case keeps what it was planned with
+    for message in warnings:  # before anything runs, on every start
         print(f"debrisfoam: warning: {message}", file=sys.stderr, flush=True)
     run = run_case(case, np=np, quiet=quiet, stop_event=stop_event)
     carry_debris(case, already=run.already_finished, quiet=quiet)
@@ -137,7 +133,7 @@ def run_full_case(scene_path: str | Path, out_dir: str | Path | None = None, set
     summary = final_summary(post.headline)
     summary["results"] = str(post.results_dir)
     summary["report"] = str(post.report) if post.report else None
-    summary["warnings"] = _plan_warnings(case)
+    summary["warnings"] = warnings
     summary["wall_time_s"] = round(time.perf_counter() - t0, 1)
     summary["solver_wall_s"] = round(run.solver_wall_s, 1)
     return summary
@@ -217,9 +213,8 @@ def render_from_file(scene_path: str | Path, out_dir: Path, sets: Sequence[str] 
     InputError over a hard resource limit, LargeRunError over a soft one unless ``confirmed``
     (:mod:`orchestrator.plan.resources`); confirmed, the soft limits join the warnings.
     """
-    scene = load_scene(scene_path, list(sets))
-    return render_planned(scene, plan_case(scene, str(scene_path)), scene_path, out_dir, sets, force=force, mesh=mesh,
-                          confirmed=confirmed)
+    scene, plan = load_and_plan(scene_path, sets)
+    return render_planned(scene, plan, scene_path, out_dir, sets, force=force, mesh=mesh, confirmed=confirmed)
 
 
 def render_planned(scene: Scene, plan: ModelPlan, scene_path: str | Path, out_dir: Path, sets: Sequence[str] = (),

@@ -13,6 +13,20 @@ import pytest
 ROOT = Path(__file__).resolve().parent.parent
 
 
+def debris(name: str, size_m, mass_kg: float, centre_m, *, friction: float | None = None, contact: dict | None = None,
+           **fields):
+    """A debris body (the scene's DebrisBody) at a start, as the transport carries it: ``friction``
+    its Coulomb coefficient (contact.bed_friction_coefficient), ``contact`` its contact section's
+    other keys, ``fields`` its own (yaw_deg, velocity_m_s, wall_thickness_m, ...)."""
+    from orchestrator.scene.schema import DebrisBody, DebrisContact
+
+    keys = dict(contact or {})
+    if friction is not None:
+        keys["bed_friction_coefficient"] = friction
+    return DebrisBody(name=name, size_m=size_m, mass_kg=mass_kg, centre_m=centre_m, contact=DebrisContact(**keys),
+                      **fields)
+
+
 def run_cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
     """Run `debrisfoam ARGS` as a user would (a separate process)."""
     return subprocess.run(

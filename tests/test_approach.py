@@ -21,7 +21,8 @@ from orchestrator.studies.approach import ApproachFlow, face_distance, thinned
 from orchestrator.transport.budget import BUDGET_TERMS, force_budget
 from orchestrator.transport.engine import TransportSettings, run_transport
 from orchestrator.transport.flow import FlowField
-from orchestrator.transport.mujoco_model import FlumeBounds, TransportBody
+from orchestrator.transport.mujoco_model import FlumeBounds
+from tests.conftest import debris
 
 CASE = Path(__file__).resolve().parents[1] / "cases" / "1debris.yaml"
 BOX = "mesh.refine_box_m=[4.3,5.05,-0.16,0.16,0,0.24]"
@@ -113,7 +114,7 @@ def test_a_refine_box_without_its_cell_size_is_bad_input_naming_the_field():
 
 def _floating_in_a_current():
     flow = FlowField.uniform_current(0.1, 0.5, x_m=(-1.0, 3.0), y_m=(-0.5, 0.5), t_s=(0.0, 10.0))
-    body = TransportBody("plate", centre_m=(-0.8, 0.0, 0.1), size_m=(0.2, 0.2, 0.02), mass_kg=0.4)
+    body = debris("plate", centre_m=(-0.8, 0.0, 0.1), size_m=(0.2, 0.2, 0.02), mass_kg=0.4)
     settings = TransportSettings(output_interval_s=0.002)
     run = run_transport([body], FlumeBounds((-1.0, 3.0), (-0.5, 0.5)), 1.0, flow, settings=settings)
     return flow, body, settings, run.track("plate")
@@ -187,7 +188,7 @@ def test_the_engine_carries_a_body_through_an_approach_flow_on_the_moved_points(
     assert not np.allclose(ritter.surface(x, y, 1.5), ritter.surface(moved, y, 1.5))
 
     current = FlowField.uniform_current(0.1, 0.5, x_m=(-1.0, 3.0), y_m=(-0.5, 0.5), t_s=(0.0, 10.0))
-    body = TransportBody("plate", centre_m=(-0.8, 0.0, 0.1), size_m=(0.2, 0.2, 0.02), mass_kg=0.4)
+    body = debris("plate", centre_m=(-0.8, 0.0, 0.1), size_m=(0.2, 0.2, 0.02), mass_kg=0.4)
     settings = TransportSettings(output_interval_s=0.01)
     bounds = FlumeBounds((-1.0, 3.0), (-0.5, 0.5))
     plain = run_transport([body], bounds, 1.0, current, settings=settings).track("plate")

@@ -11,11 +11,17 @@ from __future__ import annotations
 import pytest
 
 from analytical.errors import InputError
-from orchestrator.pipeline import prepare_case
+from orchestrator.pipeline import prepare_case as prepare_planned
+from orchestrator.plan.planner import load_and_plan
 from tests.conftest import ROOT
 
 TWO_WAY = ROOT / "cases" / "hard" / "small" / "tiny-flume.yaml"
 ONE_WAY = ROOT / "tests" / "data" / "scenes" / "tiny-oneway-strike.yaml"
+
+
+def prepare_case(scene_path, out, sets=()):
+    """The scene file loaded and planned once, as `debrisfoam case` does, then prepared."""
+    return prepare_planned(*load_and_plan(scene_path, sets), scene_path, out, sets)
 
 
 def test_a_two_way_case_is_the_same_whatever_the_transport_keys(tmp_path):

@@ -27,14 +27,15 @@ from orchestrator.studies.design import DEMANDS, DESIGN_COLUMNS, DesignCase, Des
 from orchestrator.studies.design_report import write_report
 from orchestrator.transport.engine import TransportSettings, run_transport
 from orchestrator.transport.flow import FlowField
-from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn, TransportBody
+from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn
+from tests.conftest import debris
 from tests.conftest import run_cli
 
 ROOT = Path(__file__).resolve().parent.parent
 TINY = ROOT / "tests" / "data" / "scenes" / "tiny-oneway-strike.yaml"
 FLUME = FlumeBounds((0.0, 2.0), (-0.3, 0.3), 0.0)
 COLUMN = PlacedColumn(1.0, 0.0, Column(size_x_m=0.1, size_y_m=0.1, height_m=0.3, wall_thickness_m=0.005))
-BODY = TransportBody("debris1", (0.15, 0.06, 0.06), 0.236, (0.6, 0.0, 0.03), wall_thickness_m=0.005)
+BODY = debris("debris1", (0.15, 0.06, 0.06), 0.236, (0.6, 0.0, 0.03), wall_thickness_m=0.005)
 
 
 # --------------------------------------------------------------------------- the estimator
@@ -191,7 +192,7 @@ def test_a_batch_gives_each_strikes_demands_and_zero_without_a_strike(current):
     spec = Design(mass_kg=(0.2, 0.4))
     starts = [design_starts([BODY], FLUME, COLUMN, spec, 0, r) for r in range(2)]
     # a third realisation far downstream of the column never strikes it
-    starts.append([TransportBody("debris1", (0.15, 0.06, 0.06), 0.3, (1.6, 0.0, 0.03), wall_thickness_m=0.005)])
+    starts.append([debris("debris1", (0.15, 0.06, 0.06), 0.3, (1.6, 0.0, 0.03), wall_thickness_m=0.005)])
     settings = TransportSettings(first_pulse_only=True)
     rows = pd.DataFrame(design_batch([0, 1, 2], starts, FLUME, COLUMN, 1.3, npz, settings))
     assert list(rows.drop_duplicates("realisation")["realisation"]) == [0, 1, 2]
@@ -363,7 +364,7 @@ def test_a_catalogued_container_is_drawn_between_its_empty_and_loaded_masses():
     from analytical.catalogue import mass_range_kg
     from orchestrator.studies.design_table import mass_range
 
-    body = TransportBody(name="c", size_m=(6.058, 2.438, 2.591), mass_kg=2300.0, centre_m=(0.0, 0.0, 1.3))
+    body = debris(name="c", size_m=(6.058, 2.438, 2.591), mass_kg=2300.0, centre_m=(0.0, 0.0, 1.3))
     empty, loaded = mass_range_kg("container-20ft")
     assert mass_range(body, Design(), "container-20ft-empty") == (empty, loaded)
     assert loaded > 10 * empty  # 2,300 kg empty to 30,480 kg at the maximum gross mass

@@ -20,7 +20,8 @@ from orchestrator.studies.design import design_batch, design_starts
 from orchestrator.studies.engine_watch import UnstableEngineError
 from orchestrator.transport.engine import TransportSettings
 from orchestrator.transport.flow import FlowField
-from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn, TransportBody
+from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn
+from tests.conftest import debris
 from tests.conftest import ROOT
 
 STREET = ROOT / "cases" / "design-street.yaml"
@@ -107,7 +108,7 @@ def test_implausible_analytical_inputs_name_the_flag(capfd, argv, flag, words):
 # --------------------------------------------------------------------------- an unstable engine
 FLUME = FlumeBounds((0.0, 2.0), (-0.3, 0.3), 0.0)
 COLUMN = PlacedColumn(1.0, 0.0, Column(size_x_m=0.1, size_y_m=0.1, height_m=0.3, wall_thickness_m=0.005))
-BODY = TransportBody("debris1", (0.15, 0.06, 0.06), 0.236, (0.6, 0.0, 0.03), wall_thickness_m=0.005)
+BODY = debris("debris1", (0.15, 0.06, 0.06), 0.236, (0.6, 0.0, 0.03), wall_thickness_m=0.005)
 
 
 @pytest.fixture(scope="module")
@@ -118,14 +119,14 @@ def current(tmp_path_factory):
 
 
 def test_an_unstable_engine_is_an_error_naming_its_realisation(current):
-    """A body spun at 1e12 rad/s makes MuJoCo's state blow up at once (as a 1e-7 kg body in a
+    """A body thrown at 1e12 m/s makes MuJoCo's state blow up at once (as a 1e-7 kg body in a
     0.15 m box does after 0.94 s of flow, millions of steps later: too slow for a test); MuJoCo
     warns, resets and goes on. The batch (realisations 7 and 8, the bad body in 8) raises naming
     realisation 8 instead of returning its strikes."""
     _, npz = current
     good = design_starts([BODY], FLUME, COLUMN, Design(), 0, 0)
-    bad = [TransportBody("debris1", (0.15, 0.06, 0.06), 0.236, (0.6, 0.0, 0.03), wall_thickness_m=0.005,
-                         angular_velocity_rad_s=(1e12, 1e12, 0.0))]
+    bad = [debris("debris1", (0.15, 0.06, 0.06), 0.236, (0.6, 0.0, 0.03), wall_thickness_m=0.005,
+                  velocity_m_s=(1e12, 1e12, 0.0))]
     with pytest.raises(UnstableEngineError, match=r"realisation 8: the rigid-body engine \(MuJoCo\) became unstable"):
         design_batch([7, 8], [good, bad], FLUME, COLUMN, 0.05, npz, TransportSettings(first_pulse_only=True))
     assert mujoco.get_mju_user_warning() is None  # the process's handler is restored

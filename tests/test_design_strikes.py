@@ -22,7 +22,9 @@ from orchestrator.studies.design_strikes import draft_m, strike_geometry
 from orchestrator.studies.design_table import realisation_demands
 from orchestrator.transport.engine import TransportSettings, run_transport
 from orchestrator.transport.flow import FlowField
-from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn, TransportBody
+from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn
+from orchestrator.scene.schema import DebrisBody
+from tests.conftest import debris
 from tests.test_design import TINY
 
 FLUME = FlumeBounds((0.0, 2.0), (-0.3, 0.3), 0.0)
@@ -31,8 +33,8 @@ SIZE = (0.15, 0.06, 0.06)
 DEPTH = 0.1
 
 
-def _body(mass=0.236, y=0.0) -> TransportBody:
-    return TransportBody("debris1", SIZE, mass, (0.6, y, 0.03), wall_thickness_m=0.005)
+def _body(mass=0.236, y=0.0) -> DebrisBody:
+    return debris("debris1", SIZE, mass, (0.6, y, 0.03), wall_thickness_m=0.005)
 
 
 @pytest.fixture(scope="module")

@@ -29,7 +29,9 @@ from orchestrator.studies.ensemble import (
 from orchestrator.studies.ensemble_report import write_report
 from orchestrator.transport.engine import TransportSettings, run_transport
 from orchestrator.transport.flow import FlowField
-from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn, TransportBody
+from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn, rotation
+from orchestrator.scene.schema import DebrisBody
+from tests.conftest import debris
 from tests.conftest import run_cli
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -40,8 +42,8 @@ FLUME = FlumeBounds((0.0, 2.0), (-0.3, 0.3), 0.0)
 COLUMN = PlacedColumn(1.0, 0.0, Column(size_x_m=0.1, size_y_m=0.1, height_m=0.3, wall_thickness_m=0.005))
 
 
-def container(name: str = "debris1", x: float = 0.6, y: float = 0.0, yaw: float = 0.0) -> TransportBody:
-    return TransportBody(name, (0.15, 0.06, 0.06), 0.236, (x, y, 0.03), yaw_deg=yaw, wall_thickness_m=0.005)
+def container(name: str = "debris1", x: float = 0.6, y: float = 0.0, yaw: float = 0.0) -> DebrisBody:
+    return debris(name, (0.15, 0.06, 0.06), 0.236, (x, y, 0.03), yaw_deg=yaw, wall_thickness_m=0.005)
 
 
 def _inside(points: np.ndarray, poly: np.ndarray) -> np.ndarray:
@@ -52,11 +54,11 @@ def _inside(points: np.ndarray, poly: np.ndarray) -> np.ndarray:
     return inside
 
 
-def _footprint_points(body: TransportBody, n: int = 15) -> np.ndarray:
+def _footprint_points(body: DebrisBody, n: int = 15) -> np.ndarray:
     """A grid over the body's footprint, from its own axes (independent of plan_footprint)."""
     u = np.linspace(-0.5, 0.5, n)
     local = np.array([[a * body.size_m[0], b * body.size_m[1], 0.0] for a in u for b in u])
-    return (local @ body.rotation.T)[:, :2] + np.asarray(body.centre_m[:2])
+    return (local @ rotation(body).T)[:, :2] + np.asarray(body.centre_m[:2])
 
 
 # --------------------------------------------------------------------------- starts

@@ -166,7 +166,11 @@ def test_a_changed_transport_section_carries_the_bodies_again_through_the_same_f
     forgotten (so the bodies are carried again); another flow setting is a different case."""
     from analytical.errors import InputError
     from orchestrator.case.folder import CaseFolder
-    from orchestrator.pipeline import prepare_case
+    from orchestrator.pipeline import prepare_case as prepare_planned
+    from orchestrator.plan.planner import load_and_plan
+
+    def prepare_case(scene_path, out, sets=()):
+        return prepare_planned(*load_and_plan(scene_path, sets), scene_path, out, sets)
 
     case, rendered = prepare_case(SCENE, tmp_path / "case")
     assert rendered

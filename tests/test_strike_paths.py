@@ -12,13 +12,13 @@ import pytest
 from analytical.added_mass import box_added_mass
 from analytical.contact_law import box_inertia
 from analytical.hydrodynamics import HydroCoefficients
-from orchestrator.contact.geometry import BoxState, find_contacts, scene_obstacles
-from orchestrator.contact.resolution import body_contact_law, resolve
+from orchestrator.contact.geometry import box_state, find_contacts, scene_obstacles
+from orchestrator.contact.resolution import resolve
 from orchestrator.scene.schema import column_for_analysis
 from orchestrator.scene.scenefile import load_scene
 from orchestrator.transport.engine import TransportSettings, run_transport
 from orchestrator.transport.flow import FlowField
-from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn, TransportBody
+from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn, with_start
 
 ROOT = Path(__file__).resolve().parents[1]
 DEPTH_M = 0.1  # still water: the container afloat at its draft
@@ -36,11 +36,10 @@ def test_the_same_state_struck_one_way_and_two_way_gives_the_same_pulse_and_base
     rho = scene.fluids.water_density_kg_m3
     draft = debris.mass_kg / (rho * debris.size_m[0] * debris.size_m[1])
     z = DEPTH_M - draft + debris.size_m[2] / 2
-    law = body_contact_law(debris.contact)
     friction = debris.contact.friction_coefficient
-    body = TransportBody("box", debris.size_m, debris.mass_kg, (face - 0.3, scene.column.y_m + offset_m, z),
-                         yaw_deg=yaw_deg, velocity_m_s=(1.5, 0.0, 0.0), wall_thickness_m=debris.wall_thickness_m,
-                         friction_coefficient=friction, contact=law)
+    body = with_start(debris, name="box", centre_m=(face - 0.3, scene.column.y_m + offset_m, z), yaw_deg=yaw_deg,
+                      pitch_deg=0.0, roll_deg=0.0, velocity_m_s=(1.5, 0.0, 0.0),
+                      contact=debris.contact.model_copy(update={"bed_friction_coefficient": friction}))
     flow = FlowField.still_water(DEPTH_M, x_m=(face - 1.0, face + 1.0), y_m=(-0.75, 0.75), t_s=(0.0, 1.0),
                                  water_density_kg_m3=rho)
     settings = TransportSettings(hydro=HydroCoefficients(drag_coefficient=0.0))
@@ -52,8 +51,8 @@ def test_the_same_state_struck_one_way_and_two_way_gives_the_same_pulse_and_base
     one_way = run.pulses[int(first["event"])]
     centre, rotation, velocity, omega = run.strike_states[int(first["event"])]
 
-    state = BoxState(debris.name, centre, rotation, velocity, omega, debris.size_m, debris.mass_kg,
-                     box_inertia(debris.size_m, debris.mass_kg, debris.wall_thickness_m))
+    state = box_state(debris.name, centre, rotation, velocity, omega, debris.size_m, debris.mass_kg,
+                      box_inertia(debris.size_m, debris.mass_kg, debris.wall_thickness_m))
     contacts = find_contacts([state], scene_obstacles(scene), 0.002)
     (contact,) = [c for c in contacts if c.kind == "column"]
     two_way, _ = resolve(contact, [state], scene)

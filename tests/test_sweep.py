@@ -396,14 +396,13 @@ def test_a_case_folder_and_a_sweep_member_answer_the_same_case_alike(tmp_path, c
     from orchestrator.case.folder import CaseFolder
     from orchestrator.pipeline import holds_case
     from orchestrator.plan.planner import plan_case
-    from orchestrator.scene.scenefile import dump_scene_yaml
 
     sets = [f"run.debris_coupling={coupling}"]
     a = load_scene(ROOT / "cases" / "1debris.yaml", sets)
     b = load_scene(ROOT / "cases" / "1debris.yaml", sets + change)
     plan = plan_case(a, "a")
     folder = CaseFolder(tmp_path)
-    folder.write_scene_yaml(dump_scene_yaml(a))
+    folder.write_scene(a)
     folder.write_plan_json(_json.dumps({"debris_coupling": plan.debris_coupling}))
     expected = same or (coupling == "two-way" and change == ["transport.drag_coefficient=2.0"]) \
         or (coupling == "two-way" and change == ["run.debris_coupling=two-way"])

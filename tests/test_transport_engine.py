@@ -13,18 +13,20 @@ import numpy as np
 import pytest
 
 from analytical.added_mass import box_added_mass
-from analytical.contact_law import CONTAINER, column_impact, contact_law
+from analytical.contact_law import column_impact, contact_law
 from analytical.hydrodynamics import HydroCoefficients, archimedes_draft, drag_time_constant, heave_period
 from orchestrator.transport.engine import BODY_COLUMNS, TransportSettings, run_transport
 from orchestrator.transport.events import IMPACT_COLUMNS
 from orchestrator.transport.flow import FlowCoverageError, FlowField
-from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn, TransportBody
+from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn
+from tests.conftest import debris
 
 RHO, G = 998.0, 9.81
 PLATE = dict(size_m=(0.2, 0.2, 0.02), mass_kg=0.4)
 CONTAINER_BOX = dict(size_m=(0.15, 0.06, 0.06), mass_kg=0.236, wall_thickness_m=0.005)
 FLUME = FlumeBounds((-1.0, 3.0), (-0.5, 0.5))
-ELASTIC = contact_law(damping_ratio=0.0)  # the container's spring without its dashpot: closed forms
+ELASTIC_KEYS = {"damping_ratio": 0.0}  # the container's spring without its dashpot: closed forms
+ELASTIC = contact_law(**ELASTIC_KEYS)
 
 
 def _still(depth=0.1, **kw):
@@ -33,7 +35,7 @@ def _still(depth=0.1, **kw):
 
 def test_a_box_in_still_water_floats_level_at_archimedes_draft():
     """Expected draft m / (rho A) = 10.02 mm within 2 %; level within 0.01 degrees."""
-    run = run_transport([TransportBody("plate", centre_m=(0.0, 0.0, 0.1), **PLATE)], FLUME, 2.0, _still())
+    run = run_transport([debris("plate", centre_m=(0.0, 0.0, 0.1), **PLATE)], FLUME, 2.0, _still())
     track = run.track("plate")
     assert list(run.tracks.columns) == BODY_COLUMNS
     late = track[track["time_s"] > 1.5]
@@ -49,7 +51,7 @@ def test_heave_period_with_the_added_mass_of_the_displaced_water(coefficient):
     displaces; 0.513 s) or C_a rho V_sub with C_a = 1 (0.4 kg; 0.284 s). Without added mass it
     would be 0.201 s."""
     settings = TransportSettings(hydro=HydroCoefficients(added_mass_coefficient=coefficient))
-    run = run_transport([TransportBody("plate", centre_m=(0.0, 0.0, 0.103), **PLATE)], FLUME, 2.0, _still(),
+    run = run_transport([debris("plate", centre_m=(0.0, 0.0, 0.103), **PLATE)], FLUME, 2.0, _still(),
                         settings=settings)
     track = run.track("plate")
     z = track["z_m"].to_numpy() - 0.1
@@ -67,7 +69,7 @@ def test_on_a_sloped_surface_a_thin_box_tilts_with_it():
     within 10 %, mean over the last second; no roll, no drift (the record has no velocity)."""
     s = 0.05
     flow = FlowField.sloped_surface(0.1, s, x_m=(-1.0, 3.0), y_m=(-0.5, 0.5), t_s=(0.0, 10.0))
-    run = run_transport([TransportBody("plate", centre_m=(0.0, 0.0, 0.1), **PLATE)], FLUME, 3.0, flow)
+    run = run_transport([debris("plate", centre_m=(0.0, 0.0, 0.1), **PLATE)], FLUME, 3.0, flow)
     late = run.track("plate").query("time_s > 2.0")
     draft = archimedes_draft(0.4, 0.04, RHO)
     bm = 0.2 ** 2 / (12 * draft)
@@ -84,7 +86,7 @@ def test_in_a_uniform_current_a_floating_box_drifts_up_to_the_current_speed():
     0.05 kg; 0.86 s at the default C_d = 1.05). Expected v(tau) = U/2 and v(2 tau) = 2U/3 within 5 %."""
     U = 0.5
     flow = FlowField.uniform_current(0.1, U, x_m=(-1.0, 3.0), y_m=(-0.5, 0.5), t_s=(0.0, 10.0))
-    run = run_transport([TransportBody("plate", centre_m=(-0.8, 0.0, 0.1), **PLATE)], FLUME, 3.2, flow)
+    run = run_transport([debris("plate", centre_m=(-0.8, 0.0, 0.1), **PLATE)], FLUME, 3.2, flow)
     track = run.track("plate")
     area = 0.2 * archimedes_draft(0.4, 0.04, RHO)
     m_a = box_added_mass((0.2, 0.2, 0.02), 0.4, RHO).masses_kg[0]
@@ -100,8 +102,8 @@ def _deceleration(track) -> float:
 
 def test_a_box_sliding_on_a_dry_bed_stops_at_mu_g():
     """Expected deceleration mu g = 2.943 m/s^2 within 3 %, the box staying on the bed (no hops)."""
-    body = TransportBody("box", centre_m=(0.0, 0.0, 0.03), velocity_m_s=(1.0, 0.0, 0.0), friction_coefficient=0.3,
-                         **CONTAINER_BOX)
+    body = debris("box", centre_m=(0.0, 0.0, 0.03), velocity_m_s=(1.0, 0.0, 0.0), friction=0.3,
+                  **CONTAINER_BOX)
     run = run_transport([body], FLUME, 0.45, settings=TransportSettings(output_interval_s=0.005))
     track = run.track("box")
     assert _deceleration(track) == pytest.approx(0.3 * G, rel=0.03)
@@ -112,8 +114,8 @@ def test_a_box_sliding_on_a_dry_bed_stops_at_mu_g():
 def test_a_partly_submerged_box_slides_at_mu_g_less_its_buoyancy():
     """15 mm of still water (the seed's wet bed), drag and added mass off to isolate friction:
     expected mu g (1 - rho V_sub / m) = 1.263 m/s^2 within 3 %."""
-    body = TransportBody("box", centre_m=(0.0, 0.0, 0.03), velocity_m_s=(1.0, 0.0, 0.0), friction_coefficient=0.3,
-                         **CONTAINER_BOX)
+    body = debris("box", centre_m=(0.0, 0.0, 0.03), velocity_m_s=(1.0, 0.0, 0.0), friction=0.3,
+                  **CONTAINER_BOX)
     settings = TransportSettings(output_interval_s=0.005,
                                  hydro=HydroCoefficients(drag_coefficient=0.0, added_mass_coefficient=0.0))
     run = run_transport([body], FLUME, 0.5, _still(0.015), settings=settings)
@@ -121,13 +123,14 @@ def test_a_partly_submerged_box_slides_at_mu_g_less_its_buoyancy():
     assert _deceleration(run.track("box")) == pytest.approx(0.3 * G * (1 - RHO * v_sub / 0.236), rel=0.03)
 
 
-@pytest.mark.parametrize("law", [CONTAINER, contact_law(restitution=0.5)], ids=["container", "restitution_0.5"])
-def test_a_box_launched_at_the_column(law):
+@pytest.mark.parametrize("keys", [{}, {"restitution": 0.5}], ids=["container", "restitution_0.5"])
+def test_a_box_launched_at_the_column(keys):
     """At 1.5 m/s head-on (frictionless bed): the recorded impact velocity 1.5 m/s within 2 %;
     the pulse equals column_impact's at that velocity and height (rel 1e-6: the same call);
     the rebound speed over the impact speed equals the law's rigid-wall restitution within 10 %."""
-    body = TransportBody("box", centre_m=(0.5, 0.0, 0.03), velocity_m_s=(1.5, 0.0, 0.0), friction_coefficient=0.0,
-                         contact=law, **CONTAINER_BOX)
+    body = debris("box", centre_m=(0.5, 0.0, 0.03), velocity_m_s=(1.5, 0.0, 0.0), friction=0.0,
+                  contact=keys, **CONTAINER_BOX)
+    law = contact_law(**keys)
     run = run_transport([body], FLUME, 0.5, column=PlacedColumn(1.0, 0.0))
     assert set(IMPACT_COLUMNS) <= set(run.impacts.columns)
     column = run.impacts[run.impacts["kind"] == "column"]
@@ -151,10 +154,10 @@ def test_two_boxes_colliding_conserve_momentum():
     """0.236 kg at +1 m/s meets 0.4 kg at -0.5 m/s on a frictionless bed: m1 v1 + m2 v2 conserved
     within 1 %; one body-body event; elastic law: separation / approach speed 1 within 5 %, and
     its pulse the half-sine of the two springs in series on the two-body mass within 3 %."""
-    a = TransportBody("a", centre_m=(0.0, 0.0, 0.03), velocity_m_s=(1.0, 0.0, 0.0), friction_coefficient=0.0,
-                      size_m=(0.15, 0.06, 0.06), mass_kg=0.236, contact=ELASTIC)
-    b = TransportBody("b", centre_m=(0.3, 0.0, 0.03), velocity_m_s=(-0.5, 0.0, 0.0), friction_coefficient=0.0,
-                      size_m=(0.15, 0.06, 0.06), mass_kg=0.4, contact=ELASTIC)
+    a = debris("a", centre_m=(0.0, 0.0, 0.03), velocity_m_s=(1.0, 0.0, 0.0), friction=0.0,
+               size_m=(0.15, 0.06, 0.06), mass_kg=0.236, contact=ELASTIC_KEYS)
+    b = debris("b", centre_m=(0.3, 0.0, 0.03), velocity_m_s=(-0.5, 0.0, 0.0), friction=0.0,
+               size_m=(0.15, 0.06, 0.06), mass_kg=0.4, contact=ELASTIC_KEYS)
     run = run_transport([a, b], FLUME, 0.3, settings=TransportSettings(output_interval_s=0.005))
     ta, tb = run.track("a"), run.track("b")
     before = 0.236 * ta["u_m_s"].iloc[0] + 0.4 * tb["u_m_s"].iloc[0]
@@ -177,8 +180,8 @@ def test_a_box_launched_at_a_side_wall_gets_the_half_sine_of_its_law():
     """The container broadside into the side wall at 1.5 m/s (frictionless), its spring undamped:
     one wall impact with its pulse, the half-sine on the whole mass: peak v sqrt(k m), duration
     pi sqrt(m / k), impulse 2 m v, each within 3 %."""
-    body = TransportBody("box", centre_m=(0.5, 0.3, 0.03), velocity_m_s=(0.0, 1.5, 0.0), friction_coefficient=0.0,
-                         contact=ELASTIC, **CONTAINER_BOX)
+    body = debris("box", centre_m=(0.5, 0.3, 0.03), velocity_m_s=(0.0, 1.5, 0.0), friction=0.0,
+                  contact=ELASTIC_KEYS, **CONTAINER_BOX)
     run = run_transport([body], FLUME, 0.3)
     walls = run.impacts[run.impacts["kind"] == "wall"]
     assert len(walls) == 1
@@ -192,15 +195,15 @@ def test_a_box_launched_at_a_side_wall_gets_the_half_sine_of_its_law():
 
 
 def test_a_run_longer_than_the_record_is_refused():
-    body = TransportBody("plate", centre_m=(0.0, 0.0, 0.1), **PLATE)
+    body = debris("plate", centre_m=(0.0, 0.0, 0.1), **PLATE)
     with pytest.raises(FlowCoverageError, match=r"flow\.t"):
         run_transport([body], FLUME, 12.0, _still())
 
 
 def _afloat(name, x, y=0.0, u=0.0, v=0.0):
     """The flat test box afloat at its draft in 0.1 m of still water, moving at (u, v)."""
-    return TransportBody(name, centre_m=(x, y, 0.1 - 0.01 + 0.01), velocity_m_s=(u, v, 0.0), friction_coefficient=0.0,
-                         **PLATE)
+    return debris(name, centre_m=(x, y, 0.1 - 0.01 + 0.01), velocity_m_s=(u, v, 0.0), friction=0.0,
+                  **PLATE)
 
 
 @pytest.mark.parametrize("kind", ["column", "wall", "body"])
@@ -250,8 +253,8 @@ def test_a_body_reaching_an_open_end_leaves_the_run_and_a_closed_end_is_a_wall(o
     """Dry and frictionless at 1.5 m/s towards the downstream end 1.4 m away: open, the body
     leaves when its nose passes it (after (1.4 - 0.075) / 1.5 = 0.883 s, to one forcing interval),
     at 1.5 m/s, its track ends there and nothing strikes; closed, it strikes the end wall."""
-    body = TransportBody("box", centre_m=(1.5, 0.0, 0.03), velocity_m_s=(1.5, 0.0, 0.0), friction_coefficient=0.0,
-                         **CONTAINER_BOX)
+    body = debris("box", centre_m=(1.5, 0.0, 0.03), velocity_m_s=(1.5, 0.0, 0.0), friction=0.0,
+                  **CONTAINER_BOX)
     flume = FlumeBounds((-1.0, 2.9), (-0.5, 0.5), open_ends=(False, open_end))
     run = run_transport([body], flume, 1.5)
     if not open_end:
@@ -272,8 +275,8 @@ def test_in_a_batch_each_realisation_keeps_its_own_departure():
     speeds: each leaves once, at its own time, under its own name."""
     from orchestrator.transport.batch import run_batch
 
-    starts = [[TransportBody("box", centre_m=(1.5, y, 0.03), velocity_m_s=(u, 0.0, 0.0), friction_coefficient=0.0,
-                             **CONTAINER_BOX)] for y, u in ((-0.2, 1.5), (0.2, 1.0))]
+    starts = [[debris("box", centre_m=(1.5, y, 0.03), velocity_m_s=(u, 0.0, 0.0), friction=0.0,
+                      **CONTAINER_BOX)] for y, u in ((-0.2, 1.5), (0.2, 1.0))]
     flume = FlumeBounds((-1.0, 2.9), (-0.5, 0.5), open_ends=(False, True))
     first, second = run_batch(starts, flume, 1.6)
     for run, u in ((first, 1.5), (second, 1.0)):
@@ -287,7 +290,7 @@ def test_a_container_afloat_in_still_water_stays_where_it_is(yaw_deg):
     carried water per axis, drag along the flow, the Munk moment): over 2 s it moves under 1 mm
     and turns under 1 degree, whatever its heading (nothing moves past it to turn it)."""
     draft = 0.236 / (RHO * 0.15 * 0.06)
-    body = TransportBody("box", centre_m=(0.5, 0.0, 0.1 - draft + 0.03), yaw_deg=yaw_deg, **CONTAINER_BOX)
+    body = debris("box", centre_m=(0.5, 0.0, 0.1 - draft + 0.03), yaw_deg=yaw_deg, **CONTAINER_BOX)
     track = run_transport([body], FLUME, 2.0, _still()).track("box")
     moved = (track[["x_m", "y_m", "z_m"]] - track[["x_m", "y_m", "z_m"]].iloc[0]).abs().to_numpy().max()
     assert moved < 1e-3
@@ -301,7 +304,7 @@ def test_the_still_water_before_the_bore_is_skipped_and_changes_nothing():
     begins at the last frame before the water there moves (within two frames of it) and carries
     the body as the whole run does, to 1e-6 m; a body started moving is not skipped."""
     flow = FlowField.ritter(0.3, np.linspace(-1.0, 3.0, 81), np.arange(0.0, 1.21, 0.02))
-    body = TransportBody("box", centre_m=(2.0, 0.0, 0.03), **CONTAINER_BOX)
+    body = debris("box", centre_m=(2.0, 0.0, 0.03), **CONTAINER_BOX)
     whole = run_transport([body], FLUME, 1.2, flow)
     skipped = run_transport([body], FLUME, 1.2, flow, settings=TransportSettings(still_start_m_s=0.005))
     arrival = 1.94 / (2.0 * math.sqrt(9.81 * 0.3))
@@ -313,7 +316,7 @@ def test_the_still_water_before_the_bore_is_skipped_and_changes_nothing():
     assert len(late) == len(b)
     np.testing.assert_allclose(b[["x_m", "y_m", "z_m"]].to_numpy(), late[["x_m", "y_m", "z_m"]].to_numpy(), atol=1e-6)
     assert a["x_m"].iloc[-1] - a["x_m"].iloc[0] > 0.3  # the bore carried it
-    moving = TransportBody("box", centre_m=(2.0, 0.0, 0.03), velocity_m_s=(0.1, 0.0, 0.0), **CONTAINER_BOX)
+    moving = debris("box", centre_m=(2.0, 0.0, 0.03), velocity_m_s=(0.1, 0.0, 0.0), **CONTAINER_BOX)
     run = run_transport([moving], FLUME, 0.2, flow, settings=TransportSettings(still_start_m_s=0.005))
     assert run.track("box")["time_s"].iloc[0] == 0.0
 
@@ -323,7 +326,7 @@ def test_a_strike_carried_by_the_bore_states_how_long_after_the_front_it_came():
     after the front reached the column's face; time_since_front_s is the strike's time less the
     flow's front arrival at the face (1 cm upstream of it), on the run's clock."""
     flow = FlowField.ritter(0.3, np.linspace(-1.0, 3.0, 81), np.arange(0.0, 1.61, 0.02))
-    body = TransportBody("box", centre_m=(1.8, 0.0, 0.03), **CONTAINER_BOX)
+    body = debris("box", centre_m=(1.8, 0.0, 0.03), **CONTAINER_BOX)
     column = PlacedColumn(2.6, 0.0)
     run = run_transport([body], FLUME, 1.6, flow, column=column)
     strikes = run.impacts[run.impacts["kind"] == "column"]

@@ -74,6 +74,7 @@ HELD_SOLVERS = "heldSolvers"  # the solvers while every body is held still (orch
 _IDENTITY = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
 
 Vec = tuple[float, float, float]
+_BOX = ("size_m", "mass_kg", "inertia_kg_m2")  # BodyState's box: written only when set
 
 
 @dataclass(frozen=True)
@@ -82,6 +83,8 @@ class BodyState:
 
     `orientation` is row-major (xx xy xz yx ... zz), body axes -> global axes.
     `centre_of_rotation_m` is None when it is the centre of mass (always so here).
+    `size_m`, `mass_kg` and `inertia_kg_m2` (principal, body axes) are the body's box, set where
+    a stage needs them (contact: :func:`orchestrator.contact.geometry.box_state`), else None.
     """
 
     name: str
@@ -92,6 +95,9 @@ class BodyState:
     angular_velocity_rad_s: Vec = (0.0, 0.0, 0.0)
     centre_of_rotation_m: Vec | None = None
     acceleration_m_s2: Vec = (0.0, 0.0, 0.0)
+    size_m: Vec | None = None
+    mass_kg: float | None = None
+    inertia_kg_m2: Vec | None = None
 
     @property
     def rotation(self) -> np.ndarray:
@@ -102,13 +108,14 @@ class BodyState:
         return float(math.sqrt(sum(v * v for v in self.velocity_m_s)))
 
     def to_dict(self) -> dict[str, Any]:
-        return {k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(self).items()}
+        return {k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(self).items()
+                if not (k in _BOX and v is None)}
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> "BodyState":
         values = dict(data)
         for key in ("centre_of_mass_m", "orientation", "velocity_m_s", "angular_velocity_rad_s",
-                    "centre_of_rotation_m", "acceleration_m_s2"):
+                    "centre_of_rotation_m", "acceleration_m_s2", "size_m", "inertia_kg_m2"):
             if values.get(key) is not None:
                 values[key] = tuple(float(v) for v in values[key])
         return cls(**values)

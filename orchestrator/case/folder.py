@@ -14,6 +14,7 @@ name is spelled once and every write is atomic (a temporary file and a rename).
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -22,6 +23,8 @@ from foamlib import FoamCase
 from orchestrator.core.errors import InputError
 from orchestrator.core.files import read_json, read_json_object, write_json_atomic, write_text_atomic
 from orchestrator.plan.model import ModelPlan
+from orchestrator.scene.scenefile import dump_scene_yaml
+from orchestrator.scene.schema import Scene
 
 SCENE_YAML = "scene.yaml"
 PLAN_JSON = "plan.json"
@@ -188,8 +191,10 @@ class CaseFolder:
     def write_plan_json(self, text: str) -> Path:
         return write_text_atomic(self.plan_path, text)
 
-    def write_scene_yaml(self, text: str) -> Path:
-        return write_text_atomic(self.scene_path, text)
+    def write_scene(self, scene: Scene, overrides: Sequence[str] = ()) -> Path:
+        """scene.yaml: the resolved ``scene`` with the ``overrides`` it was asked with
+        (:func:`orchestrator.scene.scenefile.dump_scene_yaml`)."""
+        return write_text_atomic(self.scene_path, dump_scene_yaml(scene, list(overrides)))
 
     def write_run_record(self, data: dict[str, Any]) -> Path:
         return write_json_atomic(self.run_path, data)

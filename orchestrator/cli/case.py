@@ -159,15 +159,15 @@ def _post_lines(summary) -> dict[str, Any]:
 
 
 def cmd_case(args: argparse.Namespace) -> int:
-    planned = planned_scene(args.scene, args.set)
+    if args.out is not None:
+        writable_folder(args.out, "-o/--out")  # only checked, before anything is computed (as render)
+    scene, plan = planned_scene(args.scene, args.set)
     from orchestrator.pipeline import run_full_case
     from orchestrator.run.runner import RunInterrupted
 
-    if args.out is not None:
-        writable_folder(args.out, "-o/--out")
     try:
-        summary = confirm_large(lambda yes: run_full_case(args.scene, args.out, list(args.set or []), np=args.np,
-                                                          quiet=args.quiet, confirmed=yes, planned=planned), args.yes)
+        summary = confirm_large(lambda yes: run_full_case(scene, plan, args.scene, args.out, list(args.set or []),
+                                                          np=args.np, quiet=args.quiet, confirmed=yes), args.yes)
     except RunInterrupted as exc:  # resumable: the same command continues the run
         if args.debug:
             raise

@@ -126,11 +126,9 @@ def planned_scene(scene_path: str | Path, sets: list[str] | None):
     """(scene, plan) of the scene file, loaded and planned with the light modules only: a verb
     refuses a bad scene or an impossible mesh (the planner's label limit) before it loads the
     stages that render and run (a second or more of imports) and before it writes anything."""
-    from orchestrator.plan.planner import plan_case
-    from orchestrator.scene.scenefile import load_scene
+    from orchestrator.plan.planner import load_and_plan
 
-    scene = load_scene(scene_path, list(sets or []))
-    return scene, plan_case(scene, str(scene_path))
+    return load_and_plan(scene_path, sets)
 
 
 def plan_scene(scene_path: str | Path, sets: list[str] | None):

@@ -112,8 +112,8 @@ class Box:
 
     @classmethod
     def of(cls, state) -> "Box":
-        """The box of a body state (its centre_of_mass_m, orientation and size_m)."""
-        return cls(state.centre_of_mass_m, state.orientation, state.size_m / 2.0)
+        """The box of a body state with its box (a BodyState: centre_of_mass_m, rotation, size_m)."""
+        return cls(np.asarray(state.centre_of_mass_m, float), state.rotation, np.asarray(state.size_m, float) / 2.0)
 
     @classmethod
     def of_obstacle(cls, obs) -> "Box":

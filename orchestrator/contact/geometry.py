@@ -22,7 +22,6 @@ Units: m, s, kg, rad. Normals point from the obstacle (or the other body) into t
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
@@ -32,12 +31,12 @@ import numpy as np
 
 from orchestrator.core.errors import InputError
 from analytical.impact_bodies import inverse_inertia_tensor
-from orchestrator.contact.boxes import Box, box_box, box_plane, freeze, sat_axes, sat_lower_bound, vec3
+from orchestrator.case.bodystate import BodyState
+from orchestrator.contact.boxes import Box, box_box, box_plane, sat_axes, sat_lower_bound, vec3
 from orchestrator.scene.geometry import flume_extent
 from orchestrator.scene.schema import Scene
 
 __all__ = [
-    "BoxState",
     "BoxObstacle",
     "PlaneObstacle",
     "Obstacles",
@@ -47,106 +46,85 @@ __all__ = [
     "find_contacts",
     "time_to_contact",
     "bed_clearance",
+    "box_state",
     "clamp_to_bed",
+    "corners",
+    "inverse_inertia",
+    "moved",
+    "plan_state",
+    "point_velocity",
 ]
 
 ContactKind = Literal["column", "wall", "body"]
 
 
 # ------------------------------------------------------------------------------ states
-@dataclass(frozen=True)
-class BoxState:
-    """One debris body's rigid-body state (global frame; arrays are read-only).
+def _floats(value) -> tuple[float, ...]:
+    return tuple(float(v) for v in np.asarray(value, float).ravel())
 
-    Attributes
-    ----------
-    name:
-        The body's name (as in the scene and the solver dictionaries).
-    centre_of_mass_m:
-        Centre of mass (m), also the box centre.
-    orientation:
-        3x3 rotation from body to global axes (columns: the body's length, width and
-        height directions).
-    velocity_m_s, angular_velocity_rad_s:
-        Linear velocity of the centre of mass (m/s) and angular velocity (rad/s).
-    size_m:
-        Box size along the body axes [length, width, height] (m).
-    mass_kg:
-        Mass (kg).
-    inertia_kg_m2:
-        Principal moments of inertia about the body axes through the centre of mass (kg m^2).
+
+def box_state(name: str, centre_of_mass_m, orientation, velocity_m_s, angular_velocity_rad_s, size_m, mass_kg,
+              inertia_kg_m2, time_s: float = 0.0) -> BodyState:
+    """One debris body's rigid-body state with its box, as this stage needs it (global frame).
+
+    ``orientation`` is the 3x3 rotation from body to global axes (columns: the body's length,
+    width and height directions); ``size_m`` the box along the body axes [length, width,
+    height] (m); ``inertia_kg_m2`` the principal moments about the body axes through the centre
+    of mass. Every value is checked (InputError naming the body and the field).
     """
+    if not isinstance(name, str) or not name:
+        raise InputError("name", f"must be a non-empty string, got {name!r}")
+    vectors = {f: vec3(f"{name}.{f}", v) for f, v in (("centre_of_mass_m", centre_of_mass_m),
+                                                       ("velocity_m_s", velocity_m_s),
+                                                       ("angular_velocity_rad_s", angular_velocity_rad_s))}
+    size = vec3(f"{name}.size_m", size_m)
+    if np.any(size <= 0.0):
+        raise InputError(f"{name}.size_m", f"must all be > 0, got {size.tolist()}")
+    inertia = vec3(f"{name}.inertia_kg_m2", inertia_kg_m2)
+    if np.any(inertia <= 0.0):
+        raise InputError(f"{name}.inertia_kg_m2", f"must all be > 0, got {inertia.tolist()}")
+    rot = np.array(orientation, dtype=float)
+    if rot.shape != (3, 3) or not np.all(np.isfinite(rot)):
+        raise InputError(f"{name}.orientation", "must be a finite 3x3 matrix")
+    if not np.allclose(rot.T @ rot, np.eye(3), atol=1e-6) or np.linalg.det(rot) <= 0.0:
+        raise InputError(f"{name}.orientation", "must be a rotation matrix (orthonormal, det +1)")
+    try:
+        mass = float(mass_kg)
+    except (TypeError, ValueError):
+        raise InputError(f"{name}.mass_kg", f"must be a number, got {mass_kg!r}") from None
+    if not math.isfinite(mass) or mass <= 0.0:
+        raise InputError(f"{name}.mass_kg", f"must be > 0, got {mass_kg!r}")
+    return BodyState(name, float(time_s), _floats(vectors["centre_of_mass_m"]), _floats(rot),
+                     _floats(vectors["velocity_m_s"]), _floats(vectors["angular_velocity_rad_s"]),
+                     size_m=_floats(size), mass_kg=mass, inertia_kg_m2=_floats(inertia))
 
-    name: str
-    centre_of_mass_m: np.ndarray
-    orientation: np.ndarray
-    velocity_m_s: np.ndarray
-    angular_velocity_rad_s: np.ndarray
-    size_m: np.ndarray
-    mass_kg: float
-    inertia_kg_m2: np.ndarray
 
-    def __post_init__(self):
-        if not isinstance(self.name, str) or not self.name:
-            raise InputError("name", f"must be a non-empty string, got {self.name!r}")
-        for field_name in ("centre_of_mass_m", "velocity_m_s", "angular_velocity_rad_s"):
-            freeze(self, field_name, vec3(f"{self.name}.{field_name}", getattr(self, field_name)))
-        size = vec3(f"{self.name}.size_m", self.size_m)
-        if np.any(size <= 0.0):
-            raise InputError(f"{self.name}.size_m", f"must all be > 0, got {size.tolist()}")
-        freeze(self, "size_m", size)
-        inertia = vec3(f"{self.name}.inertia_kg_m2", self.inertia_kg_m2)
-        if np.any(inertia <= 0.0):
-            raise InputError(f"{self.name}.inertia_kg_m2", f"must all be > 0, got {inertia.tolist()}")
-        freeze(self, "inertia_kg_m2", inertia)
-        rot = np.array(self.orientation, dtype=float)
-        if rot.shape != (3, 3) or not np.all(np.isfinite(rot)):
-            raise InputError(f"{self.name}.orientation", "must be a finite 3x3 matrix")
-        if not np.allclose(rot.T @ rot, np.eye(3), atol=1e-6) or np.linalg.det(rot) <= 0.0:
-            raise InputError(f"{self.name}.orientation", "must be a rotation matrix (orthonormal, det +1)")
-        freeze(self, "orientation", rot)
-        try:
-            mass = float(self.mass_kg)
-        except (TypeError, ValueError):
-            raise InputError(f"{self.name}.mass_kg", f"must be a number, got {self.mass_kg!r}") from None
-        if not math.isfinite(mass) or mass <= 0.0:
-            raise InputError(f"{self.name}.mass_kg", f"must be > 0, got {self.mass_kg!r}")
-        object.__setattr__(self, "mass_kg", mass)
+def plan_state(body, velocity_m_s=(0.0, 0.0, 0.0), angular_velocity_rad_s=(0.0, 0.0, 0.0)) -> BodyState:
+    """The :func:`box_state` of a planned body (:class:`orchestrator.plan.model.BodyPlan`) at its
+    start, with the given motion."""
+    return box_state(body.name, body.centre_of_mass_m, body.orientation, velocity_m_s, angular_velocity_rad_s,
+                     body.size_m, body.mass_kg, body.moment_of_inertia_kg_m2)
 
-    @classmethod
-    def from_plan(cls, body, velocity_m_s=(0.0, 0.0, 0.0), angular_velocity_rad_s=(0.0, 0.0, 0.0)) -> "BoxState":
-        """The state of a planned body (:class:`orchestrator.plan.planner.BodyPlan`) with the given motion."""
-        return cls(
-            name=body.name,
-            centre_of_mass_m=body.centre_of_mass_m,
-            orientation=body.orientation,
-            velocity_m_s=velocity_m_s,
-            angular_velocity_rad_s=angular_velocity_rad_s,
-            size_m=body.size_m,
-            mass_kg=body.mass_kg,
-            inertia_kg_m2=body.moment_of_inertia_kg_m2,
-        )
 
-    def replace(self, **changes) -> "BoxState":
-        """A copy with some fields changed."""
-        return dataclasses.replace(self, **changes)
+def moved(state: BodyState, **changes) -> BodyState:
+    """``state`` with some of its vectors changed (given as arrays or sequences)."""
+    return state.with_changes(**{k: _floats(v) for k, v in changes.items()})
 
-    @property
-    def half_size_m(self) -> np.ndarray:
-        return self.size_m / 2.0
 
-    def corners(self) -> np.ndarray:
-        """The 8 corners (8x3, m), corner ``i`` at body signs ``(bit0, bit1, bit2)`` of ``i``."""
-        return Box.of(self).corners()
+def corners(state: BodyState) -> np.ndarray:
+    """The 8 corners (8x3, m) of a body's box, corner ``i`` at body signs ``(bit0, bit1, bit2)`` of ``i``."""
+    return Box.of(state).corners()
 
-    def inverse_inertia(self) -> np.ndarray:
-        """Inverse inertia tensor in the global frame (1/(kg m^2))."""
-        return inverse_inertia_tensor(self.inertia_kg_m2, self.orientation)
 
-    def point_velocity(self, point_m) -> np.ndarray:
-        """Velocity (m/s) of the body point at ``point_m``."""
-        r = np.asarray(point_m, float) - self.centre_of_mass_m
-        return self.velocity_m_s + np.cross(self.angular_velocity_rad_s, r)
+def inverse_inertia(state: BodyState) -> np.ndarray:
+    """Inverse inertia tensor of a body's box in the global frame (1/(kg m^2))."""
+    return inverse_inertia_tensor(np.asarray(state.inertia_kg_m2, float), state.rotation)
+
+
+def point_velocity(state: BodyState, point_m) -> np.ndarray:
+    """Velocity (m/s) of the body point at ``point_m``."""
+    r = np.asarray(point_m, float) - np.asarray(state.centre_of_mass_m, float)
+    return np.asarray(state.velocity_m_s, float) + np.cross(np.asarray(state.angular_velocity_rad_s, float), r)
 
 
 # ------------------------------------------------------------------------------ obstacles
@@ -251,7 +229,7 @@ class BoxContact:
 
 
 def find_contacts(
-    states: Sequence[BoxState],
+    states: Sequence[BodyState],
     obstacles: Obstacles | Iterable[BoxObstacle | PlaneObstacle],
     gap_m: float,
 ) -> list[BoxContact]:
@@ -298,8 +276,8 @@ def find_contacts(
 
 # ------------------------------------------------------------------------------ watching
 def time_to_contact(
-    state: BoxState,
-    obstacle: BoxObstacle | PlaneObstacle | BoxState,
+    state: BodyState,
+    obstacle: BoxObstacle | PlaneObstacle | BodyState,
     horizon_s: float,
     gap_m: float = 0.0,
 ) -> float:
@@ -324,22 +302,23 @@ def time_to_contact(
         dist = (corners - np.asarray(obstacle.point_m, float)) @ n - gap
         if dist.min() <= 0.0:
             return 0.0
-        rates = np.array([n @ state.point_velocity(c) for c in corners])
+        rates = np.array([n @ point_velocity(state, c) for c in corners])
         closing = rates < 0.0
         if not closing.any():
             return math.inf
         t = float(np.min(dist[closing] / -rates[closing]))
         return t if t <= horizon else math.inf
-    if isinstance(obstacle, BoxState):
+    velocity, omega = np.asarray(state.velocity_m_s, float), np.asarray(state.angular_velocity_rad_s, float)
+    if isinstance(obstacle, BodyState):
         other = Box.of(obstacle)
-        v_rel = state.velocity_m_s - obstacle.velocity_m_s
-        spin = np.linalg.norm(state.angular_velocity_rad_s) * np.linalg.norm(box.half) + np.linalg.norm(
-            obstacle.angular_velocity_rad_s
+        v_rel = velocity - np.asarray(obstacle.velocity_m_s, float)
+        spin = np.linalg.norm(omega) * np.linalg.norm(box.half) + np.linalg.norm(
+            np.asarray(obstacle.angular_velocity_rad_s, float)
         ) * np.linalg.norm(other.half)
     else:
         other = Box.of_obstacle(obstacle)
-        v_rel = state.velocity_m_s
-        spin = np.linalg.norm(state.angular_velocity_rad_s) * np.linalg.norm(box.half)
+        v_rel = velocity
+        spin = np.linalg.norm(omega) * np.linalg.norm(box.half)
     start, end = 0.0, horizon
     d = box.centre - other.centre  # separation of the body from the obstacle, moving with v_rel
     for axis in sat_axes(box, other):
@@ -360,14 +339,14 @@ def time_to_contact(
 
 
 # ------------------------------------------------------------------------------ bed
-def bed_clearance(state: BoxState, bed: PlaneObstacle | Obstacles) -> float:
+def bed_clearance(state: BodyState, bed: PlaneObstacle | Obstacles) -> float:
     """Signed distance (m) of the body's lowest corner above the bed (< 0: sunk into it)."""
     plane = bed.bed if isinstance(bed, Obstacles) else bed
     n = np.asarray(plane.normal, float)
-    return float(np.min((state.corners() - np.asarray(plane.point_m, float)) @ n))
+    return float(np.min((corners(state) - np.asarray(plane.point_m, float)) @ n))
 
 
-def clamp_to_bed(state: BoxState, bed: PlaneObstacle | Obstacles) -> BoxState:
+def clamp_to_bed(state: BodyState, bed: PlaneObstacle | Obstacles) -> BodyState:
     """``state`` lifted out of the bed if it has sunk into it, its velocity into the bed removed.
 
     A body resting on or above the bed is returned unchanged. Otherwise it is moved along
@@ -379,11 +358,9 @@ def clamp_to_bed(state: BoxState, bed: PlaneObstacle | Obstacles) -> BoxState:
     if clearance >= 0.0:
         return state
     n = np.asarray(plane.normal, float)
-    v = state.velocity_m_s
+    v = np.asarray(state.velocity_m_s, float)
     vn = float(v @ n)
-    return state.replace(
-        centre_of_mass_m=state.centre_of_mass_m - clearance * n,
-        velocity_m_s=v - min(vn, 0.0) * n,
-    )
+    return moved(state, centre_of_mass_m=np.asarray(state.centre_of_mass_m, float) - clearance * n,
+                 velocity_m_s=v - min(vn, 0.0) * n)
 
 

@@ -21,7 +21,8 @@ from analytical.impact import DEFAULT_FRICTION_COEFFICIENT, impact, pair_impact
 from analytical.added_mass import box_added_mass
 from analytical.impact_bodies import Body, ColumnTarget, RigidWall
 from analytical.impact_results import ImpactResult
-from orchestrator.contact.geometry import BoxContact, BoxState
+from orchestrator.case.bodystate import BodyState
+from orchestrator.contact.geometry import BoxContact, moved
 from orchestrator.scene.schema import Scene, column_for_analysis
 
 __all__ = ["body_contact_law", "pair_contact_law", "resolve", "resolve_bodies"]
@@ -29,12 +30,12 @@ __all__ = ["body_contact_law", "pair_contact_law", "resolve", "resolve_bodies"]
 
 def resolve(
     contact: BoxContact,
-    states: Sequence[BoxState],
+    states: Sequence[BodyState],
     scene: Scene,
     *,
     added_mass_coefficient: float | None = None,
     **impact_options,
-) -> tuple[ImpactResult | None, tuple[BoxState, ...]]:
+) -> tuple[ImpactResult | None, tuple[BodyState, ...]]:
     """Resolve ``contact`` with :mod:`analytical.impact`; return the impact and the new states.
 
     The impact inputs come from the states: the inverse inertia tensor in the global frame
@@ -78,19 +79,19 @@ def resolve(
         _impact_body(body, added_mass_coefficient, scene), law, friction,
         other=_impact_body(other, added_mass_coefficient, scene) if other is not None else None,
         column=column_for_analysis(scene) if contact.kind == "column" else None, **options)
-    moved = body.replace(centre_of_mass_m=body.centre_of_mass_m + move)
+    out = moved(body, centre_of_mass_m=np.asarray(body.centre_of_mass_m, float) + move)
     if other is None:
         if result is None:
-            return None, (moved,)
-        return result, (moved.replace(velocity_m_s=result.velocity_out_m_s,
-                                      angular_velocity_rad_s=result.angular_velocity_out_rad_s),)
-    moved_other = other.replace(centre_of_mass_m=other.centre_of_mass_m + other_move)
+            return None, (out,)
+        return result, (moved(out, velocity_m_s=result.velocity_out_m_s,
+                              angular_velocity_rad_s=result.angular_velocity_out_rad_s),)
+    out_other = moved(other, centre_of_mass_m=np.asarray(other.centre_of_mass_m, float) + other_move)
     if result is None:
-        return None, (moved, moved_other)
+        return None, (out, out_other)
     return result, (
-        moved.replace(velocity_m_s=result.velocity_out_m_s, angular_velocity_rad_s=result.angular_velocity_out_rad_s),
-        moved_other.replace(velocity_m_s=result.other_velocity_out_m_s,
-                            angular_velocity_rad_s=result.other_angular_velocity_out_rad_s),
+        moved(out, velocity_m_s=result.velocity_out_m_s, angular_velocity_rad_s=result.angular_velocity_out_rad_s),
+        moved(out_other, velocity_m_s=result.other_velocity_out_m_s,
+              angular_velocity_rad_s=result.other_angular_velocity_out_rad_s),
     )
 
 
@@ -171,12 +172,13 @@ def _scene_options(scene: Scene, name: str, other: str | None = None) -> dict:
     return {**law.options(), "friction_coefficient": friction}
 
 
-def _impact_body(state: BoxState, added_mass_coefficient: float | None, scene: Scene) -> Body:
+def _impact_body(state: BodyState, added_mass_coefficient: float | None, scene: Scene) -> Body:
     if added_mass_coefficient is None:
         own = box_added_mass(tuple(state.size_m), state.mass_kg, scene.fluids.water_density_kg_m3)
         masses, inertias = own.masses_kg, own.inertias_kg_m2
     else:
         masses, inertias = np.full(3, state.mass_kg * added_mass_coefficient), np.zeros(3)
-    return Body.box(state.mass_kg, state.inertia_kg_m2, state.orientation, state.centre_of_mass_m,
-                    state.velocity_m_s, state.angular_velocity_rad_s, added_mass_kg=masses,
+    return Body.box(state.mass_kg, np.asarray(state.inertia_kg_m2, float), state.rotation,
+                    np.asarray(state.centre_of_mass_m, float), np.asarray(state.velocity_m_s, float),
+                    np.asarray(state.angular_velocity_rad_s, float), added_mass_kg=masses,
                     added_inertia_kg_m2=inertias)

@@ -10,6 +10,7 @@ bed stand on a thin water gap (:class:`BedGap`) that the background and their me
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -18,7 +19,7 @@ from scipy.optimize import brentq
 from analytical.dambreak import dam_break
 from orchestrator.plan.grid import BoxGrid, Segment, graded_segment
 from orchestrator.plan.model import BodyPlan
-from orchestrator.scene.geometry import body_rotation, draft_m, flume_extent, half_extent_z
+from orchestrator.scene.geometry import body_rotation, draft_m, half_extent_z
 from orchestrator.scene.schema import DebrisBody, Scene
 
 __all__ = [
@@ -78,6 +79,10 @@ class BodyLayout:
     gap: BedGap | None
     #: whether the meshes of upright resting bodies end at the bed (:func:`meshes_stop_at_bed`)
     stop_at_bed: bool = False
+    #: each body's rotation (body axes -> scene axes; :func:`orchestrator.scene.geometry.body_rotation`)
+    rotations: tuple[np.ndarray, ...] = ()
+    #: whether each body rests on the bed (:func:`rests_on_bed`)
+    on_bed: tuple[bool, ...] = ()
 
     @property
     def lift_m(self) -> float:
@@ -97,9 +102,9 @@ def body_inertia(
     return box_inertia(size_m, mass_kg, wall_thickness_m)
 
 
-def rests_on_bed(body: DebrisBody) -> bool:
-    """Whether the body's lowest corner is on the bed."""
-    return body.centre_m[2] - half_extent_z(body) <= 1e-6
+def rests_on_bed(body: DebrisBody, rot: np.ndarray) -> bool:
+    """Whether the body's lowest corner is on the bed (``rot``: its rotation)."""
+    return body.centre_m[2] - half_extent_z(body, rot) <= 1e-6
 
 
 def body_cell_m(scene: Scene, body: DebrisBody, h: float) -> float:
@@ -107,7 +112,7 @@ def body_cell_m(scene: Scene, body: DebrisBody, h: float) -> float:
     return min(h, min(body.size_m) / scene.mesh.body_cells_across)
 
 
-def bed_gap(scene: Scene, h: float) -> BedGap | None:
+def bed_gap(scene: Scene, on_bed: Sequence[bool], h: float) -> BedGap | None:
     """The gap under resting bodies: layers an eighth of the finest resting body's cell.
 
     The gap (half a body cell: 7.5 mm under the study's container at 1.5 cm body cells) delays
@@ -116,7 +121,7 @@ def bed_gap(scene: Scene, h: float) -> BedGap | None:
     A wet bed shallower than the gap sets the layer so that its surface is one of the planes
     (setFields fills whole cells by their centres: the bed must be a layer boundary).
     """
-    resting = [b for b in scene.debris if rests_on_bed(b)]
+    resting = [b for b, rests in zip(scene.debris, on_bed) if rests]
     if not resting:
         return None
     layer = min(body_cell_m(scene, b, h) for b in resting) / (2 * GAP_LAYERS)
@@ -126,7 +131,7 @@ def bed_gap(scene: Scene, h: float) -> BedGap | None:
     return BedGap(layer)
 
 
-def meshes_stop_at_bed(scene: Scene) -> bool:
+def meshes_stop_at_bed(on_bed: Sequence[bool]) -> bool:
     """Whether the meshes of upright resting bodies end at the bed instead of reaching a margin below it.
 
     Below the bed a body mesh has no background donor. With one body there, its cells are a dead end;
@@ -141,33 +146,33 @@ def meshes_stop_at_bed(scene: Scene) -> bool:
     body that is pitched or rolled keeps it too (its mesh does not share the gap's planes); where two such
     meshes meet below the bed the plan warns (`_placement_warnings`).
     """
-    return sum(rests_on_bed(b) for b in scene.debris) >= 2
+    return sum(on_bed) >= 2
 
 
 def body_layout(scene: Scene) -> BodyLayout:
     """Each body's modelled centre and the AABB of its overset mesh (scene coordinates)."""
     h = scene.mesh.cell_size_m
     margin = scene.mesh.body_margin_cells * h
-    gap = bed_gap(scene, h)
+    rotations = tuple(body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg) for body in scene.debris)
+    on_bed = tuple(rests_on_bed(body, rot) for body, rot in zip(scene.debris, rotations))
+    gap = bed_gap(scene, on_bed, h)
     lift = gap.height_m if gap is not None else 0.0
-    stop = meshes_stop_at_bed(scene)
+    stop = meshes_stop_at_bed(on_bed)
     centres, boxes = [], []
-    for body in scene.debris:
-        rot = body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg)
+    for body, rot, rests in zip(scene.debris, rotations, on_bed):
         ext = np.abs(rot) @ (np.asarray(body.size_m) / 2.0 + margin)
-        c = np.asarray(body.centre_m, float) + (0.0, 0.0, lift if rests_on_bed(body) else 0.0)
+        c = np.asarray(body.centre_m, float) + (0.0, 0.0, lift if rests else 0.0)
         lo, hi = c - ext, c + ext
-        if stop and _cut_at_bed(body):
+        if stop and _cut_at_bed(rot, rests):
             lo[2] = 0.0
         centres.append(c)
         boxes.append((lo, hi))
-    return BodyLayout(tuple(centres), tuple(boxes), margin, gap, stop)
+    return BodyLayout(tuple(centres), tuple(boxes), margin, gap, stop, rotations, on_bed)
 
 
-def _cut_at_bed(body: DebrisBody) -> bool:
+def _cut_at_bed(rot: np.ndarray, on_bed: bool) -> bool:
     """An upright resting body: its mesh shares the gap's planes (BedGap) and may end at the bed."""
-    rot = body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg)
-    return rests_on_bed(body) and abs(rot[2, 2]) > 1 - 1e-9
+    return on_bed and abs(rot[2, 2]) > 1 - 1e-9
 
 
 def hold_until_s(scene: Scene, body: DebrisBody, gap_m: float = 0.0) -> float:
@@ -235,17 +240,17 @@ def _split_at(segs: tuple[Segment, ...], level_m: float, max_cell_m: float) -> t
     return tuple(out)
 
 
-def _body_grid(scene: Scene, body: DebrisBody, centre: np.ndarray, layout: BodyLayout) -> BoxGrid:
+def _body_grid(scene: Scene, body: DebrisBody, centre: np.ndarray, rot: np.ndarray, on_bed: bool,
+               layout: BodyLayout) -> BoxGrid:
     """The body's overset mesh in body coordinates, placed on its centre and rotation."""
     h = scene.mesh.cell_size_m
-    rot = body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg)
     hb = body_cell_m(scene, body, h)
     gap, margin = layout.gap, layout.margin_m
     segs_by_axis = []
     for d in range(3):
         half = body.size_m[d] / 2.0
         inner = Segment(-half, half, max(1, math.ceil(2 * half / hb - 1e-9)))
-        if d == 2 and _cut_at_bed(body) and gap is not None:
+        if d == 2 and _cut_at_bed(rot, on_bed) and gap is not None:
             # an upright resting body's mesh shares the gap's planes (BedGap)
             bed = -half - gap.height_m
             rows = tuple(Segment(bed + k * gap.layer_m, bed + (k + 1) * gap.layer_m, 1) for k in range(gap.layers))
@@ -258,7 +263,7 @@ def _body_grid(scene: Scene, body: DebrisBody, centre: np.ndarray, layout: BodyL
             before = (graded_segment(-half - margin, -half, h, hb),)
         after = graded_segment(half, half + margin, hb, h)
         segs = (*before, inner, after)
-        if d == 2 and not rests_on_bed(body) and abs(rot[2, 2]) > 1 - 1e-9:
+        if d == 2 and not on_bed and abs(rot[2, 2]) > 1 - 1e-9:
             # a floating upright body's mesh has a plane at the still water (still_water_plane)
             segs = _split_at(segs, still_water_m(scene, body) - float(centre[2]), hb)
         segs_by_axis.append(segs)
@@ -276,16 +281,15 @@ def _body_grid(scene: Scene, body: DebrisBody, centre: np.ndarray, layout: BodyL
     )
 
 
-def _body_plan(scene: Scene, body: DebrisBody, centre: np.ndarray, layout: BodyLayout) -> BodyPlan:
-    rot = body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg)
-    on_bed = rests_on_bed(body)
+def _body_plan(scene: Scene, body: DebrisBody, centre: np.ndarray, rot: np.ndarray, on_bed: bool,
+               layout: BodyLayout) -> BodyPlan:
     if body.moment_of_inertia_kg_m2 is not None:
         inertia = tuple(float(v) for v in body.moment_of_inertia_kg_m2)
     else:
         inertia = body_inertia(body.size_m, body.mass_kg, body.wall_thickness_m)
     return BodyPlan(
         name=body.name,
-        grid=_body_grid(scene, body, centre, layout),
+        grid=_body_grid(scene, body, centre, rot, on_bed, layout),
         mass_kg=body.mass_kg,
         centre_of_mass_m=tuple(float(v) for v in centre),
         moment_of_inertia_kg_m2=inertia,
@@ -299,9 +303,10 @@ def _body_plan(scene: Scene, body: DebrisBody, centre: np.ndarray, layout: BodyL
     )
 
 
-def _placement_warnings(scene: Scene, layout: BodyLayout) -> list[str]:
-    """Body meshes that reach out of the flume or overlap each other at the start."""
-    _, (fy0, fy1), _ = flume_extent(scene)
+def _placement_warnings(scene: Scene, layout: BodyLayout, flume_y: tuple[float, float]) -> list[str]:
+    """Body meshes that reach out of the flume (its side walls at ``flume_y``) or overlap each other
+    at the start."""
+    fy0, fy1 = flume_y
     warnings = []
     for body, (lo, hi) in zip(scene.debris, layout.boxes):
         outside = []
@@ -325,10 +330,13 @@ def _placement_warnings(scene: Scene, layout: BodyLayout) -> list[str]:
     return warnings
 
 
-def body_plans(scene: Scene, layout: BodyLayout, reasons: dict[str, str], warnings: list[str]) -> tuple[BodyPlan, ...]:
-    """One BodyPlan per debris body, with the reasons for the meshes, the gap and the holds."""
-    bodies = tuple(_body_plan(scene, body, c, layout) for body, c in zip(scene.debris, layout.centres))
-    warnings += _placement_warnings(scene, layout)
+def body_plans(scene: Scene, layout: BodyLayout, flume_y: tuple[float, float], reasons: dict[str, str],
+               warnings: list[str]) -> tuple[BodyPlan, ...]:
+    """One BodyPlan per debris body, with the reasons for the meshes, the gap and the holds
+    (``flume_y``: the flume's side walls)."""
+    bodies = tuple(_body_plan(scene, body, c, rot, rests, layout)
+                   for body, c, rot, rests in zip(scene.debris, layout.centres, layout.rotations, layout.on_bed))
+    warnings += _placement_warnings(scene, layout, flume_y)
     if not bodies:
         reasons["bodies"] = "no debris: no body meshes"
         return bodies

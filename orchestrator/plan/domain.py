@@ -67,6 +67,8 @@ RUNUP_DEPTHS = 2.0
 RUNUP_BLOCKAGE = 0.4
 
 BodyBox = tuple[np.ndarray, np.ndarray]
+#: ((x0, x1), (y0, y1), (z0, z1)) of the flume (:func:`orchestrator.scene.geometry.flume_extent`)
+Extent = tuple[tuple[float, float], tuple[float, float], tuple[float, float]]
 
 
 @dataclass(frozen=True)
@@ -133,11 +135,12 @@ def plan_domain(scene: Scene, body_boxes: list[BodyBox], reasons: dict[str, str]
     if col:
         upstream_marks.append(col.x_m - col.size_x_m / 2 - margin_col)
     guard = max(0.0, -min(upstream_marks))
+    flume = flume_extent(scene)
     x_lo = -_reservoir_length(scene, guard, reasons)
-    x_hi, downstream_type = _downstream_end(scene, body_boxes, margin_col, reasons)
-    z_hi = _top(scene, body_boxes, x_hi, downstream_type, reasons, warnings)
-    fine, travel_end, tan_spread = _fine_region(scene, body_boxes, margin_col, x_lo, x_hi, z_hi, reasons)
-    return Domain(x_lo, x_hi, flume_extent(scene)[1], z_hi, downstream_type, fine, travel_end, tan_spread)
+    x_hi, downstream_type = _downstream_end(scene, flume, body_boxes, margin_col, reasons)
+    z_hi = _top(scene, flume, body_boxes, x_hi, downstream_type, reasons, warnings)
+    fine, travel_end, tan_spread = _fine_region(scene, flume, body_boxes, margin_col, x_lo, x_hi, z_hi, reasons)
+    return Domain(x_lo, x_hi, flume[1], z_hi, downstream_type, fine, travel_end, tan_spread)
 
 
 def reservoir_length_needed(end_time_s: float, h0: float, guard_m: float, g: float) -> float:
@@ -186,13 +189,13 @@ def _reservoir_length(scene: Scene, guard: float, reasons: dict[str, str]) -> fl
     return res_len
 
 
-def _downstream_end(scene: Scene, body_boxes: list[BodyBox], margin_col: float,
+def _downstream_end(scene: Scene, flume: Extent, body_boxes: list[BodyBox], margin_col: float,
                     reasons: dict[str, str]) -> tuple[float, str]:
     """Where the domain ends downstream, and whether that end is a wall or an outlet."""
     g, h0, T = scene.fluids.gravity_m_s2, scene.reservoir.depth_m, scene.run.end_time_s
     c0 = math.sqrt(g * h0)
     col = scene.column
-    (_, fx1), _, _ = flume_extent(scene)
+    (_, fx1), _, _ = flume
     front = dam_break_front(h0, scene.bed.wet_depth_m, g)
     if front.speed_m_s <= 0.0:  # still water: nothing comes, nothing to trim against
         kind = "outlet" if scene.flume.downstream_end == "open" else "wall"
@@ -253,12 +256,12 @@ def _downstream_end(scene: Scene, body_boxes: list[BodyBox], margin_col: float,
     return x_hi, "outlet"
 
 
-def _runup_sources(scene: Scene, x_hi: float, downstream_type: str) -> tuple[list[str], float]:
+def _runup_sources(scene: Scene, flume: Extent, x_hi: float, downstream_type: str) -> tuple[list[str], float]:
     """What the fastest front (2 c0) reaches within the run and the bore runs up, and the
     fraction of the width the column blocks."""
     T, col = scene.run.end_time_s, scene.column
     u_ref = 2.0 * math.sqrt(scene.fluids.gravity_m_s2 * scene.reservoir.depth_m)
-    _, (fy0, fy1), _ = flume_extent(scene)
+    _, (fy0, fy1), _ = flume
     sources = []
     if downstream_type == "wall" and x_hi / u_ref < T:
         sources.append(f"the closed end wall (x = {x_hi:.3g} m, reached from {x_hi / u_ref:.2g} s)")
@@ -273,13 +276,13 @@ def _runup_sources(scene: Scene, x_hi: float, downstream_type: str) -> tuple[lis
     return sources, blockage
 
 
-def _top(scene: Scene, body_boxes: list[BodyBox], x_hi: float, downstream_type: str,
+def _top(scene: Scene, flume: Extent, body_boxes: list[BodyBox], x_hi: float, downstream_type: str,
          reasons: dict[str, str], warnings: list[str]) -> float:
     """The top of the air space: trimmed unless the bore can run up above the trim (RUNUP_DEPTHS)."""
     h0 = scene.reservoir.depth_m
     u_ref = 2.0 * math.sqrt(scene.fluids.gravity_m_s2 * h0)
     runup = RUNUP_DEPTHS * h0
-    runup_from, blockage = _runup_sources(scene, x_hi, downstream_type)
+    runup_from, blockage = _runup_sources(scene, flume, x_hi, downstream_type)
     runup_why = (
         f"the bore can run up {' and '.join(runup_from)} to about {runup:.3g} m ({RUNUP_DEPTHS:g} h0: the stagnation "
         f"head u^2/2g of Ritter's front, u = 2 sqrt(g h0) = {u_ref:.3g} m/s, the fastest water of the dam break)"
@@ -323,12 +326,12 @@ def _top(scene: Scene, body_boxes: list[BodyBox], x_hi: float, downstream_type: 
     return z_hi
 
 
-def _fine_region(scene: Scene, body_boxes: list[BodyBox], margin_col: float, x_lo: float, x_hi: float,
+def _fine_region(scene: Scene, flume: Extent, body_boxes: list[BodyBox], margin_col: float, x_lo: float, x_hi: float,
                  z_hi: float, reasons: dict[str, str]):
     """((x0, x1), (y0, y1), (0, z1)) of the fine cells, where the debris paths end, their spread."""
     h0, h, col = scene.reservoir.depth_m, scene.mesh.cell_size_m, scene.column
     has_debris = len(scene.debris) > 0
-    _, (fy0, fy1), _ = flume_extent(scene)
+    _, (fy0, fy1), _ = flume
     fine_x0 = min([-h0] + [lo[0] for lo, _ in body_boxes] + ([col.x_m - col.size_x_m / 2 - margin_col] if col else []))
     if col:
         fine_x1 = col.x_m + col.size_x_m / 2 + margin_col

@@ -52,16 +52,9 @@ LATE_BODY_KEYS = (("type", None),)
 LATE_SECTIONS = {"transport": Transport().model_dump(mode="json"), "inundation": None}
 
 
-def _coupling(scene: Scene) -> str:
-    from orchestrator.plan.planner import plan_case
-
-    return plan_case(scene, scene.name).debris_coupling
-
-
-def case_inputs(scene: Scene, coupling: str | None = None) -> dict:
+def case_inputs(scene: Scene, coupling: str) -> dict:
     """The resolved scene as the identity of a case's inputs (module notes). ``coupling`` is the
-    case's (plan.json's ``debris_coupling``); None plans the scene to find it."""
-    coupling = _coupling(scene) if coupling is None else coupling
+    case's (its plan's ``debris_coupling``)."""
     data = scene_to_dict(scene)
     data.pop("design", None)  # what `debrisfoam design` samples: never read by a case
     if coupling != "one-way":
@@ -84,15 +77,14 @@ def case_inputs(scene: Scene, coupling: str | None = None) -> dict:
     return data
 
 
-def case_key(scene: Scene, coupling: str | None = None) -> str:
+def case_key(scene: Scene, coupling: str) -> str:
     """SHA-256 (hex) of :func:`case_inputs` as canonical JSON: the same inputs, the same key."""
     text = json.dumps(case_inputs(scene, coupling), sort_keys=True, separators=(",", ":"), default=json_default)
     return hashlib.sha256(text.encode()).hexdigest()
 
 
-def same_case(a: Scene, b: Scene, coupling: str | None = None) -> bool:
-    """Do ``a`` and ``b`` make the same case (for a case of ``coupling``, None: ``a``'s plan's)?"""
-    coupling = _coupling(a) if coupling is None else coupling
+def same_case(a: Scene, b: Scene, coupling: str) -> bool:
+    """Do ``a`` and ``b`` make the same case (for a case of ``coupling``)?"""
     return case_key(a, coupling) == case_key(b, coupling)
 
 

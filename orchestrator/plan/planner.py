@@ -41,6 +41,7 @@ from orchestrator.plan.timestep import (
 )
 from orchestrator.scene.inundation import inundation_reason
 from orchestrator.scene.schema import Scene
+from orchestrator.scene.scenefile import load_scene
 from orchestrator.scene.validation import plausibility_warnings
 
 __all__ = [
@@ -55,6 +56,7 @@ __all__ = [
     "body_inertia",
     "estimate_wall_time_s",
     "estimated_steps",
+    "load_and_plan",
     "max_delta_t_s",
     "plan_case",
 ]
@@ -82,6 +84,13 @@ REASON_KEYS = (
 )
 
 
+def load_and_plan(scene_path, sets=()) -> tuple[Scene, ModelPlan]:
+    """The scene file ``scene_path`` with the overrides ``sets``, loaded and planned: what a
+    command does once, handing both down to render, run and report."""
+    scene = load_scene(scene_path, list(sets or []))
+    return scene, plan_case(scene, str(scene_path))
+
+
 def plan_case(scene: Scene, source: str | None = None) -> ModelPlan:
     """What ``scene`` needs: solver, dimensions, extents, grids, bodies, water, gauges.
 
@@ -103,7 +112,7 @@ def plan_case(scene: Scene, source: str | None = None) -> ModelPlan:
     if coupling == "one-way":
         scene, layout, bodies, flow_record = _one_way(scene, layout, background, domain, reasons)
     else:
-        bodies = body_plans(scene, layout, reasons, warnings)
+        bodies = body_plans(scene, layout, domain.y, reasons, warnings)
     water = _water(scene, domain, reasons)
     gauges = _gauges(scene, domain, reasons)
     record_interval = flow_record.interval_s if flow_record is not None else None

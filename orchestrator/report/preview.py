@@ -37,10 +37,9 @@ import numpy as np
 
 from orchestrator.core.errors import DebrisfoamError
 from orchestrator.core.files import write_bytes_atomic
-from orchestrator.plan.planner import ModelPlan, estimated_steps, plan_case
+from orchestrator.plan.planner import ModelPlan, estimated_steps, load_and_plan
 from orchestrator.plan.resources import Demand, check_resources
 from orchestrator.scene.geometry import body_rotation, flume_extent
-from orchestrator.scene.scenefile import load_scene
 from orchestrator.scene.schema import Scene
 
 __all__ = ["COLOURS", "WINDOW_SIZE_PX", "preview_scene", "preview_scene_file"]
@@ -96,8 +95,7 @@ def preview_scene_file(path: str | Path, out_png: str | Path, overrides: Sequenc
     anything is written. Returns the path of the PNG written, or with ``warnings`` the planner's
     warnings and the guard's soft ones (a picture runs nothing: they are not asked about).
     """
-    scene = load_scene(path, list(overrides))
-    plan = plan_case(scene, str(path))
+    scene, plan = load_and_plan(path, overrides)
     large = check_resources(Demand.of_plan(plan), str(path), confirmed=True)
     written = preview_scene(scene, plan, out_png)
     return list(plan.warnings) + large if warnings else written

@@ -1,8 +1,8 @@
 """The runner's view of contact geometry: its body states against the case's obstacles.
 
-`orchestrator.contact.geometry` works on its own `BoxState` (numpy arrays, sizes, masses);
-the runner's states are `bodystate.BodyState` (what the solver reports). `Geometry`
-translates between the two for one case: it builds the scene's obstacles for the modelled
+`orchestrator.contact.geometry` works on `bodystate.BodyState` with the body's box (size, mass,
+inertia: `geometry.box_state`); the runner's states (what the solver reports) carry no box.
+`Geometry` adds the plan's box to them for one case: it builds the scene's obstacles for the modelled
 domain, finds every contact within a reach (the bed too) with the closing speed of the
 contact point (`Contact`), resolves an impact (`contact.resolve`) and lifts a body out of
 the bed (`contact.clamp_to_bed`). `resting_contact` stops a slow contact's closing motion
@@ -59,13 +59,12 @@ class Geometry:
         self.bodies = {b.name: b for b in info.bodies}  # the plan's: mass and inertia
         self.sizes = info.body_sizes_m
 
-    def state(self, s: BodyState):
+    def state(self, s: BodyState) -> BodyState:
+        """``s`` with the plan's box, as orchestrator.contact.geometry takes it (orientation made orthonormal)."""
         p = self.bodies[s.name]
-        return geo.BoxState(
-            name=s.name, centre_of_mass_m=s.centre_of_mass_m,
-            orientation=np.asarray(bodystate.orthonormal(s.orientation)).reshape(3, 3),
-            velocity_m_s=s.velocity_m_s, angular_velocity_rad_s=s.angular_velocity_rad_s,
-            size_m=self.sizes[s.name], mass_kg=p.mass_kg, inertia_kg_m2=p.moment_of_inertia_kg_m2)
+        return geo.box_state(s.name, s.centre_of_mass_m, np.asarray(bodystate.orthonormal(s.orientation)).reshape(3, 3),
+                             s.velocity_m_s, s.angular_velocity_rad_s, self.sizes[s.name], p.mass_kg,
+                             p.moment_of_inertia_kg_m2, s.time_s)
 
     @staticmethod
     def back(new, old: BodyState) -> BodyState:
@@ -84,9 +83,9 @@ class Geometry:
         cs = {s.name: self.state(s) for s in states}
         out = []
         for c in geo.find_contacts(list(cs.values()), self.obstacles, reach_m):
-            u = cs[c.body].point_velocity(c.point)
+            u = geo.point_velocity(cs[c.body], c.point)
             if c.kind == "body":
-                u = u - cs[c.other].point_velocity(c.point)
+                u = u - geo.point_velocity(cs[c.other], c.point)
             n = np.asarray(c.normal, dtype=float)
             out.append(Contact(c.body, c.other, c.kind, float(c.distance_m), tuple(float(v) for v in c.point),
                                tuple(float(v) for v in n), float(-(u @ n)), c))
@@ -94,13 +93,13 @@ class Geometry:
             plane = self.obstacles.bed
             n = np.asarray(plane.normal, dtype=float)
             for name, c in cs.items():
-                corners = c.corners()
+                corners = geo.corners(c)
                 heights = (corners - np.asarray(plane.point_m, dtype=float)) @ n
                 d = float(heights.min())
                 if d < reach_m:
                     low = corners[heights <= d + 1e-9].mean(axis=0)
                     out.append(Contact(name, "bed", "bed", d, tuple(float(v) for v in low), tuple(float(v) for v in n),
-                                       float(-(c.point_velocity(low) @ n))))
+                                       float(-(geo.point_velocity(c, low) @ n))))
         return out
 
     def resolve(self, contact: Contact, states: dict[str, BodyState], settings: ContactSettings):
@@ -130,9 +129,9 @@ def resting_contact(geometry: Geometry, contact: Contact, states: dict[str, Body
     bodies = {name: geometry.state(states[name]) for name, _ in sides}
 
     def compliance(b) -> np.ndarray:  # velocity change of the contact point per unit impulse there
-        r = point - b.centre_of_mass_m
+        r = point - np.asarray(b.centre_of_mass_m, float)
         rx = np.array([[0.0, -r[2], r[1]], [r[2], 0.0, -r[0]], [-r[1], r[0], 0.0]])
-        return np.eye(3) / b.mass_kg + rx.T @ b.inverse_inertia() @ rx
+        return np.eye(3) / b.mass_kg + rx.T @ geo.inverse_inertia(b) @ rx
 
     k = sum(compliance(b) for b in bodies.values())
     j = max(contact.approach_m_s, 0.0) / float(n @ k @ n)  # N s along n, on the body
@@ -142,10 +141,11 @@ def resting_contact(geometry: Geometry, contact: Contact, states: dict[str, Body
     for name, sign in sides:
         b = bodies[name]
         impulse = sign * j * n
-        v = b.velocity_m_s + impulse / b.mass_kg
-        w = b.angular_velocity_rad_s + b.inverse_inertia() @ np.cross(point - b.centre_of_mass_m, impulse)
+        com = np.asarray(b.centre_of_mass_m, float)
+        v = np.asarray(b.velocity_m_s, float) + impulse / b.mass_kg
+        w = np.asarray(b.angular_velocity_rad_s, float) + geo.inverse_inertia(b) @ np.cross(point - com, impulse)
         share = 1.0 if len(sides) == 1 else 1.0 - b.mass_kg / total_mass  # the lighter body moves more
-        centre = b.centre_of_mass_m + sign * share * depth * n
+        centre = com + sign * share * depth * n
         new[name] = states[name].with_changes(centre_of_mass_m=tuple(float(x) for x in centre),
                                               velocity_m_s=tuple(float(x) for x in v),
                                               angular_velocity_rad_s=tuple(float(x) for x in w),

@@ -51,9 +51,10 @@ def draft_m(body: DebrisTemplate, water_density_kg_m3: float) -> float:
     return body.mass_kg / (water_density_kg_m3 * body.size_m[0] * body.size_m[1])
 
 
-def half_extent_z(body: DebrisTemplate) -> float:
-    """Half the vertical extent of the rotated box (m)."""
-    rot = body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg)
+def half_extent_z(body: DebrisTemplate, rot: np.ndarray | None = None) -> float:
+    """Half the vertical extent of the rotated box (m); ``rot``: its rotation, when known already."""
+    if rot is None:
+        rot = body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg)
     return float(np.sum(np.abs(rot[2, :]) * np.asarray(body.size_m) / 2.0))
 
 

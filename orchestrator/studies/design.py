@@ -59,7 +59,7 @@ from analytical.column_demand import strike_demands
 from orchestrator.core.errors import DebrisfoamError, InputError
 from orchestrator.core.files import write_text_atomic
 from orchestrator.results.asce_design import SiteFlow, site_flow_speed
-from orchestrator.scene.schema import Design, Scene
+from orchestrator.scene.schema import DebrisBody, Design, Scene
 from orchestrator.scene.scenefile import load_scene
 from orchestrator.studies.design_table import DEMANDS, DESIGN_COLUMNS, allocate, case_names, debris_types, mass_range, \
     realisation_demands
@@ -72,7 +72,7 @@ from orchestrator.transport.batch import run_batch
 from orchestrator.transport.case_transport import scene_settings, transport_setup
 from orchestrator.transport.engine import TransportSettings, ensemble_settings, run_transport
 from orchestrator.transport.flow import FlowField
-from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn, TransportBody
+from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn, with_start
 
 __all__ = ["DEMANDS", "DESIGN_COLUMNS", "DesignCase", "DesignResult", "allocate", "case_names", "design", "design_cases",
            "design_batch", "design_starts", "mass_range", "realisation_demands"]
@@ -104,14 +104,14 @@ class DesignResult:
     files: dict[str, Path] = field(default_factory=dict)
 
 
-def design_starts(bodies: Sequence[TransportBody], flume: FlumeBounds, column: PlacedColumn | None, spec: Design,
+def design_starts(bodies: Sequence[DebrisBody], flume: FlumeBounds, column: PlacedColumn | None, spec: Design,
                   case: int, realisation: int, perturbation: Perturbation | None = None,
-                  types: dict[str, str | None] | None = None) -> list[TransportBody]:
+                  types: dict[str, str | None] | None = None) -> list[DebrisBody]:
     """Realisation ``realisation`` of case ``case``: every body's mass, heading and start (module
     notes); raises InputError naming the design key when a body finds no free start."""
     p = perturbation or Perturbation()
     rng = np.random.default_rng([int(spec.seed), int(case), int(realisation)])
-    placed: list[TransportBody] = []
+    placed: list[DebrisBody] = []
     for body in bodies:
         lo, hi = mass_range(body, spec, (types or {}).get(body.name))
         mass = float(rng.uniform(lo, hi)) if hi > lo else lo
@@ -130,7 +130,7 @@ def design_starts(bodies: Sequence[TransportBody], flume: FlumeBounds, column: P
                     y = spec.start_y_m[0] + float(uy) * (spec.start_y_m[1] - spec.start_y_m[0])
             yaw = (body.yaw_deg + float(nyaw) * p.yaw_sigma_deg if spec.heading_deg is None
                    else spec.heading_deg[0] + float(uyaw) * (spec.heading_deg[1] - spec.heading_deg[0]))
-            moved = dataclasses.replace(body, centre_m=(x, y, z), yaw_deg=yaw, mass_kg=mass)
+            moved = with_start(body, centre_m=(x, y, z), yaw_deg=yaw, mass_kg=mass)
             clash = start_clash(moved, placed, flume, column, p.min_gap_m)
             if clash is None:
                 placed.append(moved)
@@ -145,7 +145,7 @@ def design_starts(bodies: Sequence[TransportBody], flume: FlumeBounds, column: P
 
 
 # --------------------------------------------------------------------------- the realisations
-def design_batch(numbers: Sequence[int], starts: Sequence[list[TransportBody]], flume: FlumeBounds,
+def design_batch(numbers: Sequence[int], starts: Sequence[list[DebrisBody]], flume: FlumeBounds,
                  column: PlacedColumn, t_end_s: float, npz: str, settings: TransportSettings) -> list[dict[str, Any]]:
     """Rows of design.csv (without the case's columns) for realisations ``numbers`` of one case:
     the bodies that float at their start (:func:`~orchestrator.studies.design_strikes.carried`)
@@ -193,7 +193,7 @@ def design_batch(numbers: Sequence[int], starts: Sequence[list[TransportBody]], 
     return rows
 
 
-def _run_case(case: DesignCase, starts: list[list[TransportBody]], flume: FlumeBounds, column: PlacedColumn,
+def _run_case(case: DesignCase, starts: list[list[DebrisBody]], flume: FlumeBounds, column: PlacedColumn,
               flow: FlowField, executor: str, workers: int, batch_size: int,
               progress: Callable[[int], None] | None) -> list[dict[str, Any]]:
     """Every realisation of one case, in batches, on ``executor``; rows in realisation order."""

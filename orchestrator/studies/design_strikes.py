@@ -37,7 +37,8 @@ from typing import Any, Sequence
 import numpy as np
 
 from orchestrator.transport.flow import FlowCoverageError, FlowField
-from orchestrator.transport.mujoco_model import PlacedColumn, TransportBody
+from orchestrator.scene.schema import DebrisBody
+from orchestrator.transport.mujoco_model import PlacedColumn
 
 __all__ = ["FACES", "FLOW_LEVELS", "approach_flow", "carried", "draft_m", "front_celerity", "start_depth_m",
            "strike_geometry", "strike_rows"]
@@ -52,7 +53,7 @@ FLOW_LEVELS = 8
 APPROACH_SAMPLES = 12
 
 
-def draft_m(body: TransportBody, density_kg_m3: float) -> float:
+def draft_m(body: DebrisBody, density_kg_m3: float) -> float:
     """A body's draft upright: its mass over the water of its plan area, ``m / (rho L W)``."""
     return float(body.mass_kg) / (float(density_kg_m3) * float(body.size_m[0]) * float(body.size_m[1]))
 
@@ -67,7 +68,7 @@ def start_depth_m(flow: FlowField, points: Sequence[tuple[float, float]], t0_s: 
     return np.maximum(deepest - flow.bed_z_m, 0.0)
 
 
-def carried(starts: Sequence[Sequence[TransportBody]], flow: FlowField, t0_s: float,
+def carried(starts: Sequence[Sequence[DebrisBody]], flow: FlowField, t0_s: float,
             t_end_s: float) -> list[list[tuple[float, float, bool]]]:
     """For each realisation's bodies: (draft, deepest water at the start, floats) (module notes)."""
     flat = [b for bodies in starts for b in bodies]
@@ -150,7 +151,7 @@ def front_celerity(flow: FlowField, column: PlacedColumn) -> float | None:
     return (x1 - x0) / (t1 - t0)
 
 
-def strike_rows(result, body: TransportBody, column: PlacedColumn, flow: FlowField | None,
+def strike_rows(result, body: DebrisBody, column: PlacedColumn, flow: FlowField | None,
                 t0_s: float) -> list[dict[str, Any]]:
     """One dict per column strike of ``body`` in ``result`` (a transport of its realisation), in
     time order: the strike's speed and geometry (module notes), its pulse (None: not resolved)."""

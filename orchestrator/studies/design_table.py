@@ -11,8 +11,7 @@ import pandas as pd
 
 from analytical import catalogue
 from orchestrator.core.errors import InputError
-from orchestrator.scene.schema import Design
-from orchestrator.transport.mujoco_model import TransportBody
+from orchestrator.scene.schema import DebrisBody, Design
 
 __all__ = ["DEMANDS", "DESIGN_COLUMNS", "allocate", "case_names", "debris_types", "mass_range",
            "realisation_demands"]
@@ -61,7 +60,7 @@ def case_names(spec: Design) -> list[str]:
     return [c.name or f"case{k + 1}" for k, c in enumerate(spec.inundation)]
 
 
-def mass_range(body: TransportBody, spec: Design, debris_type: str | None = None) -> tuple[float, float]:
+def mass_range(body: DebrisBody, spec: Design, debris_type: str | None = None) -> tuple[float, float]:
     """The masses a body is drawn between: ``design.mass_kg``; else, for a body the debris
     catalogue names (``debris[].type`` of a container family), its family's empty and loaded
     masses (analytical.catalogue.mass_range_kg); else its own mass."""

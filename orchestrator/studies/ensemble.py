@@ -90,7 +90,7 @@ from orchestrator.pipeline import prepare_case
 from orchestrator.results.study_fit import HEIGHT_SOURCES, compare_strikes, study_fit_figures
 from orchestrator.plan.planner import plan_case
 from orchestrator.run.runner import run_case
-from orchestrator.scene.schema import Scene
+from orchestrator.scene.schema import DebrisBody, Scene
 from orchestrator.scene.scenefile import load_scene
 from orchestrator.studies.sweep.executors import dask_executor
 from orchestrator.studies.engine_watch import engine_watch, raise_if_unstable
@@ -98,7 +98,7 @@ from orchestrator.transport.batch import run_batch
 from orchestrator.transport.case_transport import case_flow, scene_settings, transport_setup
 from orchestrator.transport.engine import TransportResult, TransportSettings, ensemble_settings, run_transport
 from orchestrator.transport.flow import FlowField
-from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn, TransportBody
+from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn, rotation, with_start
 
 __all__ = [
     "DEFAULT_BATCH_SIZE",
@@ -178,11 +178,11 @@ class Perturbation:
 
 
 # --------------------------------------------------------------------------- starts
-def plan_footprint(body: TransportBody) -> np.ndarray:
+def plan_footprint(body: DebrisBody) -> np.ndarray:
     """The body's plan footprint at its start: the convex hull (counter-clockwise) of its corners on the bed."""
     half = np.asarray(body.size_m) / 2.0
     corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]) * half
-    pts = (corners @ body.rotation.T)[:, :2] + np.asarray(body.centre_m[:2])
+    pts = (corners @ rotation(body).T)[:, :2] + np.asarray(body.centre_m[:2])
     return _hull(pts)
 
 
@@ -220,12 +220,12 @@ def _separated(a: np.ndarray, b: np.ndarray, gap: float) -> bool:
     return False
 
 
-def _z_range(body: TransportBody) -> tuple[float, float]:
-    reach = float(np.abs(body.rotation[2, :]) @ (np.asarray(body.size_m) / 2.0))
+def _z_range(body: DebrisBody) -> tuple[float, float]:
+    reach = float(np.abs(rotation(body)[2, :]) @ (np.asarray(body.size_m) / 2.0))
     return body.centre_m[2] - reach, body.centre_m[2] + reach
 
 
-def start_clash(body: TransportBody, placed: Sequence[TransportBody], flume: FlumeBounds,
+def start_clash(body: DebrisBody, placed: Sequence[DebrisBody], flume: FlumeBounds,
                 column: PlacedColumn | None, gap_m: float = 0.0) -> str | None:
     """What ``body``'s start comes within ``gap_m`` of (a wall, the column, a placed body), or None."""
     foot = plan_footprint(body)
@@ -248,14 +248,14 @@ def start_clash(body: TransportBody, placed: Sequence[TransportBody], flume: Flu
     return None
 
 
-def perturbed_starts(bodies: Sequence[TransportBody], flume: FlumeBounds, column: PlacedColumn | None,
-                     perturbation: Perturbation, seed: int, realisation: int) -> list[TransportBody]:
+def perturbed_starts(bodies: Sequence[DebrisBody], flume: FlumeBounds, column: PlacedColumn | None,
+                     perturbation: Perturbation, seed: int, realisation: int) -> list[DebrisBody]:
     """Realisation ``realisation``'s bodies: each start drawn about its nominal one (module notes)
     from ``numpy.random.default_rng([seed, realisation])``, in the bodies' order; raises
     InputError naming ``debris.<name>.centre_m`` when a body finds no free start."""
     rng = np.random.default_rng([int(seed), int(realisation)])
     p = perturbation
-    placed: list[TransportBody] = []
+    placed: list[DebrisBody] = []
     for body in bodies:
         sigma = p.position_sigma_fraction * body.size_m[0]
         clash = None
@@ -263,7 +263,7 @@ def perturbed_starts(bodies: Sequence[TransportBody], flume: FlumeBounds, column
             dx, dy, dyaw = np.clip(rng.standard_normal(3), -p.clip_sigmas, p.clip_sigmas) * [sigma, sigma,
                                                                                                p.yaw_sigma_deg]
             x, y, z = body.centre_m
-            moved = dataclasses.replace(body, centre_m=(x + float(dx), y + float(dy), z),
+            moved = with_start(body, centre_m=(x + float(dx), y + float(dy), z),
                                         yaw_deg=body.yaw_deg + float(dyaw))
             clash = start_clash(moved, placed, flume, column, p.min_gap_m)
             if clash is None:
@@ -279,8 +279,8 @@ def perturbed_starts(bodies: Sequence[TransportBody], flume: FlumeBounds, column
     return placed
 
 
-def ensemble_starts(bodies: Sequence[TransportBody], flume: FlumeBounds, column: PlacedColumn | None,
-                    perturbation: Perturbation, seed: int, n: int) -> list[list[TransportBody]]:
+def ensemble_starts(bodies: Sequence[DebrisBody], flume: FlumeBounds, column: PlacedColumn | None,
+                    perturbation: Perturbation, seed: int, n: int) -> list[list[DebrisBody]]:
     """The starts of realisations 0 .. n - 1."""
     return [perturbed_starts(bodies, flume, column, perturbation, seed, r) for r in range(n)]
 
@@ -296,7 +296,7 @@ class Realisation:
     wall_s: float
 
 
-def body_rows(result: TransportResult, bodies: Sequence[TransportBody], realisation: int, wall_s: float,
+def body_rows(result: TransportResult, bodies: Sequence[DebrisBody], realisation: int, wall_s: float,
               column: PlacedColumn | None = None, bed_z_m: float = 0.0, study_fit: bool = True) -> list[dict[str, Any]]:
     """ensemble.csv's rows of one realisation (:data:`TABLE_COLUMNS`) from its transport: with
     ``column``, each first strike's base shear fitted as the study fitted its records
@@ -368,7 +368,7 @@ def forget_flow(npz: str) -> None:  # a study that holds one flow at a time
     _FLOWS.pop(npz, None)
 
 
-def run_realisation(number: int, bodies: list[TransportBody], flume: FlumeBounds, column: PlacedColumn | None,
+def run_realisation(number: int, bodies: list[DebrisBody], flume: FlumeBounds, column: PlacedColumn | None,
                     t_end_s: float, npz: str, settings: TransportSettings, study_fit: bool = True) -> Realisation:
     """Carry one realisation's bodies through the flow of ``npz`` (loaded once per process)."""
     flow = keep_flow(npz)
@@ -378,7 +378,7 @@ def run_realisation(number: int, bodies: list[TransportBody], flume: FlumeBounds
     return _realisation(number, result, bodies, column, flume, study_fit)
 
 
-def _realisation(number: int, result: TransportResult, bodies: Sequence[TransportBody], column: PlacedColumn | None,
+def _realisation(number: int, result: TransportResult, bodies: Sequence[DebrisBody], column: PlacedColumn | None,
                  flume: FlumeBounds, study_fit: bool) -> Realisation:
     rows = body_rows(result, bodies, number, 0.0, column, flume.bed_z_m, study_fit)
     wall = result.wall_s + result.pulse_wall_s + sum(r["study_fit_wall_s"] for r in rows)
@@ -390,7 +390,7 @@ def _realisation(number: int, result: TransportResult, bodies: Sequence[Transpor
     return Realisation(number, rows, tracks, wall)
 
 
-def run_realisations(numbers: Sequence[int], starts: Sequence[list[TransportBody]], flume: FlumeBounds,
+def run_realisations(numbers: Sequence[int], starts: Sequence[list[DebrisBody]], flume: FlumeBounds,
                      column: PlacedColumn | None, t_end_s: float, npz: str, settings: TransportSettings,
                      study_fit: bool = True) -> list[Realisation]:
     """Realisations ``numbers`` (their ``starts``) as one batch (:func:`~orchestrator.transport.batch.run_batch`;
@@ -429,7 +429,7 @@ def _open_local(workers: int, npz: str, flow: FlowField):
                                                   initializer=keep_flow, initargs=(npz, flow))
 
 
-def run_ensemble(starts: Sequence[list[TransportBody]], flume: FlumeBounds, column: PlacedColumn | None, t_end_s: float,
+def run_ensemble(starts: Sequence[list[DebrisBody]], flume: FlumeBounds, column: PlacedColumn | None, t_end_s: float,
                  flow: FlowField, npz: str | Path, executor: str = "local", workers: int | None = None,
                  settings: TransportSettings | None = None,
                  progress: Callable[[int, int], None] | None = None, batch_size: int = DEFAULT_BATCH_SIZE,
@@ -534,12 +534,13 @@ def ensemble_flow(scene_path: str | Path, flow_dir: str | Path, sets: Sequence[s
     scene = load_scene(scene_path, list(sets))
     if not scene.debris:
         raise InputError("debris", "the scene has no debris: an ensemble perturbs the bodies' starts", str(scene_path))
-    coupling = plan_case(scene, str(scene_path)).debris_coupling
+    plan = plan_case(scene, str(scene_path))
+    coupling = plan.debris_coupling
     if coupling != "one-way":
         raise InputError("run.debris_coupling", f"the scene plans {coupling} (run.debris_coupling "
                                                 f"{scene.run.debris_coupling}): an ensemble carries its bodies through "
                                                 "one recorded flow; set run.debris_coupling=one-way", str(scene_path))
-    case, rendered = prepare_case(scene_path, flow_dir, sets, confirmed=confirmed)
+    case, rendered = prepare_case(scene, plan, scene_path, flow_dir, sets, confirmed=confirmed)
     say(f"debrisfoam: flow: {'rendered' if rendered else 'reusing'} {case}")
     run_case(case, quiet=quiet, stream=stream)
     flow, npz = case_flow(case, say=say)

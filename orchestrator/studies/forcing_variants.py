@@ -20,6 +20,7 @@ from orchestrator.case.folder import CaseFolder
 from orchestrator.core.errors import InputError
 from orchestrator.scene.scenefile import load_scene
 from orchestrator.transport.case_transport import case_flow, scene_settings, transport_setup
+from orchestrator.transport.mujoco_model import with_start
 from orchestrator.transport.engine import run_transport
 
 __all__ = ["VARIANTS", "YAWS_DEG", "forcing_variants"]
@@ -54,7 +55,7 @@ def forcing_variants(case_dir: str | Path, say: Callable[[str], None] = print) -
             "|---|---|---|---|---|---|---|---|---|---|"]
     for name, options, cd in VARIANTS:
         for yaw in YAWS_DEG:
-            body = dataclasses.replace(bodies[0], yaw_deg=yaw)
+            body = with_start(bodies[0], yaw_deg=yaw)
             hydro = dataclasses.replace(base.hydro, drag_coefficient=cd, **options)
             start = time.perf_counter()
             run = run_transport([body], flume, float(scene.run.end_time_s), flow=flow, column=column,

@@ -37,7 +37,7 @@ from orchestrator.case.outputs import (
     water_balance_summary,
 )
 from orchestrator.contact.events import read_events
-from orchestrator.contact.geometry import BoxState, find_contacts, scene_obstacles
+from orchestrator.contact.geometry import box_state, find_contacts, scene_obstacles
 from orchestrator.core.numbers import finite_or_none
 from orchestrator.plan.model import ModelPlan
 from orchestrator.scene.scenefile import load_scene
@@ -101,7 +101,7 @@ def _clearances(case: Path, plan: ModelPlan | None, scene) -> tuple[float | None
             if b is None:
                 continue
             rot = np.array([getattr(r, c) for c in q_cols], float).reshape(3, 3)
-            states.append(BoxState(r.body, (r.x_m, r.y_m, r.z_m), rot, (r.u_m_s, r.v_m_s, r.w_m_s), (0, 0, 0),
+            states.append(box_state(r.body, (r.x_m, r.y_m, r.z_m), rot, (r.u_m_s, r.v_m_s, r.w_m_s), (0, 0, 0),
                                     b.size_m, b.mass_kg, b.moment_of_inertia_kg_m2))
             half = 0.5 * np.abs(rot) @ np.asarray(b.size_m, float)  # the box's half extent in z
             sink = max(sink, -(r.z_m - half[2] - obstacles.bed.point_m[2]))

@@ -49,12 +49,13 @@ import pandas as pd
 from orchestrator.core.errors import InputError
 from orchestrator.transport.engine import TransportResult, TransportSettings, run_transport
 from orchestrator.transport.flow import FlowField
-from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn, TransportBody
+from orchestrator.scene.schema import DebrisBody
+from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn, with_start
 
 __all__ = ["batch_bodies", "run_batch", "split_batch"]
 
 
-def batch_bodies(realisations: Sequence[Sequence[TransportBody]]) -> tuple[list[TransportBody], list[int], dict]:
+def batch_bodies(realisations: Sequence[Sequence[DebrisBody]]) -> tuple[list[DebrisBody], list[int], dict]:
     """The bodies of all ``realisations`` renamed ``r<k>_<name>`` (k the realisation's place in
     the batch), their groups (k), and each new name's (k, original name)."""
     bodies, groups, owner = [], [], {}
@@ -64,7 +65,7 @@ def batch_bodies(realisations: Sequence[Sequence[TransportBody]]) -> tuple[list[
             raise InputError("bodies", f"names must be unique within a realisation, got {names}")
         for b in placed:
             name = f"r{k}_{b.name}"
-            bodies.append(dataclasses.replace(b, name=name))
+            bodies.append(with_start(b, name=name))
             groups.append(k)
             owner[name] = (k, b.name)
     if not bodies:
@@ -72,7 +73,7 @@ def batch_bodies(realisations: Sequence[Sequence[TransportBody]]) -> tuple[list[
     return bodies, groups, owner
 
 
-def run_batch(realisations: Sequence[Sequence[TransportBody]], flume: FlumeBounds, t_end_s: float,
+def run_batch(realisations: Sequence[Sequence[DebrisBody]], flume: FlumeBounds, t_end_s: float,
               flow: FlowField | None = None, column: PlacedColumn | None = None,
               settings: TransportSettings | None = None) -> list[TransportResult]:
     """Carry every realisation's bodies through ``flow`` in one model (module notes); one

@@ -36,10 +36,10 @@ from orchestrator.contact.events import write_events, write_pulse_files
 from orchestrator.contact.resolution import body_contact_law
 from orchestrator.core.files import write_text_atomic
 from orchestrator.plan.scale import time_scale
-from orchestrator.scene.schema import Scene, column_for_analysis
+from orchestrator.scene.schema import DebrisBody, Scene, column_for_analysis
 from orchestrator.scene.scenefile import load_scene
 from orchestrator.transport.engine import TransportResult, TransportSettings, run_transport
-from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn, TransportBody
+from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn
 from orchestrator.transport.flow import FlowField
 from orchestrator.transport.flow_record import read_flow_record
 
@@ -70,16 +70,9 @@ def contact_laws(scene: Scene) -> dict[str, dict[str, float]]:
             for b in scene.debris}
 
 
-def scene_bodies(scene: Scene) -> list[TransportBody]:
+def scene_bodies(scene: Scene) -> list[DebrisBody]:
     """The scene's bodies as they start (the resolved scene's centres: on the bed, afloat or given)."""
-    bodies = []
-    for b in scene.debris:
-        bodies.append(TransportBody(
-            name=b.name, size_m=tuple(b.size_m), mass_kg=b.mass_kg, centre_m=tuple(b.centre_m),
-            yaw_deg=b.yaw_deg, pitch_deg=b.pitch_deg, roll_deg=b.roll_deg, velocity_m_s=tuple(b.velocity_m_s),
-            wall_thickness_m=b.wall_thickness_m, friction_coefficient=b.contact.bed_friction_coefficient,
-            contact=body_contact_law(b.contact)))
-    return bodies
+    return list(scene.debris)
 
 
 #: TransportSettings' times and speeds that are set at the study's 0.40 m flume: a deeper scene
@@ -126,7 +119,7 @@ def open_record_ends(scene: Scene, record_x_m: tuple[float, float], cell_m: floa
     return upstream_open, downstream_open
 
 
-def transport_setup(scene: Scene, flow: FlowField) -> tuple[list[TransportBody], FlumeBounds, PlacedColumn | None]:
+def transport_setup(scene: Scene, flow: FlowField) -> tuple[list[DebrisBody], FlumeBounds, PlacedColumn | None]:
     """The scene's bodies, the flume the record bounds (the flume's side walls, end walls at the
     record's ends, the bed at the record's) and the column standing on the bed."""
     (x0, x1), (y0, y1), _ = flow.extent_m

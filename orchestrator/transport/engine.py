@@ -62,10 +62,14 @@ from orchestrator.transport.flow import FlowCoverageError, FlowField
 from orchestrator.transport.mujoco_model import (
     FlumeBounds,
     PlacedColumn,
-    TransportBody,
     angles_deg,
     build_model,
+    contact_law_of,
+    friction_of,
+    inertia_kg_m2,
+    rotation,
 )
+from orchestrator.scene.schema import DebrisBody
 
 __all__ = ["BODY_COLUMNS", "DEPARTURE_COLUMNS", "TransportResult", "TransportSettings", "run_transport"]
 
@@ -235,12 +239,16 @@ class _Forcing:
 def run_transport(bodies, flume: FlumeBounds, t_end_s: float, flow: FlowField | None = None,
                   column: PlacedColumn | None = None, settings: TransportSettings | None = None,
                   groups=None) -> TransportResult:
-    """Carry ``bodies`` (:class:`TransportBody`) through ``flow`` (None: dry) for ``t_end_s``
+    """Carry ``bodies`` (the scene's :class:`~orchestrator.scene.schema.DebrisBody`, or dicts of
+    their fields, at their starts) through ``flow`` (None: dry) for ``t_end_s``
     seconds in ``flume`` with ``column``; see the module notes. ``groups`` (one label per body,
     None: one group): only bodies of one group can strike each other
     (:func:`~orchestrator.transport.mujoco_model.build_model`)."""
     settings = TransportSettings() if settings is None else settings
-    bodies = [b if isinstance(b, TransportBody) else TransportBody(**b) for b in bodies]
+    bodies = [b if isinstance(b, DebrisBody) else DebrisBody(**b) for b in bodies]
+    for b in bodies:
+        if len(b.centre_m) != 3:
+            raise InputError(f"{b.name}.centre_m", f"must be three numbers (x, y, z) to carry it, got {b.centre_m!r}")
     t_end = require_positive("t_end_s", t_end_s)
     coeffs = settings.hydro
     gravity = coeffs.gravity_m_s2
@@ -263,11 +271,9 @@ def run_transport(bodies, flume: FlumeBounds, t_end_s: float, flow: FlowField | 
     d = mujoco.MjData(m)
     for i, b in enumerate(bodies):
         q, v = built.qpos_adr[i], built.dof_adr[i]
-        rot = b.rotation
         d.qpos[q:q + 3] = b.centre_m
-        mujoco.mju_mat2Quat(d.qpos[q + 3:q + 7], rot.ravel())
-        d.qvel[v:v + 3] = b.velocity_m_s
-        d.qvel[v + 3:v + 6] = rot.T @ np.asarray(b.angular_velocity_rad_s)  # free joint: body-frame rates
+        mujoco.mju_mat2Quat(d.qpos[q + 3:q + 7], rotation(b).ravel())
+        d.qvel[v:v + 3] = b.velocity_m_s  # a start without spin
     mujoco.mj_forward(m, d)
 
     n_hydro = max(1, int(round(settings.hydro_interval_s / dt)))
@@ -286,7 +292,7 @@ def run_transport(bodies, flume: FlumeBounds, t_end_s: float, flow: FlowField | 
                      flume.bed_z_m, settings.separation_s, surface, settings.min_impact_velocity_m_s,
                      settings.first_pulse_only, _front_at_face_s(flow, column, t0), settings.every_column_pulse)
     mass = np.array([b.mass_kg for b in bodies])
-    inertia = np.array([b.inertia_kg_m2 for b in bodies])
+    inertia = np.array([inertia_kg_m2(b) for b in bodies])
     # the water each body carries (body axes): translation (kg) and rotation (kg m^2), as the
     # forcing last set it; dry, none
     added_mass = np.zeros((len(bodies), 3))
@@ -377,8 +383,8 @@ def run_transport(bodies, flume: FlumeBounds, t_end_s: float, flow: FlowField | 
         body, b = bodies[i], impact_body(i)
         event.added_mass_normal_kg = b.translational_mass_along(event.normal) - mass[i]
         if other is None:
-            result, moves = resolve_bodies(event.kind, event.point, event.normal, event.depth_m, b, body.contact,
-                                           body.friction_coefficient, column=column.column if column else None,
+            result, moves = resolve_bodies(event.kind, event.point, event.normal, event.depth_m, b, contact_law_of(body),
+                                           friction_of(body), column=column.column if column else None,
                                            bed_z_m=flume.bed_z_m, base_shear=False)
         else:
             result, moves = resolve_bodies("body", event.point, event.normal, event.depth_m, b,
@@ -400,10 +406,10 @@ def run_transport(bodies, flume: FlumeBounds, t_end_s: float, flow: FlowField | 
             d.qvel[v + 3:v + 6] = rot.T @ omega  # free joint: body-frame rates
 
     def pair_law(i: int, j: int):
-        return pair_contact_law(bodies[i].contact, bodies[j].contact)
+        return pair_contact_law(contact_law_of(bodies[i]), contact_law_of(bodies[j]))
 
     def pair_friction(i: int, j: int) -> float:
-        return 0.5 * (bodies[i].friction_coefficient + bodies[j].friction_coefficient)
+        return 0.5 * (friction_of(bodies[i]) + friction_of(bodies[j]))
 
     start = time.perf_counter()
     for k in range(steps):

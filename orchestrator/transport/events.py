@@ -100,7 +100,7 @@ class EventBook:
     """Finds contact onsets step by step (module notes) and turns them into tables.
 
     ``owner`` maps each MuJoCo geom to a body index (>= 0) or a static kind (-1 bed, -2 wall,
-    -3 column); ``geom_names`` names them; ``bodies`` are the :class:`TransportBody` list;
+    -3 column); ``geom_names`` names them; ``bodies`` are the carried :class:`~orchestrator.scene.schema.DebrisBody` list;
     ``body_ids`` their MuJoCo body ids, ``dof_adr`` their free joints' first dof;
     ``column`` the :class:`PlacedColumn` or None; ``surface(x, y, t)`` gives the water level
     (or None when there is no flow); ``front_at_face_s`` when the flow's front reached the

@@ -67,11 +67,11 @@ import mujoco
 import numpy as np
 
 from analytical.column import Column
-from analytical.contact_law import CONTAINER, ContactLaw, box_inertia
-from orchestrator.core.errors import InputError, require_positive
-from analytical.impact import DEFAULT_FRICTION_COEFFICIENT
-from orchestrator.contact.resolution import pair_contact_law
+from analytical.contact_law import ContactLaw, box_inertia
+from orchestrator.core.errors import InputError
+from orchestrator.contact.resolution import body_contact_law, pair_contact_law
 from orchestrator.scene.geometry import body_rotation
+from orchestrator.scene.schema import DebrisBody
 
 __all__ = [
     "BED_DAMPING_RATIO",
@@ -81,11 +81,15 @@ __all__ = [
     "BuiltModel",
     "FlumeBounds",
     "PlacedColumn",
-    "TransportBody",
     "angles_deg",
     "build_model",
+    "contact_law_of",
     "contact_period_s",
     "contact_solref",
+    "friction_of",
+    "inertia_kg_m2",
+    "rotation",
+    "with_start",
 ]
 
 CONTACT_IMPEDANCE = 0.99
@@ -109,49 +113,37 @@ STICK_SPEED_M_S = 0.01
 a time constant of a few steps): the body sticks."""
 
 
-@dataclass(frozen=True)
-class TransportBody:
-    """A debris box: ``size_m`` (length, width, height along its body axes), ``mass_kg``,
-    centre ``centre_m`` and orientation ``Rz(yaw) Ry(pitch) Rx(roll)`` at the start, its start
-    velocity (world) and angular velocity (world), its wall thickness (None: solid) for the
-    inertia, its Coulomb ``friction_coefficient`` and its ``contact`` law."""
+def rotation(body: DebrisBody) -> np.ndarray:
+    """A debris body's rotation at its start, body axes to world: ``Rz(yaw) Ry(pitch) Rx(roll)``."""
+    return body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg)
 
-    name: str
-    size_m: tuple[float, float, float]
-    mass_kg: float
-    centre_m: tuple[float, float, float]
-    yaw_deg: float = 0.0
-    pitch_deg: float = 0.0
-    roll_deg: float = 0.0
-    velocity_m_s: tuple[float, float, float] = (0.0, 0.0, 0.0)
-    angular_velocity_rad_s: tuple[float, float, float] = (0.0, 0.0, 0.0)
-    wall_thickness_m: float | None = None
-    friction_coefficient: float = DEFAULT_FRICTION_COEFFICIENT
-    contact: ContactLaw = CONTAINER
 
-    def __post_init__(self):
-        if not isinstance(self.name, str) or not self.name.isidentifier():
-            raise InputError("body.name", f"must be an identifier, got {self.name!r}")
-        for name in ("size_m", "centre_m", "velocity_m_s", "angular_velocity_rad_s"):
-            value = tuple(float(v) for v in getattr(self, name))
-            if len(value) != 3 or not all(math.isfinite(v) for v in value):
-                raise InputError(f"{self.name}.{name}", f"must be three finite numbers, got {getattr(self, name)!r}")
-            object.__setattr__(self, name, value)
-        for s in self.size_m:
-            require_positive(f"{self.name}.size_m", s)
-        object.__setattr__(self, "mass_kg", require_positive(f"{self.name}.mass_kg", self.mass_kg))
-        mu = float(self.friction_coefficient)
-        if not math.isfinite(mu) or mu < 0.0:
-            raise InputError(f"{self.name}.friction_coefficient", f"must be >= 0, got {self.friction_coefficient!r}")
+def inertia_kg_m2(body: DebrisBody) -> tuple[float, float, float]:
+    """A debris body's principal moments of inertia for the transport: the box of its size and mass,
+    closed with walls ``wall_thickness_m`` thick (None: solid)."""
+    return box_inertia(body.size_m, body.mass_kg, body.wall_thickness_m)
 
-    @property
-    def rotation(self) -> np.ndarray:
-        """Body-to-world rotation at the start."""
-        return body_rotation(self.yaw_deg, self.pitch_deg, self.roll_deg)
 
-    @property
-    def inertia_kg_m2(self) -> tuple[float, float, float]:
-        return box_inertia(self.size_m, self.mass_kg, self.wall_thickness_m)
+def contact_law_of(body: DebrisBody) -> ContactLaw:
+    """A debris body's contact law (its ``contact`` section)."""
+    return body_contact_law(body.contact)
+
+
+def friction_of(body: DebrisBody) -> float:
+    """A debris body's Coulomb coefficient in the transport, on the bed and in a strike alike: its
+    ``contact.bed_friction_coefficient``."""
+    return float(body.contact.bed_friction_coefficient)
+
+
+def with_start(body: DebrisBody, **changes) -> DebrisBody:
+    """``body`` with its start changed (``centre_m``, ``yaw_deg``, ``mass_kg``, ``name`` ...), the
+    numbers as Python floats."""
+    def number(value):
+        if isinstance(value, (tuple, list, np.ndarray)):
+            return tuple(float(x) for x in value)
+        return float(value) if isinstance(value, (int, float, np.number)) and not isinstance(value, bool) else value
+
+    return body.model_copy(update={k: number(v) for k, v in changes.items()})
 
 
 @dataclass(frozen=True)
@@ -254,7 +246,8 @@ def _f(values) -> str:
 
 def build_model(bodies, flume: FlumeBounds, column: PlacedColumn | None = None, *, gravity_m_s2: float = 9.81,
                 steps_per_contact_period: int = 40, max_timestep_s: float = 1e-3, groups=None) -> BuiltModel:
-    """The MJCF of the flume, the column and ``bodies`` (:class:`TransportBody`), compiled.
+    """The MJCF of the flume, the column and ``bodies`` (the scene's
+    :class:`~orchestrator.scene.schema.DebrisBody`, at their starts), compiled.
     ``groups`` (one label per body; None: one group) says which bodies can touch: body-body
     pairs exist only within a group, so bodies of different groups pass through each other
     (independent realisations in one model, :mod:`~orchestrator.transport.batch`)."""
@@ -270,11 +263,13 @@ def build_model(bodies, flume: FlumeBounds, column: PlacedColumn | None = None, 
         raise InputError("bodies", f"names must be unique, got {names}")
     if steps_per_contact_period < 40:
         raise InputError("steps_per_contact_period", f"must be >= 40, got {steps_per_contact_period}")
-    periods = [contact_period_s(b.contact, b.mass_kg) for b in bodies]
+    laws = [contact_law_of(b) for b in bodies]
+    mu = [friction_of(b) for b in bodies]
+    mass = [float(b.mass_kg) for b in bodies]
+    periods = [contact_period_s(law, m) for law, m in zip(laws, mass)]
     dt_bound = min(periods) / steps_per_contact_period
     for i, j in touching:
-        a, b = bodies[i], bodies[j]
-        periods.append(contact_period_s(pair_contact_law(a.contact, b.contact), a.mass_kg * b.mass_kg / (a.mass_kg + b.mass_kg)))
+        periods.append(contact_period_s(pair_contact_law(laws[i], laws[j]), mass[i] * mass[j] / (mass[i] + mass[j])))
     dt = min(min(periods) / steps_per_contact_period, max_timestep_s, dt_bound)
     imp = f"{CONTACT_IMPEDANCE} {CONTACT_IMPEDANCE} 0.001 0.5 2"
     fric_ref = f"0 {-FRICTION_DEMAND * gravity_m_s2 / STICK_SPEED_M_S!r}"  # at rest; rescaled in the run
@@ -296,36 +291,34 @@ def build_model(bodies, flume: FlumeBounds, column: PlacedColumn | None = None, 
         statics.append("column")
         world.append(f'<geom name="column" type="box" pos="{column.x_m} {column.y_m} {bed + c.height_m / 2}" '
                      f'size="{c.size_x_m / 2} {c.size_y_m / 2} {c.height_m / 2}" {off}/>')
-    for b in bodies:
+    for b, m in zip(bodies, mass):
         quat = np.zeros(4)
-        mujoco.mju_mat2Quat(quat, b.rotation.ravel())
+        mujoco.mju_mat2Quat(quat, rotation(b).ravel())
         world.append(
             f'<body name="{b.name}" pos="{_f(b.centre_m)}" quat="{_f(quat)}">'
             f'<joint name="{b.name}_free" type="free" armature="0"/>'
-            f'<inertial pos="0 0 0" mass="{b.mass_kg!r}" diaginertia="{_f(b.inertia_kg_m2)}"/>'
+            f'<inertial pos="0 0 0" mass="{m!r}" diaginertia="{_f(inertia_kg_m2(b))}"/>'
             f'<geom name="{b.name}_box" type="box" size="{_f(np.asarray(b.size_m) / 2)}" {off} density="0"/></body>')
     pairs, stiffness, damping, friction, contact = [], [], [], [], []
 
-    def add_pair(i, j, geom2, law, mu, m_eff, damping_ratio=None):
+    def add_pair(i, j, geom2, law, coefficient, m_eff, damping_ratio=None):
         zeta = law.damping_ratio if damping_ratio is None else damping_ratio
         k = law.stiffness_N_m / m_eff
         pairs.append((i, j))
         stiffness.append(law.stiffness_N_m)
         damping.append(zeta)
-        mu = max(mu, 1e-5)
-        friction.append(mu)
+        coefficient = max(coefficient, 1e-5)
+        friction.append(coefficient)
         contact.append(f'<pair geom1="{bodies[i].name}_box" geom2="{geom2}" condim="3" '
-                       f'friction="{mu!r} {mu!r} 0 0 0" solref="{-k!r} {-2.0 * zeta * math.sqrt(k)!r}" '
+                       f'friction="{coefficient!r} {coefficient!r} 0 0 0" solref="{-k!r} {-2.0 * zeta * math.sqrt(k)!r}" '
                        f'solimp="{imp}" solreffriction="{fric_ref}"/>')
 
-    for i, b in enumerate(bodies):
+    for i in range(len(bodies)):
         for name in statics:
-            add_pair(i, -1, name, b.contact, b.friction_coefficient, b.mass_kg,
-                     BED_DAMPING_RATIO if name == "bed" else None)
+            add_pair(i, -1, name, laws[i], mu[i], mass[i], BED_DAMPING_RATIO if name == "bed" else None)
     for i, j in touching:
-        a, b = bodies[i], bodies[j]
-        add_pair(i, j, f"{b.name}_box", pair_contact_law(a.contact, b.contact),
-                 0.5 * (a.friction_coefficient + b.friction_coefficient), a.mass_kg * b.mass_kg / (a.mass_kg + b.mass_kg))
+        add_pair(i, j, f"{bodies[j].name}_box", pair_contact_law(laws[i], laws[j]), 0.5 * (mu[i] + mu[j]),
+                 mass[i] * mass[j] / (mass[i] + mass[j]))
     xml = (f'<mujoco model="transport"><option timestep="{dt!r}" gravity="0 0 {-gravity_m_s2!r}" '
            f'density="0" viscosity="0" cone="elliptic" solver="Newton" integrator="Euler">'
            '<flag warmstart="disable"/></option>'

@@ -20,6 +20,7 @@ from typing import Any, Callable
 from orchestrator.core.errors import DebrisfoamError
 from orchestrator.case.folder import CaseFolder
 from orchestrator.pipeline import prepare_case, run_full_case
+from orchestrator.plan.planner import load_and_plan
 from orchestrator.run.runner import RunInterrupted
 from orchestrator.studies.sweep.store import member_metrics, timestamp, write_member_record
 
@@ -59,10 +60,11 @@ def _run(task: dict[str, Any], case: Path, flag: threading.Event, record: dict[s
     error, ours = None, False
     try:
         # the sweep's soft resource limits were confirmed (or refused) for every member at its start
-        prepare_case(task["scene_file"], case, confirmed=True)
+        scene, plan = load_and_plan(task["scene_file"])
+        prepare_case(scene, plan, task["scene_file"], case, confirmed=True)
         write_member_record(case, record)
         ours = True
-        run_full_case(task["scene_file"], case, (), np=task.get("np"), quiet=True, stop_event=flag)
+        run_full_case(scene, plan, task["scene_file"], case, (), np=task.get("np"), quiet=True, stop_event=flag)
         status = "finished"
     except RunInterrupted as exc:
         status, error = "interrupted", str(exc)

@@ -117,6 +117,8 @@ def member_id(scene: Scene, coupling: str | None = None) -> str:
     """The member's id: the first :data:`ID_LENGTH` hex digits of its case key
     (:func:`orchestrator.plan.identity.case_key`, the one answer to "is this the same case?"),
     for a case of ``coupling`` (None: as the scene plans)."""
+    if coupling is None:
+        coupling = plan_case(scene, scene.name).debris_coupling
     return case_key(scene, coupling)[:ID_LENGTH]
 
 
