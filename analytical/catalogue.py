@@ -17,14 +17,14 @@ consistent inertia. The model is this package's; no published container inertia 
 
 Contact
 -------
-``container`` law (damped spring): the study's 1:40 law (k = 7.59e4 N/m, zeta = 0.558,
-calibrated on its Table 2) Froude-scaled to the prototype. Froude similarity at length scale
-lambda keeps g, so forces scale with lambda^3 and lengths with lambda: a spring scales with
-lambda^2 and a damping ratio (dimensionless) is unchanged; time scales with sqrt(lambda).
-With lambda = 40: k = 7.59e4 x 1600 = 1.214e8 N/m. ``asce7_kd`` law (rigid debris, undamped):
-the study's k_d (3.04e6 N/m, backed out of its ASCE rows) Froude-scaled the same way,
-4.86e9 N/m. ASCE 7-22 Table 6.11-2's container stiffness and masses could not be retrieved
-when this catalogue was written (``asce_kd_N_m`` is None and says so): docs/catalogue.md.
+The full-size containers carry no contact law and no k_d: no full-scale source for either was
+found (docs/fullscale-sources.md), and Froude similarity, which keeps gravity and inertia, does not
+scale elasticity, so the study's 1:40 polyethylene law (:data:`analytical.contact_law.CONTAINER_STIFFNESS_N_M`,
+:data:`~analytical.contact_law.CONTAINER_DAMPING_RATIO`) times 40^2 is no full-scale value. Those
+fields are None, their source "not found" (``lawless``); a scene with such a body states them
+(orchestrator/scene/validation.py). The study's 1:40 model container keeps its laboratory law.
+ASCE 7-22 Table 6.11-2's container stiffness and masses could not be retrieved either
+(``asce_kd_N_m`` is None and says so): docs/catalogue.md.
 
 References
 ----------
@@ -36,7 +36,6 @@ Joynt et al., the reference study (seed sections 3.1, 3.2.3; Table 2) and
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 from analytical.contact_law import CONTAINER_DAMPING_RATIO, CONTAINER_STIFFNESS_N_M, box_inertia
@@ -79,11 +78,11 @@ SOURCES = {
             "internal width); information only: the inertia model does not use it",
     "inertia": "this package's model (module docstring): tare as a uniform closed thin shell on the outer box, "
                "cargo as a uniform block filling ISO 668's minimum internal dimensions, centred",
-    "law": "the study's 1:40 container law, k = 7.59e4 N/m, zeta = 0.558, calibrated on its Table 2 "
-           "(analytical.contact_law, docs/contact-law.md), Froude-scaled by lambda = 40: k x lambda^2, "
-           "zeta unchanged",
-    "kd": "the study's k_d, 3.04e6 N/m, backed out of its Table 1 ASCE rows (analytical.asce7), "
-          "Froude-scaled by lambda^2 = 1600",
+    "lawless": "not found: no full-scale source gives a container's contact stiffness, damping or k_d "
+               "(docs/fullscale-sources.md), and Froude similarity does not scale elasticity, so the study's "
+               "1:40 polyethylene law x 40^2 is no full-scale value; a scene with this body states "
+               "contact.stiffness_N_m, contact.damping_ratio and design.debris_stiffness_N_m",
+    "kd": "the study's k_d, backed out of its Table 1 ASCE rows (analytical.asce7)",
     "asce_kd": "ASCE 7-22 Table 6.11-2 (container mass and debris stiffness): not retrievable here "
                "(docs/catalogue.md); give contact.stiffness_N_m from the printed standard",
     "seed": "the reference study, section 3.1: 1:40 20-ft container, 0.15 x 0.06 x 0.06 m, 5 mm "
@@ -117,9 +116,9 @@ class DebrisType:
     moment_of_inertia_kg_m2:
         Principal moments about the body axes through the centre (:func:`container_inertia`).
     contact_stiffness_N_m, contact_damping_ratio:
-        The ``container`` (damped-spring) law at this scale.
+        The ``container`` (damped-spring) law at this scale; None where no source gives it.
     kd_N_m:
-        The ``asce7_kd`` (rigid, undamped) law's stiffness at this scale.
+        The ``asce7_kd`` (rigid, undamped) law's stiffness at this scale; None where no source gives it.
     asce_kd_N_m:
         ASCE 7-22 Table 6.11-2's debris stiffness; None when it could not be sourced.
     scale:
@@ -135,9 +134,9 @@ class DebrisType:
     tare_kg: float
     inner_size_m: tuple[float, float, float] | None
     wall_thickness_m: float | None
-    contact_stiffness_N_m: float
-    contact_damping_ratio: float
-    kd_N_m: float
+    contact_stiffness_N_m: float | None
+    contact_damping_ratio: float | None
+    kd_N_m: float | None
     scale: float
     asce_kd_N_m: float | None = None
     sources: dict = field(default_factory=dict, compare=False)
@@ -153,10 +152,13 @@ class DebrisType:
         return next((f for f, names in FAMILIES.items() if self.name in names), None)
 
     def scene_fields(self) -> dict:
-        """The entry as a scene debris body's fields: size, mass, inertia and contact."""
-        return {"size_m": list(self.size_m), "mass_kg": self.mass_kg,
-                "moment_of_inertia_kg_m2": list(self.moment_of_inertia_kg_m2),
-                "contact": {"law": "container", "stiffness_N_m": self.contact_stiffness_N_m}}
+        """The entry as a scene debris body's fields: size, mass, inertia and, where it has one, contact."""
+        out = {"size_m": list(self.size_m), "mass_kg": self.mass_kg,
+               "moment_of_inertia_kg_m2": list(self.moment_of_inertia_kg_m2)}
+        if self.contact_stiffness_N_m is not None:
+            out["contact"] = {"law": "container", "stiffness_N_m": self.contact_stiffness_N_m,
+                              "damping_ratio": self.contact_damping_ratio}
+        return out
 
     def to_dict(self) -> dict:
         """Plain data: every value, the derived inertia and each field's source text."""
@@ -206,8 +208,6 @@ def container_inertia(entry: DebrisType, mass_kg: float) -> tuple[float, float, 
 
 
 # ------------------------------------------------------------------------------ the entries
-_K_LAW = CONTAINER_STIFFNESS_N_M * LAB_SCALE**2
-_K_D = SEED_DEBRIS_STIFFNESS_N_M * LAB_SCALE**2
 _ISO20 = (6.058, 2.438, 2.591)
 _ISO40 = (12.192, 2.438, 2.591)
 _INNER20 = (5.867, 2.330, 2.350)
@@ -218,11 +218,11 @@ _WALL = (2.438 - 2.330) / 2.0
 def _container(name, description, size, inner, mass, mass_key, tare, tare_key) -> DebrisType:
     return DebrisType(
         name=name, description=description, size_m=size, mass_kg=mass, tare_kg=tare, inner_size_m=inner,
-        wall_thickness_m=_WALL, contact_stiffness_N_m=_K_LAW, contact_damping_ratio=CONTAINER_DAMPING_RATIO,
-        kd_N_m=_K_D, scale=LAB_SCALE, asce_kd_N_m=None,
+        wall_thickness_m=_WALL, contact_stiffness_N_m=None, contact_damping_ratio=None,
+        kd_N_m=None, scale=LAB_SCALE, asce_kd_N_m=None,
         sources={"size_m": "iso668", "inner_size_m": "iso668", "mass_kg": mass_key, "tare_kg": tare_key,
                  "wall_thickness_m": "wall", "moment_of_inertia_kg_m2": "inertia",
-                 "contact_stiffness_N_m": "law", "contact_damping_ratio": "law", "kd_N_m": "kd",
+                 "contact_stiffness_N_m": "lawless", "contact_damping_ratio": "lawless", "kd_N_m": "lawless",
                  "asce_kd_N_m": "asce_kd"})
 
 
@@ -272,13 +272,17 @@ def mass_range_kg(family_or_name: str) -> tuple[float, float]:
 
 
 def _check() -> None:
-    """Every entry's numeric fields carry a source (import-time guard; tests call it too)."""
+    """Every entry's numeric fields carry a source, a missing one says "not found", and no full-size
+    entry carries the laboratory law (import-time guard; tests call it too)."""
     for e in _ENTRIES:
-        for name in ("size_m", "mass_kg", "moment_of_inertia_kg_m2", "contact_stiffness_N_m", "kd_N_m"):
+        for name in ("size_m", "mass_kg", "moment_of_inertia_kg_m2", "contact_stiffness_N_m",
+                     "contact_damping_ratio", "kd_N_m"):
             if e.sources.get(name) not in SOURCES:
                 raise AssertionError(f"{e.name}.{name} has no source")
-        if not math.isclose(e.contact_stiffness_N_m / CONTAINER_STIFFNESS_N_M, e.scale**2, rel_tol=1e-12):
-            raise AssertionError(f"{e.name}: contact stiffness is not the lab law x scale^2")
+            if getattr(e, name) is None and not SOURCES[e.sources[name]].startswith("not found"):
+                raise AssertionError(f"{e.name}.{name} is missing without saying so")
+        if e.scale > 1.0 and (e.contact_stiffness_N_m, e.contact_damping_ratio, e.kd_N_m) != (None, None, None):
+            raise AssertionError(f"{e.name}: a full-size entry with a contact law needs a full-scale source")
 
 
 _check()

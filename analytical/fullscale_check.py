@@ -13,11 +13,15 @@ the calibration issue 48 asks for. It needs two complete records; the sources fo
 (:mod:`analytical.fullscale_sources`), so :func:`calibration_possible` is False and
 :func:`held_out_check` refuses, saying why.
 
-:func:`froude_scaled_design_law` is the law ``debrisfoam design`` gives a catalogued full-scale
-container today (the study's 1:40 law with k x 40^2, :mod:`analytical.catalogue`);
-:func:`lehigh_series_bound` sets it beside the only full-scale force figures found: the speeds of
-Lehigh's elastic series and the largest force quoted for the programme. That is a bound, not a
-test record (the force is tied to no speed).
+:func:`agreeing_test` says whether a law is within the tolerance of a complete record: the
+condition under which a design page may print a probability of exceeding the code's value.
+
+:func:`froude_scaled_design_law` is the stand-in the example scenes state (cases/design-street.yaml:
+the study's 1:40 law, :data:`analytical.contact_law.CONTAINER_STIFFNESS_N_M` x 40^2 and
+:data:`~analytical.contact_law.CONTAINER_DAMPING_RATIO`; the catalogue's full-size containers carry
+no law); :func:`lehigh_series_bound` sets a law beside the only full-scale force figures found: the
+speeds of Lehigh's elastic series and the largest force quoted for the programme. That is a bound,
+not a test record (the force is tied to no speed).
 
 Units: N, m, s, kg.
 """
@@ -30,8 +34,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.optimize import least_squares
 
-from analytical.catalogue import debris_type
-from analytical.contact_law import ContactLaw, contact_law
+from analytical.catalogue import LAB_SCALE
+from analytical.contact_law import CONTAINER_DAMPING_RATIO, CONTAINER_STIFFNESS_N_M, ContactLaw, contact_law
 from analytical.errors import InputError, require_finite, require_positive
 from analytical.fullscale_sources import FULL_SCALE_TESTS, FullScaleTest, record
 from analytical.impact import impact
@@ -41,6 +45,7 @@ from analytical.impact_results import ImpactResult
 __all__ = [
     "DEFAULT_TOLERANCE",
     "Comparison",
+    "agreeing_test",
     "calibration_possible",
     "compare",
     "fit_law",
@@ -54,17 +59,17 @@ DEFAULT_TOLERANCE = 0.30
 """A law agrees with a test when its peak force is within 30 % of the measured one (issue 48)."""
 
 
-def froude_scaled_design_law(entry: str = "container-20ft-empty") -> ContactLaw:
-    """The contact law ``debrisfoam design`` gives catalogued debris ``entry`` today.
+def froude_scaled_design_law(scale: float = LAB_SCALE) -> ContactLaw:
+    """The study's 1:40 container law Froude-scaled: ``k x scale^2``, the damping ratio unchanged.
 
-    The scene loader (orchestrator/scene/catalogued.py) puts the entry's ``contact_stiffness_N_m``
-    into the body's ``contact.stiffness_N_m`` under the ``container`` law, whose damping ratio is
-    the 1:40 law's: the study's k = 7.59e4 N/m x 40^2 = 1.214e8 N/m, zeta = 0.558
-    (:mod:`analytical.catalogue`). Every full-scale container entry has the same law.
+    No full-scale source gives a container's law (docs/fullscale-sources.md) and Froude similarity
+    does not scale elasticity, so this is an assumed stand-in, not a full-scale value: what
+    cases/design-street.yaml states for its container, with a comment saying so.
     """
-    e = debris_type(entry)
-    law = contact_law("container", stiffness_N_m=e.contact_stiffness_N_m, damping_ratio=e.contact_damping_ratio)
-    return replace(law, name=f"container law x {e.scale:g}^2 ({entry}, design today)")
+    scale = require_positive("scale", scale)
+    law = contact_law("container", stiffness_N_m=CONTAINER_STIFFNESS_N_M * scale**2,
+                      damping_ratio=CONTAINER_DAMPING_RATIO)
+    return replace(law, name=f"the study's 1:40 law x {scale:g}^2 (a stand-in)")
 
 
 def law_strike(law: ContactLaw, velocity_m_s: float, mass_kg: float,
@@ -135,6 +140,17 @@ def compare(law: ContactLaw, test: FullScaleTest, added_mass_coefficient: float 
 def calibration_possible(tests=FULL_SCALE_TESTS, needed: int = 2) -> bool:
     """Whether ``tests`` hold ``needed`` complete records: one to fit, one to hold out."""
     return sum(1 for t in tests if t.complete) >= needed
+
+
+def agreeing_test(law: ContactLaw, tests=FULL_SCALE_TESTS, tolerance: float = DEFAULT_TOLERANCE) -> Comparison | None:
+    """The first complete record of ``tests`` whose peak force ``law`` gives within ``tolerance`` at
+    its speed and mass, or None (always None while no record is complete: :func:`calibration_possible`)."""
+    for t in tests:
+        if t.complete:
+            c = compare(law, t)
+            if c.within(tolerance):
+                return c
+    return None
 
 
 def fit_law(test: FullScaleTest, damped: bool = False, name: str | None = None,

@@ -1,7 +1,8 @@
 """The debris and column catalogue: closed forms, sources, and scenes that name its entries.
 
 Debris: every value has a source; the shell-plus-cargo inertia against the thin cubic shell's
-5 m a^2 / 18 and the uniform block's; the contact laws are the study's Froude-scaled by 40^2.
+5 m a^2 / 18 and the uniform block's; the full-size entries carry no contact law or k_d (none
+found; Froude similarity does not scale elasticity), the 1:40 model its laboratory law.
 Columns: section properties against their closed forms (a W-shape against its plates by the
 parallel-axis theorem), the MDOF model's f1 against the Euler-Bernoulli cantilever's
 3.516 / (2 pi L^2) sqrt(E I / rho A) for a slender column, and its tip stiffness against
@@ -33,6 +34,7 @@ from analytical.errors import InputError
 from analytical.sections import MATERIALS, column_section, section_properties
 from orchestrator.cli import main
 from orchestrator.report.catalogue_page import markdown
+from orchestrator.scene.catalogued import debris_from_catalogue
 from orchestrator.scene.scenefile import dump_scene_yaml, load_scene
 from orchestrator.scene.schema import column_for_analysis
 from tests.conftest import ROOT
@@ -42,7 +44,8 @@ SCENE = {
     "flume": {"length_m": 200.0, "width_m": 30.0, "height_m": 10.0, "downstream_end": "open"},
     "reservoir": {"length_m": 100.0, "depth_m": 8.0},
     "column": {"x_m": 40.0, "height_m": 8.0, "section": {"kind": "rc-square", "size_m": [0.6]}},
-    "debris": [{"type": "container-20ft-empty", "centre_m": [20.0, 0.0]}],
+    "debris": [{"type": "container-20ft-empty", "centre_m": [20.0, 0.0],
+                "contact": {"stiffness_N_m": 1.0e8, "damping_ratio": 0.5}}],
     "mesh": {"cell_size_m": 0.25},
     "run": {"end_time_s": 20.0},
 }
@@ -71,8 +74,11 @@ def test_every_entry_has_its_sources_and_the_families_span_empty_to_loaded():
         assert name in names
     for name in names:
         e = debris_type(name)
-        for field in ("size_m", "mass_kg", "moment_of_inertia_kg_m2", "contact_stiffness_N_m", "kd_N_m"):
+        for field in ("size_m", "mass_kg", "moment_of_inertia_kg_m2", "contact_stiffness_N_m",
+                      "contact_damping_ratio", "kd_N_m"):
             assert e.sources[field] in SOURCES, (name, field)
+            if getattr(e, field) is None:
+                assert SOURCES[e.sources[field]].startswith("not found"), (name, field)
         assert all(v for v in e.to_dict()["sources"].values())
         assert e.asce_kd_N_m is None and "not retrievable" in SOURCES[e.sources["asce_kd_N_m"]]
     assert mass_range_kg("container-20ft") == (2300.0, 30480.0)
@@ -109,17 +115,20 @@ def test_a_loaded_container_is_its_shell_plus_a_uniform_cargo_block():
     assert container_inertia(e, 1150.0) == pytest.approx(tuple(v / 2 for v in shell), rel=1e-12)
 
 
-def test_the_prototype_laws_are_the_study_laws_froude_scaled():
-    for name in ("container-20ft-empty", "container-40ft-loaded"):
+def test_full_size_entries_carry_no_contact_law_and_the_model_keeps_its_laboratory_law():
+    """No full-scale source gives a container's contact law or k_d (docs/fullscale-sources.md): the
+    full-size entries say "not found" and no Froude-scaled stand-in; the 1:40 model keeps its law."""
+    for name in ("container-20ft-empty", "container-20ft-loaded", "container-40ft-empty", "container-40ft-loaded"):
         e = debris_type(name)
-        assert e.contact_stiffness_N_m == pytest.approx(CONTAINER_STIFFNESS_N_M * 40**2, rel=1e-12)
-        assert e.contact_damping_ratio == CONTAINER_DAMPING_RATIO
-        assert e.kd_N_m == pytest.approx(SEED_DEBRIS_STIFFNESS_N_M * 1600, rel=1e-12)
+        assert (e.contact_stiffness_N_m, e.contact_damping_ratio, e.kd_N_m) == (None, None, None)
+        assert "contact" not in e.scene_fields()
+        for field in ("contact_stiffness_N_m", "contact_damping_ratio", "kd_N_m"):
+            text = e.to_dict()["sources"][field]
+            assert text.startswith("not found") and "Froude similarity does not scale elasticity" in text
     model = debris_type("container-20ft-study-1to40")
     assert model.contact_stiffness_N_m == CONTAINER_STIFFNESS_N_M and model.mass_kg == 0.236
-    # Froude: a spring-mass period scales with sqrt(lambda) when the mass scales with lambda^3
-    ratio = math.sqrt((0.236 * 40**3 / (CONTAINER_STIFFNESS_N_M * 1600)) / (0.236 / CONTAINER_STIFFNESS_N_M))
-    assert ratio == pytest.approx(math.sqrt(40), rel=1e-12)
+    assert model.contact_damping_ratio == CONTAINER_DAMPING_RATIO and model.kd_N_m == SEED_DEBRIS_STIFFNESS_N_M
+    assert model.scene_fields()["contact"]["stiffness_N_m"] == CONTAINER_STIFFNESS_N_M
 
 
 # ------------------------------------------------------------------------------ columns
@@ -186,7 +195,8 @@ def test_a_scene_names_catalogue_entries_and_reloads_to_itself(tmp_path):
     body, entry = scene.debris[0], debris_type("container-20ft-empty")
     assert body.size_m == entry.size_m and body.mass_kg == entry.mass_kg
     assert body.moment_of_inertia_kg_m2 == pytest.approx(entry.moment_of_inertia_kg_m2)
-    assert body.contact.law == "container" and body.contact.stiffness_N_m == entry.contact_stiffness_N_m
+    assert body.contact.law == "container" and entry.contact_stiffness_N_m is None
+    assert (body.contact.stiffness_N_m, body.contact.damping_ratio) == (1.0e8, 0.5)  # the scene's own
     col = column_for_analysis(scene)
     assert (col.size_x_m, col.stiffness_factor, col.damping_ratio) == (0.6, 0.7, 0.05)
     assert col.natural_frequency_Hz == pytest.approx(modes(col)[0], rel=1e-12)
@@ -196,16 +206,20 @@ def test_a_scene_names_catalogue_entries_and_reloads_to_itself(tmp_path):
 
 
 def test_fields_beside_a_type_override_it(tmp_path):
-    path = _scene_file(tmp_path, debris__0__mass_kg=15000.0, debris__0__contact={"law": "asce7_kd"},
+    path = _scene_file(tmp_path, debris__0__mass_kg=15000.0, debris__0__contact={"law": "asce7_kd",
+                                                                                  "stiffness_N_m": 4e9},
                        column__damping_ratio=0.03)
     scene = load_scene(path)
     body, entry = scene.debris[0], debris_type("container-20ft-empty")
     assert body.mass_kg == 15000.0
     assert body.moment_of_inertia_kg_m2 == pytest.approx(container_inertia(entry, 15000.0))
-    assert body.contact.stiffness_N_m == entry.kd_N_m
+    assert body.contact.stiffness_N_m == 4e9
     assert scene.column.damping_ratio == 0.03
-    own = load_scene(_scene_file(tmp_path, debris__0__contact={"stiffness_N_m": 1e7}))
+    own = load_scene(_scene_file(tmp_path, debris__0__contact={"stiffness_N_m": 1e7, "restitution": 0.4}))
     assert own.debris[0].contact.stiffness_N_m == 1e7
+    model = debris_from_catalogue({"type": "container-20ft-study-1to40"})
+    assert model["contact"]["stiffness_N_m"] == CONTAINER_STIFFNESS_N_M  # the 1:40 model's law filled in
+    assert "stiffness_N_m" not in debris_from_catalogue({"type": "container-20ft-empty"})["contact"]
 
 
 @pytest.mark.parametrize(("changes", "field"), [
@@ -217,6 +231,9 @@ def test_fields_beside_a_type_override_it(tmp_path):
     ({"column__base": "calibrated"}, "column.natural_frequency_Hz"),
     ({"column__base": "spring"}, "column.base_spring_Nm_rad"),
     ({"debris__0__type": None}, "debris.0.size_m"),
+    ({"debris__0__contact": None}, "debris.0.contact.stiffness_N_m"),
+    ({"debris__0__contact": {"stiffness_N_m": 1.0e8}}, "debris.0.contact.damping_ratio"),
+    ({"debris__0__contact": {"law": "asce7_kd"}}, "debris.0.contact.stiffness_N_m"),
 ])
 def test_bad_catalogue_names_and_missing_properties_exit_2_naming_file_and_field(tmp_path, capsys, changes, field):
     path = _scene_file(tmp_path, **changes)

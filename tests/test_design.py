@@ -250,7 +250,9 @@ def test_the_page_sets_asce_beside_the_curves(tmp_path):
     assert "not a probabilistic tsunami hazard analysis" in page and "![exceedance](exceedance.png)" in page
     # each ASCE input says where it comes from: an untyped body, the study's k_d and its own mass
     assert "- k_d: the study's 1:40 container's k_d, 3.04e+06 N/m" in page and "- m_d: the heaviest body's own mass" in page
-    assert "Table 6.8-1 for the scene's design.risk_category (III)" in page
+    assert "Table 6.8-1 (analytical/asce7.py) for design.risk_category III (the scene, the scene author's" in page
+    # at laboratory scale the law is the study's, and P(exceed) is printed
+    assert "- law: body debris1: container law" in page and "P(exceed k_s value)" in page
     assert "mass each body's own" in page  # one mass throughout: nothing was drawn
     # masses that were drawn (a catalogued body without design.mass_kg) are said with their range
     table.loc[table.index[::2], "mass_kg"] = 2300.0
@@ -412,7 +414,9 @@ def test_the_shipped_street_scene_plans_every_case_near_the_lab_scenes_cells_and
                            for r in range(200)])
         assert masses.min() >= empty and masses.max() <= loaded
         assert masses.max() - masses.min() > 0.8 * (loaded - empty)  # drawn across the range, not at one mass
-    # the page's ASCE inputs: the catalogue's k_d (the study's Froude-scaled) and the loaded 20-ft mass
+    # the page's ASCE inputs: the scene's own k_d and contact law (no full-scale source) and the loaded 20-ft mass
     sources = input_sources(cases[0].scene, spec, [catalogue.debris_type("container-20ft-empty")])
-    assert "Froude-scaled by 40^2" in sources["k_d"] and "container-20ft" in sources["m_d"]
+    assert sources["k_d"] == "the scene's design.debris_stiffness_N_m (the scene author's statement)"
+    assert "container-20ft" in sources["m_d"] and catalogue.SOURCES["gross20"] in sources["m_d"]
+    assert "contact.stiffness_N_m, contact.damping_ratio (the scene author's statement; no full-scale" in sources["law"]
     assert "rc-square 1 m" in sources["k_s"]

@@ -10,7 +10,6 @@ from __future__ import annotations
 import math
 
 from analytical.catalogue import LAB_SCALE, SOURCES, debris_type, list_debris
-from analytical.study import SEED_DEBRIS_MASS_KG, SEED_IMPACT_VELOCITY_M_S, SEED_TABLE2_MDOF
 from analytical.sections import KINDS, MATERIALS, RC_CRACKED_FACTOR, column_section
 
 __all__ = ["catalogue_data", "markdown"]
@@ -32,13 +31,19 @@ def _g(x: float, digits: int = 4) -> str:
     return f"{x:.{digits}g}"
 
 
+def _law(e) -> str:
+    if e.contact_stiffness_N_m is None:
+        return "not found"
+    return f"{_g(e.contact_stiffness_N_m)}, {e.contact_damping_ratio:g}"
+
+
 def markdown() -> str:
     """The catalogue page."""
     out = ["# Debris and column catalogue", "",
            "Generated from `analytical/catalogue.py` and `analytical/sections.py` by `make catalogue-doc`",
            "(`debrisfoam catalogue --markdown`); never edited by hand. `debrisfoam catalogue` lists it.", "",
-           "A scene names an entry: a debris body `type: container-20ft-empty` (its size, mass, inertia and",
-           "contact stiffness are filled in; fields written beside it override them), a column",
+           "A scene names an entry: a debris body `type: container-20ft-empty` (its size, mass and inertia",
+           "are filled in; fields written beside it override them), a column",
            "`section: {kind: rc-square, size_m: [0.6]}` (docs/scene.md). An unknown name or a missing",
            "property is exit 2 naming the file and the field.", "",
            "## Debris", "",
@@ -49,7 +54,7 @@ def markdown() -> str:
         e = debris_type(name)
         inertia = ", ".join(_g(v, 3) for v in e.moment_of_inertia_kg_m2)
         out.append(f"| `{name}` | {' x '.join(f'{s:g}' for s in e.size_m)} | {e.mass_kg:g} | {e.tare_kg:g} | "
-                   f"{inertia} | {_g(e.contact_stiffness_N_m)}, {e.contact_damping_ratio:g} | {_g(e.kd_N_m)} | "
+                   f"{inertia} | {_law(e)} | {'not found' if e.kd_N_m is None else _g(e.kd_N_m)} | "
                    f"{'not found' if e.asce_kd_N_m is None else _g(e.asce_kd_N_m)} |")
     out += ["", "`debrisfoam design` samples a container's mass between its empty and loaded entries",
             "(`analytical.catalogue.mass_range_kg('container-20ft')`).", "", "### Sources", ""]
@@ -57,34 +62,17 @@ def markdown() -> str:
     for key in used:
         fields = sorted({f for n in list_debris() for f, k in debris_type(n).sources.items() if k == key})
         out.append(f"- **{key}** ({', '.join(fields)}): {SOURCES[key]}.")
-    lab = SEED_TABLE2_MDOF
-    lam = LAB_SCALE
     out += ["", "### Inertia", "",
             "A container is a closed thin shell carrying its tare, spread uniformly over the six faces of its",
             "outer box, plus its cargo (mass less tare) as a uniform block filling ISO 668's minimum internal",
             "dimensions, centred. No published container inertia was found; this is the package's model,",
             "and a mass given in a scene gets the same model at that mass.", "",
             "### Contact at full scale", "",
-            "The `container` law is the study's 1:40 damped spring (docs/contact-law.md) Froude-scaled. Under",
-            "Froude similarity at length scale lambda (g unchanged) forces scale with lambda^3, lengths with",
-            "lambda and times with sqrt(lambda): a spring k = F / x scales with lambda^2, a damping ratio is",
-            f"dimensionless and unchanged. With lambda = {lam:g}, the study's mean strike (Table 2: "
-            f"{lab['peak_force_N'][0]:g} N over {lab['duration_s'][0] * 1e3:g} ms",
-            f"at {SEED_IMPACT_VELOCITY_M_S[0]:g} m/s by a {SEED_DEBRIS_MASS_KG:g} kg container) becomes "
-            f"{lab['peak_force_N'][0] * lam**3 / 1e6:.3g} MN over {lab['duration_s'][0] * math.sqrt(lam) * 1e3:.3g} ms "
-            f"at {SEED_IMPACT_VELOCITY_M_S[0] * math.sqrt(lam):.3g} m/s",
-            f"by a {SEED_DEBRIS_MASS_KG * lam**3:,.0f} kg container: between the empty and loaded 20-ft entries. "
-            "The law was calibrated",
-            "on the 20-ft model only; the 40-ft entries take the same spring (the same end frame strikes).", "",
-            "Full-scale measurements could not be checked here. Piran Aghl, Naito & Riggs (2014, 2015) were not",
-            "found; Riggs et al. (2014), J. Offshore Mech. Arct. Eng. 136(4) 041603, was reachable only as its",
-            "abstract (full-scale in-air impact tests at Lehigh University with a wooden utility pole and a",
-            "shipping container, 1:5 in-water tests at Oregon State University), without forces or durations;",
-            "ASCE 7-22 Table 6.11-2",
-            "(container masses and debris stiffness) and FEMA P-646 (2019)'s debris table only as their opening",
-            "pages. So the scaled law stands on the study's 22 impacts and Froude similarity alone, the `asce7_kd`",
-            "column is the study's k_d scaled the same way, and the ASCE 7-22 k_d column is left empty: take k_d",
-            "from the printed standard (`contact.stiffness_N_m` with `law: asce7_kd`) for a code comparison.",
+            "The full-size entries have no contact law and no k_d (`not found`): no full-scale source gives them",
+            "(docs/fullscale-sources.md), and Froude similarity does not scale elasticity, so the study's 1:40",
+            f"polyethylene law times {LAB_SCALE:g}^2 is no full-scale value. A scene with such a body states",
+            "`contact.stiffness_N_m`, `contact.damping_ratio` (or `restitution`) and `design.debris_stiffness_N_m`,",
+            "else exit 2 naming the field. The ASCE 7-22 k_d column (Table 6.11-2) is empty: not retrievable here.",
             "Logs, poles and vehicles are not catalogued: no source for their size, mass and stiffness was",
             "retrievable."]
     out += ["", "## Columns", "",

@@ -1,12 +1,13 @@
 """Catalogue entries in a scene: a debris body's ``type`` and a column's ``section`` filled in.
 
 A debris body may say ``type: container-20ft-empty`` (:mod:`analytical.catalogue`): its size,
-mass, rotational inertia and contact stiffness come from the catalogue, and any of them written
-in the scene overrides the catalogue's. A mass written in the scene keeps the catalogue's inertia
-model (shell plus cargo) at that mass; a size written in the scene drops it (the body's inertia is
-then that of its walls, or of a solid box). The contact's stiffness is the catalogue's for the
-body's law (``container``: the Froude-scaled damped spring; ``asce7_kd``: the scaled k_d) unless
-the scene gives one.
+mass and rotational inertia come from the catalogue, and any of them written in the scene
+overrides the catalogue's. A mass written in the scene keeps the catalogue's inertia model (shell
+plus cargo) at that mass; a size written in the scene drops it (the body's inertia is then that of
+its walls, or of a solid box). The contact's stiffness is the catalogue's for the body's law
+(``container``: the damped spring; ``asce7_kd``: k_d) where the entry has one (the study's 1:40
+model) and the scene gives none; a full-size entry has none (no full-scale source), so the scene
+states it (:mod:`orchestrator.scene.validation`).
 
 A column may say ``section: {kind: rc-square, size_m: [0.6], ...}`` (:mod:`analytical.sections`):
 its footprint, box wall, area, second moment, effective-stiffness factor, shear coefficient and
@@ -118,9 +119,10 @@ def debris_from_catalogue(data: Any) -> Any:
     contact = out.get("contact")
     if contact is None or isinstance(contact, dict):
         contact = dict(contact or {})
-        if contact.get("stiffness_N_m") is None:
-            law = contact.get("law", "container")
-            contact["stiffness_N_m"] = entry.kd_N_m if law == "asce7_kd" else entry.contact_stiffness_N_m
+        law = contact.get("law", "container")
+        catalogued = entry.kd_N_m if law == "asce7_kd" else entry.contact_stiffness_N_m
+        if contact.get("stiffness_N_m") is None and catalogued is not None:
+            contact["stiffness_N_m"] = catalogued
         out["contact"] = contact
     return out
 

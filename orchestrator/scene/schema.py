@@ -168,16 +168,18 @@ class DebrisContact(SceneSection):
     spring of the container's own compliance, far softer than a rigid box, that loses energy. ``law: asce7_kd`` is the rigid debris stiffness k_d backed out
     of the study's ASCE 7-22 rows (3.0e6 N/m), undamped: ASCE 7-22's own assumption, an upper
     bound. ``stiffness_N_m``, ``damping_ratio`` or ``restitution`` override the law's values;
-    give at most one of the last two.
+    give at most one of the last two. Full-scale debris states them (no full-scale source).
     """
 
     law: Literal["container", "asce7_kd"] = Field(
         "container", description="container: a damped spring calibrated on the study's 22 impacts (Table 2); "
         "asce7_kd: rigid debris "
         "stiffness k_d, undamped (docs/contact-law.md)")
-    stiffness_N_m: float | None = Field(None, gt=0, description="contact stiffness k (N/m); null = the law's")
+    stiffness_N_m: float | None = Field(None, gt=0, description="contact stiffness k (N/m); null = the law's "
+                                        "(the study's 1:40); full-scale debris must state it")
     damping_ratio: float | None = Field(
-        None, ge=0, lt=1, description="contact dashpot as a fraction of 2 sqrt(k m_eff) (-); null = the law's")
+        None, ge=0, lt=1, description="contact dashpot as a fraction of 2 sqrt(k m_eff) (-); null = the law's; "
+        "full-scale debris must state it (or restitution)")
     restitution: float | None = Field(
         None, gt=0, le=1, description="coefficient of restitution against a rigid wall (-), turned into the "
         "damping ratio that gives it; null = from damping_ratio or the law")
@@ -208,12 +210,13 @@ class DebrisTemplate(SceneSection):
     ``moment_of_inertia_kg_m2`` given (principal, body axes), or neither: a solid box.
 
     ``type`` names a catalogued debris (analytical.catalogue, docs/catalogue.md): its size, mass,
-    inertia and contact stiffness are filled in, and fields written beside it override them.
+    inertia (and the 1:40 model's contact stiffness) are filled in, and fields written beside it
+    override them. Full-scale debris states its contact law (docs/fullscale-sources.md).
     """
 
     type: str | None = Field(None, description="a catalogued debris type (`debrisfoam catalogue`: "
-                             + ", ".join(list_debris()) + "); its size, mass, inertia and contact stiffness "
-                             "fill the fields not given; null = every field as given")
+                             + ", ".join(list_debris()) + "); its size, mass and inertia fill the fields not "
+                             "given; null = every field as given")
     size_m: tuple[Pos, Pos, Pos] = Field(description="[length, width, height] (m); from `type` when not given")
     mass_kg: float = Field(gt=0, description="mass (kg); from `type` when not given")
     wall_thickness_m: float | None = Field(None, gt=0, description="null = solid or inertia given")
@@ -489,9 +492,8 @@ class Design(SceneSection):
     orientation_coefficient: float = Field(
         0.65, gt=0, le=1, description="ASCE 7-22 6.11's orientation coefficient C_o (0.65: containers, logs, poles)")
     debris_stiffness_N_m: float | None = Field(
-        None, gt=0, description="ASCE 7-22 6.11's debris stiffness k_d (N/m), 1e5 to 1e11; null: a catalogued "
-        "body's (docs/catalogue.md), else at laboratory scale the study's 1:40 container, 3.04e6 N/m "
-        "(analytical/asce7.py); required at full scale")
+        None, gt=0, description="ASCE 7-22 6.11's debris stiffness k_d (N/m), 1e5 to 1e11; null: at laboratory "
+        "scale the study's 1:40 container's (analytical/asce7.py); required at full scale")
     prototype: bool = Field(
         False, description="full-scale inputs even when light: ASCE 7-22's simplified static load 1,470 C_o I_tsu kN "
         "bounds F_i; a scene with a body of 100 kg or more, or a catalogued full-size one, is full scale without it")

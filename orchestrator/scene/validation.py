@@ -26,6 +26,7 @@ __all__ = [
     "MIN_CELLS_ACROSS_DEBRIS",
     "MIN_CELLS_OVER_DEPTH",
     "body_density_kg_m3",
+    "full_scale_body",
     "plausibility_warnings",
     "validate_scene",
 ]
@@ -216,6 +217,7 @@ def _check_bodies(scene: Scene, origins: Sequence[dict], source: str | None) -> 
         names[body.name] = i
         _check_body_shape(body, path, origins[i]["layout"], source)
         _check_body_density(body, path, origins[i]["layout"], source)
+        _check_full_scale_contact(scene, body, path, origins[i]["layout"], source)
         rot = body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg)
         _check_body_inside(scene, body, rot, f"{path}.centre_m", source)
         for j, (other, orot) in enumerate(placed):
@@ -276,6 +278,43 @@ def _check_body_density(body: DebrisBody, path: str, from_layout: bool, source: 
             f"bulk density of {rho:.4g} kg/m3, {why}",
             source,
         )
+
+
+def full_scale_body(scene: Scene, body: DebrisBody) -> str | None:
+    """Why ``body`` is full-scale debris, or None: a full-size catalogue entry, ``design.prototype``,
+    or a mass (its own, or ``design.mass_kg``'s upper end) of
+    :data:`analytical.asce7.FULL_SCALE_MIN_MASS_KG` or more."""
+    from analytical.asce7 import FULL_SCALE_MIN_MASS_KG
+    from analytical.catalogue import debris_type
+
+    if body.type is not None and debris_type(body.type).scale > 1.0:
+        return f"the catalogue's full-size {body.type}"
+    if scene.design.prototype:
+        return "design.prototype is set"
+    heaviest = max(body.mass_kg, scene.design.mass_kg[1] if scene.design.mass_kg else 0.0)
+    if heaviest >= FULL_SCALE_MIN_MASS_KG:
+        return f"up to {heaviest:,.0f} kg, full scale from {FULL_SCALE_MIN_MASS_KG:g} kg"
+    return None
+
+
+def _check_full_scale_contact(scene: Scene, body: DebrisBody, path: str, from_layout: bool,
+                              source: str | None) -> None:
+    """A full-scale body states its contact law: no full-scale source gives one
+    (docs/fullscale-sources.md) and the laboratory law's defaults are not full-scale values
+    (Froude similarity does not scale elasticity). Its ``contact.stiffness_N_m``, and under the
+    damped ``container`` law its ``damping_ratio`` or ``restitution``."""
+    reason = full_scale_body(scene, body)
+    if reason is None:
+        return
+    c = body.contact
+    where = f"{path}.body.contact" if from_layout else f"{path}.contact"
+    why = (f"body {body.name!r} is full-scale debris ({reason}) and no full-scale source gives a contact law "
+           "(docs/fullscale-sources.md); the laboratory law's is no full-scale value: state")
+    if c.stiffness_N_m is None:
+        raise InputError(f"{where}.stiffness_N_m", f"{why} the contact stiffness (N/m) and its source", source)
+    if c.law == "container" and c.damping_ratio is None and c.restitution is None:
+        raise InputError(f"{where}.damping_ratio", f"{why} the contact's damping ratio (or restitution) and its "
+                         "source", source)
 
 
 #: Without ``design.heading_deg`` a body turns about its own yaw by the ensemble's placement

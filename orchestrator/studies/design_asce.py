@@ -7,16 +7,19 @@ the same scene and speed give the same F_i whichever verb is asked:
 
 * ``m_d``: the heaviest mass the design section draws for the bodies (``design.mass_kg``'s upper
   end; else a catalogued container family's loaded mass; else the body's own mass);
-* ``k_d``: ``design.debris_stiffness_N_m``; else a catalogued body's (docs/catalogue.md); else, at
-  laboratory scale only, the study's 1:40 container (:data:`analytical.asce7.SEED_DEBRIS_STIFFNESS_N_M`);
+* ``k_d``: ``design.debris_stiffness_N_m``; else, at laboratory scale only, the study's 1:40
+  container's (:data:`analytical.asce7.SEED_DEBRIS_STIFFNESS_N_M`);
 * ``k_s``: the member's stiffness along the flow where the debris strikes (:func:`struck_stiffness`:
   its MDOF model with its ``column.ends``, at :func:`strike_point`, turned by ``column.heading_deg``);
 * ``I_tsu`` from ``design.risk_category`` (Table 6.8-1), ``C_o`` from ``design.orientation_coefficient``;
 * full scale (:func:`full_scale`): the simplified static load bounds F_i.
 
-A full-scale scene never falls back to a laboratory value: with no k_d of its own (an uncatalogued
-body and no ``design.debris_stiffness_N_m``) or no stiffness of its own for its column (no
-``column.section`` and no ``column.stiffness_N_m``), it is an InputError naming that field.
+A full-scale scene never falls back to a laboratory value: with no ``design.debris_stiffness_N_m``
+(no full-scale k_d was found, docs/fullscale-sources.md) or no stiffness of its own for its column
+(no ``column.section`` and no ``column.stiffness_N_m``), it is an InputError naming that field; its
+bodies' contact laws are the scene's own (:func:`orchestrator.scene.validation.full_scale_body`).
+``sources`` says where each input, and each body's contact law (``law``), comes from: a scene field
+(the scene author's statement) or a cited source.
 """
 
 from __future__ import annotations
@@ -30,6 +33,7 @@ from analytical import catalogue
 import dataclasses
 import math
 
+from analytical.contact_law import contact_law
 from analytical.asce7 import (
     FULL_SCALE_MIN_MASS_KG,
     SEED_DEBRIS_STIFFNESS_N_M,
@@ -170,27 +174,27 @@ def scene_asce_inputs(scene: Scene, bodies=None, source: str | None = None, spec
     prototype, reason = full_scale(scene, bodies, spec)
     mass = max(mass_range(b, spec, types.get(b.name))[1] for b in chosen)
     typed = [catalogue.debris_type(types[b.name]) for b in chosen if types.get(b.name) is not None]
+    stated = "the scene author's statement"
     if spec.mass_kg is not None:
-        m_src = "the upper end of the scene's design.mass_kg"
+        m_src = f"the upper end of the scene's design.mass_kg ({stated})"
     elif any(t.family is not None for t in typed):
-        m_src = "the loaded mass of the debris catalogue's " + ", ".join(sorted({t.family for t in typed if t.family}))
+        loaded = [catalogue.debris_type(catalogue.FAMILIES[f][1]) for f in sorted({t.family for t in typed if t.family})]
+        m_src = "; ".join(f"the loaded mass of the debris catalogue's {e.family}, {e.mass_kg:,.0f} kg (docs/catalogue.md: "
+                          f"{catalogue.SOURCES[e.sources['mass_kg']]})" for e in loaded)
     else:
-        m_src = "the heaviest body's own mass"
+        heavy = max(chosen, key=lambda b: b.mass_kg)
+        m_src = f"the heaviest body's own mass, the scene's debris {heavy.name} ({stated}, or its catalogue type's)"
     untyped = [b.name for b in chosen if types.get(b.name) is None]
     if spec.debris_stiffness_N_m is not None:
-        k_d, kd_src = float(spec.debris_stiffness_N_m), "the scene's design.debris_stiffness_N_m"
+        k_d, kd_src = float(spec.debris_stiffness_N_m), f"the scene's design.debris_stiffness_N_m ({stated})"
+    elif prototype:
+        raise InputError("design.debris_stiffness_N_m", f"the scene is at full scale ({reason}): give the debris' "
+                         "stiffness k_d (N/m) and its source: no full-scale k_d was found (ASCE 7-22 Table 6.11-2 is not "
+                         f"in the tool, docs/fullscale-sources.md), and the laboratory's, {SEED_DEBRIS_STIFFNESS_N_M:.3g} "
+                         "N/m, is the study's 1:40 polyethylene box", source)
     elif typed and not untyped:
         e = max(typed, key=lambda t: t.kd_N_m)
-        k_d = float(e.kd_N_m)
-        kd_src = (f"the debris catalogue's for {e.name}: the study's 1:{e.scale:g} container's k_d "
-                  f"({SEED_DEBRIS_STIFFNESS_N_M:.3g} N/m) Froude-scaled by {e.scale:g}^2 (a stand-in: ASCE 7-22 "
-                  "Table 6.11-2's value is not in the tool, docs/catalogue.md)") if e.scale > 1 else \
-            f"the debris catalogue's for {e.name} (the study's 1:40 container)"
-    elif prototype:
-        raise InputError("design.debris_stiffness_N_m", f"the scene is at full scale ({reason}) and body "
-                         f"{untyped[0]} has no catalogued type: give the debris' stiffness k_d (N/m) from ASCE 7-22 "
-                         f"Table 6.11-2 or a test (the default, {SEED_DEBRIS_STIFFNESS_N_M:.3g} N/m, is the study's "
-                         "1:40 polyethylene box)", source)
+        k_d, kd_src = float(e.kd_N_m), f"the debris catalogue's for {e.name} (the study's 1:40 container)"
     else:
         k_d = SEED_DEBRIS_STIFFNESS_N_M
         kd_src = f"the study's 1:40 container's k_d, {SEED_DEBRIS_STIFFNESS_N_M:.3g} N/m (analytical/asce7.py)"
@@ -202,12 +206,12 @@ def scene_asce_inputs(scene: Scene, bodies=None, source: str | None = None, spec
                          source)
     height, where = strike_point(scene)
     section = col.section
-    stated = "stiffness_N_m" in col.model_fields_set and section is None
-    if stated and col.ends != "cantilever":
+    stated_k = "stiffness_N_m" in col.model_fields_set and section is None
+    if stated_k and col.ends != "cantilever":
         raise InputError("column.stiffness_N_m", f"is a cantilever's top stiffness; a {col.ends} member's k_s comes "
                          "from its model: leave it out (or give column.section)", source)
     member = (f"its catalogued section ({section.kind} {'x'.join(f'{v:g}' for v in section.size_m)} m, "
-              "docs/catalogue.md)" if section is not None else "the scene's column.stiffness_N_m" if stated
+              "docs/catalogue.md)" if section is not None else "the scene's column.stiffness_N_m" if stated_k
               else f"the study's laboratory column ({SEED_STRUCTURE_STIFFNESS_N_M:.4g} N/m at its top)")
     if height is None and col.heading_deg == 0.0:
         k_s = float(column_for_analysis(scene).stiffness_N_m)
@@ -218,13 +222,38 @@ def scene_asce_inputs(scene: Scene, bodies=None, source: str | None = None, spec
         ks_src = (f"the {col.ends} member's lateral stiffness along the flow at {height:.3g} m ({where}), its MDOF "
                   f"model from {member}" + (f"; turned {col.heading_deg:g} deg (the face struck {face_obliquity_deg(col.heading_deg):.3g} "
                                           "deg off its normal)" if col.heading_deg else ""))
+    if section is not None or stated_k:
+        ks_src += f" (the scene's column, {stated}" + ("; its material's values cited in docs/catalogue.md)"
+                                                        if section is not None else ")")
     importance = importance_factor(spec.risk_category)
-    sources = {"k_d": kd_src, "m_d": m_src, "k_s": ks_src,
-               "C_o": "design.orientation_coefficient (0.65: ASCE 7-22 6.11's value for containers, logs and poles, "
-                      "the default)",
-               "I_tsu": f"ASCE 7-22 Table 6.8-1 for the scene's design.risk_category ({spec.risk_category})",
+    set_by_scene = spec.model_fields_set
+    sources = {"k_d": kd_src, "m_d": m_src, "k_s": ks_src, "law": _law_sources(chosen, prototype),
+               "C_o": (f"the scene's design.orientation_coefficient ({stated})" if "orientation_coefficient" in
+                       set_by_scene else "0.65, ASCE 7-22 6.11.6's for shipping containers (the reference study, Sec. "
+                       "3.2.3; docs/fullscale-sources.md)"),
+               "I_tsu": f"ASCE 7-22 Table 6.8-1 (analytical/asce7.py) for design.risk_category {spec.risk_category} "
+                        f"({f'the scene, {stated}' if 'risk_category' in set_by_scene else 'the default'})",
                "scale": ("full scale: the simplified static load bounds F_i (" + reason + ")") if prototype
                else reason}
     stated_speed = float(scene.inundation.speed_m_s) if scene.inundation is not None else None
     return AsceInputs(mass, k_d, k_s, importance, float(spec.orientation_coefficient), spec.risk_category,
                       prototype, reason, sources, height, stated_speed)
+
+
+def _law_sources(bodies, prototype: bool) -> str:
+    """Each body's contact law (its pulses' spring and dashpot) and where it comes from."""
+    out = []
+    for b in bodies:
+        c = b.contact
+        law = contact_law(c.law, c.stiffness_N_m, c.damping_ratio, c.restitution)
+        given = [f for f in ("stiffness_N_m", "damping_ratio", "restitution") if getattr(c, f) is not None]
+        lab = contact_law(c.law)
+        where = (f"the scene's debris {b.name} contact.{', contact.'.join(given)} (the scene author's statement"
+                 + ("; no full-scale source was found, docs/fullscale-sources.md)" if prototype else ")"))
+        if not given or (not prototype and (law.stiffness_N_m, law.damping_ratio) == (lab.stiffness_N_m,
+                                                                                     lab.damping_ratio)):
+            where = (f"the study's 1:40 {c.law} law (analytical/contact_law.py"
+                     + (", calibrated on its Table 2; docs/contact-law.md)" if c.law == "container" else ")"))
+        out.append(f"body {b.name}: {c.law} law, k = {law.stiffness_N_m:.5g} N/m, zeta = {law.damping_ratio:.3g}, "
+                   f"from {where}")
+    return "; ".join(out)

@@ -17,7 +17,10 @@
   at the highest contact height any realisation struck at (the code loads the most critical
   point up to the inundation depth; the highest strike stands for it), with the code's dynamic
   response ratio ``R_max`` at ``t_d / T1`` (:func:`code_pulse_demands`). Each code value gets
-  ``P(X > value)`` with its interval.
+  ``P(X > value)`` with its interval, unless the scene is at full scale and its contact law is
+  not within 30 % of a published full-scale test's peak force at its speed
+  (:func:`analytical.fullscale_check.agreeing_test`; no complete test was found, so a full-scale
+  page gives none and says why, :data:`NO_EXCEEDANCE`).
 * **What a designer signs** (:mod:`orchestrator.studies.design_advice`): the quantiles given a
   strike, the recommended design value with its band, and the strikes as they struck.
 """
@@ -34,7 +37,9 @@ from analytical.asce7 import dynamic_response_ratio
 from analytical.column_demand import column_demands
 from analytical.column_fem import column_model
 from analytical.exceedance import exceedance
+from analytical.fullscale_check import agreeing_test, calibration_possible
 from analytical.pulses import Rectangular
+from orchestrator.contact.resolution import body_contact_law
 from orchestrator.core.files import write_json_atomic, write_text_atomic
 from orchestrator.report.figures import WIDTH_IN, empty, pyplot, save_figure
 from orchestrator.scene.schema import Design, column_for_analysis
@@ -44,9 +49,13 @@ from orchestrator.studies.design_advice import advice, advice_lines, conditional
 from orchestrator.studies.design_asce import scene_asce_inputs
 from orchestrator.studies.design_table import DEMANDS, realisation_demands
 
-__all__ = ["CONDITIONAL", "QUANTILES", "asce_values", "figure_exceedance", "markdown", "summarise", "write_report"]
+__all__ = ["CONDITIONAL", "NO_EXCEEDANCE", "QUANTILES", "asce_values", "figure_exceedance", "markdown", "summarise", "write_report"]
 
 QUANTILES = {"P50": 0.50, "P90": 0.90, "P99": 0.99}
+
+NO_EXCEEDANCE = ("No probability of exceeding the code's values is given: at full scale the pulses come from the "
+                 "scene's stated contact law, and no published full-scale test (a speed, a mass and a peak force "
+                 "together, docs/fullscale-sources.md) shows that law within 30 % of its peak force.")
 
 CONDITIONAL = ("Conditional on the scene's inundation: every probability here is given the inundation cases of "
                "the scene's design section, weighted as it says. This is not a probabilistic tsunami hazard "
@@ -89,11 +98,15 @@ def asce_values(result, spec: Design, heights_m: np.ndarray, scene=None) -> dict
                          "site": case.site.describe() if case.site is not None else None})
         if u is not None and (best is None or u > best["u_max_m_s"]):
             best = per_case[-1]
+    checked = [agreeing_test(body_contact_law(b.contact)) for b in scene.debris]
+    shown = not inputs.prototype or (calibration_possible() and all(c is not None for c in checked))
     out: dict[str, Any] = {"cases": per_case, "mass_kg": inputs.mass_kg, "debris_stiffness_N_m": inputs.debris_stiffness_N_m,
                            "structure_stiffness_N_m": inputs.structure_stiffness_N_m,
                            "importance_I_tsu": inputs.importance, "risk_category": inputs.risk_category,
                            "orientation_C_o": inputs.orientation, "prototype": inputs.prototype,
-                           "scale": inputs.scale_reason, "sources": inputs.sources, "values": None}
+                           "scale": inputs.scale_reason, "sources": inputs.sources, "values": None,
+                           "exceedance_shown": shown, "exceedance_note": None if shown else NO_EXCEEDANCE,
+                           "law_checked_by": [c.outcome() for c in checked if c is not None]}
     simulated = best
     if inputs.stated_speed_m_s is not None:
         best = {"case": None, "u_max_m_s": inputs.stated_speed_m_s,
@@ -144,7 +157,7 @@ def summarise(result, scene_path, sets: list[str], spec: Design, wall: dict[str,
         entry = {"label": label, "unit": unit, "dkw_halfwidth": exc.dkw(),
                  "quantiles": {name: exc.quantile(p).to_dict() for name, p in QUANTILES.items()},
                  "max": float(exc.values[-1])}
-        if asce["values"] is not None:
+        if asce["values"] is not None and asce["exceedance_shown"]:
             entry["asce"] = {k: exc.exceeds(v[key]) for k, v in asce["values"].items()}
         demands[key] = entry
     return {"scene": str(scene_path), "overrides": sets, "conditional": CONDITIONAL,
@@ -201,11 +214,11 @@ def figure_exceedance(result, summary: dict[str, Any]):
             if asce["values"] is None:
                 continue
             value = asce["values"][k][key]
-            p = summary["demands"][key]["asce"][k]
+            p = summary["demands"][key].get("asce", {}).get(k)
             governs = " (governs)" if asce["governing"] == k else ""
             ax.axvline(value, color="C3", ls=style, lw=1.2,
-                       label=f"ASCE 7-22 with {k}{governs}: P(exceed) = {p['probability']:.3g} "
-                             f"[{p['lower']:.2g}, {p['upper']:.2g}]")
+                       label=f"ASCE 7-22 with {k}{governs}" + (f": P(exceed) = {p['probability']:.3g} "
+                                                                f"[{p['lower']:.2g}, {p['upper']:.2g}]" if p else ""))
         if asce["values"] is not None and asce["prototype"] and key == "peak_force_N":
             ax.axvline(asce["cap_N"], color="C3", ls=":", lw=1, label="simplified static load (cap)")
         ax.set_yscale("log")
@@ -220,6 +233,11 @@ def figure_exceedance(result, summary: dict[str, Any]):
                  "(not a probabilistic tsunami hazard analysis)", fontsize=9)
     fig.tight_layout(rect=(0, 0, 1, 0.96))
     return fig
+
+
+def _author(case) -> str:
+    """u_max's origin: the scene author's statement (no case) or the simulated flow."""
+    return " (the scene author's statement)" if case is None else ""
 
 
 def _masses_drawn(table) -> str:
@@ -296,17 +314,22 @@ def markdown(summary: dict[str, Any]) -> str:
                     f"| {_num(v['first_period_s'])} | {_num(v['td_over_T1'], 3)} | {_num(v['R_max'], 3)} |"
                     for k, v in asce["values"].items()], "",
                   "Where each input comes from:", "",
-                  f"- u_max: {asce['u_basis']}; the simulated flow's largest, two column widths upstream of the face "
+                  f"- u_max: {asce['u_basis']}{_author(asce['u_case'])}; the simulated flow's largest, two column widths upstream of the face "
                   f"(orchestrator/results/asce_design.py): {_num(asce.get('u_simulated_m_s'), 3)} m/s in case "
                   f"{asce.get('u_simulated_case')}",
-                  *[f"- {k}: {v}" for k, v in asce["sources"].items()], "",
-                  "| demand | with k_s | P(exceed k_s value) | with k_d | P(exceed k_d value) |",
-                  "|---|---|---|---|---|"]
+                  *[f"- {k}: {v}" for k, v in asce["sources"].items()], ""]
+        shown = asce.get("exceedance_shown", True)
+        if not shown:
+            lines += [asce["exceedance_note"], ""]
+        lines += (["| demand | with k_s | P(exceed k_s value) | with k_d | P(exceed k_d value) |", "|---|---|---|---|---|"]
+                  if shown else ["| demand | with k_s | with k_d |", "|---|---|---|"])
         for key, d in summary["demands"].items():
             cells = []
             for k in ("k_s", "k_d"):
-                e = d["asce"][k]
-                cells += [fmt_demand(asce["values"][k][key], d["unit"]), f"{e['probability']:.3g} [{e['lower']:.3g}, {e['upper']:.3g}]"]
+                cells.append(fmt_demand(asce["values"][k][key], d["unit"]))
+                if shown:
+                    e = d["asce"][k]
+                    cells.append(f"{e['probability']:.3g} [{e['lower']:.3g}, {e['upper']:.3g}]")
             lines.append(f"| {d['label']} | {' | '.join(cells)} |")
     lines += ["", "![exceedance](exceedance.png)", "",
               "Files: design.csv (one row per strike, and per body that never struck), design.json (these figures), "
