@@ -20,7 +20,7 @@ from orchestrator.core.errors import InputError
 from orchestrator.case import foam
 from orchestrator.case.folder import CaseFolder
 from orchestrator.case.render import render_case
-from orchestrator.plan.identity import same_case, same_flow
+from orchestrator.plan.identity import carried_as, same_case, same_flow
 from orchestrator.plan.model import ModelPlan
 from orchestrator.plan.planner import load_and_plan
 from orchestrator.plan.resources import Demand, check_resources
@@ -84,7 +84,7 @@ def prepare_case(scene: Scene, plan: ModelPlan, scene_path: str | Path, out_dir:
         if existing is not None and same_case(existing, scene, coupling):
             return out, False
         if existing is not None and coupling == "one-way" and same_flow(existing, scene):
-            _retransport(folder, existing, scene.transport, sets)
+            _retransport(folder, carried_as(existing, scene), sets)
             return out, False
         raise InputError(
             "-o/--out",
@@ -95,18 +95,18 @@ def prepare_case(scene: Scene, plan: ModelPlan, scene_path: str | Path, out_dir:
     return out, True
 
 
-def _retransport(folder: CaseFolder, existing: Scene, transport, sets: Sequence[str]) -> None:
-    """A one-way case whose flow is the scene's and whose transport section is not: take the
-    scene's ``transport`` section into the folder's scene.yaml (``existing``) and forget its
-    transport record, so that the bodies are carried again through the recorded flow
-    (:func:`carry_debris`)."""
-    folder.write_scene(existing.model_copy(update={"transport": transport}), sets)
+def _retransport(folder: CaseFolder, carried: Scene, sets: Sequence[str]) -> None:
+    """A one-way case whose flow is the scene's and whose transport section or contact laws are
+    not: write ``carried`` (the folder's scene with the asked-for ones,
+    :func:`orchestrator.plan.identity.carried_as`) as its scene.yaml and forget its transport
+    record, so that the bodies are carried again through the recorded flow (:func:`carry_debris`)."""
+    folder.write_scene(carried, sets)
     run = folder.run_record() or {}
     if run.pop("transport", None) is not None:
         run.pop("transport_wall_s", None)
         folder.write_run_record(run)
-    print(f"debrisfoam: {folder.path}: the transport settings changed; the bodies are carried again through its "
-          "recorded flow", file=sys.stderr, flush=True)
+    print(f"debrisfoam: {folder.path}: the transport settings or contact laws changed; the bodies are carried "
+          "again through its recorded flow", file=sys.stderr, flush=True)
 
 
 def run_full_case(scene: Scene, plan: ModelPlan, scene_path: str | Path, out_dir: str | Path | None = None,

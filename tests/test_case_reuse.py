@@ -43,3 +43,15 @@ def test_a_one_way_case_takes_new_transport_keys_into_the_same_flow(tmp_path):
     assert "drag_coefficient: 1.5" in (case / "scene.yaml").read_text()
     with pytest.raises(InputError, match="different case"):
         prepare_case(ONE_WAY, case, ["bed.wet_depth_m=0.02"])
+
+
+def test_a_one_way_case_takes_a_new_contact_law_into_the_same_flow(tmp_path):
+    """A body's contact law is read by the transport alone: a stated law resumes the one-way folder
+    with the law in its scene.yaml (the bodies carried again); a body's mass changes the case."""
+    case, _ = prepare_case(ONE_WAY, tmp_path / "one")
+    law = ["debris.0.contact.stiffness_N_m=5.5e4", "debris.0.contact.damping_ratio=0.4"]
+    assert prepare_case(ONE_WAY, case, law) == (case, False)
+    text = (case / "scene.yaml").read_text()
+    assert "stiffness_N_m: 55000" in text and "damping_ratio: 0.4" in text
+    with pytest.raises(InputError, match="different case"):
+        prepare_case(ONE_WAY, case, ["debris.0.mass_kg=0.3"])

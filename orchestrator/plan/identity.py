@@ -26,7 +26,7 @@ from orchestrator.core.jsonio import json_default
 from orchestrator.scene.scenefile import scene_to_dict
 from orchestrator.scene.schema import Scene, Transport
 
-__all__ = ["ID_LENGTH", "LATE_BODY_KEYS", "LATE_KEYS", "LATE_SECTIONS", "ONE_WAY_ONLY", "case_inputs", "case_key", "same_case",
+__all__ = ["ID_LENGTH", "LATE_BODY_KEYS", "LATE_KEYS", "LATE_SECTIONS", "ONE_WAY_ONLY", "carried_as", "case_inputs", "case_key", "same_case",
            "same_flow"]
 
 #: Length of a sweep member's id (hex digits of :func:`case_key`).
@@ -88,8 +88,19 @@ def same_case(a: Scene, b: Scene, coupling: str) -> bool:
     return case_key(a, coupling) == case_key(b, coupling)
 
 
+def carried_as(existing: Scene, scene: Scene) -> Scene:
+    """``existing`` with what a one-way case's transport reads taken from ``scene``: its
+    ``transport`` section and each debris body's ``contact`` law (bodies matched by order; a scene
+    with other bodies is returned with its own)."""
+    update: dict = {"transport": scene.transport}
+    if len(existing.debris) == len(scene.debris):
+        update["debris"] = tuple(e.model_copy(update={"contact": s.contact}) for e, s in zip(existing.debris, scene.debris))
+    return existing.model_copy(update=update)
+
+
 def same_flow(a: Scene, b: Scene) -> bool:
-    """Do ``a`` and ``b`` make the same one-way flow, whatever their transport sections? The
-    bodies are carried through a recorded flow afterwards, so a changed ``transport`` section
-    re-carries them through the same record instead of running the flow again."""
-    return same_case(a, b.model_copy(update={"transport": a.transport}), "one-way")
+    """Do ``a`` and ``b`` make the same one-way flow, whatever their transport sections and their
+    bodies' contact laws? The bodies are carried through a recorded flow afterwards, so a changed
+    ``transport`` section or contact law re-carries them through the same record instead of running
+    the flow again."""
+    return same_case(carried_as(a, b), b, "one-way")
