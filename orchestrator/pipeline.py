@@ -79,7 +79,11 @@ def prepare_case(scene: Scene, plan: ModelPlan, scene_path: str | Path, out_dir:
     out = Path(out_dir)
     if out.is_dir() and any(out.iterdir()):
         folder = CaseFolder(out)
-        existing = folder_scene(folder)
+        try:
+            existing = load_scene(folder.scene_path) if folder.scene_path.is_file() else None
+        except InputError as exc:  # written by an older tool whose checks it no longer passes
+            raise InputError("-o/--out", f"{out} holds a case whose scene.yaml today's checks refuse ({exc}), so "
+                             "it cannot be resumed; choose another folder, or remove it to start again") from exc
         coupling = folder.debris_coupling()
         if existing is not None and same_case(existing, scene, coupling):
             return out, False

@@ -55,3 +55,15 @@ def test_a_one_way_case_takes_a_new_contact_law_into_the_same_flow(tmp_path):
     assert "stiffness_N_m: 55000" in text and "damping_ratio: 0.4" in text
     with pytest.raises(InputError, match="different case"):
         prepare_case(ONE_WAY, case, ["debris.0.mass_kg=0.3"])
+
+
+def test_a_folder_whose_scene_todays_checks_refuse_is_named_as_such(tmp_path):
+    """A case folder written under older rules is not "a different case": the message says its
+    scene.yaml no longer passes, and why, and the folder is left as it was."""
+    case, _ = prepare_case(ONE_WAY, tmp_path / "one")
+    scene_file = case / "scene.yaml"
+    scene_file.write_text(scene_file.read_text().replace("mass_kg: 0.236", "mass_kg: -1.0"))
+    before = scene_file.read_text()
+    with pytest.raises(InputError, match="today's checks refuse .*mass_kg"):
+        prepare_case(ONE_WAY, case)
+    assert scene_file.read_text() == before
