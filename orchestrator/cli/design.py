@@ -12,8 +12,8 @@ import os
 import sys
 from pathlib import Path
 
-from orchestrator.cli.case import YES_HELP
-from orchestrator.cli.common import EXIT_OK, SCENE_HELP, confirm_large, emit, plan_scene, study_folder
+from orchestrator.cli.common import (EXIT_OK, SCENE_HELP, closing_options, confirm_large, emit, plan_scene,
+                                     study_folder)
 from orchestrator.core.errors import InputError
 from orchestrator.scene.shipped import resolve_scene
 
@@ -181,8 +181,6 @@ def add_design_parser(verbs) -> None:
                    help="batches at once (default: this machine's cores)")
     p.add_argument("--batch-size", type=int, default=None, metavar="B",
                    help="realisations stepped together in one model (default 128)")
-    p.add_argument("--set", action="append", metavar="KEY=VALUE", help="scene override (repeatable)")
-    p.add_argument("--force", action="store_true", help="replace a study already in DIR (its flows are reused)")
-    p.add_argument("--yes", action="store_true", help=YES_HELP)
-    p.add_argument("--json", action="store_true", help="print JSON (no progress)")
-    p.set_defaults(func=cmd_design)
+    closing_options(p, cmd_design, overrides="scene override (repeatable)",
+                    force="replace a study already in DIR (its flows are reused)", yes=True,
+                    json="print JSON (no progress)")
