@@ -32,6 +32,7 @@ __all__ = [
     "Flags",
     "HelpFormatter",
     "closing_options",
+    "pool_options",
     "confirm_large",
     "emit",
     "missing_feature",
@@ -96,6 +97,15 @@ def closing_options(p: argparse.ArgumentParser, func: Callable[[argparse.Namespa
     if json is not None:
         p.add_argument("--json", action="store_true", help=json)
     p.set_defaults(func=func)
+
+
+def pool_options(p: argparse.ArgumentParser, workers: str, batch_size: str) -> None:
+    """Add ``--executor``, ``--workers`` and ``--batch-size`` of a verb that steps realisations in batches
+    over a process pool (``ensemble``, ``design``); ``workers`` and ``batch_size`` are their helps."""
+    p.add_argument("--executor", choices=["local", "dask"], default="local",
+                   help="local: a process pool here; dask: a Dask LocalCluster")
+    p.add_argument("--workers", type=int, default=None, metavar="N", help=workers)
+    p.add_argument("--batch-size", type=int, default=None, metavar="B", help=batch_size)
 
 
 def _existing_ancestor(path: Path) -> Path:

@@ -29,6 +29,7 @@ from orchestrator.cli.common import (
     emit,
     output_path,
     plan_scene,
+    pool_options,
     study_folder,
     warn,
     writable_folder,
@@ -422,13 +423,9 @@ def add_study_parsers(verbs) -> None:
                    help="ensemble folder: the flow case in DIR/flow (reused when finished), ensemble.csv, "
                         "ensemble.json, tracks.csv, report.md")
     p.add_argument("--seed", type=int, default=0, help="seed of the starts (realisation r draws from (seed, r))")
-    p.add_argument("--executor", choices=["local", "dask"], default="local",
-                   help="local: a process pool here; dask: a Dask LocalCluster")
-    p.add_argument("--workers", type=int, default=None, metavar="N",
-                   help="realisations at once (default: this machine's cores)")
-    p.add_argument("--batch-size", type=int, default=None, metavar="B",
-                   help="at most B realisations stepped together in one model (default 128; fewer when the "
-                        "workers would not each get a batch; 1: one model each)")
+    pool_options(p, workers="realisations at once (default: this machine's cores)",
+                 batch_size="at most B realisations stepped together in one model (default 128; fewer when the "
+                            "workers would not each get a batch; 1: one model each)")
     p.add_argument("--no-study-fit", action="store_true",
                    help="leave out the study's fit of each first strike (about 0.27 s of CPU a strike): for "
                         "design-scale ensembles; the like-for-like comparison then has no pulse rows")
