@@ -58,6 +58,15 @@ def render_and_run(scene: Path, case: Path, *sets: str) -> dict:
     return json.loads((case / "plan.json").read_text())
 
 
+def run_container(scene: Path, case: Path) -> tuple[dict, float, float]:
+    """Render and run ``scene`` (its first body a container) into ``case``: the plan, the
+    container's height and its draft in fresh water (m)."""
+    plan = render_and_run(scene, case)
+    body = plan["bodies"][0]
+    mass, (length, width, height) = body["mass_kg"], body["size_m"]
+    return plan, height, mass / (998.2 * length * width)
+
+
 def solvers_kept(case: Path):
     """The runner's default contact settings for ``case``, except that the bodies' motion solvers
     run even while every body is held still (`ContactSettings.hold_still_solvers` off): for tests
