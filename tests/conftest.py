@@ -11,6 +11,8 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
+#: The shipped scenes (1debris.yaml, ..., hard/).
+CASES = ROOT / "cases"
 
 
 def debris(name: str, size_m, mass_kg: float, centre_m, *, friction: float | None = None, contact: dict | None = None,

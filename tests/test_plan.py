@@ -12,7 +12,6 @@ from __future__ import annotations
 import copy
 import json
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -37,8 +36,8 @@ from orchestrator.scene.overrides import apply_overrides
 from orchestrator.scene.resolve import scene_from_dict
 from orchestrator.scene.scenefile import load_scene
 
-ROOT = Path(__file__).resolve().parent.parent
-CASES = ROOT / "cases"
+from tests.conftest import CASES, ROOT
+
 VALID = ROOT / "tests" / "data" / "bad_scenes" / "_valid_base.yaml"
 CASE_NAMES = ["nodebris", "1debris", "3debris-3x1", "3debris-1x3", "6debris-2x3"]
 G = 9.81

@@ -24,8 +24,8 @@ from orchestrator.scene.scenefile import dump_scene_yaml, load_scene, scene_to_d
 from orchestrator.scene.schema import Scene, column_for_analysis, default_column
 from orchestrator.scene.validation import MIN_CELLS_ACROSS_DEBRIS
 
-ROOT = Path(__file__).resolve().parent.parent
-CASES = ROOT / "cases"
+from tests.conftest import CASES, ROOT
+
 BAD = ROOT / "tests" / "data" / "bad_scenes"
 VALID = BAD / "_valid_base.yaml"
 CASE_NAMES = ["nodebris", "1debris", "3debris-3x1", "3debris-1x3", "6debris-2x3"]
