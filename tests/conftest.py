@@ -94,6 +94,19 @@ def openfoam():
         pytest.fail("OpenFOAM is not installed: run `make openfoam` (make test does it)")
 
 
+@pytest.fixture(scope="module")
+def current(tmp_path_factory):
+    """A 0.6 m/s current 0.1 m deep over x 0-2 m, y +-0.3 m and 0-3 s (the ensemble and design tests'
+    flume, its column at x 1 m), and the path of the .npz the workers load."""
+    import numpy as np
+
+    from orchestrator.transport.flow import FlowField
+
+    flow = FlowField.uniform_current(0.1, 0.6, x_m=np.linspace(0.0, 2.0, 21), y_m=np.linspace(-0.3, 0.3, 7),
+                                     t_s=np.linspace(0.0, 3.0, 31))
+    return flow, str(flow.save(tmp_path_factory.mktemp("flow") / "flow_record.npz"))
+
+
 @pytest.fixture(scope="session")
 def tiny_sweep(tmp_path_factory):
     """The shipped tiny mesh study (cases/sweeps/tiny-mesh-study.yaml), run once per test session
