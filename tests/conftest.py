@@ -29,6 +29,17 @@ def debris(name: str, size_m, mass_kg: float, centre_m, *, friction: float | Non
                       **fields)
 
 
+def input_error(field: str, call, /, *args, **kwargs):
+    """``call(*args, **kwargs)`` must raise an InputError (a ValueError too) naming ``field``: the error."""
+    from analytical.errors import InputError
+
+    with pytest.raises(InputError) as info:
+        call(*args, **kwargs)
+    assert info.value.field == field
+    assert isinstance(info.value, ValueError)
+    return info.value
+
+
 def run_cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
     """Run `debrisfoam ARGS` as a user would (a separate process)."""
     return subprocess.run(
