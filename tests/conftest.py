@@ -40,6 +40,23 @@ def input_error(field: str, call, /, *args, **kwargs):
     return info.value
 
 
+def closed_tank(gauge: tuple[str, float], mesh: dict | None = None, run: dict | None = None, **sections) -> dict:
+    """A 2D closed tank as a scene's data: 0.4 m reservoir 0.2 m deep, the end wall 0.8 m past the
+    gate, 0.6 m walls, 2 cm cells, 1 s on one core; one gauge (name, x) on its axis. ``mesh`` and
+    ``run`` add to those sections, ``sections`` add sections."""
+    return {
+        "name": "tank",
+        "flume": {"length_m": 1.2, "width_m": 0.2, "height_m": 0.6, "downstream_end": "closed"},
+        "reservoir": {"length_m": 0.4, "depth_m": 0.2, "gate": "instant"},
+        "bed": {"wet_depth_m": 0.015, "friction_factor": 0.0293},
+        "debris": [],
+        "gauges": [{"name": gauge[0], "x_m": gauge[1], "y_m": 0.0}],
+        "mesh": {"cell_size_m": 0.02, "coarsening_ratio": 1, **(mesh or {})},
+        "run": {"end_time_s": 1.0, "cores": 1, **(run or {})},
+        **sections,
+    }
+
+
 def run_cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
     """Run `debrisfoam ARGS` as a user would (a separate process)."""
     return subprocess.run(
