@@ -20,19 +20,19 @@ is "cannot tell" rather than "agrees": the flow is too uncertain for the test to
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 
 import numpy as np
 from scipy import stats
 
 from analytical.errors import InputError
-from analytical.study_comparison import SIGNIFICANCE
+from analytical.study_comparison import SIGNIFICANCE, JsonFigures
 
 __all__ = ["FlowComparison", "compare_two_flows"]
 
 
 @dataclass(frozen=True)
-class FlowComparison:
+class FlowComparison(JsonFigures):
     """One figure of one ensemble through two flows, beside the study's (mean, std, n)."""
 
     n_a: int
@@ -52,9 +52,6 @@ class FlowComparison:
     p_without_flow: float
     half_width: float
     verdict: str
-
-    def to_dict(self) -> dict:
-        return {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in asdict(self).items()}
 
 
 def _sample(values, name: str) -> np.ndarray:

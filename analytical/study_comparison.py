@@ -36,6 +36,7 @@ from analytical.study import SEED_IMPACT_COUNT, SEED_IMPACT_VELOCITY_M_S, SEED_T
 
 __all__ = [
     "FIT_PRE_CONTACT_S",
+    "JsonFigures",
     "FIT_SAMPLE_S",
     "SEED_IMPACT_COUNT",
     "SIGNIFICANCE",
@@ -76,8 +77,16 @@ baseline from the record before the impact."""
 
 
 # ------------------------------------------------------------------------------ the comparison
+class JsonFigures:
+    """A dataclass of figures whose :meth:`to_dict` gives NaN (and infinities) as None, for JSON."""
+
+    def to_dict(self) -> dict:
+        """The figures with NaN as None (for JSON)."""
+        return {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in asdict(self).items()}
+
+
 @dataclass(frozen=True)
-class StudyComparison:
+class StudyComparison(JsonFigures):
     """A sample of the tool's values beside the study's (mean, std, n).
 
     ``test`` is ``"welch"`` (n >= 2: ``welch_t``, ``welch_dof``, ``p_value``), ``"z"`` (one
@@ -100,10 +109,6 @@ class StudyComparison:
     z: float
     p_value: float
     verdict: str
-
-    def to_dict(self) -> dict:
-        """The figures with NaN as None (for JSON)."""
-        return {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in asdict(self).items()}
 
 
 def compare_with_study(samples, study_mean: float, study_std: float, study_n: int = SEED_IMPACT_COUNT,

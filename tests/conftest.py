@@ -11,6 +11,8 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
+#: The shipped scenes (1debris.yaml, ..., hard/).
+CASES = ROOT / "cases"
 
 
 def debris(name: str, size_m, mass_kg: float, centre_m, *, friction: float | None = None, contact: dict | None = None,
@@ -25,6 +27,34 @@ def debris(name: str, size_m, mass_kg: float, centre_m, *, friction: float | Non
         keys["bed_friction_coefficient"] = friction
     return DebrisBody(name=name, size_m=size_m, mass_kg=mass_kg, centre_m=centre_m, contact=DebrisContact(**keys),
                       **fields)
+
+
+def input_error(field: str, call, /, *args, **kwargs):
+    """``call(*args, **kwargs)`` must raise an InputError (a ValueError too) naming ``field``: the error."""
+    from analytical.errors import InputError
+
+    with pytest.raises(InputError) as info:
+        call(*args, **kwargs)
+    assert info.value.field == field
+    assert isinstance(info.value, ValueError)
+    return info.value
+
+
+def closed_tank(gauge: tuple[str, float], mesh: dict | None = None, run: dict | None = None, **sections) -> dict:
+    """A 2D closed tank as a scene's data: 0.4 m reservoir 0.2 m deep, the end wall 0.8 m past the
+    gate, 0.6 m walls, 2 cm cells, 1 s on one core; one gauge (name, x) on its axis. ``mesh`` and
+    ``run`` add to those sections, ``sections`` add sections."""
+    return {
+        "name": "tank",
+        "flume": {"length_m": 1.2, "width_m": 0.2, "height_m": 0.6, "downstream_end": "closed"},
+        "reservoir": {"length_m": 0.4, "depth_m": 0.2, "gate": "instant"},
+        "bed": {"wet_depth_m": 0.015, "friction_factor": 0.0293},
+        "debris": [],
+        "gauges": [{"name": gauge[0], "x_m": gauge[1], "y_m": 0.0}],
+        "mesh": {"cell_size_m": 0.02, "coarsening_ratio": 1, **(mesh or {})},
+        "run": {"end_time_s": 1.0, "cores": 1, **(run or {})},
+        **sections,
+    }
 
 
 def run_cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
@@ -58,6 +88,15 @@ def render_and_run(scene: Path, case: Path, *sets: str) -> dict:
     return json.loads((case / "plan.json").read_text())
 
 
+def run_container(scene: Path, case: Path) -> tuple[dict, float, float]:
+    """Render and run ``scene`` (its first body a container) into ``case``: the plan, the
+    container's height and its draft in fresh water (m)."""
+    plan = render_and_run(scene, case)
+    body = plan["bodies"][0]
+    mass, (length, width, height) = body["mass_kg"], body["size_m"]
+    return plan, height, mass / (998.2 * length * width)
+
+
 def solvers_kept(case: Path):
     """The runner's default contact settings for ``case``, except that the bodies' motion solvers
     run even while every body is held still (`ContactSettings.hold_still_solvers` off): for tests
@@ -81,6 +120,19 @@ def openfoam():
     """Skip-free guard: tests marked openfoam need the solver; `make test` installs it."""
     if shutil.which("overInterDyMFoam") is None:
         pytest.fail("OpenFOAM is not installed: run `make openfoam` (make test does it)")
+
+
+@pytest.fixture(scope="module")
+def current(tmp_path_factory):
+    """A 0.6 m/s current 0.1 m deep over x 0-2 m, y +-0.3 m and 0-3 s (the ensemble and design tests'
+    flume, its column at x 1 m), and the path of the .npz the workers load."""
+    import numpy as np
+
+    from orchestrator.transport.flow import FlowField
+
+    flow = FlowField.uniform_current(0.1, 0.6, x_m=np.linspace(0.0, 2.0, 21), y_m=np.linspace(-0.3, 0.3, 7),
+                                     t_s=np.linspace(0.0, 3.0, 31))
+    return flow, str(flow.save(tmp_path_factory.mktemp("flow") / "flow_record.npz"))
 
 
 @pytest.fixture(scope="session")

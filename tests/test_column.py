@@ -8,7 +8,7 @@ import math
 import pytest
 
 from analytical.column import BASES, Column
-from analytical.errors import InputError
+from tests.conftest import input_error
 
 
 def test_defaults_are_the_seed_column():
@@ -85,10 +85,7 @@ def test_frozen_hashable_and_equal_by_value():
     ],
 )
 def test_bad_input_names_the_field(kwargs, field):
-    with pytest.raises(InputError) as info:
-        Column(**kwargs)
-    assert info.value.field == field
-    assert isinstance(info.value, ValueError)
+    input_error(field, Column, **kwargs)
 
 
 def test_zero_damping_is_allowed():

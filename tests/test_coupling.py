@@ -8,7 +8,6 @@ one-way (0.0042-0.025 % and 4-24 %); a body across 60 % of the width goes two-wa
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -27,10 +26,7 @@ from orchestrator.plan.planner import plan_case
 from orchestrator.scene.resolve import scene_from_dict
 from orchestrator.scene.scenefile import load_scene
 
-from tests.conftest import run_cli
-
-ROOT = Path(__file__).resolve().parent.parent
-CASES = ROOT / "cases"
+from tests.conftest import CASES, ROOT, run_cli
 
 #: layout -> (displaced volume as % of the reservoir, blockage %), as the reasons state them
 SEED_LAYOUTS = {

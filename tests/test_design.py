@@ -26,7 +26,6 @@ from orchestrator.studies.design import DEMANDS, DESIGN_COLUMNS, DesignCase, Des
     design_starts
 from orchestrator.studies.design_report import write_report
 from orchestrator.transport.engine import TransportSettings, run_transport
-from orchestrator.transport.flow import FlowField
 from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn
 from tests.conftest import debris
 from tests.conftest import run_cli
@@ -178,13 +177,6 @@ def test_draws_are_reproducible_and_inside_the_ranges():
     # without ranges: the body's own mass, its start about its own by the placement tolerance
     own = design_starts([BODY], FLUME, COLUMN, Design(), 0, 0)[0]
     assert own.mass_kg == BODY.mass_kg and abs(own.centre_m[0] - 0.6) <= 2 * 0.25 * 0.15 + 1e-12
-
-
-@pytest.fixture(scope="module")
-def current(tmp_path_factory):
-    flow = FlowField.uniform_current(0.1, 0.6, x_m=np.linspace(0.0, 2.0, 21), y_m=np.linspace(-0.3, 0.3, 7),
-                                     t_s=np.linspace(0.0, 3.0, 31))
-    return flow, str(flow.save(tmp_path_factory.mktemp("flow") / "flow_record.npz"))
 
 
 def test_a_batch_gives_each_strikes_demands_and_zero_without_a_strike(current):

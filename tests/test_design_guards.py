@@ -9,7 +9,6 @@ import subprocess
 import sys
 
 import mujoco
-import numpy as np
 import pytest
 
 from analytical.column import Column
@@ -19,7 +18,6 @@ from orchestrator.scene.scenefile import load_scene
 from orchestrator.studies.design import design_batch, design_starts
 from orchestrator.studies.engine_watch import UnstableEngineError
 from orchestrator.transport.engine import TransportSettings
-from orchestrator.transport.flow import FlowField
 from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn
 from tests.conftest import debris
 from tests.conftest import ROOT
@@ -109,13 +107,6 @@ def test_implausible_analytical_inputs_name_the_flag(capfd, argv, flag, words):
 FLUME = FlumeBounds((0.0, 2.0), (-0.3, 0.3), 0.0)
 COLUMN = PlacedColumn(1.0, 0.0, Column(size_x_m=0.1, size_y_m=0.1, height_m=0.3, wall_thickness_m=0.005))
 BODY = debris("debris1", (0.15, 0.06, 0.06), 0.236, (0.6, 0.0, 0.03), wall_thickness_m=0.005)
-
-
-@pytest.fixture(scope="module")
-def current(tmp_path_factory):
-    flow = FlowField.uniform_current(0.1, 0.6, x_m=np.linspace(0.0, 2.0, 21), y_m=np.linspace(-0.3, 0.3, 7),
-                                     t_s=np.linspace(0.0, 3.0, 31))
-    return flow, str(flow.save(tmp_path_factory.mktemp("flow") / "flow_record.npz"))
 
 
 def test_an_unstable_engine_is_an_error_naming_its_realisation(current):

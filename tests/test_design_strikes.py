@@ -30,18 +30,11 @@ from tests.test_design import TINY
 FLUME = FlumeBounds((0.0, 2.0), (-0.3, 0.3), 0.0)
 COLUMN = PlacedColumn(1.0, 0.0, Column(size_x_m=0.1, size_y_m=0.1, height_m=0.3, wall_thickness_m=0.005))
 SIZE = (0.15, 0.06, 0.06)
-DEPTH = 0.1
+DEPTH = 0.1  # the depth of the current (conftest)
 
 
 def _body(mass=0.236, y=0.0) -> DebrisBody:
     return debris("debris1", SIZE, mass, (0.6, y, 0.03), wall_thickness_m=0.005)
-
-
-@pytest.fixture(scope="module")
-def current(tmp_path_factory):
-    flow = FlowField.uniform_current(DEPTH, 0.6, x_m=np.linspace(0.0, 2.0, 21), y_m=np.linspace(-0.3, 0.3, 7),
-                                     t_s=np.linspace(0.0, 3.0, 31))
-    return flow, str(flow.save(tmp_path_factory.mktemp("flow") / "flow_record.npz"))
 
 
 @pytest.fixture(scope="module")

@@ -28,7 +28,6 @@ from orchestrator.studies.ensemble import (
 )
 from orchestrator.studies.ensemble_report import write_report
 from orchestrator.transport.engine import TransportSettings, run_transport
-from orchestrator.transport.flow import FlowField
 from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn, rotation
 from orchestrator.scene.schema import DebrisBody
 from tests.conftest import debris
@@ -124,14 +123,6 @@ def test_an_impossible_layout_is_bad_input_naming_the_body():
 
 
 # --------------------------------------------------------------------------- table and summary
-@pytest.fixture(scope="module")
-def current(tmp_path_factory):
-    """A 0.6 m/s current 0.1 m deep past the column, saved as the .npz the workers load."""
-    flow = FlowField.uniform_current(0.1, 0.6, x_m=np.linspace(0.0, 2.0, 21), y_m=np.linspace(-0.3, 0.3, 7),
-                                     t_s=np.linspace(0.0, 3.0, 31))
-    return flow, flow.save(tmp_path_factory.mktemp("flow") / "flow_record.npz")
-
-
 @pytest.mark.slow
 def test_a_study_fit_height_loads_every_fit_there_and_the_same_base_shear_then_reads_another_pulse(current):
     """--study-fit-height: the fit loaded at the height given, not at the face's water level; the

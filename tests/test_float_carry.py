@@ -21,7 +21,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from conftest import ROOT, render_and_run
+from conftest import ROOT, run_container
 
 SCENE = ROOT / "tests" / "data" / "scenes" / "float-carry.yaml"
 
@@ -30,10 +30,7 @@ SCENE = ROOT / "tests" / "data" / "scenes" / "float-carry.yaml"
 @pytest.mark.slow
 def test_a_container_reached_by_a_bore_deeper_than_its_draft_leaves_the_bed_and_floats(openfoam, tmp_path):
     case = tmp_path / "float-carry"
-    plan = render_and_run(SCENE, case)
-    body = plan["bodies"][0]
-    mass, (length, width, height) = body["mass_kg"], body["size_m"]
-    draft = mass / (998.2 * length * width)
+    plan, height, draft = run_container(SCENE, case)
     record = json.loads((case / "run.json").read_text())
     freed = [f["time_s"] for f in record.get("freed", []) if f["body"] == "debris1"]
     assert freed, "the runner never freed the container"

@@ -18,7 +18,7 @@ import json
 import pandas as pd
 import pytest
 
-from conftest import ROOT, render_and_run, run_cli
+from conftest import ROOT, run_cli, run_container
 
 SCENE = ROOT / "tests" / "data" / "scenes" / "float-off.yaml"
 
@@ -27,10 +27,7 @@ SCENE = ROOT / "tests" / "data" / "scenes" / "float-off.yaml"
 @pytest.mark.slow
 def test_a_resting_container_floats_up_to_its_draft(openfoam, tmp_path):
     case = tmp_path / "float-off"
-    plan = render_and_run(SCENE, case)
-    body = plan["bodies"][0]
-    mass, (length, width, height) = body["mass_kg"], body["size_m"]
-    draft = mass / (998.2 * length * width)
+    plan, height, draft = run_container(SCENE, case)
     wet = 0.05
     z_eq = wet - draft + height / 2  # centre height when afloat at rest
     track = pd.read_csv(case / "bodies.csv").drop_duplicates("time_s", keep="last")

@@ -19,6 +19,7 @@ from analytical import mdof
 from analytical.column import Column
 from analytical.errors import InputError
 from analytical.pulses import HalfSine, Rectangular, Tabulated
+from tests.conftest import input_error
 
 SEED = Column()
 CALIBRATED = Column(base="calibrated")
@@ -428,9 +429,7 @@ def test_peak_base_shear_converges_with_elements_and_time_step():
 def test_bad_response_arguments_name_the_argument(kwargs, field):
     args = {"height_m": 0.4, "t": np.linspace(0, 0.01, 11)}
     args.update(kwargs)
-    with pytest.raises(InputError) as info:
-        mdof.mdof_response(MDOF_PULSE, SEED, **args)
-    assert info.value.field == field
+    input_error(field, mdof.mdof_response, MDOF_PULSE, SEED, **args)
 
 
 def test_static_deflection_rejects_heights_outside_the_column():

@@ -12,7 +12,6 @@ from __future__ import annotations
 import copy
 import json
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -37,8 +36,8 @@ from orchestrator.scene.overrides import apply_overrides
 from orchestrator.scene.resolve import scene_from_dict
 from orchestrator.scene.scenefile import load_scene
 
-ROOT = Path(__file__).resolve().parent.parent
-CASES = ROOT / "cases"
+from tests.conftest import CASES, ROOT, closed_tank
+
 VALID = ROOT / "tests" / "data" / "bad_scenes" / "_valid_base.yaml"
 CASE_NAMES = ["nodebris", "1debris", "3debris-3x1", "3debris-1x3", "6debris-2x3"]
 G = 9.81
@@ -417,17 +416,7 @@ def test_every_face_of_every_water_box_is_a_cell_face(name, overrides):
 
 def tank(*overrides: str):
     """A 2D closed tank: 0.4 m reservoir 0.2 m deep, the end wall 0.8 m past the gate, 0.6 m walls."""
-    data = {
-        "name": "tank",
-        "flume": {"length_m": 1.2, "width_m": 0.2, "height_m": 0.6, "downstream_end": "closed"},
-        "reservoir": {"length_m": 0.4, "depth_m": 0.2, "gate": "instant"},
-        "bed": {"wet_depth_m": 0.015, "friction_factor": 0.0293},
-        "debris": [],
-        "gauges": [{"name": "WG1", "x_m": 0.6, "y_m": 0.0}],
-        "mesh": {"cell_size_m": 0.02, "coarsening_ratio": 1},
-        "run": {"end_time_s": 1.0, "cores": 1},
-    }
-    return scene_from_dict(apply_overrides(data, list(overrides), "tank"), "tank")
+    return scene_from_dict(apply_overrides(closed_tank(("WG1", 0.6)), list(overrides), "tank"), "tank")
 
 
 def test_a_closed_end_the_bore_reaches_keeps_the_air_space_up_to_the_walls():

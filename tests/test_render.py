@@ -31,8 +31,8 @@ from orchestrator.case.render import (
 
 from regenerate_golden import GOLDEN_DIR, GOLDEN_PLANS, flume_plan, golden_files
 
-ROOT = Path(__file__).resolve().parent.parent
-CASES = ROOT / "cases"
+from tests.conftest import CASES, ROOT
+
 
 
 # --------------------------------------------------------------------------- filters

@@ -19,21 +19,12 @@ import yaml
 
 from orchestrator.pipeline import render_from_file
 from orchestrator.run.runner import run_case
-from tests.conftest import run_cli
+from tests.conftest import closed_tank, run_cli
 
 
 def tank(**mesh) -> dict:
-    return {
-        "name": "tank",
-        "flume": {"length_m": 1.2, "width_m": 0.2, "height_m": 0.6, "downstream_end": "closed"},
-        "reservoir": {"length_m": 0.4, "depth_m": 0.2, "gate": "instant"},
-        "bed": {"wet_depth_m": 0.015, "friction_factor": 0.0293},
-        "debris": [],
-        "gauges": [{"name": "WGend", "x_m": 0.77, "y_m": 0.0}],
-        "mesh": {"cell_size_m": 0.02, "coarsening_ratio": 1, **mesh},
-        "run": {"end_time_s": 1.0, "cores": 1, "write_interval_s": 0.5, "max_courant": 0.9},
-        "outputs": {"probe_interval_s": 0.02, "preview": False},
-    }
+    return closed_tank(("WGend", 0.77), mesh, {"write_interval_s": 0.5, "max_courant": 0.9},
+                       outputs={"probe_interval_s": 0.02, "preview": False})
 
 
 def _run(tmp: Path, name: str, data: dict) -> Path:

@@ -24,8 +24,8 @@ from orchestrator.scene.scenefile import dump_scene_yaml, load_scene, scene_to_d
 from orchestrator.scene.schema import Scene, column_for_analysis, default_column
 from orchestrator.scene.validation import MIN_CELLS_ACROSS_DEBRIS
 
-ROOT = Path(__file__).resolve().parent.parent
-CASES = ROOT / "cases"
+from tests.conftest import CASES, ROOT, input_error
+
 BAD = ROOT / "tests" / "data" / "bad_scenes"
 VALID = BAD / "_valid_base.yaml"
 CASE_NAMES = ["nodebris", "1debris", "3debris-3x1", "3debris-1x3", "6debris-2x3"]
@@ -163,10 +163,7 @@ def test_override_into_a_layout_and_a_list_item():
     ],
 )
 def test_bad_override_names_the_key_and_the_file(override, field):
-    with pytest.raises(InputError) as info:
-        load_scene(CASES / "1debris.yaml", [override])
-    assert info.value.field == field
-    assert info.value.source == str(CASES / "1debris.yaml")
+    assert input_error(field, load_scene, CASES / "1debris.yaml", [override]).source == str(CASES / "1debris.yaml")
 
 
 @pytest.mark.parametrize(
@@ -180,9 +177,7 @@ def test_bad_override_names_the_key_and_the_file(override, field):
     ],
 )
 def test_pydantic_errors_become_input_errors_with_the_dotted_location(override, field):
-    with pytest.raises(InputError) as info:
-        load_scene(CASES / "1debris.yaml", [override])
-    assert info.value.field == field
+    input_error(field, load_scene, CASES / "1debris.yaml", [override])
 
 
 def test_override_value_errors_say_an_override_set_them():

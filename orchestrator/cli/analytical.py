@@ -15,7 +15,7 @@ from typing import Any
 
 from analytical.asce7 import FULL_SCALE_MIN_MASS_KG
 from orchestrator.core.errors import InputError
-from orchestrator.cli.common import EXIT_OK, ArgParser, Flags, emit, output_path, warn
+from orchestrator.cli.common import EXIT_OK, FOLDER_FORCE_HELP, ArgParser, Flags, closing_options, emit, output_path, warn
 from orchestrator.scene.shipped import resolve_scene
 
 __all__ = ["POOR_FIT_RMSE_FRACTION", "add_analytical_parser", "column_from_args", "impact_inputs"]
@@ -509,9 +509,7 @@ def add_analytical_parser(verbs) -> None:
                    help="scene YAML (or a shipped scene's name): its column, debris and design section give m_d, k_d, "
                         "k_s, I_tsu, C_o and the scale, as `debrisfoam design` reads them; flags override")
     p.add_argument("--body", help="which debris body of --scene (default: all; the heaviest governs)")
-    p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a dotted scene key (with --scene)")
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.set_defaults(func=cmd_asce7)
+    closing_options(p, cmd_asce7, overrides="override a dotted scene key (with --scene)")
 
     p = an_verbs.add_parser("impact", help="one debris strike on the column by the contact law: pulse, rebound, "
                                            "base shear (docs/contact-law.md)")
@@ -527,8 +525,7 @@ def add_analytical_parser(verbs) -> None:
     p.add_argument("--set", action="append", metavar="KEY=VALUE",
                    help="override a dotted scene key (repeatable); without --scene: column.<field> or "
                         "contact.<field>, e.g. contact.law=asce7_kd, contact.restitution=0.5")
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.set_defaults(func=cmd_impact)
+    closing_options(p, cmd_impact)
 
     p = an_verbs.add_parser("contact-law", help="calibrate the container's contact law on the study's Table 2 "
                                                 "(22 impacts) and check it on its Table 1 event, to files")
@@ -537,15 +534,12 @@ def add_analytical_parser(verbs) -> None:
     p.add_argument("--strikes", type=int, default=32, help="strikes of the calibration (default 32)")
     p.add_argument("--ensemble", help="ensemble.csv: calibrate on its first strikes' effective masses and heights")
     p.add_argument("--workers", type=int, default=2, help="processes running the fit's starts (default 2)")
-    p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.set_defaults(func=cmd_contact_law)
+    closing_options(p, cmd_contact_law, force=FOLDER_FORCE_HELP)
 
     p = an_verbs.add_parser("modes", help="natural frequencies of the MDOF column")
     _add_column_args(p)
     p.add_argument("--count", type=int, default=6, help="how many frequencies to print (default 6)")
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.set_defaults(func=cmd_modes)
+    closing_options(p, cmd_modes)
 
     p = an_verbs.add_parser("response", help="force response (SDOF R = k u, or MDOF base shear) to a pulse")
     p.add_argument("--model", choices=["sdof", "mdof"], required=True,
@@ -559,8 +553,7 @@ def add_analytical_parser(verbs) -> None:
     p.add_argument("--out", help="write the response to this CSV (time_s,response_N)")
     p.add_argument("--force", action="store_true", help="overwrite an existing --out file")
     _add_column_args(p)
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.set_defaults(func=cmd_response)
+    closing_options(p, cmd_response)
 
     p = an_verbs.add_parser("fit", help="fit an impact pulse to a measured force-response record (CSV time_s,force_N "
                                         "or time_s,response_N)")
@@ -573,8 +566,7 @@ def add_analytical_parser(verbs) -> None:
                    help="pulse shape fitted")
     p.add_argument("--height", type=float, default=0.40, help="impact height above the column base, m (mdof)")
     _add_column_args(p)
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.set_defaults(func=cmd_fit)
+    closing_options(p, cmd_fit)
 
     p = an_verbs.add_parser("dambreak", help="dam-break solutions: Ritter, Stoker, Chanson")
     p.add_argument("--model", choices=["ritter", "stoker", "chanson"], required=True,
@@ -586,15 +578,11 @@ def add_analytical_parser(verbs) -> None:
     p.add_argument("--profile", type=float, default=None, help="time, s: write the profile to --out")
     p.add_argument("--points", type=int, default=401, help="profile points (default 401)")
     p.add_argument("--out", help="CSV for --profile (x_m,depth_m,velocity_m_s)")
-    p.add_argument("--force", action="store_true", help="overwrite an existing --out file")
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.set_defaults(func=cmd_dambreak)
+    closing_options(p, cmd_dambreak, force="overwrite an existing --out file")
 
     p = an_verbs.add_parser("study", help="the study's SDOF/MDOF/ASCE analysis on synthetic records (Table 2, Fig. 7)")
     p.add_argument("-o", "--out", default="docs/results/synthetic-study", help="output folder (tables and plots)")
     p.add_argument("--records", type=int, default=22, help="number of synthetic records (default 22, as the study)")
     p.add_argument("--seed", type=int, default=2019, help="random seed")
     p.add_argument("--base", choices=["rigid", "calibrated"], default="rigid", help="column base model of the records")
-    p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.set_defaults(func=cmd_study)
+    closing_options(p, cmd_study, force=FOLDER_FORCE_HELP)

@@ -16,6 +16,7 @@ from orchestrator.core.errors import InputError
 from orchestrator.cli.common import (
     EXIT_OK,
     SCENE_HELP,
+    closing_options,
     confirm_large,
     emit,
     missing_feature,
@@ -26,12 +27,7 @@ from orchestrator.cli.common import (
 )
 from orchestrator.scene.shipped import resolve_scene
 
-__all__ = ["YES_HELP", "add_case_parsers", "cmd_case", "cmd_post", "cmd_preview", "cmd_render", "cmd_run"]
-
-#: The help of every verb's --yes (the resource guard's soft limits, docs/architecture.md).
-YES_HELP = ("go ahead when the plan is over a soft resource limit (memory over half of what is free, or an "
-            "estimated solver time over 6 h); without it a terminal is asked, and anything else refused (exit 2)")
-
+__all__ = ["add_case_parsers", "cmd_case", "cmd_post", "cmd_preview", "cmd_render", "cmd_run"]
 
 def cmd_render(args: argparse.Namespace) -> int:
     out = writable_folder(args.out, "-o/--out")  # only checked: render makes it when the scene is valid
@@ -188,9 +184,7 @@ def add_case_parsers(verbs) -> None:
                    help="override a dotted scene key, value as YAML (repeatable), e.g. mesh.cell_size_m=0.03")
     p.add_argument("--force", action="store_true", help="overwrite a non-empty output folder")
     p.add_argument("--mesh", action="store_true", help="also build the mesh and print checkMesh's verdict")
-    p.add_argument("--yes", action="store_true", help=YES_HELP)
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.set_defaults(func=cmd_render)
+    closing_options(p, cmd_render, yes=True)
 
     p = verbs.add_parser("preview", help="draw the scene (flume, column, debris, gauges) to a PNG")
     p.add_argument("scene", type=resolve_scene, help=SCENE_HELP)
@@ -210,9 +204,7 @@ def add_case_parsers(verbs) -> None:
     p.add_argument("--stall-limit", type=float, default=None, metavar="S",
                    help="stop the run as stalled after S wall seconds without solver output (default: the "
                         "scene's run.stall_limit_s, else 600 s)")
-    p.add_argument("--yes", action="store_true", help=YES_HELP)
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.set_defaults(func=cmd_run)
+    closing_options(p, cmd_run, yes=True)
 
     p = verbs.add_parser("post", help="post-process a run (finished or not) into DIR/results/: tables, "
                                       "comparisons, plots, report.md")
@@ -222,8 +214,7 @@ def add_case_parsers(verbs) -> None:
     p.add_argument("--no-snapshot", action="store_true", help="skip the pyvista 3D snapshot")
     p.add_argument("--arrival-threshold", type=float, default=None, metavar="M",
                    help="rise above the initial level (m) that marks the bore's arrival (default 2 %% of h0)")
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.set_defaults(func=cmd_post)
+    closing_options(p, cmd_post)
 
     p = verbs.add_parser("case", help="render + run + post in one go (run it again to resume)")
     p.add_argument("scene", type=resolve_scene, help=SCENE_HELP)
@@ -232,6 +223,4 @@ def add_case_parsers(verbs) -> None:
                    help="override a dotted scene key, value as YAML (repeatable), e.g. mesh.cell_size_m=0.03")
     p.add_argument("--np", type=int, default=None, help="MPI ranks (default: the scene's run.cores)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
-    p.add_argument("--yes", action="store_true", help=YES_HELP)
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.set_defaults(func=cmd_case)
+    closing_options(p, cmd_case, yes=True)

@@ -26,9 +26,13 @@ __all__ = [
     "EXIT_FAILURE",
     "EXIT_OK",
     "SCENE_HELP",
+    "FOLDER_FORCE_HELP",
+    "YES_HELP",
     "ArgParser",
     "Flags",
     "HelpFormatter",
+    "closing_options",
+    "pool_options",
     "confirm_large",
     "emit",
     "missing_feature",
@@ -44,6 +48,13 @@ EXIT_OK, EXIT_FAILURE, EXIT_BAD_INPUT = 0, 1, 2
 #: The help of every scene argument (each parsed by :func:`orchestrator.scene.shipped.resolve_scene`).
 SCENE_HELP = ("scene YAML, or a shipped scene by name (e.g. 1debris; `debrisfoam scenes` lists them; "
               "docs/scene.md)")
+
+#: The help of every verb's --yes (the resource guard's soft limits, docs/architecture.md).
+YES_HELP = ("go ahead when the plan is over a soft resource limit (memory over half of what is free, or an "
+            "estimated solver time over 6 h); without it a terminal is asked, and anything else refused (exit 2)")
+
+#: The help of --force on a verb that writes a folder of results.
+FOLDER_FORCE_HELP = "overwrite a folder that holds files already"
 
 
 class HelpFormatter(argparse.ArgumentDefaultsHelpFormatter):
@@ -65,6 +76,36 @@ class ArgParser(argparse.ArgumentParser):
 
     def error(self, message: str) -> None:  # noqa: D401 - argparse API
         raise InputError("arguments", f"{message} (see `{self.prog} --help`)")
+
+
+def closing_options(p: argparse.ArgumentParser, func: Callable[[argparse.Namespace], int], *,
+                    out: str | None = None, out_required: bool = True, overrides: str | None = None,
+                    force: str | None = None, yes: bool = False, json: str | None = "print JSON") -> None:
+    """Add the options most verbs end with, each whose help is given, then the verb's ``func``.
+
+    In this order: ``-o/--out`` (help ``out``; required unless ``out_required`` is false),
+    ``--set KEY=VALUE`` (help ``overrides``), ``--force``, ``--yes`` (:data:`YES_HELP`) and ``--json``.
+    """
+    if out is not None:
+        p.add_argument("-o", "--out", required=out_required, help=out)
+    if overrides is not None:
+        p.add_argument("--set", action="append", metavar="KEY=VALUE", help=overrides)
+    if force is not None:
+        p.add_argument("--force", action="store_true", help=force)
+    if yes:
+        p.add_argument("--yes", action="store_true", help=YES_HELP)
+    if json is not None:
+        p.add_argument("--json", action="store_true", help=json)
+    p.set_defaults(func=func)
+
+
+def pool_options(p: argparse.ArgumentParser, workers: str, batch_size: str) -> None:
+    """Add ``--executor``, ``--workers`` and ``--batch-size`` of a verb that steps realisations in batches
+    over a process pool (``ensemble``, ``design``); ``workers`` and ``batch_size`` are their helps."""
+    p.add_argument("--executor", choices=["local", "dask"], default="local",
+                   help="local: a process pool here; dask: a Dask LocalCluster")
+    p.add_argument("--workers", type=int, default=None, metavar="N", help=workers)
+    p.add_argument("--batch-size", type=int, default=None, metavar="B", help=batch_size)
 
 
 def _existing_ancestor(path: Path) -> Path:

@@ -12,8 +12,8 @@ import os
 import sys
 from pathlib import Path
 
-from orchestrator.cli.case import YES_HELP
-from orchestrator.cli.common import EXIT_OK, SCENE_HELP, confirm_large, emit, plan_scene, study_folder
+from orchestrator.cli.common import (EXIT_OK, SCENE_HELP, closing_options, confirm_large, emit, plan_scene,
+                                     pool_options, study_folder)
 from orchestrator.core.errors import InputError
 from orchestrator.scene.shipped import resolve_scene
 
@@ -175,14 +175,8 @@ def add_design_parser(verbs) -> None:
                    help="study folder (default runs/design-<scene>): flows/<case>/ (reused when finished), "
                         "design.csv, design.json, exceedance.png, design.md")
     p.add_argument("-n", type=int, default=None, metavar="N", help="realisations (default: design.realisations)")
-    p.add_argument("--executor", choices=["local", "dask"], default="local",
-                   help="local: a process pool here; dask: a Dask LocalCluster")
-    p.add_argument("--workers", type=int, default=None, metavar="N",
-                   help="batches at once (default: this machine's cores)")
-    p.add_argument("--batch-size", type=int, default=None, metavar="B",
-                   help="realisations stepped together in one model (default 128)")
-    p.add_argument("--set", action="append", metavar="KEY=VALUE", help="scene override (repeatable)")
-    p.add_argument("--force", action="store_true", help="replace a study already in DIR (its flows are reused)")
-    p.add_argument("--yes", action="store_true", help=YES_HELP)
-    p.add_argument("--json", action="store_true", help="print JSON (no progress)")
-    p.set_defaults(func=cmd_design)
+    pool_options(p, workers="batches at once (default: this machine's cores)",
+                 batch_size="realisations stepped together in one model (default 128)")
+    closing_options(p, cmd_design, overrides="scene override (repeatable)",
+                    force="replace a study already in DIR (its flows are reused)", yes=True,
+                    json="print JSON (no progress)")

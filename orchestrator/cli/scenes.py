@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import argparse
 
-from orchestrator.cli.common import EXIT_OK, SCENE_HELP, emit, warn
+from orchestrator.cli.common import EXIT_OK, SCENE_HELP, closing_options, emit, warn
 from orchestrator.scene.shipped import resolve_scene
 
 __all__ = ["add_scene_parsers", "cmd_catalogue", "cmd_scenes", "cmd_schema", "cmd_validate"]
@@ -89,25 +89,20 @@ def cmd_catalogue(args: argparse.Namespace) -> int:
 def add_scene_parsers(verbs) -> None:
     """The ``scenes``, ``validate`` and ``schema`` verbs, on the top parser's ``verbs``."""
     p = verbs.add_parser("scenes", help="list the shipped example scenes and sweeps (usable by name), one line each")
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.set_defaults(func=cmd_scenes)
+    closing_options(p, cmd_scenes)
 
     p = verbs.add_parser("catalogue", help="the debris types and column sections a scene can name, with their "
                                            "values (docs/catalogue.md is generated from it)")
     p.add_argument("--markdown", action="store_true", help="print the catalogue page (docs/catalogue.md)")
-    p.add_argument("--json", action="store_true", help="print JSON (every value and its source)")
-    p.set_defaults(func=cmd_catalogue)
+    closing_options(p, cmd_catalogue, json="print JSON (every value and its source)")
 
     p = verbs.add_parser("validate", help="check a scene (schema and planner) without writing anything: exit 0 "
                                           "or 2")
     p.add_argument("scene", type=resolve_scene, help=SCENE_HELP)
-    p.add_argument("--set", action="append", metavar="KEY=VALUE", help="override a dotted scene key (repeatable)")
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.set_defaults(func=cmd_validate)
+    closing_options(p, cmd_validate, overrides="override a dotted scene key (repeatable)")
 
     p = verbs.add_parser("schema", help="the scene's keys: types, defaults, allowed ranges, meanings "
                                         "(docs/scene.md is generated from it)")
     p.add_argument("key", nargs="?", default=None, help="a section or key, e.g. debris or run.max_courant")
     p.add_argument("--markdown", action="store_true", help="print the reference page (docs/scene.md)")
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.set_defaults(func=cmd_schema)
+    closing_options(p, cmd_schema)

@@ -17,17 +17,19 @@ from pathlib import Path
 from typing import Any
 
 from orchestrator.core.errors import InputError
-from orchestrator.cli.case import YES_HELP
 from orchestrator.cli.common import (
     EXIT_FAILURE,
     EXIT_OK,
+    FOLDER_FORCE_HELP,
     SCENE_HELP,
     ArgParser,
     Flags,
+    closing_options,
     confirm_large,
     emit,
     output_path,
     plan_scene,
+    pool_options,
     study_folder,
     warn,
     writable_folder,
@@ -409,9 +411,7 @@ def add_study_parsers(verbs) -> None:
     p.add_argument("--dry-run", action="store_true", help="list the members, cell counts and estimated wall times; "
                                                           "run nothing")
     p.add_argument("--retry-failed", action="store_true", help="run failed members again (they resume)")
-    p.add_argument("--yes", action="store_true", help=YES_HELP)
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.set_defaults(func=cmd_sweep)
+    closing_options(p, cmd_sweep, yes=True)
 
     p = verbs.add_parser("ensemble", help="one one-way flow, then N realisations of the debris from perturbed "
                                           "starts carried through it: impact probability and load statistics "
@@ -423,13 +423,9 @@ def add_study_parsers(verbs) -> None:
                    help="ensemble folder: the flow case in DIR/flow (reused when finished), ensemble.csv, "
                         "ensemble.json, tracks.csv, report.md")
     p.add_argument("--seed", type=int, default=0, help="seed of the starts (realisation r draws from (seed, r))")
-    p.add_argument("--executor", choices=["local", "dask"], default="local",
-                   help="local: a process pool here; dask: a Dask LocalCluster")
-    p.add_argument("--workers", type=int, default=None, metavar="N",
-                   help="realisations at once (default: this machine's cores)")
-    p.add_argument("--batch-size", type=int, default=None, metavar="B",
-                   help="at most B realisations stepped together in one model (default 128; fewer when the "
-                        "workers would not each get a batch; 1: one model each)")
+    pool_options(p, workers="realisations at once (default: this machine's cores)",
+                 batch_size="at most B realisations stepped together in one model (default 128; fewer when the "
+                            "workers would not each get a batch; 1: one model each)")
     p.add_argument("--no-study-fit", action="store_true",
                    help="leave out the study's fit of each first strike (about 0.27 s of CPU a strike): for "
                         "design-scale ensembles; the like-for-like comparison then has no pulse rows")
@@ -441,11 +437,9 @@ def add_study_parsers(verbs) -> None:
                    help="standard deviation of the start's x and y offsets over the body's length (default 0.25)")
     p.add_argument("--yaw-sigma", type=float, default=None, metavar="DEG",
                    help="standard deviation of the start's yaw offset (default 12)")
-    p.add_argument("--set", action="append", metavar="KEY=VALUE", help="scene override (repeatable)")
-    p.add_argument("--force", action="store_true", help="replace an ensemble already in DIR (its flow is reused)")
-    p.add_argument("--yes", action="store_true", help=YES_HELP)
-    p.add_argument("--json", action="store_true", help="print JSON (no progress)")
-    p.set_defaults(func=cmd_ensemble)
+    closing_options(p, cmd_ensemble, overrides="scene override (repeatable)",
+                    force="replace an ensemble already in DIR (its flow is reused)", yes=True,
+                    json="print JSON (no progress)")
 
     rp = verbs.add_parser("report", help="results pages across runs: case (one run beside the study), layouts "
                                          "(debris layouts side by side), spreading (tracks against measured "
@@ -473,44 +467,32 @@ def add_study_parsers(verbs) -> None:
                         "the member's whole wall time")
     p.add_argument("--extrapolate-to", type=float, default=0.015, metavar="M",
                    help="extrapolate both set-ups to this cell size (default 0.015, the study's; 0: none)")
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.set_defaults(func=cmd_report_speed_error)
+    closing_options(p, cmd_report_speed_error)
     p = rp_verbs.add_parser("case", help="one post-processed run beside the study's figures: a results page "
                                          "with its plots (make results-1debris)")
     p.add_argument("case_dir", help="a run folder with results/ (debrisfoam post has run)")
-    p.add_argument("-o", "--out", required=True, help="output folder (report.md, plots, summary.json)")
-    p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.set_defaults(func=cmd_report_case)
+    closing_options(p, cmd_report_case, out="output folder (report.md, plots, summary.json)", force=FOLDER_FORCE_HELP)
 
     p = rp_verbs.add_parser("layouts", help="debris layouts of one scene side by side: gauges and column force "
                                            "overlaid, tracks in plan view, strikes, body-body contacts "
                                            "(make results-layouts)")
     p.add_argument("runs", nargs="+", metavar="RUN",
                    help="post-processed case folders, or sweep folders (their members in member order)")
-    p.add_argument("-o", "--out", required=True, help="output folder (report.md, tables, plots)")
-    p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.set_defaults(func=cmd_report_layouts)
+    closing_options(p, cmd_report_layouts, out="output folder (report.md, tables, plots)", force=FOLDER_FORCE_HELP)
 
     p = rp_verbs.add_parser("spreading", help="finished ensembles' tracks against measured debris spreading "
                                               "(Goseberg et al. 2016) and the ASCE 7-22 6.11.5.1 envelopes: "
                                               "angles, lateral spread, plots (make spreading)")
     p.add_argument("ensembles", nargs="+", metavar="ENSEMBLE_DIR",
                    help="folders written by debrisfoam ensemble (ensemble.csv, tracks.csv, ensemble.json, flow/)")
-    p.add_argument("-o", "--out", required=True, help="output folder (report.md, spreading.csv, summary.json, plots)")
-    p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.set_defaults(func=cmd_report_spreading)
+    closing_options(p, cmd_report_spreading, out="output folder (report.md, spreading.csv, summary.json, plots)",
+                    force=FOLDER_FORCE_HELP)
 
     p = rp_verbs.add_parser("flow-pair", help="one ensemble through two meshes' flows: the study comparison with "
                                               "the flow's own uncertainty (make ensemble-flow-pair)")
     p.add_argument("first", metavar="FIRST", help="the ensemble folder compared (debrisfoam ensemble)")
     p.add_argument("second", metavar="SECOND", help="the same starts through another mesh's flow")
-    p.add_argument("-o", "--out", required=True, help="output folder (report.md, summary.json)")
-    p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.set_defaults(func=cmd_report_flow_pair)
+    closing_options(p, cmd_report_flow_pair, out="output folder (report.md, summary.json)", force=FOLDER_FORCE_HELP)
 
     p = rp_verbs.add_parser("coupling", help="one scene run one-way and two-way on the same mesh, side by side: "
                                              "the tracks' difference until the first strike, the strikes, the "
@@ -524,46 +506,35 @@ def add_study_parsers(verbs) -> None:
     p.add_argument("--allow-stopped", action="store_true",
                    help="compare a run that stopped before its end (interrupted, diverged, a contact it could not "
                         "follow; post-processed as far as it got) up to where it stopped; the page says so")
-    p.add_argument("-o", "--out", required=True, help="output folder (report.md, tables, figure)")
-    p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.set_defaults(func=cmd_report_coupling)
+    closing_options(p, cmd_report_coupling, out="output folder (report.md, tables, figure)", force=FOLDER_FORCE_HELP)
 
     p = rp_verbs.add_parser("scale", help="a scene and its Froude-scaled twin side by side: arrivals, gauges, "
                                           "the first strike, forces, each lab figure scaled (make prototype-1debris)")
     p.add_argument("lab", metavar="LAB", help="the laboratory-scale run's folder (post-processed)")
     p.add_argument("prototype", metavar="PROTOTYPE", help="the same scene's run at another scale (post-processed)")
-    p.add_argument("-o", "--out", required=True, help="output folder (report.md, comparison.csv, gauges.png)")
-    p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.set_defaults(func=cmd_report_scale)
+    closing_options(p, cmd_report_scale, out="output folder (report.md, comparison.csv, gauges.png)",
+                    force=FOLDER_FORCE_HELP)
 
     p = rp_verbs.add_parser("stability", help="for every member of a sweep: finished with sane physics (water "
                                               "conserved, no body inside a wall, finite forces) or stopped with "
                                               "a diagnosis (the table of docs/stability.md)")
     p.add_argument("sweep_dir", help="a sweep folder, e.g. runs/sweeps/hard-cases")
-    p.add_argument("-o", "--out", default=None, help="also write the Markdown table to this file")
-    p.add_argument("--force", action="store_true", help="overwrite an existing -o file")
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.set_defaults(func=cmd_report_stability)
+    closing_options(p, cmd_report_stability, out="also write the Markdown table to this file", out_required=False,
+                    force="overwrite an existing -o file")
 
     p = rp_verbs.add_parser("bore", help="every member of a wet-bed sweep against Stoker's dam break: front speed "
                                          "and bore depth (make wet-bed; docs/results/wet-bed/)")
     p.add_argument("sweep_dir", help="a sweep folder of post-processed 2D wet-bed runs, e.g. runs/sweeps/wet-bed")
-    p.add_argument("-o", "--out", required=True, help="output folder (report.md, bore_check.csv, gauge plots)")
-    p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.set_defaults(func=cmd_report_bore)
+    closing_options(p, cmd_report_bore, out="output folder (report.md, bore_check.csv, gauge plots)",
+                    force=FOLDER_FORCE_HELP)
 
     p = rp_verbs.add_parser("flume", help="every member of a flume-as-built sweep (the gate's sill and opening, "
                                           "the wet bed, the column's position): arrivals at WG2, WG3 and the "
                                           "column's face against the measured and the scene as shipped (make "
                                           "flume-as-built; docs/results/flume-as-built/)")
     p.add_argument("sweep_dir", help="a sweep folder of post-processed runs, e.g. runs/sweeps/flume-as-built")
-    p.add_argument("-o", "--out", required=True, help="output folder (report.md, flume.csv, arrivals.png)")
-    p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.set_defaults(func=cmd_report_flume)
+    closing_options(p, cmd_report_flume, out="output folder (report.md, flume.csv, arrivals.png)",
+                    force=FOLDER_FORCE_HELP)
 
     p = rp_verbs.add_parser("approach", help="a one-way run's container carried through its flow record and the "
                                              "study's finer ones: the strike speed against the record's cell size "
@@ -576,10 +547,8 @@ def add_study_parsers(verbs) -> None:
     p.add_argument("--coupled", nargs="*", default=None, metavar="TWO_WAY",
                    help="two-way runs of the same scene set beside the carries, those with results (default: "
                         "runs/1debris-two-way and runs/coupling-1debris-{3,2}cm/two-way; none: give no folder)")
-    p.add_argument("-o", "--out", required=True, help="output folder (report.md, approach.csv, budget.csv, plots)")
-    p.add_argument("--force", action="store_true", help="overwrite a folder that holds files already")
-    p.add_argument("--json", action="store_true", help="print JSON (no progress)")
-    p.set_defaults(func=cmd_report_approach)
+    closing_options(p, cmd_report_approach, out="output folder (report.md, approach.csv, budget.csv, plots)",
+                    force=FOLDER_FORCE_HELP, json="print JSON (no progress)")
 
     p = rp_verbs.add_parser("forcing-variants", help="a one-way run's container carried through its flow record "
                                                      "under each variant of the one-way forcing (drag per axis or "
@@ -587,7 +556,5 @@ def add_study_parsers(verbs) -> None:
                                                      "the table docs/one-way.md quotes (make forcing-variants)")
     p.add_argument("case_dir", metavar="RUN", help="the one-way run of the 1-debris scene (runs/1debris: make "
                                                   "case-1debris)")
-    p.add_argument("-o", "--out", required=True, help="the Markdown page to write (benchmarks/forcing_variants.md)")
-    p.add_argument("--force", action="store_true", help="overwrite an existing file")
-    p.add_argument("--json", action="store_true", help="print JSON (no progress)")
-    p.set_defaults(func=cmd_report_forcing_variants)
+    closing_options(p, cmd_report_forcing_variants, out="the Markdown page to write (benchmarks/forcing_variants.md)",
+                    force="overwrite an existing file", json="print JSON (no progress)")

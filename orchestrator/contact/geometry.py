@@ -37,6 +37,7 @@ from orchestrator.scene.geometry import flume_extent
 from orchestrator.scene.schema import Scene
 
 __all__ = [
+    "Obstacle",
     "BoxObstacle",
     "PlaneObstacle",
     "Obstacles",
@@ -129,22 +130,26 @@ def point_velocity(state: BodyState, point_m) -> np.ndarray:
 
 # ------------------------------------------------------------------------------ obstacles
 @dataclass(frozen=True)
-class BoxObstacle:
-    """An oriented box obstacle (the column: axis-aligned, from the floor to its top)."""
+class Obstacle:
+    """What every obstacle has: its ``name`` and ``kind`` (column, wall, bed)."""
 
     name: str
     kind: str
+
+
+@dataclass(frozen=True)
+class BoxObstacle(Obstacle):
+    """An oriented box obstacle (the column: axis-aligned, from the floor to its top)."""
+
     centre_m: tuple[float, float, float]
     size_m: tuple[float, float, float]
     orientation: tuple[tuple[float, float, float], ...] = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
 
 
 @dataclass(frozen=True)
-class PlaneObstacle:
+class PlaneObstacle(Obstacle):
     """A plane through ``point_m``; ``normal`` (unit) points into the flume (the bodies' side)."""
 
-    name: str
-    kind: str
     point_m: tuple[float, float, float]
     normal: tuple[float, float, float]
 

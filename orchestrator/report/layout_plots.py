@@ -27,7 +27,8 @@ import numpy as np
 from matplotlib.patches import Rectangle
 
 from orchestrator.report.figures import SMALL, WIDTH_IN, empty, legend, pyplot, save_figure
-from orchestrator.report.track_plots import draw_column, draw_spreading_areas, label_speed_axes, set_plan_view
+from orchestrator.report.track_plots import draw_column, draw_spreading_areas, label_speed_axes, mark_strikes, \
+    set_plan_view
 
 __all__ = ["draw_all", "figure_flow", "figure_impact_summary", "figure_layout_impacts", "figure_layout_tracks"]
 
@@ -125,12 +126,7 @@ def figure_layout_tracks(lay):
             ax.plot(track["x_m"].iloc[0], track["y_m"].iloc[0], marker="s", ms=6, mec="k", mew=0.6,
                     color=line.get_color(), ls="none", label="start of a track", zorder=4)
             axv.plot(track["time_s"], track["speed_m_s"], lw=1.1, color=line.get_color(), label=body)
-        strikes = lay.strikes
-        if len(strikes):
-            ax.plot(strikes["point_x_m"], strikes["point_y_m"], marker="*", ms=12, ls="none", color="#d7191c",
-                    label="strike on the column", zorder=5)
-            for t in strikes["time_s"]:
-                axv.axvline(t, color="#d7191c", lw=0.8, alpha=0.6, label="strike on the column")
+        mark_strikes(ax, axv, lay.strikes, "strike on the column", "strike on the column", alpha=0.6)
         bc = lay.body_contacts
         if len(bc):
             ax.plot(bc["point_x_m"], bc["point_y_m"], marker="x", ms=7, ls="none", color="k",

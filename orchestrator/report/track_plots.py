@@ -17,8 +17,8 @@ from orchestrator.report.figures import SMALL, WIDTH_IN, empty, legend, pyplot, 
 from orchestrator.results.compare import SPREADING_ANGLES_DEG
 from orchestrator.scene.geometry import flume_extent
 
-__all__ = ["clipped_area", "draw_column", "draw_spreading_areas", "figure_tracks", "label_speed_axes", "plot_tracks",
-           "set_plan_view"]
+__all__ = ["clipped_area", "draw_column", "draw_spreading_areas", "figure_tracks", "label_speed_axes", "mark_strikes",
+           "plot_tracks", "set_plan_view"]
 
 
 def label_speed_axes(axv) -> None:
@@ -28,6 +28,16 @@ def label_speed_axes(axv) -> None:
     axv.set_title("speed of each body (centre of mass)", fontsize=10, loc="left")
     axv.grid(alpha=0.3)
     legend(axv, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+
+
+def mark_strikes(ax, axv, strikes, label: str, time_label: str, alpha: float) -> None:
+    """A red star at each column strike's point (``point_x_m``, ``point_y_m``) in the plan view
+    ``ax``, and a line at its ``time_s`` on the speed panel ``axv`` (none without strikes)."""
+    if len(strikes):
+        ax.plot(strikes["point_x_m"], strikes["point_y_m"], marker="*", ms=12, ls="none", color="#d7191c",
+                label=label, zorder=5)
+        for t in strikes["time_s"]:
+            axv.axvline(t, color="#d7191c", lw=0.8, alpha=alpha, label=time_label)
 
 
 def set_plan_view(ax, xlim, ylim, adjustable: str = "datalim") -> None:
@@ -130,12 +140,7 @@ def figure_tracks(results, comp):
             axv.plot(track["time_s"], track["speed_m_s"], lw=1.2, color=line.get_color(), label=body)
         ax.scatter([s[0] for s in starts], [s[1] for s in starts], marker="s", s=30, c=[s[2] for s in starts],
                    edgecolors="k", linewidths=0.6, zorder=4, label="start of a track")
-        imp = results.impacts
-        if len(imp):
-            ax.plot(imp["point_x_m"], imp["point_y_m"], marker="*", ms=12, ls="none", color="#d7191c",
-                    label="impacts", zorder=5)
-            for t in imp["time_s"]:
-                axv.axvline(t, color="#d7191c", lw=0.8, alpha=0.7, label="impact")
+        mark_strikes(ax, axv, results.impacts, "impacts", "impact", alpha=0.7)
         label_speed_axes(axv)
     set_plan_view(ax, xlim, ylim)
     ax.set_title("Debris tracks (centre of mass) in plan view, and the spreading areas (ASCE 7-22 6.11.5.1)\n"

@@ -44,7 +44,7 @@ import math
 import os
 import re
 import sys
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Iterable, Sequence
 
@@ -125,12 +125,9 @@ class StepRecord:
 
 @dataclass
 class _Partial:
-    index: int
-    time_s: float
-    time_name: str
-    delta_t_s: float | None
-    max_courant: float | None
-    max_alpha_courant: float | None
+    """A step being read: its record as far as the step's head tells it, and its bodies' fields by slot."""
+
+    head: StepRecord
     bodies: dict[int, dict] = field(default_factory=dict)
 
 
@@ -171,7 +168,7 @@ class LogParser:
     def current_time_s(self) -> float | None:
         """The simulated time of the step in progress (or of the last one)."""
         if self._step is not None:
-            return self._step.time_s
+            return self._step.head.time_s
         return self.last_step.time_s if self.last_step else None
 
     # ---- parsing
@@ -197,7 +194,8 @@ class LogParser:
                 except ValueError:
                     continue
                 self.steps_seen += 1
-                self._step = _Partial(self.steps_seen, t, name, self._delta_t, self._courant, self._alpha_courant)
+                self._step = _Partial(StepRecord(self.steps_seen, t, name, self._delta_t, self._courant,
+                                                 self._alpha_courant, None, None))
                 self._block = -1
                 self._in_block = False
                 continue
@@ -255,7 +253,7 @@ class LogParser:
                 self._in_block = False
             if self.nonfinite_line is None and _has_nonfinite(line):
                 self.nonfinite_line = line
-                self.nonfinite_time_s = self._step.time_s if self._step else None
+                self.nonfinite_time_s = self._step.head.time_s if self._step else None
         return done
 
     def _slot(self) -> int:
@@ -274,15 +272,14 @@ class LogParser:
             orientation = values.get("orientation", (1.0, 0, 0, 0, 1.0, 0, 0, 0, 1.0))
             bodies.append(BodyState(
                 name=name,
-                time_s=step.time_s,
+                time_s=step.head.time_s,
                 centre_of_mass_m=values["centre_of_mass_m"],
                 orientation=orientation,
                 velocity_m_s=values.get("velocity_m_s", (0.0, 0.0, 0.0)),
                 angular_velocity_rad_s=values.get("angular_velocity_rad_s", (0.0, 0.0, 0.0)),
                 centre_of_rotation_m=values.get("centre_of_rotation_m"),
             ))
-        record = StepRecord(step.index, step.time_s, step.time_name, step.delta_t_s, step.max_courant,
-                            step.max_alpha_courant, exec_s, clock_s, tuple(bodies))
+        record = replace(step.head, execution_time_s=exec_s, clock_time_s=clock_s, bodies=tuple(bodies))
         self._step = None
         self.last_step = record
         return record

@@ -200,6 +200,7 @@ def silent_kill_s(arrivals: list[tuple[float, int]]) -> float:
     return max(STOP_SILENT_KILL_S, 20.0 * (slowest_step_s(arrivals) or 0.0))
 
 
+@dataclass(eq=False)
 class SegmentWatch:
     """Runs and watches solver segments of one case (see the module notes).
 
@@ -207,20 +208,20 @@ class SegmentWatch:
     bed) whether one must be freed; it reports every step to `progress` and `on_step`.
     """
 
-    def __init__(self, info: CaseInfo, limits: DivergenceLimits, stop: StopFlag, contact: ContactSettings,
-                 book: ContactBook, pacing: Pacing, on_step: Callable[[StepRecord], None] | None):
-        self.info = info
-        self.case = info.case
-        self.limits = limits
-        self.stop = stop
-        self.contact = contact
-        self.book = book
-        self.pacing = pacing
-        self.on_step = on_step
-        self.bedwatch: BedWatch | None = None
-        #: the bodies' states while every body is held still and their motion solvers are set
-        #: aside (`held.hold_solvers`): the log then reports no body, and each step gets these
-        self.held: tuple[BodyState, ...] | None = None
+    info: CaseInfo
+    limits: DivergenceLimits
+    stop: StopFlag
+    contact: ContactSettings
+    book: ContactBook
+    pacing: Pacing
+    on_step: Callable[[StepRecord], None] | None
+    bedwatch: BedWatch | None = field(default=None, init=False)
+    #: the bodies' states while every body is held still and their motion solvers are set
+    #: aside (`held.hold_solvers`): the log then reports no body, and each step gets these
+    held: tuple[BodyState, ...] | None = field(default=None, init=False)
+
+    def __post_init__(self):
+        self.case = self.info.case
 
     def run(self, log: Path, start_value: float, start_name: str, seg_end: float,
             progress: Progress) -> SegmentResult:

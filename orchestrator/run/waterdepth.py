@@ -47,7 +47,7 @@ import numpy as np
 import yaml
 
 from orchestrator.case.folder import CaseFolder
-from orchestrator.case.outputs import read_force_series
+from orchestrator.case.outputs import numeric_dirs, read_force_series
 from orchestrator.core.errors import InputError
 from orchestrator.plan.model import ModelPlan
 
@@ -228,16 +228,8 @@ def install(case_dir: str | Path, axis: ZAxis,
 
 
 def _sample_dirs(case: Path) -> list[tuple[float, Path]]:
-    base = case / "postProcessing" / NAME
-    if not base.is_dir():
-        return []
-    out = []
-    for p in base.iterdir():
-        try:
-            out.append((float(p.name), p))
-        except ValueError:
-            continue
-    return sorted(out)
+    """The sampler's folders (one per solver segment) with their start times, oldest first."""
+    return numeric_dirs(case / "postProcessing" / NAME)
 
 
 def read_sample(path: Path, axis: ZAxis, time_s: float) -> Sample | None:
@@ -352,16 +344,7 @@ def read_load(case_dir: str | Path, body: str, until_s: float = math.inf,
 
 def _segments(case_dir: str | Path, body: str) -> list[tuple[float, Path]]:
     """The folders of `lift_<body>` (one per solver segment) with their start times, oldest first."""
-    base = Path(case_dir) / "postProcessing" / f"{LIFT_PREFIX}{body}"
-    if not base.is_dir():
-        return []
-    starts = []
-    for p in base.iterdir():
-        try:
-            starts.append((float(p.name), p))
-        except ValueError:
-            continue
-    return sorted(starts, key=lambda s: s[0])
+    return numeric_dirs(Path(case_dir) / "postProcessing" / f"{LIFT_PREFIX}{body}")
 
 
 def _settled_rows(start: float, path: Path, until_s: float = math.inf) -> list[tuple[float, tuple[float, float, float]]]:

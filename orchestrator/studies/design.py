@@ -65,9 +65,9 @@ from orchestrator.studies.design_table import DEMANDS, DESIGN_COLUMNS, allocate,
     realisation_demands
 from orchestrator.studies.engine_watch import engine_watch, raise_if_unstable
 from orchestrator.studies.design_strikes import carried, front_celerity, strike_rows
-from orchestrator.studies.ensemble import DEFAULT_BATCH_SIZE, EXECUTORS, Perturbation, ensemble_flow, forget_flow, \
+from orchestrator.studies.ensemble import DEFAULT_BATCH_SIZE, Perturbation, ensemble_flow, forget_flow, \
     keep_flow, start_clash
-from orchestrator.studies.sweep.executors import dask_executor
+from orchestrator.studies.sweep.executors import check_pool, dask_executor
 from orchestrator.transport.batch import run_batch
 from orchestrator.transport.case_transport import scene_settings, transport_setup
 from orchestrator.transport.engine import TransportSettings, ensemble_settings, run_transport
@@ -264,12 +264,7 @@ def design(scene_path: str | Path, out_dir: str | Path, sets: Sequence[str] = ()
     design.csv, design.json, exceedance.png and design.md in ``out_dir`` (module notes)."""
     from orchestrator.studies.design_report import write_report
 
-    if executor not in EXECUTORS:
-        raise InputError("--executor", f"must be one of {', '.join(EXECUTORS)}, got {executor!r}")
-    if workers is not None and int(workers) <= 0:
-        raise InputError("--workers", f"must be > 0, got {workers}")
-    if int(batch_size) < 1:
-        raise InputError("--batch-size", f"must be a whole number >= 1, got {batch_size}")
+    check_pool(executor, workers, batch_size)
     t0 = time.perf_counter()
     out = Path(out_dir)
     spec = load_scene(scene_path, list(sets)).design

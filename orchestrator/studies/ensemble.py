@@ -92,7 +92,7 @@ from orchestrator.plan.planner import plan_case
 from orchestrator.run.runner import run_case
 from orchestrator.scene.schema import DebrisBody, Scene
 from orchestrator.scene.scenefile import load_scene
-from orchestrator.studies.sweep.executors import dask_executor
+from orchestrator.studies.sweep.executors import check_pool, dask_executor
 from orchestrator.studies.engine_watch import engine_watch, raise_if_unstable
 from orchestrator.transport.batch import run_batch
 from orchestrator.transport.case_transport import case_flow, scene_settings, transport_setup
@@ -102,7 +102,6 @@ from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn, rotat
 
 __all__ = [
     "DEFAULT_BATCH_SIZE",
-    "EXECUTORS",
     "TABLE_COLUMNS",
     "TRACK_COLUMNS",
     "EnsembleResult",
@@ -122,8 +121,6 @@ __all__ = [
     "start_clash",
     "summarise",
 ]
-
-EXECUTORS = ("local", "dask")
 
 DEFAULT_BATCH_SIZE = 128
 """Realisations carried in one model (:func:`run_realisations`; measured in docs/ensembles.md)."""
@@ -439,10 +436,7 @@ def run_ensemble(starts: Sequence[list[DebrisBody]], flume: FlumeBounds, column:
     ``batch_size`` realisations a model (:func:`run_realisations`; 1: one model each), smaller
     when there are too few realisations to give every worker a batch; ``progress(done,
     total)`` after each batch; the realisations in order."""
-    if executor not in EXECUTORS:
-        raise InputError("--executor", f"must be one of {', '.join(EXECUTORS)}, got {executor!r}")
-    if int(batch_size) < 1:
-        raise InputError("--batch-size", f"must be a whole number >= 1, got {batch_size}")
+    check_pool(executor, None, batch_size)
     workers = max(1, int(workers or os.cpu_count() or 1))
     settings = ensemble_settings(settings or TransportSettings())
     npz = str(npz)
@@ -561,12 +555,7 @@ def ensemble(scene_path: str | Path, out_dir: str | Path, n: int, seed: int = 0,
 
     if int(n) <= 0:
         raise InputError("-n", f"must be a whole number > 0 of realisations, got {n}")
-    if executor not in EXECUTORS:
-        raise InputError("--executor", f"must be one of {', '.join(EXECUTORS)}, got {executor!r}")
-    if workers is not None and int(workers) <= 0:
-        raise InputError("--workers", f"must be > 0, got {workers}")
-    if int(batch_size) < 1:
-        raise InputError("--batch-size", f"must be a whole number >= 1, got {batch_size}")
+    check_pool(executor, workers, batch_size)
     perturbation = perturbation or Perturbation()
     t0 = time.perf_counter()
     out = Path(out_dir)

@@ -24,8 +24,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Iterable, Iterator
 
-from orchestrator.core.errors import DebrisfoamError
-from orchestrator.studies.sweep.spec import Member
+from orchestrator.core.errors import DebrisfoamError, InputError
+from orchestrator.studies.sweep.spec import EXECUTORS, Member
 from orchestrator.studies.sweep.store import read_member_record
 
 #: Seconds between the parent's looks for members that have started.
@@ -45,6 +45,17 @@ class Executor:
 def default_slots(cores_per_member: int) -> int:
     """Members at once when the user does not say: this machine's cores over a member's."""
     return max(1, (os.cpu_count() or 1) // max(1, cores_per_member))
+
+
+def check_pool(executor: str, workers: int | None, batch_size: int) -> None:
+    """InputError naming the flag unless ``executor`` is one of :data:`EXECUTORS`, ``workers`` (when
+    given) > 0 and ``batch_size`` >= 1: the pool of realisations ``ensemble`` and ``design`` run."""
+    if executor not in EXECUTORS:
+        raise InputError("--executor", f"must be one of {', '.join(EXECUTORS)}, got {executor!r}")
+    if workers is not None and int(workers) <= 0:
+        raise InputError("--workers", f"must be > 0, got {workers}")
+    if int(batch_size) < 1:
+        raise InputError("--batch-size", f"must be a whole number >= 1, got {batch_size}")
 
 
 @contextlib.contextmanager
