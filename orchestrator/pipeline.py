@@ -81,7 +81,7 @@ def prepare_case(scene: Scene, plan: ModelPlan, scene_path: str | Path, out_dir:
         folder = CaseFolder(out)
         try:
             existing = load_scene(folder.scene_path) if folder.scene_path.is_file() else None
-        except InputError as exc:  # written by an older tool whose checks it no longer passes
+        except InputError as exc:  # written under rules it does not pass today
             raise InputError("-o/--out", f"{out} holds a case whose scene.yaml today's checks refuse ({exc}), so "
                              "it cannot be resumed; choose another folder, or remove it to start again") from exc
         coupling = folder.debris_coupling()
