@@ -322,6 +322,12 @@ def test_the_design_value_in_design_json_and_on_the_page_agree(tmp_path, monkeyp
     binds = {"k_s": "the k_s line", "k_d": "the k_d line"}.get(asce["binding"], f"the {asce['binding']}")
     assert f"bound by {binds}" in page
     assert "member's largest displacement" in page and "top displacement" not in page
+    # the band's limits: a laboratory scene's law is the calibrated one; a full-scale scene states its
+    # own, whose uncertainty no published test gives
+    from orchestrator.studies.design_advice import STATED_LAW_UNKNOWN, advice_lines
+    assert not asce["prototype"] and "a full-scale law's difference from the laboratory one" in page
+    assert STATED_LAW_UNKNOWN not in page
+    assert STATED_LAW_UNKNOWN in "\n".join(advice_lines({**summary, "asce": {**asce, "prototype": True}}))
     # --json prints design.json's value
     assert head["recommended"]["demands"] == {k: {n: d[n] for n in ("value", "lower", "upper", "unit")}
                                               for k, d in rec["demands"].items()}

@@ -41,7 +41,7 @@ from analytical.study_comparison import SEED_IMPACT_COUNT
 from orchestrator.studies.design_strikes import FACES
 from orchestrator.studies.design_table import DEMANDS
 
-__all__ = ["FASTER_THAN_WATER", "LAW_FORCE_SE", "OBLIQUE_DEG", "RECOMMENDED", "advice", "advice_lines", "band", "conditional_exceedance",
+__all__ = ["FASTER_THAN_WATER", "LAW_FORCE_SE", "OBLIQUE_DEG", "RECOMMENDED", "STATED_LAW_UNKNOWN", "advice", "advice_lines", "band", "conditional_exceedance",
            "demand_lines", "fmt_demand", "given_strike", "recommendation", "strike_summary"]
 
 #: The fractile the page recommends, given a strike (module notes: the tool's convention).
@@ -230,6 +230,13 @@ def demand_lines(summary: dict[str, Any]) -> list[str]:
     return lines
 
 
+#: What the band leaves out at full scale: the scene states its law, and no published full-scale test
+#: gives that law's uncertainty (docs/fullscale-sources.md), so the laboratory calibration's part is
+#: a lower bound on it.
+STATED_LAW_UNKNOWN = ("the uncertainty of the full-scale law the scene states (no published full-scale test gives "
+                      "it: the laboratory calibration's part above is a lower bound on it)")
+
+
 def advice_lines(summary: dict[str, Any]) -> list[str]:
     """The page's design value, its reasoning and band, and the strikes as they struck."""
     conf = f"{summary['confidence'] * 100:.0f} %"
@@ -259,8 +266,9 @@ def advice_lines(summary: dict[str, Any]) -> list[str]:
         lines += ["", f"The band: the quantile's {conf} interval (the realisations' sampling), times 1 ± "
                       f"{law['law_relative'] * 100:.1f} % (the contact law's calibration: the standard error of the "
                       f"mean peak force it was fitted to, {LAW_FORCE_SE * 100:.1f} %, at {conf}){flow}. Not in it: "
-                      "a full-scale law's difference from the laboratory one and the flow model's error beyond its "
-                      "speed at the site.", ""]
+                      + (STATED_LAW_UNKNOWN if summary.get("asce", {}).get("prototype") else
+                         "a full-scale law's difference from the laboratory one")
+                      + " and the flow model's error beyond its speed at the site.", ""]
     per = s["strikes_per_striking_realisation"]
     faces = ", ".join(f"{k} {v}" for k, v in s["faces"].items())
     grounded = (f"{s['grounded']} of {s['bodies']} bodies (in {s['grounded_realisations']} realisations, drafts up "
