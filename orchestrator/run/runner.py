@@ -271,7 +271,9 @@ def _run_steps(info: CaseInfo, sup: Supervisor, stop: StopFlag, quiet: bool, rec
 def _prepare(info: CaseInfo, sup: Supervisor) -> None:
     """Mesh, checkMesh's cell count, decomposePar; the scene's obstacles and the bed watch."""
     case, data = info.case, sup.record.data
-    for step in foam.mesh_steps(case, info.plan):
+    mesh = foam.mesh_steps(case, info.plan)
+    steps = [s for s in foam.solve_steps(case, info.plan, info.ranks) if s.name.startswith("decomposePar")]
+    for step in mesh:
         sup.run_step(step)
     mesh_log = case / "log.checkMesh"
     if mesh_log.is_file():
@@ -280,7 +282,6 @@ def _prepare(info: CaseInfo, sup: Supervisor) -> None:
             data["cells"].update({"total": summary.cells, "mesh_ok": summary.ok})
         except foam.StepError:
             pass
-    steps = [s for s in foam.solve_steps(case, info.plan, info.ranks) if s.name.startswith("decomposePar")]
     if steps and not steps[0].done(case):  # the planned split follows --np
         _match_decomposition(case, info.ranks, data)
     for step in steps:
