@@ -105,7 +105,6 @@ from typing import Any, Callable
 from orchestrator.core.errors import DebrisfoamError, InputError
 from orchestrator.case import bodystate, foam, held, split_bodies
 from orchestrator.case.bodypoints import BodyPoints
-from orchestrator.case.dictionary import edit_dictionary
 from orchestrator.case.held import still_state
 from orchestrator.case.folder import EPS_T, PLAN_JSON, SCENE_YAML, CaseFolder, processor_dirs
 from orchestrator.contact.settings import ContactSettings
@@ -282,8 +281,12 @@ def _prepare(info: CaseInfo, sup: Supervisor) -> None:
             data["cells"].update({"total": summary.cells, "mesh_ok": summary.ok})
         except foam.StepError:
             pass
-    if steps and not steps[0].done(case):  # the planned split follows --np
-        _match_decomposition(case, info.ranks, data)
+    # the planned split follows --np: decomposeParDict along x when --np differs (noted in run.json)
+    planned = foam.set_subdomains(case, info.ranks) if steps and not steps[0].done(case) else None
+    if planned is not None:
+        data["decomposition_note"] = (f"--np {info.ranks} instead of the planned {planned}: hierarchical "
+                                      f"({info.ranks} 1 1); decomposePar still keeps each body mesh on one rank "
+                                      "(preserveFaceZones), at some cost in balance")
     for step in steps:
         ran = not step.done(case)
         sup.run_step(step)
@@ -501,18 +504,6 @@ def _check_decomposition(case: Path, ranks: int) -> None:
                        f"(or delete the processor* directories to start again)")
     if ranks == 1 and procs:
         raise RunError(f"{case} is decomposed for {len(procs)} ranks: run with --np {len(procs)}")
-
-
-def _match_decomposition(case: Path, ranks: int, data: dict) -> None:
-    """decomposeParDict for `ranks` when --np differs from the plan (split along x, noted in run.json)."""
-    with edit_dictionary(case / "system" / "decomposeParDict") as parsed:
-        planned = parsed["numberOfSubdomains"]
-        if int(planned) == ranks:
-            return
-        parsed["numberOfSubdomains"] = ranks
-        parsed["coeffs" if "coeffs" in parsed else "hierarchicalCoeffs"]["n"] = [ranks, 1, 1]
-    data["decomposition_note"] = (f"--np {ranks} instead of the planned {planned}: hierarchical ({ranks} 1 1); "
-                                  "decomposePar still keeps each body mesh on one rank (preserveFaceZones), at some cost in balance")
 
 
 def _fail_diverged(sup: Supervisor, seg: SegmentResult, start_value: float) -> None:
