@@ -103,18 +103,18 @@ from pathlib import Path
 from typing import Any, Callable
 
 from orchestrator.core.errors import DebrisfoamError, InputError
-from orchestrator.case import bodystate, foam, held, split_bodies
+from orchestrator.case import bodystate, foam, split_bodies
 from orchestrator.case.bodypoints import BodyPoints
-from orchestrator.case.held import still_state
 from orchestrator.case.folder import EPS_T, PLAN_JSON, SCENE_YAML, CaseFolder, processor_dirs
 from orchestrator.contact.settings import ContactSettings
 from orchestrator.plan.scale import froude_factor
-from orchestrator.run import body_policy
+from orchestrator.run import body_policy, held
 from orchestrator.run.bedwatch import BedWatch
 from orchestrator.run.case_info import CaseInfo, load_case_info
 from orchestrator.run.contact_geometry import Contact
 from orchestrator.run.control import set_control
 from orchestrator.run.errors import ContactError, DivergenceError, RunError, RunInterrupted
+from orchestrator.run.held import still_state
 from orchestrator.run.monitor import Diagnosis, DivergenceLimits, Progress, StepRecord
 from orchestrator.run.run_json import now, states_in_logs, versions
 from orchestrator.run.segments import STOPPED_REASONS, SegmentResult, StopFlag

@@ -17,11 +17,12 @@ from pathlib import Path
 from dataclasses import asdict, replace
 from typing import Callable, Sequence
 
-from orchestrator.case import bodystate, foam, held
+from orchestrator.case import bodystate, foam
 from orchestrator.case.bodypoints import BodyPoints
 from orchestrator.case.bodystate import BodyState
 from orchestrator.case.folder import EPS_T
 from orchestrator.case.outputs import WATER_BALANCE_TOLERANCE
+from orchestrator.run import held
 from orchestrator.run.bedwatch import BedWatch
 from orchestrator.run.case_info import CaseInfo
 from orchestrator.run.contact_book import ContactBook, ContactSettings
