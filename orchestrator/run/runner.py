@@ -86,7 +86,7 @@ reads the case, `orchestrator.run.errors` names the ways a run ends early.
 Dictionaries (controlDict, decomposeParDict, dynamicMeshDict) are read and edited through
 `orchestrator.case.dictionary` (foamlib): in place, at full precision, the file replaced at
 once. What the runner does to the bodies through dynamicMeshDict is
-`orchestrator.run.body_policy`.
+`orchestrator.run.body_policy`, and `orchestrator.run.held` (their motion solvers set aside).
 
 Units: seconds, metres, kg, N.
 """
@@ -270,9 +270,8 @@ def _run_steps(info: CaseInfo, sup: Supervisor, stop: StopFlag, quiet: bool, rec
 def _prepare(info: CaseInfo, sup: Supervisor) -> None:
     """Mesh, checkMesh's cell count, decomposePar; the scene's obstacles and the bed watch."""
     case, data = info.case, sup.record.data
-    mesh = foam.mesh_steps(case, info.plan)
     steps = [s for s in foam.solve_steps(case, info.plan, info.ranks) if s.name.startswith("decomposePar")]
-    for step in mesh:
+    for step in foam.mesh_steps(case, info.plan):
         sup.run_step(step)
     mesh_log = case / "log.checkMesh"
     if mesh_log.is_file():
