@@ -268,9 +268,15 @@ def _run_steps(info: CaseInfo, sup: Supervisor, stop: StopFlag, quiet: bool, rec
 
 
 def _prepare(info: CaseInfo, sup: Supervisor) -> None:
-    """Mesh, checkMesh's cell count, decomposePar; the scene's obstacles and the bed watch."""
+    """The split for --np, mesh, checkMesh's cell count, decomposePar; the scene's obstacles and the bed watch."""
     case, data = info.case, sup.record.data
     steps = [s for s in foam.solve_steps(case, info.plan, info.ranks) if s.name.startswith("decomposePar")]
+    # the planned split follows --np: decomposeParDict along x when --np differs (noted in run.json)
+    planned = foam.set_subdomains(case, info.ranks) if steps and not steps[0].done(case) else None
+    if planned is not None:
+        data["decomposition_note"] = (f"--np {info.ranks} instead of the planned {planned}: hierarchical "
+                                      f"({info.ranks} 1 1); decomposePar still keeps each body mesh on one rank "
+                                      "(preserveFaceZones), at some cost in balance")
     for step in foam.mesh_steps(case, info.plan):
         sup.run_step(step)
     mesh_log = case / "log.checkMesh"
@@ -280,12 +286,6 @@ def _prepare(info: CaseInfo, sup: Supervisor) -> None:
             data["cells"].update({"total": summary.cells, "mesh_ok": summary.ok})
         except foam.StepError:
             pass
-    # the planned split follows --np: decomposeParDict along x when --np differs (noted in run.json)
-    planned = foam.set_subdomains(case, info.ranks) if steps and not steps[0].done(case) else None
-    if planned is not None:
-        data["decomposition_note"] = (f"--np {info.ranks} instead of the planned {planned}: hierarchical "
-                                      f"({info.ranks} 1 1); decomposePar still keeps each body mesh on one rank "
-                                      "(preserveFaceZones), at some cost in balance")
     for step in steps:
         ran = not step.done(case)
         sup.run_step(step)
