@@ -4,8 +4,8 @@
 (:mod:`~orchestrator.plan.bodies`, their rotations worked out once) it chooses how the debris meets
 the flow (:mod:`~orchestrator.plan.coupling`), the solver (interFoam on a static mesh without
 debris or for a one-way flow record, overInterDyMFoam with one six-DoF body per debris for
-two-way) and 2D or 3D here, then asks each stage of the plan in turn: how much of the reservoir and of the
-downstream flume to model and where cells are fine (:mod:`~orchestrator.plan.domain`), the
+two-way) and 2D or 3D here, then asks each stage of the plan in turn: how much of the reservoir
+and of the downstream flume to model and where cells are fine (:mod:`~orchestrator.plan.domain`), the
 background mesh and its grading (:mod:`~orchestrator.plan.grading`), the body meshes, the
 water to fill and the gauges, the time step and its cost (:mod:`~orchestrator.plan.timestep`),
 the domain decomposition (:mod:`~orchestrator.plan.decompose`), the numbers the case's
