@@ -4,7 +4,7 @@ v1912's dynamicOversetFvMesh rebuilds its overset addressing (cellVolumeWeight's
 between every pair of meshes) at every time step while any six-DoF motion solver runs, even when
 the bodies' constraints keep them still. The runner sets the solvers aside while every body is
 stuck on the bed or pinned at an obstacle (`ContactSettings.hold_still_solvers`,
-`orchestrator.case.held.hold_solvers`). This benchmark runs the same rendered case twice
+`orchestrator.run.held.hold_solvers`). This benchmark runs the same rendered case twice
 through `run_case`, with the setting on (the default) and off (the baseline), side by side, over
 the first `--end-time` seconds of the study's 1-debris scene and its 3-container 3x1 layout,
 two-way at 4 cm (the bodies rest on the bed until the bore comes, about 1.1 s):

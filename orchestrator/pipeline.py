@@ -123,8 +123,8 @@ def run_full_case(scene: Scene, plan: ModelPlan, scene_path: str | Path, out_dir
     confirmed: go ahead over the resource guard's soft limits (:func:`render_from_file`).
     """
     t0 = time.perf_counter()
-    case, rendered = prepare_case(scene, plan, scene_path, out_dir or default_case_dir(scene_path), sets,
-                                  confirmed=confirmed)
+    out_dir = out_dir or default_case_dir(scene_path)
+    case, rendered = prepare_case(scene, plan, scene_path, out_dir, sets, confirmed=confirmed)
     if not quiet:
         print(f"debrisfoam: {'rendered' if rendered else 'resuming'} {case}", flush=True)
     warnings = _plan_warnings(case)  # the case's own plan.json: a resumed case keeps what it was planned with

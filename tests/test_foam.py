@@ -240,3 +240,18 @@ def test_only_the_tail_of_a_long_log_is_read(tmp_path):
     tail = foam._tail(log, foam.LOG_TAIL_BYTES)
     assert len(tail) <= foam.LOG_TAIL_BYTES and tail.startswith("Time = 1\n")
     assert failure_reason(tail) == "--> FOAM FATAL ERROR:\n    boom"
+
+
+def test_set_subdomains_splits_along_x_and_names_the_planned_count(tmp_path):
+    """--np other than the plan's: decomposeParDict for that many subdomains along x; the planned
+    count comes back (None when it already matched)."""
+    (tmp_path / "system").mkdir()
+    path = tmp_path / "system" / "decomposeParDict"
+    path.write_text("FoamFile\n{\n    version 2.0;\n    format ascii;\n    class dictionary;\n"
+                    "    object decomposeParDict;\n}\n\nnumberOfSubdomains 4;\nmethod hierarchical;\n"
+                    "hierarchicalCoeffs\n{\n    n (2 2 1);\n}\n")
+    assert foam.set_subdomains(tmp_path, 4) is None
+    assert foam.set_subdomains(tmp_path, 3) == 4
+    text = path.read_text()
+    assert re.search(r"numberOfSubdomains\s+3;", text) and re.search(r"n\s+\(3 1 1\);", text)
+    assert foam.set_subdomains(tmp_path, 3) is None

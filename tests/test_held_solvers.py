@@ -15,7 +15,8 @@ from pathlib import Path
 import pytest
 
 from conftest import ROOT, run_cli
-from orchestrator.case import bodystate, held
+from orchestrator.case import bodystate
+from orchestrator.run import held
 from orchestrator.run import body_policy
 
 SCENE = ROOT / "tests" / "data" / "scenes" / "three-debris-two-way.yaml"

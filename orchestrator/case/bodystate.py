@@ -70,7 +70,7 @@ DYNAMIC_MESH_DICT = Path("constant") / "dynamicMeshDict"
 STATE_FILE = Path("uniform") / "sixDoFRigidBodyMotionState"
 RECORD_FILE = "bodystate.json"
 _COEFFS = "sixDoFRigidBodyMotionCoeffs"
-HELD_SOLVERS = "heldSolvers"  # the solvers while every body is held still (orchestrator.case.held)
+HELD_SOLVERS = "heldSolvers"  # the solvers while every body is held still (orchestrator.run.held)
 _IDENTITY = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
 
 Vec = tuple[float, float, float]
@@ -144,7 +144,7 @@ def _vec(value: Any, default: Sequence[float] | None = None) -> tuple[float, ...
 
 def body_coefficients(parsed) -> list[tuple[str, Any]]:
     """(name, sixDoFRigidBodyMotionCoeffs) of every body of a parsed dynamicMeshDict, in `solvers`
-    order; the solvers set aside under `heldSolvers` (orchestrator.case.held) count too."""
+    order; the solvers set aside under `heldSolvers` (orchestrator.run.held) count too."""
     solvers = next((parsed[k] for k in ("solvers", HELD_SOLVERS) if k in parsed and parsed[k]), None)
     if solvers is None:
         if _COEFFS in parsed:  # a single-body dictionary without `solvers`

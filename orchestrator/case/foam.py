@@ -30,7 +30,7 @@ from typing import Callable, Sequence
 
 from orchestrator.core.errors import DebrisfoamError
 from orchestrator.case import split_bodies
-from orchestrator.case.dictionary import read_dictionary
+from orchestrator.case.dictionary import edit_dictionary, read_dictionary
 from orchestrator.case.folder import BED_LAYER_ZONE, BODIES_DIR
 
 #: OpenFOAM v1912 from Debian: binaries in /usr/bin, project files here.
@@ -297,6 +297,18 @@ def solve_steps(case_dir: str | Path, plan, np: int | None = None) -> list[Step]
     if ranks > 1:
         steps.append(Step("reconstructPar", ("reconstructPar",), "gather the time directories"))
     return steps
+
+
+def set_subdomains(case_dir: str | Path, ranks: int) -> int | None:
+    """system/decomposeParDict for `ranks` subdomains, split along x (hierarchical `ranks` 1 1);
+    returns the planned count it replaced, or None when the dictionary already had `ranks`."""
+    with edit_dictionary(Path(case_dir) / "system" / "decomposeParDict") as parsed:
+        planned = parsed["numberOfSubdomains"]
+        if int(planned) == ranks:
+            return None
+        parsed["numberOfSubdomains"] = ranks
+        parsed["coeffs" if "coeffs" in parsed else "hierarchicalCoeffs"]["n"] = [ranks, 1, 1]
+    return int(planned)
 
 
 # --------------------------------------------------------------------------- checkMesh

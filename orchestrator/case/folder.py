@@ -194,7 +194,8 @@ class CaseFolder:
     def write_scene(self, scene: Scene, overrides: Sequence[str] = ()) -> Path:
         """scene.yaml: the resolved ``scene`` with the ``overrides`` it was asked with
         (:func:`orchestrator.scene.scenefile.dump_scene_yaml`)."""
-        return write_text_atomic(self.scene_path, dump_scene_yaml(scene, list(overrides)))
+        text = dump_scene_yaml(scene, list(overrides))
+        return write_text_atomic(self.scene_path, text)
 
     def write_run_record(self, data: dict[str, Any]) -> Path:
         return write_json_atomic(self.run_path, data)

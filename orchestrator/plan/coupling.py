@@ -31,7 +31,7 @@ and block 4-24 % of the width: one-way. The tiny test flumes (one container, a 0
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
+from typing import NamedTuple, Sequence
 
 import numpy as np
 
@@ -40,7 +40,6 @@ from orchestrator.plan.grading import cell_edges
 from orchestrator.plan.refine import record_axis, refine_span, refinement
 from orchestrator.plan.grid import BoxGrid
 from orchestrator.plan.model import FlowRecordPlan
-from orchestrator.scene.geometry import body_rotation
 from orchestrator.scene.schema import Scene
 
 __all__ = [
@@ -86,22 +85,22 @@ class DebrisLoad(NamedTuple):
         return self.volume_m3 / self.reservoir_m3
 
 
-def _footprints(scene: Scene) -> list[tuple[np.ndarray, np.ndarray]]:
-    """Each body's (centre, half extent) in x, y at the start (its box turned by its rotation)."""
+def _footprints(scene: Scene, rotations: Sequence[np.ndarray]) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Each body's (centre, half extent) in x, y at the start (its box turned by its rotation,
+    ``rotations`` in the scene's order: the body layout's, :class:`~orchestrator.plan.bodies.BodyLayout`)."""
     out = []
-    for body in scene.debris:
-        rot = body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg)
+    for body, rot in zip(scene.debris, rotations):
         half = np.abs(rot) @ (np.asarray(body.size_m, float) / 2.0)
         out.append((np.asarray(body.centre_m[:2], float), half[:2]))
     return out
 
 
-def lee_warnings(scene: Scene) -> list[str]:
+def lee_warnings(scene: Scene, rotations: Sequence[np.ndarray]) -> list[str]:
     """A warning for each body that starts in another's lane downstream of it (their extents across
     the flow overlap; the flow runs along +x), naming its nearest such neighbour and the gap
     between them: one-way transport has no wake, so it drives such a body by the flow without
     bodies at its own place as if it were alone."""
-    feet = _footprints(scene)
+    feet = _footprints(scene, rotations)
     warnings = []
     for j, (cj, hj) in enumerate(feet):
         ahead = []
@@ -120,22 +119,24 @@ def lee_warnings(scene: Scene) -> list[str]:
     return warnings
 
 
-def debris_load(scene: Scene) -> DebrisLoad:
-    """The two numbers of the coupling criterion (module docstring)."""
+def debris_load(scene: Scene, rotations: Sequence[np.ndarray]) -> DebrisLoad:
+    """The two numbers of the coupling criterion (module docstring); ``rotations``: the bodies'."""
     volume = sum(math.prod(b.size_m) for b in scene.debris)
     reservoir = scene.reservoir.length_m * scene.flume.width_m * scene.reservoir.depth_m
-    widths = sum(2.0 * half[1] for _, half in _footprints(scene))
+    widths = sum(2.0 * half[1] for _, half in _footprints(scene, rotations))
     return DebrisLoad(float(volume), float(reservoir), float(widths / scene.flume.width_m))
 
 
-def choose_coupling(scene: Scene, reasons: dict[str, str], warnings: list[str]) -> str:
-    """"none", "one-way" or "two-way" for ``scene``, with its reason (module docstring)."""
+def choose_coupling(scene: Scene, rotations: Sequence[np.ndarray], reasons: dict[str, str],
+                    warnings: list[str]) -> str:
+    """"none", "one-way" or "two-way" for ``scene`` whose bodies are turned by ``rotations``, with its
+    reason (module docstring)."""
     asked = scene.run.debris_coupling
     n = len(scene.debris)
     if not n:
         reasons["debris_coupling"] = "none: the scene has no debris"
         return "none"
-    load = debris_load(scene)
+    load = debris_load(scene, rotations)
     small_volume = load.volume_fraction < VOLUME_LIMIT
     narrow = load.blockage < BLOCKAGE_LIMIT
     one = n == 1
@@ -149,7 +150,7 @@ def choose_coupling(scene: Scene, reasons: dict[str, str], warnings: list[str]) 
     )
     auto = "one-way" if small_volume and narrow else "two-way"
     if (auto if asked == "auto" else asked) == "one-way":
-        warnings += lee_warnings(scene)
+        warnings += lee_warnings(scene, rotations)
     if asked == "auto":
         choice = auto
         why = ("so they barely change the flow: the flow once without them, recorded, the bodies carried through "
@@ -174,7 +175,8 @@ def _refined_record(scene: Scene, background: BoxGrid, xs: np.ndarray, ys: np.nd
     return record_axis(xs, cx, refine_span(box, 0)), record_axis(ys, cy, refine_span(box, 1))
 
 
-def flow_record_plan(scene: Scene, background: BoxGrid, domain: Domain, reasons: dict[str, str]) -> FlowRecordPlan:
+def flow_record_plan(scene: Scene, rotations: Sequence[np.ndarray], background: BoxGrid, domain: Domain,
+                     reasons: dict[str, str]) -> FlowRecordPlan:
     """The flow a one-way run records: region, sample grid and rate, with the reason.
 
     Region: from the bodies' start footprints, less a margin (the largest body's diagonal, so a
@@ -186,7 +188,7 @@ def flow_record_plan(scene: Scene, background: BoxGrid, domain: Domain, reasons:
     background's cell centres, so the water column is exactly ``sum(alpha dz)``.
     """
     h = scene.mesh.cell_size_m
-    feet = _footprints(scene)
+    feet = _footprints(scene, rotations)
     lo = np.min([c - e for c, e in feet], axis=0)
     hi = np.max([c + e for c, e in feet], axis=0)
     margin = max(2.0 * float(np.hypot(*e)) for _, e in feet) + 2 * h

@@ -1,11 +1,11 @@
 """Planning: decide what a scene needs to be modelled, and say why.
 
-:func:`plan_case` is a pure function ``Scene -> ModelPlan``. It chooses how the debris meets
+:func:`plan_case` is a pure function ``Scene -> ModelPlan``. From the bodies' placement
+(:mod:`~orchestrator.plan.bodies`, their rotations worked out once) it chooses how the debris meets
 the flow (:mod:`~orchestrator.plan.coupling`), the solver (interFoam on a static mesh without
 debris or for a one-way flow record, overInterDyMFoam with one six-DoF body per debris for
-two-way) and 2D or 3D here, then asks each stage of the plan in turn: the bodies'
-placement (:mod:`~orchestrator.plan.bodies`), how much of the reservoir and of the
-downstream flume to model and where cells are fine (:mod:`~orchestrator.plan.domain`), the
+two-way) and 2D or 3D here, then asks each stage of the plan in turn: how much of the reservoir
+and of the downstream flume to model and where cells are fine (:mod:`~orchestrator.plan.domain`), the
 background mesh and its grading (:mod:`~orchestrator.plan.grading`), the body meshes, the
 water to fill and the gauges, the time step and its cost (:mod:`~orchestrator.plan.timestep`),
 the domain decomposition (:mod:`~orchestrator.plan.decompose`), the numbers the case's
@@ -101,9 +101,9 @@ def plan_case(scene: Scene, source: str | None = None) -> ModelPlan:
     """
     reasons: dict[str, str] = {}
     warnings: list[str] = []
-    coupling = choose_coupling(scene, reasons, warnings)
-    solver, two_d = _choose_model(scene, coupling, reasons)
     layout = body_layout(scene)
+    coupling = choose_coupling(scene, layout.rotations, reasons, warnings)
+    solver, two_d = _choose_model(scene, coupling, reasons)
     domain = plan_domain(scene, list(layout.boxes), reasons, warnings)
     background = background_grid(scene, domain, layout.gap, two_d, reasons, warnings, one_way=coupling == "one-way")
     require_labels(background.cell_count(), source)
@@ -174,7 +174,7 @@ def _one_way(scene: Scene, layout: BodyLayout, background, domain: Domain, reaso
     """A one-way plan's scene (its Courant limit for interFoam), body layout (none in the flow),
     bodies (none) and flow record."""
     n = len(scene.debris)
-    record = flow_record_plan(scene, background, domain, reasons)
+    record = flow_record_plan(scene, layout.rotations, background, domain, reasons)
     reasons["bodies"] = (
         f"one-way: none of the {n} bod{'y' if n == 1 else 'ies'} in the flow (no body meshes); they are carried "
         f"through the flow record afterwards"

@@ -181,6 +181,9 @@ def _oriented_box(pv, centre: Sequence[float], rotation: Any, size: Sequence[flo
 
 def _geometry(pv, scene: Scene, plan: ModelPlan) -> _Geometry:
     (fx0, fx1), (fy0, fy1), (_, fz1) = flume_extent(scene)
+    # one-way: the bodies are the scene's, carried through the recorded flow (no body meshes)
+    scene_bodies = [(body, body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg))
+                    for body in ([] if plan.bodies else scene.debris)]
     (dx0, dx1), _, _ = plan.domain_m
     flume_bounds = (fx0, fx1, fy0, fy1, 0.0, fz1)
 
@@ -203,10 +206,8 @@ def _geometry(pv, scene: Scene, plan: ModelPlan) -> _Geometry:
         column_top = (c.x_m, c.y_m, c.height_m)
 
     debris, tops, body_meshes = [], [], []
-    # one-way: the bodies are the scene's, carried through the recorded flow (no body meshes)
-    for body in ([] if plan.bodies else scene.debris):
-        box = _oriented_box(pv, body.centre_m, body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg),
-                            body.size_m)
+    for body, rotation in scene_bodies:
+        box = _oriented_box(pv, body.centre_m, rotation, body.size_m)
         debris.append(box)
         tops.append((body.centre_m[0], body.centre_m[1], box.bounds[5]))
     for body in plan.bodies:

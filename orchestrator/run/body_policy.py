@@ -11,7 +11,7 @@ Each policy is a sixDoF constraint or restraint the runner adds or removes betwe
 - stick: static bed friction, a body at rest on the bed whose load the friction can bear
   (`stick_bodies`), and the sliding friction's dampers (`set_bed_friction`);
 - still: every body stuck or pinned, so the motion solvers can be set aside
-  (`still_bodies`, `orchestrator.case.held`).
+  (`still_bodies`, `orchestrator.run.held`).
 
 Every edit returns the bodies it changed, so calling it again on a resumed run does nothing.
 """
@@ -268,5 +268,5 @@ def pinned_bodies(case_dir: str | Path) -> set[str]:
 
 def still_bodies(case_dir: str | Path) -> set[str]:
     """The bodies that cannot move now: stuck by static friction (`stick_bodies`) or pinned
-    against an obstacle (`pin_bodies`)."""
-    return stuck_bodies(case_dir) | pinned_bodies(case_dir)
+    against an obstacle (`pin_bodies`), from one reading of the dictionary."""
+    return {name for name, keys in _constraint_keys(case_dir).items() if keys & {STICK_KEYS[0], "pinnedPoint"}}

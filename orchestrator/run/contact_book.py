@@ -368,12 +368,12 @@ class ContactBook:
         measured around it can carry it (recorded, and said)."""
         if not body_policy.rest_on_bed(self.case, [state.name]):
             return
-        events = self._read_events()
+        events = read_events(self.case)
         events.append({"event": len(events) + 1, "type": "rest_on_bed", "time_s": float(time_name),
                        "body": state.name, "other": "bed", "kind": "bed", "why": why,
                        "point_m": list(state.centre_of_mass_m), "normal": [0.0, 0.0, 1.0],
                        "velocity_in_m_s": list(state.velocity_m_s)})
-        self._write_events(events)
+        write_events(self.case, events)
         self.run_record.setdefault("rest_on_bed", []).append({"body": state.name, "time_s": float(time_name)})
         self.say(f"t = {time_name} s: {state.name}: {why}: kept on the bed (it slides and yaws, but cannot "
                  "sink) until the water measured around it can carry it")
@@ -383,11 +383,11 @@ class ContactBook:
         body_policy.pin_bodies(self.case, [c.body])
         pinned = state.with_changes(velocity_m_s=(0.0, 0.0, 0.0), angular_velocity_rad_s=(0.0, 0.0, 0.0),
                                     acceleration_m_s2=(0.0, 0.0, 0.0))
-        events = self._read_events()
+        events = read_events(self.case)
         events.append({"event": len(events) + 1, "type": "pinned", "time_s": float(time_name), "body": c.body,
                        "other": c.other, "kind": c.kind, "gap_m": c.distance_m, "point_m": list(c.point_m),
                        "normal": list(c.normal), "velocity_in_m_s": list(state.velocity_m_s)})
-        self._write_events(events)
+        write_events(self.case, events)
         self.run_record.setdefault("pinned", []).append({"body": c.body, "other": c.other, "time_s": float(time_name)})
         self.say(f"t = {time_name} s: {c.body} is held against {c.other} by the flow "
                  f"({self.settings.max_events + 1} contacts within {self.settings.window_s:g} s): pinned there for the "
@@ -411,14 +411,14 @@ class ContactBook:
     # ---- the record
     def _record_resting(self, time_name: str, c: Contact, before: dict[str, BodyState],
                         after: dict[str, BodyState], impulse_Ns: float, pressed: bool = False) -> None:
-        events = self._read_events()
+        events = read_events(self.case)
         event = {"event": len(events) + 1, "type": "resting", "time_s": float(time_name), "body": c.body,
                  "pressed": pressed,
                  "other": c.other, "kind": c.kind, "gap_m": c.distance_m, "point_m": list(c.point_m),
                  "normal": list(c.normal), "approach_m_s": c.approach_m_s, "impulse_Ns": impulse_Ns,
                  "velocity_in_m_s": list(before[c.body].velocity_m_s),
                  "velocity_out_m_s": list(after[c.body].velocity_m_s)}
-        self._write_events(events + [event])
+        write_events(self.case, events + [event])
         self.run_record["resting_contacts"] = self.run_record.get("resting_contacts", 0) + 1
 
     def forget_events_after(self, time_s: float) -> None:
@@ -426,11 +426,11 @@ class ContactBook:
         contacts the book counts after it. A fresh book (a run resumed by a new process) first
         reads its memory back from the events it keeps (`_recall`)."""
 
-        events = self._read_events()
+        events = read_events(self.case)
         keep = [e for e in events if e["time_s"] <= time_s + EPS_T]
         if len(keep) != len(events):
-            self._write_events(keep)
             forget_impact_events_after(self.case, time_s + EPS_T)
+            write_events(self.case, keep)
         if self._fresh:
             self._recall(keep, time_s)
             self._fresh = False
@@ -461,15 +461,9 @@ class ContactBook:
         self._pressed_pairs |= {pair for pair, e in latest.items()
                                 if e.get("type") == "resting" and e.get("pressed")}
 
-    def _read_events(self) -> list[dict]:
-        return read_events(self.case)
-
-    def _write_events(self, events: list[dict]) -> None:
-        write_events(self.case, events)
-
     def _record_event(self, time_name: str, c: Contact, before: dict[str, BodyState], after: dict[str, BodyState],
                       result) -> None:
-        events = self._read_events()
+        events = read_events(self.case)
         number = len(events) + 1
         history = write_pulse_files(self.case, number, result)
         b0, b1 = before[c.body], after[c.body]
@@ -501,7 +495,7 @@ class ContactBook:
         if c.kind == "body":
             event["other_velocity_in_m_s"] = list(before[c.other].velocity_m_s)
             event["other_velocity_out_m_s"] = list(after[c.other].velocity_m_s)
-        self._write_events(events + [event])
+        write_events(self.case, events + [event])
         append_impact_event(self.case, event)
         self.say(f"contact event {number}: {c.body} hit {c.other} at t = {float(time_name):.6g} s, "
                  f"{abs(result.normal_velocity_in_m_s):.3g} m/s in, {result.normal_velocity_out_m_s:.3g} m/s out, "

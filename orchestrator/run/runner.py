@@ -86,7 +86,7 @@ reads the case, `orchestrator.run.errors` names the ways a run ends early.
 Dictionaries (controlDict, decomposeParDict, dynamicMeshDict) are read and edited through
 `orchestrator.case.dictionary` (foamlib): in place, at full precision, the file replaced at
 once. What the runner does to the bodies through dynamicMeshDict is
-`orchestrator.run.body_policy`.
+`orchestrator.run.body_policy`, and `orchestrator.run.held` (their motion solvers set aside).
 
 Units: seconds, metres, kg, N.
 """
@@ -103,19 +103,18 @@ from pathlib import Path
 from typing import Any, Callable
 
 from orchestrator.core.errors import DebrisfoamError, InputError
-from orchestrator.case import bodystate, foam, held, split_bodies
+from orchestrator.case import bodystate, foam, split_bodies
 from orchestrator.case.bodypoints import BodyPoints
-from orchestrator.case.dictionary import edit_dictionary
-from orchestrator.case.held import still_state
 from orchestrator.case.folder import EPS_T, PLAN_JSON, SCENE_YAML, CaseFolder, processor_dirs
 from orchestrator.contact.settings import ContactSettings
 from orchestrator.plan.scale import froude_factor
-from orchestrator.run import body_policy
+from orchestrator.run import body_policy, held
 from orchestrator.run.bedwatch import BedWatch
 from orchestrator.run.case_info import CaseInfo, load_case_info
 from orchestrator.run.contact_geometry import Contact
 from orchestrator.run.control import set_control
 from orchestrator.run.errors import ContactError, DivergenceError, RunError, RunInterrupted
+from orchestrator.run.held import still_state
 from orchestrator.run.monitor import Diagnosis, DivergenceLimits, Progress, StepRecord
 from orchestrator.run.run_json import now, states_in_logs, versions
 from orchestrator.run.segments import STOPPED_REASONS, SegmentResult, StopFlag
@@ -269,8 +268,15 @@ def _run_steps(info: CaseInfo, sup: Supervisor, stop: StopFlag, quiet: bool, rec
 
 
 def _prepare(info: CaseInfo, sup: Supervisor) -> None:
-    """Mesh, checkMesh's cell count, decomposePar; the scene's obstacles and the bed watch."""
+    """The split for --np, mesh, checkMesh's cell count, decomposePar; the scene's obstacles and the bed watch."""
     case, data = info.case, sup.record.data
+    steps = [s for s in foam.solve_steps(case, info.plan, info.ranks) if s.name.startswith("decomposePar")]
+    # the planned split follows --np: decomposeParDict along x when --np differs (noted in run.json)
+    planned = foam.set_subdomains(case, info.ranks) if steps and not steps[0].done(case) else None
+    if planned is not None:
+        data["decomposition_note"] = (f"--np {info.ranks} instead of the planned {planned}: hierarchical "
+                                      f"({info.ranks} 1 1); decomposePar still keeps each body mesh on one rank "
+                                      "(preserveFaceZones), at some cost in balance")
     for step in foam.mesh_steps(case, info.plan):
         sup.run_step(step)
     mesh_log = case / "log.checkMesh"
@@ -280,9 +286,6 @@ def _prepare(info: CaseInfo, sup: Supervisor) -> None:
             data["cells"].update({"total": summary.cells, "mesh_ok": summary.ok})
         except foam.StepError:
             pass
-    steps = [s for s in foam.solve_steps(case, info.plan, info.ranks) if s.name.startswith("decomposePar")]
-    if steps and not steps[0].done(case):  # the planned split follows --np
-        _match_decomposition(case, info.ranks, data)
     for step in steps:
         ran = not step.done(case)
         sup.run_step(step)
@@ -500,18 +503,6 @@ def _check_decomposition(case: Path, ranks: int) -> None:
                        f"(or delete the processor* directories to start again)")
     if ranks == 1 and procs:
         raise RunError(f"{case} is decomposed for {len(procs)} ranks: run with --np {len(procs)}")
-
-
-def _match_decomposition(case: Path, ranks: int, data: dict) -> None:
-    """decomposeParDict for `ranks` when --np differs from the plan (split along x, noted in run.json)."""
-    with edit_dictionary(case / "system" / "decomposeParDict") as parsed:
-        planned = parsed["numberOfSubdomains"]
-        if int(planned) == ranks:
-            return
-        parsed["numberOfSubdomains"] = ranks
-        parsed["coeffs" if "coeffs" in parsed else "hierarchicalCoeffs"]["n"] = [ranks, 1, 1]
-    data["decomposition_note"] = (f"--np {ranks} instead of the planned {planned}: hierarchical ({ranks} 1 1); "
-                                  "decomposePar still keeps each body mesh on one rank (preserveFaceZones), at some cost in balance")
 
 
 def _fail_diverged(sup: Supervisor, seg: SegmentResult, start_value: float) -> None:

@@ -17,11 +17,12 @@ from pathlib import Path
 from dataclasses import asdict, replace
 from typing import Callable, Sequence
 
-from orchestrator.case import bodystate, foam, held
+from orchestrator.case import bodystate, foam
 from orchestrator.case.bodypoints import BodyPoints
 from orchestrator.case.bodystate import BodyState
 from orchestrator.case.folder import EPS_T
 from orchestrator.case.outputs import WATER_BALANCE_TOLERANCE
+from orchestrator.run import held
 from orchestrator.run.bedwatch import BedWatch
 from orchestrator.run.case_info import CaseInfo
 from orchestrator.run.contact_book import ContactBook, ContactSettings
@@ -112,16 +113,16 @@ class Supervisor:
         """Run one mesh or utility step (skipped when its outputs exist), recorded in run.json."""
         start = now()
         argv = list(step.argv) + list(extra)
+        command = foam.parallel_argv(argv, np_)  # what run.json names, whether the step succeeds or not
         try:
             result = foam.run_step(step.name, argv, self.case, np=np_, done=step.done)
         except foam.StepError as exc:
-            self.record.step(step.name, foam.parallel_argv(argv, np_), start, 0.0, exc.returncode, False,
-                             exc.log_path)
+            self.record.step(step.name, command, start, 0.0, exc.returncode, False, exc.log_path)
             self.record.data["status"] = "failed"
             self.record.data["error"] = str(exc)
             self.record.save()
             raise
-        self.record.step(step.name, result.argv, start, result.wall_s, result.returncode, result.skipped,
+        self.record.step(step.name, command, start, result.wall_s, result.returncode, result.skipped,
                          result.log_path)
         return result
 
