@@ -193,3 +193,21 @@ def test_tiny_one_way_run_records_the_flow(tiny_scene, tmp_path, openfoam):
     width = 0.4  # the record's y span is the width less two hairs
     record_water = float(np.trapezoid(np.trapezoid(depth, ys, axis=1), xs)) * width / (ys[-1] - ys[0])
     assert record_water == pytest.approx(cells_water, rel=0.02)
+
+
+def test_with_a_sill_the_record_starts_at_the_downstream_bed_and_the_gate():
+    """A sill puts the reservoir's floor below the downstream bed: the background's grid reaches under
+    z = 0 at the reservoir alone, so a record from the reservoir's floor would ask for points in the
+    solid under the flume (each one lost, and the conversion refused). With a sill the record's
+    cells start at the downstream bed and its region at the gate."""
+    from orchestrator.plan.planner import load_and_plan
+    from orchestrator.plan.grading import cell_edges
+
+    sets = ["reservoir.sill_height_m=0.05", "reservoir.depth_m=0.35", "run.debris_coupling=one-way"]
+    _, plan = load_and_plan(ROOT / "cases" / "1debris.yaml", sets)
+    record = plan.flow_record
+    assert min(cell_edges(plan.background.z)) == pytest.approx(-0.05)  # the reservoir's floor
+    assert record.z_faces_m[0] == pytest.approx(0.0, abs=1e-9) and min(record.z_m) > 0.0
+    assert record.x_m[0] >= 0.0
+    _, flat = load_and_plan(ROOT / "cases" / "1debris.yaml", ["run.debris_coupling=one-way"])
+    assert flat.flow_record.z_faces_m[0] == pytest.approx(0.0, abs=1e-9)

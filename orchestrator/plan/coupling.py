@@ -183,7 +183,8 @@ def flow_record_plan(scene: Scene, rotations: Sequence[np.ndarray], background: 
     body may turn round where it starts, plus two cells for the interpolation), to the domain's
     downstream end: bodies pass beside the column and on, and the transport closes the record's
     ends with walls, so a record ending just past the column would hold them there and push
-    them back into it. The full width; from the bed to the domain's top (no water is higher). x and y evenly spaced at the
+    them back into it; with a sill, from the gate. The full width; from the bed (downstream of the gate) to the
+    domain's top (no water is higher). x and y evenly spaced at the
     finest cell size, or whole multiples of it to keep :data:`RECORD_MAX_POINTS`; z at the
     background's cell centres, so the water column is exactly ``sum(alpha dz)``.
     """
@@ -196,6 +197,11 @@ def flow_record_plan(scene: Scene, rotations: Sequence[np.ndarray], background: 
     x1 = domain.x_hi
     (y0, y1), inset = domain.y, 1e-3 * h  # a hair inside the walls: a point on a boundary face may be lost
     faces = cell_edges(background.z)
+    if scene.reservoir.sill_height_m > 0:
+        # the grid below the downstream bed is the reservoir's alone: the record starts at the gate and
+        # at the bed (a body's region upstream of the gate is then refused by the record's check)
+        x0 = max(x0, 0.0)
+        faces = faces[faces >= -1e-9 * h]
     zc = 0.5 * (faces[:-1] + faces[1:])
     k = 1
     while True:
