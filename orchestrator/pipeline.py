@@ -88,7 +88,8 @@ def prepare_case(scene: Scene, plan: ModelPlan, scene_path: str | Path, out_dir:
         if existing is not None and same_case(existing, scene, coupling):
             return out, False
         if existing is not None and coupling == "one-way" and same_flow(existing, scene):
-            _retransport(folder, carried_as(existing, scene), sets)
+            carried = carried_as(existing, scene)
+            _retransport(folder, carried, sets)
             return out, False
         raise InputError(
             "-o/--out",
