@@ -21,7 +21,7 @@ from orchestrator.plan.coupling import (
     VOLUME_LIMIT,
     debris_load,
 )
-from orchestrator.plan.bodies import body_layout
+from orchestrator.plan.facts import scene_facts
 from orchestrator.plan.model import ModelPlan
 from orchestrator.plan.planner import plan_case
 from orchestrator.scene.resolve import scene_from_dict
@@ -49,7 +49,7 @@ def _blocking_scene(coupling: str = "auto"):
 @pytest.mark.parametrize("name", sorted(SEED_LAYOUTS))
 def test_the_seed_layouts_go_one_way_and_say_why(name):
     scene = load_scene(CASES / f"{name}.yaml")
-    load = debris_load(scene, body_layout(scene).rotations)
+    load = debris_load(scene, scene_facts(scene).rotations)
     assert load.volume_fraction < VOLUME_LIMIT and load.blockage < BLOCKAGE_LIMIT
     plan = plan_case(scene)
     volume, blockage = SEED_LAYOUTS[name]
@@ -81,7 +81,7 @@ def test_two_way_on_request_is_the_overset_path():
 
 def test_a_body_blocking_most_of_the_width_goes_two_way():
     scene = _blocking_scene()
-    assert debris_load(scene, body_layout(scene).rotations).blockage == pytest.approx(0.6)
+    assert debris_load(scene, scene_facts(scene).rotations).blockage == pytest.approx(0.6)
     plan = plan_case(scene)
     assert plan.debris_coupling == "two-way" and plan.solver == "overInterDyMFoam"
     reason = plan.reasons["debris_coupling"]

@@ -21,6 +21,7 @@ from hypothesis import strategies as st
 
 from analytical.errors import InputError
 from orchestrator.plan.bodies import hold_until_s as _hold_until_s
+from orchestrator.plan.facts import scene_facts
 from orchestrator.plan.planner import (
     REASON_KEYS,
     SAFETY,
@@ -201,7 +202,7 @@ def test_a_resting_body_stands_on_a_gap_whose_layers_both_meshes_share(wet):
         b.grid.x[i].cells * b.grid.y[j].cells * b.grid.z[k].cells for i, j, k in b.grid.blocks()
     )
     # released when the water reaches its draft above the gap (26 mm + gap), later than without it
-    assert b.hold_until_s > _hold_until_s(s, s.debris[0], 0.0)
+    assert b.hold_until_s > _hold_until_s(s, s.debris[0], 0.0, scene_facts(s).bed_flow)
     assert any("bed layer" in w for w in p.warnings) == (layer < 0.2 * s.mesh.cell_size_m)
 
 

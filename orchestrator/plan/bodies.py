@@ -16,10 +16,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from analytical.dambreak import dam_break
 from orchestrator.plan.grid import BoxGrid, Segment, graded_segment
 from orchestrator.plan.model import BodyPlan
-from orchestrator.scene.geometry import body_rotation, draft_m, half_extent_z
+from orchestrator.scene.geometry import draft_m
 from orchestrator.scene.schema import DebrisBody, Scene
 
 __all__ = [
@@ -33,7 +32,6 @@ __all__ = [
     "body_plans",
     "hold_until_s",
     "meshes_stop_at_bed",
-    "rests_on_bed",
     "still_water_m",
 ]
 
@@ -81,7 +79,7 @@ class BodyLayout:
     stop_at_bed: bool = False
     #: each body's rotation (body axes -> scene axes; :func:`orchestrator.scene.geometry.body_rotation`)
     rotations: tuple[np.ndarray, ...] = ()
-    #: whether each body rests on the bed (:func:`rests_on_bed`)
+    #: whether each body rests on the bed (:func:`orchestrator.plan.facts.rests_on_bed`)
     on_bed: tuple[bool, ...] = ()
 
     @property
@@ -100,11 +98,6 @@ def body_inertia(
     from analytical.contact_law import box_inertia
 
     return box_inertia(size_m, mass_kg, wall_thickness_m)
-
-
-def rests_on_bed(body: DebrisBody, rot: np.ndarray) -> bool:
-    """Whether the body's lowest corner is on the bed (``rot``: its rotation)."""
-    return body.centre_m[2] - half_extent_z(body, rot) <= 1e-6
 
 
 def body_cell_m(scene: Scene, body: DebrisBody, h: float) -> float:
@@ -149,12 +142,11 @@ def meshes_stop_at_bed(on_bed: Sequence[bool]) -> bool:
     return sum(on_bed) >= 2
 
 
-def body_layout(scene: Scene) -> BodyLayout:
-    """Each body's modelled centre and the AABB of its overset mesh (scene coordinates)."""
+def body_layout(scene: Scene, rotations: tuple[np.ndarray, ...], on_bed: tuple[bool, ...]) -> BodyLayout:
+    """Each body's modelled centre and the AABB of its overset mesh (scene coordinates), from
+    each body's rotation and whether it rests on the bed (:class:`orchestrator.plan.facts.SceneFacts`)."""
     h = scene.mesh.cell_size_m
     margin = scene.mesh.body_margin_cells * h
-    rotations = tuple(body_rotation(body.yaw_deg, body.pitch_deg, body.roll_deg) for body in scene.debris)
-    on_bed = tuple(rests_on_bed(body, rot) for body, rot in zip(scene.debris, rotations))
     gap = bed_gap(scene, on_bed, h)
     lift = gap.height_m if gap is not None else 0.0
     stop = meshes_stop_at_bed(on_bed)
@@ -175,7 +167,7 @@ def _cut_at_bed(rot: np.ndarray, on_bed: bool) -> bool:
     return on_bed and abs(rot[2, 2]) > 1 - 1e-9
 
 
-def hold_until_s(scene: Scene, body: DebrisBody, gap_m: float = 0.0) -> float:
+def hold_until_s(scene: Scene, body: DebrisBody, gap_m: float, bed_flow) -> float:
     """When a body resting on the bed should float off (s; 0 = it floats from the start): an estimate.
 
     The runner frees a held body on what it measures (the depth all round the body and the
@@ -184,7 +176,8 @@ def hold_until_s(scene: Scene, body: DebrisBody, gap_m: float = 0.0) -> float:
     centre reaches its draft (its mass over the water displaced per metre of immersion by its
     footprint) plus ``gap_m``, the gap it stands on (BedGap). The depth is the analytical
     dry-bed solution: Chanson with the scene's friction factor, or Ritter without friction;
-    the thin wet bed is neglected (it only makes the release earlier). The simulated bore can
+    the thin wet bed is neglected (it only makes the release earlier); ``bed_flow`` is that
+    solution (:attr:`orchestrator.plan.facts.SceneFacts.bed_flow`). The simulated bore can
     be later: over a 15 mm wet bed its steep front reached the far end of a container 0.4 m
     from the gate after 0.35 s, where Ritter's depth reached draft plus gap at 0.285 s
     (docs/stability.md). Bodies behind the gate (x < 0) float or not at once: no hold when the
@@ -194,13 +187,11 @@ def hold_until_s(scene: Scene, body: DebrisBody, gap_m: float = 0.0) -> float:
     x, h0, end = float(body.centre_m[0]), float(scene.reservoir.depth_m), float(scene.run.end_time_s)
     if x < 0 or draft <= scene.bed.wet_depth_m:
         return 0.0 if (h0 if x < 0 else scene.bed.wet_depth_m) >= draft else end
-    f = scene.bed.friction_factor
-    solution = dam_break("chanson", h0, friction=f) if f > 0 else dam_break("ritter", h0)
 
     def excess(t: float) -> float:
-        return float(solution.profile(np.array([x]), t).depth_m[0]) - draft
+        return float(bed_flow.profile(np.array([x]), t).depth_m[0]) - draft
 
-    t_arrive = float(solution.arrival_time_s(x))
+    t_arrive = float(bed_flow.arrival_time_s(x))
     if not np.isfinite(t_arrive) or t_arrive >= end or excess(end) < 0:
         return end
     lo = max(t_arrive, 1e-6)
@@ -282,7 +273,7 @@ def _body_grid(scene: Scene, body: DebrisBody, centre: np.ndarray, rot: np.ndarr
 
 
 def _body_plan(scene: Scene, body: DebrisBody, centre: np.ndarray, rot: np.ndarray, on_bed: bool,
-               layout: BodyLayout) -> BodyPlan:
+               layout: BodyLayout, bed_flow) -> BodyPlan:
     if body.moment_of_inertia_kg_m2 is not None:
         inertia = tuple(float(v) for v in body.moment_of_inertia_kg_m2)
     else:
@@ -298,7 +289,7 @@ def _body_plan(scene: Scene, body: DebrisBody, centre: np.ndarray, rot: np.ndarr
         on_bed=on_bed,
         cell_size_m=body_cell_m(scene, body, scene.mesh.cell_size_m),
         velocity_m_s=tuple(float(v) for v in body.velocity_m_s),
-        hold_until_s=hold_until_s(scene, body, layout.lift_m) if on_bed else 0.0,
+        hold_until_s=hold_until_s(scene, body, layout.lift_m, bed_flow) if on_bed else 0.0,
         upright=on_bed if body.upright is None else bool(body.upright),
     )
 
@@ -331,10 +322,11 @@ def _placement_warnings(scene: Scene, layout: BodyLayout, flume_y: tuple[float, 
 
 
 def body_plans(scene: Scene, layout: BodyLayout, flume_y: tuple[float, float], reasons: dict[str, str],
-               warnings: list[str]) -> tuple[BodyPlan, ...]:
+               warnings: list[str], bed_flow) -> tuple[BodyPlan, ...]:
     """One BodyPlan per debris body, with the reasons for the meshes, the gap and the holds
-    (``flume_y``: the flume's side walls)."""
-    bodies = tuple(_body_plan(scene, body, c, rot, rests, layout)
+    (``flume_y``: the flume's side walls; ``bed_flow``: the dam-break solution of
+    :func:`hold_until_s`)."""
+    bodies = tuple(_body_plan(scene, body, c, rot, rests, layout, bed_flow)
                    for body, c, rot, rests in zip(scene.debris, layout.centres, layout.rotations, layout.on_bed))
     warnings += _placement_warnings(scene, layout, flume_y)
     if not bodies:

@@ -31,8 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from analytical.dambreak import stoker_state
-from orchestrator.scene.geometry import flume_extent
+from analytical.dambreak import StokerState
 from orchestrator.scene.schema import Scene
 
 __all__ = [
@@ -86,16 +85,15 @@ class Front:
         return math.inf if self.depth_m <= 0 else self.velocity_m_s / math.sqrt(self.g * self.depth_m)
 
 
-def dam_break_front(h0: float, wet_depth: float, g: float) -> Front:
-    """Ritter's dry-bed front, Stoker's wet-bed intermediate state (no friction), or still water
-    (the impoundment no deeper than the wet bed)."""
+def dam_break_front(h0: float, wet_depth: float, g: float, stoker: StokerState | None) -> Front:
+    """Ritter's dry-bed front, Stoker's wet-bed intermediate state (no friction; ``stoker``, given
+    for a wet bed shallower than ``h0``), or still water (the impoundment no deeper than the wet bed)."""
     c0 = math.sqrt(g * h0)
     if wet_depth <= 0:
         return Front(speed_m_s=2 * c0, depth_m=0.0, velocity_m_s=2 * c0, wet=False, g=g)
     if wet_depth >= h0:  # still water: no dam break
         return Front(speed_m_s=0.0, depth_m=h0, velocity_m_s=0.0, wet=True, g=g)
-    st = stoker_state(h0, wet_depth, g)
-    return Front(speed_m_s=st.shock_speed_m_s, depth_m=st.h2_m, velocity_m_s=st.u2_m_s, wet=True, g=g)
+    return Front(speed_m_s=stoker.shock_speed_m_s, depth_m=stoker.h2_m, velocity_m_s=stoker.u2_m_s, wet=True, g=g)
 
 
 @dataclass(frozen=True)
@@ -126,8 +124,10 @@ def column_spans_width(scene: Scene) -> bool:
     return col is not None and col.size_y_m >= scene.flume.width_m - 1e-9 and abs(col.y_m) <= 1e-9
 
 
-def plan_domain(scene: Scene, body_boxes: list[BodyBox], reasons: dict[str, str], warnings: list[str]) -> Domain:
-    """The domain for ``scene`` with its bodies' overset meshes at ``body_boxes`` (AABBs)."""
+def plan_domain(scene: Scene, flume: Extent, stoker: StokerState | None, body_boxes: list[BodyBox],
+                reasons: dict[str, str], warnings: list[str]) -> Domain:
+    """The domain for ``scene`` in the flume's extent ``flume`` with its bodies' overset meshes at
+    ``body_boxes`` (AABBs); ``stoker``: the wet bed's flow behind the bore (:func:`dam_break_front`)."""
     h0, h = scene.reservoir.depth_m, scene.mesh.cell_size_m
     col = scene.column
     margin_col = max(0.5 * max(col.size_x_m, col.size_y_m), 3 * h) if col else 3 * h
@@ -135,9 +135,8 @@ def plan_domain(scene: Scene, body_boxes: list[BodyBox], reasons: dict[str, str]
     if col:
         upstream_marks.append(col.x_m - col.size_x_m / 2 - margin_col)
     guard = max(0.0, -min(upstream_marks))
-    flume = flume_extent(scene)
     x_lo = -_reservoir_length(scene, guard, reasons)
-    x_hi, downstream_type = _downstream_end(scene, flume, body_boxes, margin_col, reasons)
+    x_hi, downstream_type = _downstream_end(scene, flume, stoker, body_boxes, margin_col, reasons)
     z_hi = _top(scene, flume, body_boxes, x_hi, downstream_type, reasons, warnings)
     fine, travel_end, tan_spread = _fine_region(scene, flume, body_boxes, margin_col, x_lo, x_hi, z_hi, reasons)
     return Domain(x_lo, x_hi, flume[1], z_hi, downstream_type, fine, travel_end, tan_spread)
@@ -189,14 +188,14 @@ def _reservoir_length(scene: Scene, guard: float, reasons: dict[str, str]) -> fl
     return res_len
 
 
-def _downstream_end(scene: Scene, flume: Extent, body_boxes: list[BodyBox], margin_col: float,
-                    reasons: dict[str, str]) -> tuple[float, str]:
+def _downstream_end(scene: Scene, flume: Extent, stoker: StokerState | None, body_boxes: list[BodyBox],
+                    margin_col: float, reasons: dict[str, str]) -> tuple[float, str]:
     """Where the domain ends downstream, and whether that end is a wall or an outlet."""
     g, h0, T = scene.fluids.gravity_m_s2, scene.reservoir.depth_m, scene.run.end_time_s
     c0 = math.sqrt(g * h0)
     col = scene.column
     (_, fx1), _, _ = flume
-    front = dam_break_front(h0, scene.bed.wet_depth_m, g)
+    front = dam_break_front(h0, scene.bed.wet_depth_m, g, stoker)
     if front.speed_m_s <= 0.0:  # still water: nothing comes, nothing to trim against
         kind = "outlet" if scene.flume.downstream_end == "open" else "wall"
         reasons["domain_end"] = f"domain runs to the flume's end (x = {fx1:.3g} m): still water, no dam break"

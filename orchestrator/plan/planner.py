@@ -1,7 +1,8 @@
 """Planning: decide what a scene needs to be modelled, and say why.
 
-:func:`plan_case` is a pure function ``Scene -> ModelPlan``. From the bodies' placement
-(:mod:`~orchestrator.plan.bodies`, their rotations worked out once) it chooses how the debris meets
+:func:`plan_case` is a pure function ``Scene -> ModelPlan``. It first takes what the scene's
+geometry and the analytical dam-break flow give (:mod:`~orchestrator.plan.facts`), once, and hands
+those values down. From the bodies' placement (:mod:`~orchestrator.plan.bodies`) it chooses how the debris meets
 the flow (:mod:`~orchestrator.plan.coupling`), the solver (interFoam on a static mesh without
 debris or for a one-way flow record, overInterDyMFoam with one six-DoF body per debris for
 two-way) and 2D or 3D here, then asks each stage of the plan in turn: how much of the reservoir
@@ -20,12 +21,12 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
-from analytical.roughness import bore_depth_m, sand_roughness_m
 from orchestrator.plan.bodies import BodyLayout, body_inertia, body_layout, body_plans
 from orchestrator.plan.case_numbers import WET_BED, case_numbers
 from orchestrator.plan.coupling import ONE_WAY_MAX_COURANT, choose_coupling, flow_record_plan
 from orchestrator.plan.decompose import decompose
 from orchestrator.plan.domain import SAFETY, Domain, column_spans_width, plan_domain
+from orchestrator.plan.facts import SceneFacts, scene_facts
 from orchestrator.plan.gate import opening_span_m, reservoir_floor_m
 from orchestrator.plan.grading import background_grid
 from orchestrator.plan.model import BodyPlan, GaugePlan, ModelPlan, WaterBox
@@ -42,7 +43,6 @@ from orchestrator.plan.timestep import (
 from orchestrator.scene.inundation import inundation_reason
 from orchestrator.scene.schema import Scene
 from orchestrator.scene.scenefile import load_scene
-from orchestrator.scene.validation import plausibility_warnings
 
 __all__ = [
     "BodyPlan",
@@ -99,21 +99,22 @@ def plan_case(scene: Scene, source: str | None = None) -> ModelPlan:
     (:func:`~orchestrator.plan.resources.require_labels`): checked on the counts of the grids'
     segments, before anything is built cell by cell, so even an absurd cell size is refused at once.
     """
+    facts = scene_facts(scene)  # what the scene's geometry and the analytical flow give, once
     reasons: dict[str, str] = {}
     warnings: list[str] = []
-    layout = body_layout(scene)
+    layout = body_layout(scene, facts.rotations, facts.on_bed)
     coupling = choose_coupling(scene, layout.rotations, reasons, warnings)
     solver, two_d = _choose_model(scene, coupling, reasons)
-    domain = plan_domain(scene, list(layout.boxes), reasons, warnings)
+    domain = plan_domain(scene, facts.flume, facts.stoker, list(layout.boxes), reasons, warnings)
     background = background_grid(scene, domain, layout.gap, two_d, reasons, warnings, one_way=coupling == "one-way")
     require_labels(background.cell_count(), source)
-    warnings += plausibility_warnings(scene)
+    warnings += facts.warnings
     flow_record = None
     if coupling == "one-way":
         scene, layout, bodies, flow_record = _one_way(scene, layout, background, domain, reasons)
     else:
-        bodies = body_plans(scene, layout, domain.y, reasons, warnings)
-    water = _water(scene, domain, reasons)
+        bodies = body_plans(scene, layout, domain.y, reasons, warnings, facts.bed_flow)
+    water = _water(scene, domain, facts, reasons)
     gauges = _gauges(scene, domain, reasons)
     record_interval = flow_record.interval_s if flow_record is not None else None
     dt = time_step_estimate_s(scene, solver, background, bodies, two_d, reasons, record_interval)
@@ -157,7 +158,7 @@ def plan_case(scene: Scene, source: str | None = None) -> ModelPlan:
         debris_coupling=coupling,
         flow_record=flow_record,
         turbulence=scene.fluids.turbulence,
-        bed_roughness_m=_bed_roughness_m(scene),
+        bed_roughness_m=facts.bed_roughness_m,
         bed_slip=scene.bed.slip,
         # the drag layer is the laminar model's bed friction; a RANS flow feels the bed's roughness
         **case_numbers(background, water, gauges, two_d=two_d, max_courant=run.max_courant,
@@ -235,8 +236,9 @@ def _choose_model(scene: Scene, coupling: str, reasons: dict[str, str]) -> tuple
     return solver, two_d
 
 
-def _water(scene: Scene, domain: Domain, reasons: dict[str, str]) -> tuple[WaterBox, ...]:
-    """The reservoir behind the gate and the wet bed downstream, and the bed friction's reason."""
+def _water(scene: Scene, domain: Domain, facts: SceneFacts, reasons: dict[str, str]) -> tuple[WaterBox, ...]:
+    """The reservoir behind the gate and the wet bed downstream, and the bed friction's reason
+    (a RANS flow's bed roughness from ``facts``)."""
     h0, wet = scene.reservoir.depth_m, scene.bed.wet_depth_m
     (fy0, fy1) = domain.y
     water = [WaterBox("reservoir", (domain.x_lo, fy0, reservoir_floor_m(scene)), (0.0, fy1, h0))]
@@ -250,11 +252,11 @@ def _water(scene: Scene, domain: Domain, reasons: dict[str, str]) -> tuple[Water
     if scene.bed.slip:
         reasons["bed_friction"] = "none: bed.slip makes the bed a slip wall (frictionless, no shear)"
     elif scene.fluids.turbulence != "laminar":
-        ks = _bed_roughness_m(scene)
+        ks = facts.bed_roughness_m
         reasons["bed_friction"] = (
             f"{scene.fluids.turbulence} with wall functions: the bed rough with sand roughness k_s = {ks:.3g} m, "
             f"which gives Darcy f = {scene.bed.friction_factor:g} at the depth the flow runs at, "
-            f"{bore_depth_m(h0, wet, scene.fluids.gravity_m_s2):.3g} m (Colebrook, analytical/roughness.py); "
+            f"{facts.bore_depth_m:.3g} m (Colebrook, analytical/roughness.py); "
             "no drag layer" if ks > 0 else f"{scene.fluids.turbulence} with wall functions on a smooth bed")
     elif scene.bed.friction_factor <= 0:
         reasons["bed_friction"] = "none: bed.friction_factor is 0 (a laminar flow over a no-slip bed)"
@@ -266,15 +268,6 @@ def _water(scene: Scene, domain: Domain, reasons: dict[str, str]) -> tuple[Water
             "times (docs/bed-friction.md)"
         )
     return tuple(water)
-
-
-def _bed_roughness_m(scene: Scene) -> float:
-    """The bed's sand roughness for a RANS flow's wall function (m): the k_s that gives the scene's
-    Darcy f at the depth the dam-break flow runs at; 0 for a laminar flow or a frictionless bed."""
-    if scene.fluids.turbulence == "laminar" or scene.bed.friction_factor <= 0:
-        return 0.0
-    depth = bore_depth_m(scene.reservoir.depth_m, scene.bed.wet_depth_m, scene.fluids.gravity_m_s2)
-    return sand_roughness_m(scene.bed.friction_factor, depth)
 
 
 def _gauges(scene: Scene, domain: Domain, reasons: dict[str, str]) -> tuple[GaugePlan, ...]:
