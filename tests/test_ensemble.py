@@ -320,6 +320,11 @@ def test_the_report_draws_the_histograms_and_the_envelope(tmp_path):
     assert (f"| study-fit peak force (N) | 3 | 144 | 5.2 | 144 | 136-152 | 171 | 62.9 | 22 | {peak['welch_t']:+.2f} | "
             f"{peak['welch_dof']:.0f} | {peak['p_value']:.2g} | {peak['verdict']} |") in text
     assert "| study-fit duration (ms) | 3 | 4.82 |" in text and "Welch's unequal-variance t test" in text
+    assert "The flow's scene" not in text  # no overrides, no line
+    summary["overrides"] = ["fluids.turbulence=kOmegaSST", "reservoir.sill_height_m=0.05"]
+    write_report(tmp_path, result, scene, [container(x=3.2)], column)
+    assert ("The flow's scene: 1debris.yaml with `fluids.turbulence=kOmegaSST`, `reservoir.sill_height_m=0.05`."
+            in (tmp_path / "report.md").read_text())
 
 
 # --------------------------------------------------------------------------- the verb

@@ -170,6 +170,8 @@ def markdown(summary: dict[str, Any], figures: dict[str, Path]) -> str:
         f"{summary['bodies']} bod{'y' if summary['bodies'] == 1 else 'ies'} carried through it on MuJoCo for "
         f"{summary.get('end_time_s', 0):g} s (seed {summary.get('seed')}, {summary.get('executor')} executor, "
         f"{summary.get('workers')} worker(s)).", "",
+        *([f"The flow's scene: {Path(summary.get('scene', '')).name} with "
+           + ", ".join(f"`{o}`" for o in summary["overrides"]) + ".", ""] if summary.get("overrides") else []),
         f"Starts: position offsets in x and y normal with a standard deviation of "
         f"{p.get('position_sigma_fraction', 0):g} x the body's length, yaw offsets normal with "
         f"{p.get('yaw_sigma_deg', 0):g} deg, both clipped at {p.get('clip_sigmas', 0):g} standard deviations; every "
