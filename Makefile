@@ -12,7 +12,7 @@ COUPLING ?=
 OUT      ?= runs/1debris$(if $(COUPLING),-$(COUPLING),)
 CASE_SET := $(if $(CELL),--set mesh.cell_size_m=$(CELL),) $(if $(COUPLING),--set run.debris_coupling=$(COUPLING),)
 
-.PHONY: approach ensemble-flow-pair prototype-1debris design-street design-1debris forcing-variants help venv openfoam test test-all test-fast docs-check case-1debris case-layouts results-layouts compare-coupling sweep speed-error speed-error-debris stability flume-as-built wet-bed synthetic-study contact-law results-1debris ensemble-1debris spreading scene-doc catalogue-doc bench bench-transport clean
+.PHONY: approach ensemble-flow-pair prototype-1debris design-street design-1debris forcing-variants help venv openfoam test test-all test-fast docs-check case-1debris case-layouts results-layouts compare-coupling sweep speed-error speed-error-debris stability flume-as-built flume-2d wet-bed synthetic-study contact-law results-1debris ensemble-1debris spreading scene-doc catalogue-doc bench bench-transport clean
 
 help:
 	@echo "make help                   this list: every target"
@@ -38,6 +38,7 @@ help:
 	@echo "make clean                  remove the venv and build files"
 	@echo "make docs-check             the docs: links resolve, no history, README at most 800 words, docs/*.md at most 15,000, make help complete, figures the planner gives"
 	@echo "make ensemble-flow-pair     the ensemble through a second mesh's flow: Table 2 with the flow's own uncertainty (docs/results/ensemble-flow-pair/)"
+	@echo "make flume-2d               the study's flume as a 2D centreline strip, RANS at 2 cm cells, with and without the 5 cm sill: how much the 3D arrivals owe to 4 cm cells (about 1 min; docs/results/flume-centreline-2d/)"
 	@echo "make flume-as-built         the gate's sill and opening, the wet bed's depth, the column's position: arrivals one change at a time and the sill and opening together (about 7 min; docs/results/flume-as-built/)"
 	@echo "make wet-bed                the bore against Stoker's wet-bed solution, laminar and RANS (about 25 min; docs/results/wet-bed/)"
 	@echo "make synthetic-study        the seed's SDOF/MDOF/ASCE analysis on 22 synthetic records"
@@ -245,6 +246,12 @@ wet-bed: venv openfoam
 flume-as-built: venv openfoam
 	-$(NICE) $(VENV)/bin/debrisfoam sweep cases/sweeps/flume-as-built.yaml
 	$(VENV)/bin/debrisfoam report flume runs/sweeps/flume-as-built -o docs/results/flume-as-built --force
+
+# The 2D centreline flume at 2 cm cells (cases/sweeps/flume-centreline-2d.yaml: RANS, with and without the
+# 5 cm sill; under a minute of interFoam on 2 idle cores), then docs/results/flume-centreline-2d/.
+flume-2d: venv openfoam
+	-$(NICE) $(VENV)/bin/debrisfoam sweep cases/sweeps/flume-centreline-2d.yaml
+	$(VENV)/bin/debrisfoam report flume runs/sweeps/flume-centreline-2d -o docs/results/flume-centreline-2d --force
 
 synthetic-study: venv
 	$(VENV)/bin/debrisfoam analytical study -o docs/results/synthetic-study --force

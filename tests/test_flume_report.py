@@ -14,10 +14,12 @@ from tests.conftest import check_report_verb
 FACE_X = 4.89
 
 
-def _member(folder, arrivals, sill=0.0, depth=0.40, opening=None, column_x=5.0):
+def _member(folder, arrivals, sill=0.0, depth=0.40, opening=None, column_x=5.0, closure="laminar"):
     (folder / "results").mkdir(parents=True)
-    scene = {"reservoir": {"depth_m": depth, "sill_height_m": sill, "opening_width_m": opening},
-             "bed": {"wet_depth_m": 0.015}, "column": {"x_m": column_x}}
+    scene = {"name": "nodebris", "flume": {"width_m": 1.5 if column_x else 0.1}, "fluids": {"turbulence": closure},
+             "reservoir": {"depth_m": depth, "sill_height_m": sill, "opening_width_m": opening},
+             "bed": {"wet_depth_m": 0.015}, "column": None if column_x is None else {"x_m": column_x},
+             "mesh": {"cell_size_m": 0.04 if column_x else 0.02}, "run": {"end_time_s": 2.0}}
     (folder / "scene.yaml").write_text(yaml.safe_dump(scene))
     rows = [{"gauge": name, "x_m": x, "arrival_s": t}
             for (name, x), t in zip((("WG2", 2.40), ("WG3", 3.20), ("WG4", FACE_X)), arrivals)]
@@ -35,6 +37,8 @@ def test_each_member_is_set_beside_the_measured_arrivals_and_the_scene_as_shippe
     files = write_flume_report(sweep, tmp_path / "page")
     text = files["report"].read_text()
     assert "| the scene as shipped | 0.876 | +0.000 |" in text
+    assert ("the scene `nodebris` (laminar, 4 cm cells, a 1.5 m wide flume, the column, 2 s)" in text
+            and "`debrisfoam sweep cases/sweeps/sweep.yaml`" in text)
     assert "| sill 5 cm, level 0.35 m above the bed (0.4 m deep) | 0.932 | +0.056 | 1.265 | +0.079 |" in text
     assert "+0.022, -0.125" in text  # against the measured 0.91 and 1.39 s
     assert len(pd.read_csv(files["table"])) == 2 and files["figure"].stat().st_size > 10_000
@@ -53,3 +57,13 @@ def test_a_member_without_a_gauge_and_an_empty_sweep_are_named(tmp_path):
 def test_the_verb_writes_the_page_and_refuses_an_empty_sweep(tmp_path):
     _member(tmp_path / "sweep" / "a", (0.876, 1.186, 1.708))
     check_report_verb("flume", tmp_path / "sweep", tmp_path)
+
+
+def test_a_flume_without_a_column_reads_its_wg4_as_a_plain_gauge(tmp_path):
+    sweep = tmp_path / "sweep"
+    _member(sweep / "a", (0.865, 1.202, 2.039), column_x=None, closure="kOmegaSST")
+    _member(sweep / "b", (0.981, 1.401, 2.165), sill=0.05, depth=0.35, column_x=None, closure="kOmegaSST")
+    text = write_flume_report(sweep, tmp_path / "page")["report"].read_text()
+    assert "(kOmegaSST, 2 cm cells, a 0.1 m wide flume, no column, 2 s)" in text
+    assert "| the scene as shipped | 0.865 |" in text
+    assert "| sill 5 cm, level 0.35 m above the bed (0.4 m deep) | 0.981 |" in text and "column at" not in text
