@@ -113,3 +113,68 @@ def test_openfoam_meshes_the_sill_and_the_walls_and_fills_the_reservoir_to_its_f
     # modelled reservoir's length and the flume's width; the bed downstream is dry
     assert water == pytest.approx((0.2 + SILL) * 0.3 * length, rel=1e-6)
     assert float(mesh.bounds[4]) == pytest.approx(-SILL)
+
+
+# --------------------------------------------------------------------------- the gate opening over a time
+OPENING_S = 0.2
+
+
+def test_a_gate_opening_over_a_time_blocks_the_cells_upstream_of_it_in_bands_released_bottom_up():
+    assert _plan().gate_bands == ()  # an instant gate has none
+    plan = _plan("reservoir.gate=swing-gate", f"reservoir.opening_time_s={OPENING_S}", f"reservoir.sill_height_m={SILL}")
+    bands = plan.gate_bands
+    x_edges = cell_edges(plan.background.x)
+    floor, level = -SILL, 0.2
+    for band in bands:
+        # the cell column just upstream of the gate, across the flume, one cell layer high
+        assert band.min_m[0] == pytest.approx(max(x_edges[x_edges < 0])) and band.max_m[0] == 0.0
+        assert band.min_m[1] < -0.15 and band.max_m[1] > 0.15
+        # released when the lifting edge, at (z - floor) = H t / T, passes the band's top
+        assert band.release_s == pytest.approx(OPENING_S * min(1.0, (band.max_m[2] - floor) / (level - floor)))
+    assert bands[0].min_m[2] == pytest.approx(floor) and bands[-1].release_s == pytest.approx(OPENING_S)
+    assert bands[-1].min_m[2] < level <= bands[-1].max_m[2] + 1e-9
+    assert all(a.release_s < b.release_s for a, b in zip(bands, bands[1:]))
+    assert plan.gate_bands == type(plan).from_json(plan.to_json()).gate_bands
+
+
+@pytest.mark.parametrize("sets, words", [
+    ([f"reservoir.opening_time_s={OPENING_S}"], "instant gate"),
+    (["reservoir.gate=swing-gate", "reservoir.opening_time_s=0.5"], "still be opening"),
+])
+def test_an_opening_time_an_instant_gate_or_the_run_cannot_have_is_refused(sets, words):
+    proc = run_cli("validate", str(TINY), *[a for s in sets for a in ("--set", s)])
+    assert proc.returncode == 2, proc.stderr
+    assert "reservoir.opening_time_s" in proc.stderr and words in proc.stderr
+
+
+def test_the_gate_bands_are_cell_zones_blocked_by_fvoptions_until_their_release(tmp_path):
+    # RANS: no bed friction, so fvOptions and topoSetDict are there for the gate alone
+    proc = run_cli("render", str(TINY), "-o", str(tmp_path / "c"), "--set", "reservoir.gate=swing-gate",
+                   "--set", f"reservoir.opening_time_s={OPENING_S}", "--set", "fluids.turbulence=kOmegaSST")
+    assert proc.returncode == 0, proc.stderr
+    plan = plan_case(load_scene(TINY, ["reservoir.gate=swing-gate", f"reservoir.opening_time_s={OPENING_S}",
+                                       "fluids.turbulence=kOmegaSST"]))
+    options = (tmp_path / "c" / "system" / "fvOptions").read_text()
+    topo = (tmp_path / "c" / "system" / "topoSetDict").read_text()
+    assert "bedFriction" not in options
+    for band in plan.gate_bands:
+        assert f"cellZone        {band.name};" in options and f"set     {band.name};" in topo
+    assert f"duration        {OPENING_S:g};" in options and options.count("timeStart       0;") == len(plan.gate_bands)
+
+
+@pytest.mark.openfoam
+def test_a_gate_opening_over_a_time_delays_the_front_by_less_than_the_opening_time(tmp_path, openfoam):
+    arrivals = []
+    for opening in (0.0, OPENING_S):
+        case = tmp_path / f"gate-{opening:g}"
+        proc = run_cli("case", str(TINY), "-o", str(case), "--set", "column=null", "--set", "reservoir.gate=swing-gate",
+                       "--set", f"reservoir.opening_time_s={opening}", "--set", "gauges=[{name: WG2, x_m: 0.4, y_m: 0.0}]")
+        assert proc.returncode == 0, proc.stderr[-2000:]
+        table = (case / "results" / "gauge_summary.csv").read_text().splitlines()
+        arrivals.append(float(next(r for r in table if r.startswith("WG2")).split(",")[table[0].split(",").index(
+            "arrival_s")]))
+    first_band = plan_case(load_scene(TINY, ["reservoir.gate=swing-gate", f"reservoir.opening_time_s={OPENING_S}"])
+                           ).gate_bands[0].release_s
+    # no water passes before the bottom band opens; once the gate is clear the flow is the instant
+    # gate's at most OPENING_S late
+    assert first_band < arrivals[1] - arrivals[0] < OPENING_S, arrivals

@@ -260,10 +260,12 @@ def mesh_steps(case_dir: str | Path, plan) -> list[Step]:
         steps.append(Step(f"mergeMeshes.{name}", ("mergeMeshes", ".", f"{BODIES_DIR}/{name}", "-overwrite"),
                           f"add body {name}'s mesh to the background", done=_has_patch(f"{name}Overset")))
     friction = float(plan.bed_friction_per_m) > 0
-    sets = list(bodies) + [f"{name}_faces" for name in bodies] + ([BED_LAYER_ZONE] if friction else [])
+    gate = [band.name for band in plan.gate_bands]
+    sets = list(bodies) + [f"{name}_faces" for name in bodies] + ([BED_LAYER_ZONE] if friction else []) + gate
     if sets:
         what = ["one cellSet and one faceZone (for decomposePar) per body mesh"] if bodies else []
         what += ["the bed layer for friction"] if friction else []
+        what += ["the gate's bands"] if gate else []
         steps.append(Step("topoSet", ("topoSet",), " and ".join(what), done=_has_cell_sets(sets)))
     steps.append(Step("setFields", ("setFields",),
                       "water (alpha.water)" + (" and overset zones (zoneID)" if bodies else ""), done=_fields_set))

@@ -36,6 +36,7 @@ from orchestrator.core.errors import InputError
 from orchestrator.case import foam
 from orchestrator.case.folder import BED_LAYER_ZONE, BODIES_DIR, PLAN_JSON, SCENE_YAML
 from orchestrator.core.files import bundled_dir, write_text_atomic
+from orchestrator.plan.gate_opening import BLOCK_F_PER_M
 from orchestrator.plan.grading import BACKGROUND_PATCHES, COLUMN_PATCH
 from orchestrator.plan.grid import BoxGrid
 from orchestrator.plan.model import ModelPlan
@@ -252,7 +253,8 @@ def build_context(scene, plan, numerics: Numerics | None = None) -> dict[str, An
     - patches: [{name, kind}] of the merged mesh in order; kind is one of wall,
       body, atmosphere, outlet, empty, overset and picks each field's boundary condition
     - water_boxes: [{name, min, max}]; bed_friction: None or {darcy_f, layer_m, zone,
-      calibration, forchheimer_per_m, box_min, box_max}; domain: {min, max}
+      calibration, forchheimer_per_m, box_min, box_max}; gate: None or {forchheimer_per_m,
+      bands: [{name, box_min, box_max, release_s}]}; domain: {min, max}
     - gauges: [{name, start, end, n_points}] (vertical lines, bed to top);
       probes: [{name, point}]; column: None or {patch, min, max, centre_of_rotation}
     - time: end_s, write_interval_s, delta_t_s (first step), max_delta_t_s,
@@ -300,6 +302,7 @@ def build_context(scene, plan, numerics: Numerics | None = None) -> dict[str, An
         "water_boxes": [{"name": box.name, "min": tuple(float(v) for v in box.min_m),
                          "max": tuple(float(v) for v in box.max_m)} for box in plan.water],
         "bed_friction": _friction_context(plan, lo, hi),
+        "gate": _gate_context(plan),
         "turbulence": _turbulence_context(plan),
         "domain": {"min": tuple(lo), "max": tuple(hi)},
         "gauges": gauges,
@@ -406,6 +409,16 @@ def _friction_context(plan: ModelPlan, lo: np.ndarray, hi: np.ndarray) -> dict[s
             "box_min": (x_min, lo[1] - 1, lo[2] - 1), "box_max": (hi[0] + 1, hi[1] + 1, max(lo[2], 0.0) + layer)}
 
 
+def _gate_context(plan: ModelPlan) -> dict[str, Any] | None:
+    """A gate opening over a time: its bands (plan.gate_opening), each a cell zone system/fvOptions
+    blocks until its release; None when the gate opens at once."""
+    if not plan.gate_bands:
+        return None
+    return {"forchheimer_per_m": BLOCK_F_PER_M,
+            "bands": [{"name": b.name, "box_min": tuple(b.min_m), "box_max": tuple(b.max_m), "release_s": b.release_s}
+                      for b in plan.gate_bands]}
+
+
 #: A RANS flow's start: still water and air, nearly free of turbulence (k in m2/s2, omega in 1/s);
 #: the bore makes its own.
 QUIESCENT_K_M2_S2 = 1.0e-6
@@ -446,9 +459,9 @@ def case_files(context: dict[str, Any]) -> list[tuple[str, str, dict[str, Any]]]
         files += [("0/k.j2", "0/k", {}), ("0/omega.j2", "0/omega", {}), ("0/nut.j2", "0/nut", {})]
     if context.get("flow_record"):
         files.append(("system/flowRecord.j2", f"system/{context['flow_record']['name']}", {}))
-    if overset or context["bed_friction"]:
+    if overset or context["bed_friction"] or context["gate"]:
         files.append(("system/topoSetDict.j2", "system/topoSetDict", {}))
-    if context["bed_friction"]:
+    if context["bed_friction"] or context["gate"]:
         files.append(("system/fvOptions.j2", "system/fvOptions", {}))
     if overset:
         files += [

@@ -45,7 +45,8 @@ LATE_KEYS = ((("run", "max_delta_t_s"), None), (("run", "stall_limit_s"), None),
              (("fluids", "turbulence"), "laminar"), (("bed", "slip"), False),
              (("column", "ends"), "cantilever"), (("column", "strike_height_m"), None), (("column", "heading_deg"), 0.0),
              (("reservoir", "sill_height_m"), 0.0), (("reservoir", "opening_width_m"), None),
-             (("reservoir", "opening_y_m"), 0.0), (("reservoir", "opening_length_m"), 0.1))
+             (("reservoir", "opening_y_m"), 0.0), (("reservoir", "opening_length_m"), 0.1),
+             (("reservoir", "opening_time_s"), 0.0))
 #: Keys of every debris body added after the first runs, with the value they are left out at.
 LATE_BODY_KEYS = (("type", None),)
 #: Scene sections added after the first runs: left out when at their defaults.

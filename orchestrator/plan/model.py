@@ -15,7 +15,7 @@ from typing import Any, Literal
 from orchestrator.core.errors import InputError
 from orchestrator.plan.grid import BoxGrid, Segment
 
-__all__ = ["BodyPlan", "FlowRecordPlan", "GaugeLine", "GaugePlan", "ModelPlan", "Probe", "WaterBox", "grid_from_dict",
+__all__ = ["BodyPlan", "FlowRecordPlan", "GateBand", "GaugeLine", "GaugePlan", "ModelPlan", "Probe", "WaterBox", "grid_from_dict",
            "grid_to_dict"]
 
 Vector = tuple[float, float, float]
@@ -49,6 +49,17 @@ class GaugeLine:
     start_m: Vector
     end_m: Vector
     n_points: int
+
+
+@dataclass(frozen=True)
+class GateBand:
+    """A horizontal band of the gate's cells (a box of cell centres, m), blocked from the start
+    until ``release_s`` (s): a lifting gate as a staircase of porous bands."""
+
+    name: str
+    min_m: Vector
+    max_m: Vector
+    release_s: float
 
 
 @dataclass(frozen=True)
@@ -242,6 +253,8 @@ class ModelPlan:
     bed_roughness_m: float = field(default=0.0, kw_only=True)
     #: the bed a slip wall (scene bed.slip: a frictionless bed, no shear); False = no-slip
     bed_slip: bool = field(default=False, kw_only=True)
+    #: the gate's bands, bottom up, when it opens over a time (scene reservoir.opening_time_s; none: at once)
+    gate_bands: tuple[GateBand, ...] = field(default=(), kw_only=True)
 
     def __post_init__(self) -> None:
         for i, box in enumerate(self.water):
@@ -299,6 +312,8 @@ class ModelPlan:
             "turbulence": self.turbulence,
             "bed_roughness_m": self.bed_roughness_m,
             "bed_slip": self.bed_slip,
+            "gate_bands": [{"name": b.name, "min_m": list(b.min_m), "max_m": list(b.max_m), "release_s": b.release_s}
+                           for b in self.gate_bands],
             "background": grid_to_dict(self.background),
             "bodies": [b.to_dict() for b in self.bodies],
             "water": [{"name": w.name, "min_m": list(w.min_m), "max_m": list(w.max_m)} for w in self.water],
@@ -340,6 +355,8 @@ class ModelPlan:
                 turbulence=data.get("turbulence", "laminar"),
                 bed_roughness_m=data.get("bed_roughness_m", 0.0),
                 bed_slip=bool(data.get("bed_slip", False)),
+                gate_bands=tuple(GateBand(b["name"], _vector(b["min_m"]), _vector(b["max_m"]), float(b["release_s"]))
+                                 for b in data.get("gate_bands", ())),
                 flow_record=None if data.get("flow_record") is None else FlowRecordPlan.from_dict(data["flow_record"]),
             )
         except KeyError as missing:

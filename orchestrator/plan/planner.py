@@ -28,6 +28,7 @@ from orchestrator.plan.decompose import decompose
 from orchestrator.plan.domain import SAFETY, Domain, column_spans_width, plan_domain
 from orchestrator.plan.facts import SceneFacts, scene_facts
 from orchestrator.plan.gate import opening_span_m, reservoir_floor_m
+from orchestrator.plan.gate_opening import BLOCK_F_PER_M, gate_bands
 from orchestrator.plan.grading import background_grid
 from orchestrator.plan.model import BodyPlan, GaugePlan, ModelPlan, WaterBox
 from orchestrator.plan.resources import require_labels
@@ -109,6 +110,11 @@ def plan_case(scene: Scene, source: str | None = None) -> ModelPlan:
     background = background_grid(scene, domain, layout.gap, two_d, reasons, warnings, one_way=coupling == "one-way")
     require_labels(background.cell_count(), source)
     warnings += facts.warnings
+    gate = gate_bands(scene, background.x, background.z, domain.y)
+    if gate:
+        reasons["gate_opening"] = (
+            f"the gate lifts over {scene.reservoir.opening_time_s:g} s: {len(gate)} bands of the cells upstream of "
+            f"x = 0 blocked (Forchheimer F = {BLOCK_F_PER_M:g} 1/m) until the gate's edge passes each band's top")
     flow_record = None
     if coupling == "one-way":
         scene, layout, bodies, flow_record = _one_way(scene, layout, background, domain, reasons)
@@ -160,6 +166,7 @@ def plan_case(scene: Scene, source: str | None = None) -> ModelPlan:
         turbulence=scene.fluids.turbulence,
         bed_roughness_m=facts.bed_roughness_m,
         bed_slip=scene.bed.slip,
+        gate_bands=gate,
         # the drag layer is the laminar model's bed friction; a RANS flow feels the bed's roughness
         **case_numbers(background, water, gauges, two_d=two_d, max_courant=run.max_courant,
                        write_interval_s=run.write_interval_s, max_delta_t=run.max_delta_t_s,
@@ -229,8 +236,8 @@ def _choose_model(scene: Scene, coupling: str, reasons: dict[str, str]) -> tuple
         reasons["two_d"] = "3D: " + " and ".join(why)
     res = scene.reservoir
     reasons["gate"] = (
-        f"gate '{res.gate}' modelled as instantaneous removal at t = 0"
-        + ("; its opening time is not modelled" if res.gate == "swing-gate" else "")
+        (f"gate '{res.gate}' lifting off the reservoir's floor over {res.opening_time_s:g} s"
+         if res.opening_time_s > 0 else f"gate '{res.gate}' removed at once at t = 0")
         + ("" if res.sill_height_m > 0 or narrowed else "; no sill, the opening the flume's width")
     )
     return solver, two_d

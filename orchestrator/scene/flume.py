@@ -31,8 +31,10 @@ class Reservoir(SceneSection):
     length_m: float = Field(gt=0, description="from the upstream wall to the gate (m)")
     depth_m: float = Field(gt=0, description="impoundment level h0 above the bed downstream (m)")
     gate: Literal["swing-gate", "instant"] = Field(
-        "instant", description="how the water is released; both are modelled as instant removal"
+        "instant", description="instant, or swing-gate: removed at once or over opening_time_s"
     )
+    opening_time_s: float = Field(0.0, ge=0, description="a swing gate lifting off the reservoir's floor at a "
+                                  "constant rate clears the impoundment in this time (s); 0 = at once")
     sill_height_m: float = Field(0.0, ge=0, description="reservoir floor below the bed downstream: a step at "
                                  "the gate (m)")
     opening_width_m: float | None = Field(None, gt=0, description="the gate's clear opening, walls beside it; "

@@ -111,6 +111,12 @@ def _check_gate(scene: Scene, source: str | None) -> None:
     """The gate's opening inside the flume, its walls clear of the column, bodies and gauges;
     no body behind the gate over a sill (bodies stand on the bed downstream's level)."""
     res, (y0, y1) = scene.reservoir, flume_extent(scene)[1]
+    if res.opening_time_s > 0 and res.gate == "instant":
+        raise InputError("reservoir.opening_time_s", f"an instant gate has no opening time ({res.opening_time_s:g} s "
+                         "given): set reservoir.gate to swing-gate, or the time to 0", source)
+    if res.opening_time_s >= scene.run.end_time_s:
+        raise InputError("reservoir.opening_time_s", f"the gate would still be opening when the run ends "
+                         f"({res.opening_time_s:g} s against run.end_time_s {scene.run.end_time_s:g} s)", source)
     if res.sill_height_m > 0:
         behind = [i for i, b in enumerate(scene.debris) if b.centre_m[0] < 0]
         if behind:
