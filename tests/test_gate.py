@@ -178,3 +178,16 @@ def test_a_gate_opening_over_a_time_delays_the_front_by_less_than_the_opening_ti
     # no water passes before the bottom band opens; once the gate is clear the flow is the instant
     # gate's at most OPENING_S late
     assert first_band < arrivals[1] - arrivals[0] < OPENING_S, arrivals
+
+
+def test_with_bodies_on_overset_meshes_the_gate_bands_are_the_background_s_cells_alone(tmp_path):
+    scene = Path(__file__).resolve().parent / "data" / "scenes" / "float-carry.yaml"
+    sets = ["reservoir.gate=swing-gate", "reservoir.opening_time_s=0.1", "run.debris_coupling=two-way"]
+    proc = run_cli("render", str(scene), "-o", str(tmp_path / "c"), *[a for s in sets for a in ("--set", s)])
+    assert proc.returncode == 0, proc.stderr
+    plan = plan_case(load_scene(scene, sets))
+    assert plan.bodies and plan.gate_bands
+    topo = (tmp_path / "c" / "system" / "topoSetDict").read_text()
+    for band in plan.gate_bands:  # the box's cells, then only those of the background's zone
+        block = topo[topo.index(f"the gate's band {band.name},"):]
+        assert block.index("source  boxToCell;") < block.index("action  subset;") < block.index("zone    background;")
