@@ -38,7 +38,7 @@ def _records(h1=H1, stretch=1.0, t_end=3.5):
 def test_stokers_own_solution_reads_as_stokers(h1):
     t, levels = _records(h1)
     check = bore_check(t, levels, GAUGES, H0, h1)
-    assert abs(check.speed_error_pct) < 0.5
+    assert abs(check.speed_error_pct) < 0.5 and abs(check.mid_speed_error_pct) < 0.5  # a step: any level
     assert abs(check.depth_error_pct) < 0.1
     assert not check.front_speeds_up
     assert check.gauges_used == tuple(f"G{i}" for i in range(2, 8))  # 5 h0 = 2 m past the gate and on
@@ -48,6 +48,22 @@ def test_a_front_half_as_fast_again_reads_fifty_percent_fast():
     t, levels = _records(stretch=1.5)
     check = bore_check(t, levels, GAUGES, H0, H1)
     assert check.speed_error_pct == pytest.approx(50.0, abs=1.0)
+
+
+def test_a_front_that_rises_over_a_time_reads_slower_at_its_mid_height():
+    # Stoker's wave, its front spread over a ramp that lengthens by 0.05 s a metre: the toe keeps
+    # Stoker's arrival and speed, the mid-height arrives 0.025 s a metre later
+    stoker = StokerSolution(H0, H1)
+    t = np.arange(0.0, 3.5, 0.005)
+    levels = {}
+    for name, x in GAUGES.items():
+        toe = x / stoker.state.shock_speed_m_s
+        ramp = np.clip((t - toe) / (0.05 * x), 0.0, 1.0)
+        levels[name] = H1 + (stoker.state.h2_m - H1) * ramp
+    check = bore_check(t, levels, GAUGES, H0, H1)
+    expected = 1.0 / (1.0 / stoker.state.shock_speed_m_s + 0.025)
+    assert check.mid_speed_m_s == pytest.approx(expected, rel=0.01)
+    assert abs(check.speed_error_pct) < 2.0 and check.mid_speed_error_pct < -4.0
 
 
 def test_a_front_that_speeds_up_is_said_to():

@@ -8,6 +8,9 @@ bore of constant speed S and depth h2 running into still water h1. A run is read
   of gauge position against arrival over the gauges at least :data:`DEVELOPED_X_FACTOR` h0 past the
   gate (closer to it the flow is still leaving the reservoir as a jet, which Stoker's self-similar
   solution does not have); the speeds over successive reaches say whether the front speeds up;
+* the same slope with the arrival read where the level has risen half way from h1 to Stoker's h2
+  (the front's mid-height): Stoker's front is a step, so both readings of his solution agree, while
+  a simulated front rising over a few tenths of a second reads slower at its mid-height;
 * the bore depth at a gauge is the median level between :data:`SETTLE_S` after Stoker's bore has
   passed it and the arrival of the rarefaction's tail (or the run's end), where Stoker's level is h2.
 
@@ -53,6 +56,9 @@ class BoreCheck:
     depth_error_pct: float
     reach_speeds_m_s: tuple[float, ...]
     gauges_used: tuple[str, ...]
+    #: the front speed with each arrival read at the front's mid-height, h1 + (h2 - h1) / 2
+    mid_speed_m_s: float = math.nan
+    mid_speed_error_pct: float = math.nan
 
     @property
     def front_speeds_up(self) -> bool:
@@ -74,10 +80,11 @@ def bore_check(time_s, levels: dict[str, np.ndarray], gauge_x_m: dict[str, float
     if len(used) < 2:
         raise InputError("gauges", f"needs two gauges at least {DEVELOPED_X_FACTOR:g} h0 = "
                          f"{DEVELOPED_X_FACTOR * h0_m:g} m past the gate, got {len(used)}")
-    xs, arrivals, depths = [], [], []
+    xs, arrivals, mids, depths = [], [], [], []
     for x, name in used:
         e = np.asarray(levels[name], dtype=float)
         ta = arrival_time(t, e, h1_m, ARRIVAL_FRACTION * h0_m)
+        mids.append(arrival_time(t, e, h1_m, 0.5 * (st.h2_m - h1_m)))
         start = x / st.shock_speed_m_s + SETTLE_S
         tail = st.rarefaction_tail_speed_m_s
         end = min(x / tail, t[-1]) if tail > 0 else t[-1]
@@ -88,12 +95,16 @@ def bore_check(time_s, levels: dict[str, np.ndarray], gauge_x_m: dict[str, float
     xs_a, ta_a = np.array(xs), np.array(arrivals)
     ok = np.isfinite(ta_a)
     speed = float(np.polyfit(ta_a[ok], xs_a[ok], 1)[0]) if ok.sum() >= 2 else math.nan
+    mid_a = np.array(mids)
+    ok_mid = np.isfinite(mid_a)
+    mid = float(np.polyfit(mid_a[ok_mid], xs_a[ok_mid], 1)[0]) if ok_mid.sum() >= 2 else math.nan
     reaches = tuple(float((xs_a[i + 1] - xs_a[i]) / (ta_a[i + 1] - ta_a[i]))
                     for i in range(len(xs_a) - 1) if ok[i] and ok[i + 1] and ta_a[i + 1] > ta_a[i])
     finite = [d for d in depths if math.isfinite(d)]
     depth = float(np.mean(finite)) if finite else math.nan
     return BoreCheck(h0_m, h1_m, speed, st.shock_speed_m_s, 100.0 * (speed / st.shock_speed_m_s - 1.0),
-                     depth, st.h2_m, 100.0 * (depth / st.h2_m - 1.0), reaches, tuple(n for _, n in used))
+                     depth, st.h2_m, 100.0 * (depth / st.h2_m - 1.0), reaches, tuple(n for _, n in used),
+                     mid, 100.0 * (mid / st.shock_speed_m_s - 1.0))
 
 
 def check_run(case_dir: str | Path) -> BoreCheck:
@@ -187,19 +198,21 @@ def write_bore_report(sweep_dir: str | Path, out_dir: str | Path) -> dict[str, P
         "`debrisfoam report bore`): a frictionless 2D flume (a slip bed, `bed.slip`), the impoundment released at once over a still wet "
         "bed, run laminar and with RANS k-omega SST, the wet bed one cell layer or resolved by several. "
         f"Front speed: the slope of gauge position against the front's arrival (a {ARRIVAL_FRACTION:.0%} h0 rise) "
-        f"over the gauges at least {DEVELOPED_X_FACTOR:g} h0 past the gate; bore depth: the median level from "
+        f"over the gauges at least {DEVELOPED_X_FACTOR:g} h0 past the gate, and the same with each arrival read at "
+        "the front's mid-height (half way from h1 to Stoker's h2); bore depth: the median level from "
         f"{SETTLE_S:g} s after Stoker's bore has passed each of them to the rarefaction's tail. Reach speeds: the "
         "front over successive gauge reaches, downstream.",
         "",
         "| h1/h0 | closure | cells across the wet bed | cells | solver wall time (s) | front speed (m/s) | Stoker (m/s) "
-        "| error | bore depth (m) | Stoker (m) | error | reach speeds (m/s) |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "| error | at mid-height | error | bore depth (m) | Stoker (m) | error | reach speeds (m/s) |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in table.itertuples():
         wall = "-" if r.wall_time_s is None or not math.isfinite(r.wall_time_s) else f"{r.wall_time_s:.0f}"
         lines.append(
             f"| {r.h1_m / r.h0_m:.4g} | {r.turbulence} | {r.wet_bed_cells} | {r.cells:,} | {wall} "
             f"| {r.front_speed_m_s:.3f} | {r.stoker_speed_m_s:.3f} | {r.speed_error_pct:+.1f} % "
+            f"| {r.mid_speed_m_s:.3f} | {r.mid_speed_error_pct:+.1f} % "
             f"| {r.bore_depth_m:.4f} | {r.stoker_depth_m:.4f} | {r.depth_error_pct:+.1f} % "
             f"| {' '.join(f'{v:.2f}' for v in r.reach_speeds_m_s)} |")
     lines += ["", *[f"![gauges]({name})" for name in figures], ""]
