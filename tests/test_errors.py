@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from analytical.errors import InputError as AnalyticalInputError
-from orchestrator.case.foam import StepError
+from orchestrator.run.openfoam import StepError
 from orchestrator.core.errors import DebrisfoamError, InputError, MissingFeatureError
 from orchestrator.run.errors import DivergenceError, RunError
 

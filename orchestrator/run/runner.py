@@ -108,7 +108,7 @@ from orchestrator.case.bodypoints import BodyPoints
 from orchestrator.case.folder import EPS_T, PLAN_JSON, SCENE_YAML, CaseFolder, processor_dirs
 from orchestrator.contact.settings import ContactSettings
 from orchestrator.plan.scale import froude_factor
-from orchestrator.run import body_policy, held
+from orchestrator.run import body_policy, held, openfoam
 from orchestrator.run.bedwatch import BedWatch
 from orchestrator.run.case_info import CaseInfo, load_case_info
 from orchestrator.run.contact_geometry import Contact
@@ -178,7 +178,7 @@ def run_case(case_dir: str | Path, np: int | None = None, quiet: bool = False, *
     on_step: called with every StepRecord as the log is read (tests, custom monitors).
 
     Raises RunInterrupted (stopped; resumable), DivergenceError, ContactError, RunError,
-    foam.StepError (a step failed), all DebrisfoamError.
+    openfoam.StepError (a step failed), all DebrisfoamError.
     """
     if reconstruct not in ("latest", "all", "none"):
         raise InputError("reconstruct", f"must be 'latest', 'all' or 'none', got {reconstruct!r}")
@@ -282,9 +282,9 @@ def _prepare(info: CaseInfo, sup: Supervisor) -> None:
     mesh_log = case / "log.checkMesh"
     if mesh_log.is_file():
         try:
-            summary = foam.check_mesh_summary(mesh_log)
+            summary = openfoam.check_mesh_summary(mesh_log)
             data["cells"].update({"total": summary.cells, "mesh_ok": summary.ok})
-        except foam.StepError:
+        except openfoam.StepError:
             pass
     for step in steps:
         ran = not step.done(case)
@@ -421,7 +421,7 @@ def _after_segment(info: CaseInfo, sup: Supervisor, stop: StopFlag, seg: Segment
         _fail_diverged(sup, seg, reached)
     if seg.returncode != 0 and seg.reason not in STOPPED_REASONS:
         text = seg.log.read_text(errors="replace")
-        err = foam.StepError(info.solver, foam.failure_reason(text), seg.log, seg.returncode)
+        err = openfoam.StepError(info.solver, openfoam.failure_reason(text), seg.log, seg.returncode)
         data["status"], data["error"] = "failed", str(err)
         sup.record.save()
         raise err
