@@ -316,7 +316,7 @@ def test_library_arguments_out_of_range_are_input_errors_naming_the_argument(tmp
 
 
 def test_case_files_that_are_not_what_the_run_wrote_name_the_file_and_the_entry(tmp_path):
-    from orchestrator.case.bodypoints import write_points
+    from orchestrator.run.bodypoints import write_points
     from orchestrator.results.fringe import fringe_flux
 
     points = tmp_path / "points"

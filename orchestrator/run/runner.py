@@ -104,12 +104,12 @@ from typing import Any, Callable
 
 from orchestrator.core.errors import DebrisfoamError, InputError
 from orchestrator.case import bodystate, foam, split_bodies
-from orchestrator.case.bodypoints import BodyPoints
 from orchestrator.case.folder import EPS_T, PLAN_JSON, SCENE_YAML, CaseFolder, processor_dirs
 from orchestrator.contact.settings import ContactSettings
 from orchestrator.plan.scale import froude_factor
 from orchestrator.run import body_policy, held, openfoam
 from orchestrator.run.bedwatch import BedWatch
+from orchestrator.run.bodypoints import BodyPoints
 from orchestrator.run.case_info import CaseInfo, load_case_info
 from orchestrator.run.contact_geometry import Contact
 from orchestrator.run.control import set_control

@@ -18,12 +18,12 @@ from dataclasses import asdict, replace
 from typing import Callable, Sequence
 
 from orchestrator.case import bodystate, foam
-from orchestrator.case.bodypoints import BodyPoints
 from orchestrator.case.bodystate import BodyState
 from orchestrator.case.folder import EPS_T
 from orchestrator.case.outputs import WATER_BALANCE_TOLERANCE
 from orchestrator.run import held, openfoam
 from orchestrator.run.bedwatch import BedWatch
+from orchestrator.run.bodypoints import BodyPoints
 from orchestrator.run.case_info import CaseInfo
 from orchestrator.run.contact_book import ContactBook, ContactSettings
 from orchestrator.run.control import TIME_PRECISION, set_control, significant_digits
