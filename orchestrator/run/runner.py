@@ -81,12 +81,14 @@ contact book, the bed watch) and runs each segment through `orchestrator.run.seg
 (the solver process, its log, stop requests and kills); `orchestrator.run.control` edits
 controlDict, `orchestrator.run.times` finds the written times and the write grid,
 `orchestrator.run.run_json` keeps run.json and bodies.csv, `orchestrator.run.case_info`
-reads the case, `orchestrator.run.errors` names the ways a run ends early.
+reads the case, `orchestrator.run.errors` names the ways a run ends early, and
+`orchestrator.run.openfoam` runs each mesh and utility application (its log, its failure).
 
 Dictionaries (controlDict, decomposeParDict, dynamicMeshDict) are read and edited through
 `orchestrator.case.dictionary` (foamlib): in place, at full precision, the file replaced at
-once. What the runner does to the bodies through dynamicMeshDict is
-`orchestrator.run.body_policy`, and `orchestrator.run.held` (their motion solvers set aside).
+once. What the runner does to the bodies is `orchestrator.run.body_policy` (through
+dynamicMeshDict), `orchestrator.run.held` (their motion solvers set aside) and
+`orchestrator.run.bodypoints` (their mesh points at a restart).
 
 Units: seconds, metres, kg, N.
 """
