@@ -19,7 +19,7 @@ import pytest
 from analytical.errors import DebrisfoamError
 from orchestrator.case import foam
 from orchestrator.case.render import render_case
-from orchestrator.run import openfoam
+from orchestrator.run import openfoam as run_openfoam
 from orchestrator.run.openfoam import StepError, check_mesh_summary, failure_reason, run_step
 
 from regenerate_golden import GOLDEN_DIR, flume_plan
@@ -31,15 +31,15 @@ LOGS = GOLDEN_DIR / "logs"
 
 
 def test_foam_env_sets_project_dir_and_mpi_as_root():
-    env = openfoam.foam_env({"PATH": "/usr/bin"})
+    env = run_openfoam.foam_env({"PATH": "/usr/bin"})
     assert env["WM_PROJECT_DIR"] == "/usr/share/openfoam"
     assert env["OMPI_ALLOW_RUN_AS_ROOT"] == env["OMPI_ALLOW_RUN_AS_ROOT_CONFIRM"] == "1"
     assert env["PATH"] == "/usr/bin"
     assert env["OMPI_MCA_rmaps_base_oversubscribe"] == "1"
-    assert openfoam.foam_env({"WM_PROJECT_DIR": "/opt/of"})["WM_PROJECT_DIR"] == "/opt/of"
+    assert run_openfoam.foam_env({"WM_PROJECT_DIR": "/opt/of"})["WM_PROJECT_DIR"] == "/opt/of"
     # waiting ranks yield their core (benchmarks/mpi_yield.md); a user's own setting wins
     assert env["OMPI_MCA_mpi_yield_when_idle"] == "1"
-    assert openfoam.foam_env({"OMPI_MCA_mpi_yield_when_idle": "0"})["OMPI_MCA_mpi_yield_when_idle"] == "0"
+    assert run_openfoam.foam_env({"OMPI_MCA_mpi_yield_when_idle": "0"})["OMPI_MCA_mpi_yield_when_idle"] == "0"
 
 
 def test_parallel_argv():
@@ -256,9 +256,9 @@ def test_overset_runs_a_few_steps_on_two_cores(tmp_path, openfoam, n_bodies):
 def test_only_the_tail_of_a_long_log_is_read(tmp_path):
     log = tmp_path / "log.x"
     log.write_text("Time = 1\n" * 200_000 + "--> FOAM FATAL ERROR: \nboom\n\n    From function f\n")
-    assert len(log.read_bytes()) > openfoam.LOG_TAIL_BYTES
-    tail = openfoam._tail(log, openfoam.LOG_TAIL_BYTES)
-    assert len(tail) <= openfoam.LOG_TAIL_BYTES and tail.startswith("Time = 1\n")
+    assert len(log.read_bytes()) > run_openfoam.LOG_TAIL_BYTES
+    tail = run_openfoam._tail(log, run_openfoam.LOG_TAIL_BYTES)
+    assert len(tail) <= run_openfoam.LOG_TAIL_BYTES and tail.startswith("Time = 1\n")
     assert failure_reason(tail) == "--> FOAM FATAL ERROR:\n    boom"
 
 
