@@ -101,10 +101,10 @@ def measure(name: str, scene: Path, work: Path, end_time_s: float) -> list[dict]
 def _fields(case: Path, time_name: str) -> dict[str, np.ndarray]:
     """U, p_rgh, alpha.water, cellTypes and the cell centres (postProcess writeCellCentres) of every
     processor at ``time_name``, concatenated."""
-    from orchestrator.case import foam
+    from orchestrator.run import openfoam
 
-    foam.run_step("postProcess.C", ["postProcess", "-func", "writeCellCentres", "-time", time_name], case,
-                  np=len(list(case.glob("processor*"))))
+    openfoam.run_step("postProcess.C", ["postProcess", "-func", "writeCellCentres", "-time", time_name], case,
+                      np=len(list(case.glob("processor*"))))
     out: dict[str, list] = {}
     for proc in sorted(case.glob("processor*")):
         for name in ("U", "C", "p_rgh", "alpha.water", "cellTypes"):

@@ -4,7 +4,7 @@ Open MPI's ranks busy-poll while they wait for a message. On a machine whose cor
 by something else (a test suite, a second run, another user) a spinning rank holds its core
 until the scheduler takes it away, while the rank it waits for cannot run: every halo exchange
 and reduction of a small case then costs a scheduler time slice. `OMPI_MCA_mpi_yield_when_idle=1`
-makes a waiting rank give the core back. The runner sets it (`orchestrator.case.foam.foam_env`,
+makes a waiting rank give the core back. The runner sets it (`orchestrator.run.openfoam.foam_env`,
 a user's own setting wins). This benchmark runs the same rendered case with the setting (A) and
 without it (B), in turn, pair by pair, on the idle machine and with the machine busy (two
 processes that keep both cores busy beside the run), and writes the wall times and the ratio.

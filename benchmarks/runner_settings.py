@@ -57,6 +57,7 @@ from orchestrator.case.dictionary import edit_dictionary  # noqa: E402
 from orchestrator.case import foam  # noqa: E402
 from orchestrator.case.outputs import read_force_series, read_water_balance, water_balance_summary  # noqa: E402
 from orchestrator.pipeline import render_from_file  # noqa: E402
+from orchestrator.run import openfoam  # noqa: E402
 from orchestrator.run.runner import RunInterrupted, load_case_info, run_case  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
@@ -279,8 +280,8 @@ def _bare_run(case: Path) -> float:
     """Solver wall time of a bare `mpirun -np 2 overInterDyMFoam -parallel` (no runner)."""
     info = load_case_info(case)
     for step in foam.mesh_steps(case, info.plan) + foam.solve_steps(case, info.plan, 2)[:1]:
-        foam.run_step(step.name, step.argv, case, np=step.np, done=step.done)
-    env = foam.foam_env()
+        openfoam.run_step(step.name, step.argv, case, np=step.np, done=step.done)
+    env = openfoam.foam_env()
     env["PWD"] = str(case)
     t0 = time.perf_counter()
     with open(case / "log.bare", "w") as out:

@@ -26,6 +26,7 @@ from orchestrator.plan.planner import load_and_plan
 from orchestrator.plan.resources import Demand, check_resources
 from orchestrator.report.postprocess import post_case
 from orchestrator.report.preview import preview_scene
+from orchestrator.run import openfoam
 from orchestrator.run.runner import run_case
 from orchestrator.scene.schema import Scene
 from orchestrator.scene.scenefile import load_scene
@@ -237,7 +238,7 @@ def render_planned(scene: Scene, plan: ModelPlan, scene_path: str | Path, out_di
             summary["preview"] = f"not drawn ({type(exc).__name__}: {exc}); the case is complete"
     if mesh:
         for step in foam.mesh_steps(case, plan):
-            foam.run_step(step.name, step.argv, case, np=step.np, done=step.done)
-        check = foam.check_mesh_summary(case / "log.checkMesh")
+            openfoam.run_step(step.name, step.argv, case, np=step.np, done=step.done)
+        check = openfoam.check_mesh_summary(case / "log.checkMesh")
         summary.update({f"mesh_{k}": v for k, v in asdict(check).items()})
     return summary

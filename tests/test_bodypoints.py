@@ -1,4 +1,4 @@
-"""The body meshes' points follow a pose the runner sets at a restart (orchestrator.case.bodypoints),
+"""The body meshes' points follow a pose the runner sets at a restart (orchestrator.run.bodypoints),
 on a hand-made merged mesh: a background of four points and a body of three, decomposed on two
 ranks the way decomposePar writes it. The end-to-end check with the solver is
 tests/test_still_water.py (a container set 2 mm aside between segments)."""
@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from orchestrator.case.bodypoints import TOLERANCE_M, BodyPoints, read_points, write_points
+from orchestrator.run.bodypoints import TOLERANCE_M, BodyPoints, read_points, write_points
 from orchestrator.case.bodystate import BodyState
 from orchestrator.core.errors import InputError
 

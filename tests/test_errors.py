@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from analytical.errors import InputError as AnalyticalInputError
-from orchestrator.case.foam import StepError
+from orchestrator.run.openfoam import StepError
 from orchestrator.core.errors import DebrisfoamError, InputError, MissingFeatureError
 from orchestrator.run.errors import DivergenceError, RunError
 
@@ -316,7 +316,7 @@ def test_library_arguments_out_of_range_are_input_errors_naming_the_argument(tmp
 
 
 def test_case_files_that_are_not_what_the_run_wrote_name_the_file_and_the_entry(tmp_path):
-    from orchestrator.case.bodypoints import write_points
+    from orchestrator.run.bodypoints import write_points
     from orchestrator.results.fringe import fringe_flux
 
     points = tmp_path / "points"

@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 import yaml
 
-from orchestrator.case.foam import foam_env, run_step
+from orchestrator.run.openfoam import foam_env, run_step
 from orchestrator.plan.model import ModelPlan
 from orchestrator.transport.flow import FlowField
 from orchestrator.transport.flow_record import FLOW_RECORD_NPZ, FlowRecordError, read_flow_record

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
 import re
 import time
 from pathlib import Path
@@ -17,8 +18,9 @@ import pytest
 
 from analytical.errors import DebrisfoamError
 from orchestrator.case import foam
-from orchestrator.case.foam import StepError, check_mesh_summary, failure_reason, run_step
 from orchestrator.case.render import render_case
+from orchestrator.run import openfoam as run_openfoam
+from orchestrator.run.openfoam import StepError, check_mesh_summary, failure_reason, run_step
 
 from regenerate_golden import GOLDEN_DIR, flume_plan
 
@@ -29,15 +31,15 @@ LOGS = GOLDEN_DIR / "logs"
 
 
 def test_foam_env_sets_project_dir_and_mpi_as_root():
-    env = foam.foam_env({"PATH": "/usr/bin"})
+    env = run_openfoam.foam_env({"PATH": "/usr/bin"})
     assert env["WM_PROJECT_DIR"] == "/usr/share/openfoam"
     assert env["OMPI_ALLOW_RUN_AS_ROOT"] == env["OMPI_ALLOW_RUN_AS_ROOT_CONFIRM"] == "1"
     assert env["PATH"] == "/usr/bin"
     assert env["OMPI_MCA_rmaps_base_oversubscribe"] == "1"
-    assert foam.foam_env({"WM_PROJECT_DIR": "/opt/of"})["WM_PROJECT_DIR"] == "/opt/of"
+    assert run_openfoam.foam_env({"WM_PROJECT_DIR": "/opt/of"})["WM_PROJECT_DIR"] == "/opt/of"
     # waiting ranks yield their core (benchmarks/mpi_yield.md); a user's own setting wins
     assert env["OMPI_MCA_mpi_yield_when_idle"] == "1"
-    assert foam.foam_env({"OMPI_MCA_mpi_yield_when_idle": "0"})["OMPI_MCA_mpi_yield_when_idle"] == "0"
+    assert run_openfoam.foam_env({"OMPI_MCA_mpi_yield_when_idle": "0"})["OMPI_MCA_mpi_yield_when_idle"] == "0"
 
 
 def test_parallel_argv():
@@ -90,6 +92,24 @@ def test_check_mesh_summary_without_a_verdict(tmp_path):
     with pytest.raises(StepError, match="no verdict") as err:
         check_mesh_summary(log)
     assert err.value.log_path == log
+
+
+def test_the_checkmesh_step_is_done_only_for_a_passed_mesh_checked_after_meshing(tmp_path):
+    """The case's checkMesh step is done when log.checkMesh, newer than the mesh, says `Mesh OK.`;
+    a failed verdict, a log without one (checkMesh stopped) or an older log run it again."""
+    done = foam.mesh_steps(tmp_path, flume_plan(0, friction=0.0))[-1].done
+    (tmp_path / "constant" / "polyMesh").mkdir(parents=True)
+    owner, log = tmp_path / "constant" / "polyMesh" / "owner", tmp_path / "log.checkMesh"
+    owner.write_text("")
+    assert not done(tmp_path)
+    for text, ok in [((LOGS / "checkMesh-overset-ok.log").read_text(), True),
+                     ((LOGS / "checkMesh-failed.log").read_text(), False), ("Create time\n", False)]:
+        log.write_text(text)
+        os.utime(owner, (1, 1))
+        assert done(tmp_path) is ok
+    log.write_text((LOGS / "checkMesh-overset-ok.log").read_text())
+    os.utime(log, (0, 0))  # checked before this mesh was made
+    assert not done(tmp_path)
 
 
 # --------------------------------------------------------------------------- steps
@@ -162,7 +182,7 @@ def _run_all(case: Path, plan) -> dict[str, float]:
     timings = {}
     for step in foam.mesh_steps(case, plan) + foam.solve_steps(case, plan):
         start = time.perf_counter()
-        foam.run_step(step.name, step.argv, case, np=step.np, done=step.done, timeout_s=300)
+        run_step(step.name, step.argv, case, np=step.np, done=step.done, timeout_s=300)
         if step.name == "decomposePar.cellDist":
             split_bodies.split(case, math.prod(int(n) for n in plan.decomposition))
         timings[step.name] = time.perf_counter() - start
@@ -236,9 +256,9 @@ def test_overset_runs_a_few_steps_on_two_cores(tmp_path, openfoam, n_bodies):
 def test_only_the_tail_of_a_long_log_is_read(tmp_path):
     log = tmp_path / "log.x"
     log.write_text("Time = 1\n" * 200_000 + "--> FOAM FATAL ERROR: \nboom\n\n    From function f\n")
-    assert len(log.read_bytes()) > foam.LOG_TAIL_BYTES
-    tail = foam._tail(log, foam.LOG_TAIL_BYTES)
-    assert len(tail) <= foam.LOG_TAIL_BYTES and tail.startswith("Time = 1\n")
+    assert len(log.read_bytes()) > run_openfoam.LOG_TAIL_BYTES
+    tail = run_openfoam._tail(log, run_openfoam.LOG_TAIL_BYTES)
+    assert len(tail) <= run_openfoam.LOG_TAIL_BYTES and tail.startswith("Time = 1\n")
     assert failure_reason(tail) == "--> FOAM FATAL ERROR:\n    boom"
 
 

@@ -28,6 +28,7 @@ from orchestrator.case.render import (
     render_files,
     template_environment,
 )
+from orchestrator.run.openfoam import check_mesh_summary, run_step
 
 from regenerate_golden import GOLDEN_DIR, GOLDEN_PLANS, flume_plan, golden_files
 
@@ -288,7 +289,7 @@ def test_force_replaces_a_previous_case(tmp_path):
 def _mesh(case: Path, plan) -> dict[str, float]:
     timings = {}
     for step in foam.mesh_steps(case, plan):
-        result = foam.run_step(step.name, step.argv, case, np=step.np, done=step.done)
+        result = run_step(step.name, step.argv, case, np=step.np, done=step.done)
         timings[step.name] = result.wall_s
     return timings
 
@@ -298,7 +299,7 @@ def test_nodebris_case_meshes(tmp_path, openfoam):
     plan = flume_plan(0, h=0.04)
     case = render_case({}, plan, tmp_path / "case")
     _mesh(case, plan)
-    summary = foam.check_mesh_summary(case / "log.checkMesh")
+    summary = check_mesh_summary(case / "log.checkMesh")
     assert summary.ok and summary.cells == plan.background.cell_count() == plan.cell_count
     n_cells = re.search(r"nCells: (\d+)", (case / "log.blockMesh").read_text()).group(1)
     assert int(n_cells) == plan.background.cell_count()
@@ -311,7 +312,7 @@ def test_nodebris_case_meshes(tmp_path, openfoam):
     assert "nonuniform List<scalar>" in alpha
     # re-running skips every step (their outputs exist)
     for step in foam.mesh_steps(case, plan):
-        assert foam.run_step(step.name, step.argv, case, done=step.done).skipped, step.name
+        assert run_step(step.name, step.argv, case, done=step.done).skipped, step.name
 
 
 @pytest.mark.openfoam
@@ -319,7 +320,7 @@ def test_two_d_case_meshes(tmp_path, openfoam):
     plan = flume_plan(0, h=0.02, two_d=True)
     case = render_case({}, plan, tmp_path / "case")
     _mesh(case, plan)
-    summary = foam.check_mesh_summary(case / "log.checkMesh")
+    summary = check_mesh_summary(case / "log.checkMesh")
     assert summary.ok and summary.cells == plan.cell_count
     assert "Mesh has 2 solution (non-empty) directions" in (case / "log.checkMesh").read_text()
 
@@ -329,7 +330,7 @@ def test_one_debris_case_meshes_with_zones(tmp_path, openfoam):
     plan = flume_plan(1, h=0.04)
     case = render_case({}, plan, tmp_path / "case")
     _mesh(case, plan)
-    summary = foam.check_mesh_summary(case / "log.checkMesh")
+    summary = check_mesh_summary(case / "log.checkMesh")
     body_cells = plan.bodies[0].grid.cell_count()
     assert summary.ok and summary.regions == 2
     assert summary.cells == plan.background.cell_count() + body_cells == plan.cell_count
@@ -469,7 +470,7 @@ def test_decomposition_keeps_every_body_mesh_on_one_rank(tmp_path, openfoam, cor
     assert "preserveFaceZones" in reason and "split_bodies" in reason  # lumped first, then split by the runner
     case = tmp_path / "six"
     assert render_from_file(scene, case, sets, mesh=True)["mesh_ok"] is True
-    foam.run_step("decomposePar", ["decomposePar", "-cellDist", "-force"], case)
+    run_step("decomposePar", ["decomposePar", "-cellDist", "-force"], case)
     rank = _internal_field(case / "0" / "cellDist")
     zone = _internal_field(case / "0" / "zoneID")
     assert len(np.unique(rank)) == cores

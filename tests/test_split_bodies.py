@@ -99,7 +99,7 @@ def test_three_overlapping_body_meshes_get_past_the_first_steps_on_two_ranks(ope
     assert record["reached_time_s"] == pytest.approx(0.2)
     # the three resting bodies' meshes end at the bed: none reaches below it, where two body meshes
     # would take their donors from each other (plan.meshes_stop_at_bed)
-    from orchestrator.case.bodypoints import read_points
+    from orchestrator.run.bodypoints import read_points
 
     for k in (1, 2, 3):
         z = read_points(case / "bodies" / f"debris{k}" / "constant" / "polyMesh" / "points")[:, 2]

@@ -81,7 +81,7 @@ def test_a_container_afloat_in_still_water_keeps_its_draft_place_and_heading_two
 def test_a_container_set_two_millimetres_aside_between_segments_stays_where_it_was_set(openfoam, tmp_path):
     """The runner moves bodies between segments (pressed pairs set a gap apart, overlaps removed,
     bodies lifted out of the bed). Its mesh points follow the new pose at the restart time
-    (orchestrator.case.bodypoints), so the solver's first step does not make the move as mesh motion:
+    (orchestrator.run.bodypoints), so the solver's first step does not make the move as mesh motion:
     made in one step, 2 mm sideways threw this container back at 0.017 m/s and 0.7 mm in 0.08 s."""
     import dataclasses
     import threading

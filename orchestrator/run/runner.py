@@ -81,12 +81,14 @@ contact book, the bed watch) and runs each segment through `orchestrator.run.seg
 (the solver process, its log, stop requests and kills); `orchestrator.run.control` edits
 controlDict, `orchestrator.run.times` finds the written times and the write grid,
 `orchestrator.run.run_json` keeps run.json and bodies.csv, `orchestrator.run.case_info`
-reads the case, `orchestrator.run.errors` names the ways a run ends early.
+reads the case, `orchestrator.run.errors` names the ways a run ends early, and
+`orchestrator.run.openfoam` runs each mesh and utility application (its log, its failure).
 
 Dictionaries (controlDict, decomposeParDict, dynamicMeshDict) are read and edited through
 `orchestrator.case.dictionary` (foamlib): in place, at full precision, the file replaced at
-once. What the runner does to the bodies through dynamicMeshDict is
-`orchestrator.run.body_policy`, and `orchestrator.run.held` (their motion solvers set aside).
+once. What the runner does to the bodies is `orchestrator.run.body_policy` (through
+dynamicMeshDict), `orchestrator.run.held` (their motion solvers set aside) and
+`orchestrator.run.bodypoints` (their mesh points at a restart).
 
 Units: seconds, metres, kg, N.
 """
@@ -104,12 +106,12 @@ from typing import Any, Callable
 
 from orchestrator.core.errors import DebrisfoamError, InputError
 from orchestrator.case import bodystate, foam, split_bodies
-from orchestrator.case.bodypoints import BodyPoints
 from orchestrator.case.folder import EPS_T, PLAN_JSON, SCENE_YAML, CaseFolder, processor_dirs
 from orchestrator.contact.settings import ContactSettings
 from orchestrator.plan.scale import froude_factor
-from orchestrator.run import body_policy, held
+from orchestrator.run import body_policy, held, openfoam
 from orchestrator.run.bedwatch import BedWatch
+from orchestrator.run.bodypoints import BodyPoints
 from orchestrator.run.case_info import CaseInfo, load_case_info
 from orchestrator.run.contact_geometry import Contact
 from orchestrator.run.control import set_control
@@ -178,7 +180,7 @@ def run_case(case_dir: str | Path, np: int | None = None, quiet: bool = False, *
     on_step: called with every StepRecord as the log is read (tests, custom monitors).
 
     Raises RunInterrupted (stopped; resumable), DivergenceError, ContactError, RunError,
-    foam.StepError (a step failed), all DebrisfoamError.
+    openfoam.StepError (a step failed), all DebrisfoamError.
     """
     if reconstruct not in ("latest", "all", "none"):
         raise InputError("reconstruct", f"must be 'latest', 'all' or 'none', got {reconstruct!r}")
@@ -282,9 +284,9 @@ def _prepare(info: CaseInfo, sup: Supervisor) -> None:
     mesh_log = case / "log.checkMesh"
     if mesh_log.is_file():
         try:
-            summary = foam.check_mesh_summary(mesh_log)
+            summary = openfoam.check_mesh_summary(mesh_log)
             data["cells"].update({"total": summary.cells, "mesh_ok": summary.ok})
-        except foam.StepError:
+        except openfoam.StepError:
             pass
     for step in steps:
         ran = not step.done(case)
@@ -421,7 +423,7 @@ def _after_segment(info: CaseInfo, sup: Supervisor, stop: StopFlag, seg: Segment
         _fail_diverged(sup, seg, reached)
     if seg.returncode != 0 and seg.reason not in STOPPED_REASONS:
         text = seg.log.read_text(errors="replace")
-        err = foam.StepError(info.solver, foam.failure_reason(text), seg.log, seg.returncode)
+        err = openfoam.StepError(info.solver, openfoam.failure_reason(text), seg.log, seg.returncode)
         data["status"], data["error"] = "failed", str(err)
         sup.record.save()
         raise err

@@ -34,6 +34,7 @@ from orchestrator.case import foam
 from orchestrator.case.bodystate import BodyState
 from orchestrator.case.folder import EPS_T
 from orchestrator.case.outputs import read_water_balance
+from orchestrator.run import openfoam
 from orchestrator.run.bedwatch import BedWatch
 from orchestrator.run.case_info import CaseInfo
 from orchestrator.run.contact_book import ContactBook, ContactSettings
@@ -290,7 +291,7 @@ class _Segment:
         return self._result(started, time.perf_counter() - t0, cpu_s() - cpu0)
 
     def _start(self) -> None:
-        env = foam.foam_env()
+        env = openfoam.foam_env()
         env["PWD"] = str(self.w.case)
         with open(self.log, "w") as out:
             try:

@@ -18,12 +18,12 @@ from dataclasses import asdict, replace
 from typing import Callable, Sequence
 
 from orchestrator.case import bodystate, foam
-from orchestrator.case.bodypoints import BodyPoints
 from orchestrator.case.bodystate import BodyState
 from orchestrator.case.folder import EPS_T
 from orchestrator.case.outputs import WATER_BALANCE_TOLERANCE
-from orchestrator.run import held
+from orchestrator.run import held, openfoam
 from orchestrator.run.bedwatch import BedWatch
+from orchestrator.run.bodypoints import BodyPoints
 from orchestrator.run.case_info import CaseInfo
 from orchestrator.run.contact_book import ContactBook, ContactSettings
 from orchestrator.run.control import TIME_PRECISION, set_control, significant_digits
@@ -109,14 +109,14 @@ class Supervisor:
         else:
             print(message, file=self.stream or sys.stderr, flush=True)
 
-    def run_step(self, step: foam.Step, np_: int = 1, extra: Sequence[str] = ()) -> foam.StepResult:
+    def run_step(self, step: foam.Step, np_: int = 1, extra: Sequence[str] = ()) -> openfoam.StepResult:
         """Run one mesh or utility step (skipped when its outputs exist), recorded in run.json."""
         start = now()
         argv = list(step.argv) + list(extra)
         command = foam.parallel_argv(argv, np_)  # what run.json names, whether the step succeeds or not
         try:
-            result = foam.run_step(step.name, argv, self.case, np=np_, done=step.done)
-        except foam.StepError as exc:
+            result = openfoam.run_step(step.name, argv, self.case, np=np_, done=step.done)
+        except openfoam.StepError as exc:
             self.record.step(step.name, command, start, 0.0, exc.returncode, False, exc.log_path)
             self.record.data["status"] = "failed"
             self.record.data["error"] = str(exc)
