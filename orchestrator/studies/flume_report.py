@@ -207,6 +207,11 @@ def _face_plot(members: list[FlumeMember], flows: list[MemberFlow], out: Path) -
     return name
 
 
+def _span(values: list[float]) -> str:
+    lo, hi = f"{min(values):.2f}", f"{max(values):.2f}"
+    return lo if lo == hi else f"{lo}-{hi}"
+
+
 def _face_lines(members: list[FlumeMember], flows: list[MemberFlow], figure: str) -> list[str]:
     lo, hi, mean = SEED_IMPACT_HEIGHTS_M
     after = " and ".join(f"{d:g}" for d in AFTER_ARRIVAL_S)
@@ -218,7 +223,7 @@ def _face_lines(members: list[FlumeMember], flows: list[MemberFlow], figure: str
         f"up the face counts there but hardly in the integral), at their peaks over the run and {after} s after "
         f"the front reached the face. The study's load points, the water surface at the face at impact read "
         f"from its WG4 (its MDOF fit): {lo:g}-{hi:g} m above the base, mean {mean:g} m."
-        + (f" The records end {min(ends):.2f}-{max(ends):.2f} s after the front reached the face." if ends else ""),
+        + (f" The records end {_span(ends)} s after the front reached the face." if ends else ""),
         "",
         "| change | front at the face (s) | elevation peak (m, s after the front) "
         + "".join(f"| at +{d:g} s " for d in AFTER_ARRIVAL_S)
@@ -269,7 +274,7 @@ def _reach_lines(members: list[FlumeMember], flows: list[MemberFlow]) -> list[st
 _MAKE_TARGETS = {"flume-as-built": "flume-as-built", "flume-centreline-2d": "flume-2d", "face-splash": "face-splash"}
 #: A sweep's own title and first words (default: the flume as built's).
 _TITLES = {"face-splash": ("# Splash-up at the column's face: 4 cm cells and finer cells at the face",
-                           "what each member changes is in the sweep file's header")}
+                           "What each member is and why is in the sweep file's header")}
 
 
 def _setting(case: Path) -> str:
