@@ -58,7 +58,9 @@ SEED_IMPACT_COUNT = 22
 at 0.40 m inundation kept)."""
 
 SEED_IMPACT_HEIGHTS_M = (0.16, 0.50, 0.40)
-"""Lowest, highest and mean impact height on the column (the water surface at its face)."""
+"""Lowest, highest and mean impact height on the column (the water surface at its face): the study's
+MDOF fit, load points from WG4 at the face (its load height "determined from the water surface
+elevation at the face of the structure", m above the column's base)."""
 
 SEED_MEAN_HEIGHT_M = SEED_IMPACT_HEIGHTS_M[2]
 """The mean load height, m."""

@@ -70,3 +70,96 @@ def test_a_flume_without_a_column_reads_its_wg4_as_a_plain_gauge(tmp_path):
     assert "(kOmegaSST, 2 cm cells, a 0.1 m wide flume, no column, 2 s)" in text
     assert "| the scene as shipped | 0.865 |" in text
     assert "| sill 5 cm, level 0.35 m above the bed (0.4 m deep) | 0.981 |" in text and "column at" not in text
+
+
+# ---------------------------------------------------------------- the face and the reaches, from gauge records
+
+def _profiles(folder, gauge, times, wet_tops, step=0.01, top=0.6):
+    """Raw `sets` profiles of one gauge (z, alpha.water), water up to ``wet_tops`` at ``times``, as v1912
+    writes them (postProcessing/gauges/<time>/<gauge>_alpha.water.xy)."""
+    import numpy as np
+
+    z = np.arange(step / 2, top, step)
+    for t, h in zip(times, wet_tops):
+        d = folder / "postProcessing" / "gauges" / f"{t:g}"
+        d.mkdir(parents=True, exist_ok=True)
+        alpha = np.where(z < h, 1.0, 0.0)
+        (d / f"{gauge}_alpha.water.xy").write_text("".join(f"{a:g} {b:g}\n" for a, b in zip(z, alpha)))
+
+
+def _flow_member(folder, arrivals, centreline, interval=0.01, refine=None):
+    """A member with WG2-WG4 (:func:`_member`), centreline gauges {x: arrival}, a probe interval,
+    a gauges.csv for WG4 and raw WG4 profiles with a splash above the integral."""
+    _member(folder, arrivals)
+    scene = yaml.safe_load((folder / "scene.yaml").read_text())
+    scene["outputs"] = {"probe_interval_s": interval}
+    scene["mesh"] |= {"refine_box_m": refine, "refine_cell_size_m": 0.02 if refine else None}
+    (folder / "scene.yaml").write_text(yaml.safe_dump(scene))
+    summary = pd.read_csv(folder / "results" / "gauge_summary.csv")
+    summary["y_m"] = 0.0
+    extra = [{"gauge": f"CL{round(x * 100)}", "x_m": x, "y_m": 0.0, "arrival_s": t} for x, t in centreline.items()]
+    pd.concat([summary, pd.DataFrame(extra)]).to_csv(folder / "results" / "gauge_summary.csv", index=False)
+    face = arrivals[2]
+    times = [face - 0.1, face, face + 0.1, face + 0.2, face + 0.3, face + 0.4]
+    pd.DataFrame({"time_s": times, "WG4_elevation_m": [0.015, 0.02, 0.10, 0.30, 0.20, 0.25]}).to_csv(
+        folder / "results" / "gauges.csv", index=False)
+    _profiles(folder, "WG4", times, [0.015, 0.02, 0.12, 0.45, 0.22, 0.26])
+
+
+def test_the_face_is_read_at_its_peaks_and_after_the_front_from_the_records(tmp_path):
+    from orchestrator.studies.face_reach import face_reading, face_series, value_at
+
+    case = tmp_path / "a"
+    _flow_member(case, (0.876, 1.186, 1.70), {1.0: 0.40, 1.5: 0.60})
+    reading = face_reading(face_series(case, "WG4"), 1.70)
+    assert reading.elevation_peak_m == pytest.approx(0.30) and reading.elevation_peak_s == pytest.approx(1.90)
+    assert reading.elevation_after_m == pytest.approx((0.10, 0.20))
+    # the highest sample with alpha above 0.5: the cell centre below 0.45 m (0.445), not the integral's 0.30
+    assert reading.wet_peak_m == pytest.approx(0.445) and reading.wet_peak_s == pytest.approx(1.90)
+    assert reading.wet_after_m == pytest.approx((0.115, 0.215))
+    assert value_at([0.0, 1.0], [0.0, 2.0], 0.25) == pytest.approx(0.5)
+    assert value_at([0.0, 1.0], [0.0, 2.0], 1.5) != value_at([0.0, 1.0], [0.0, 2.0], 1.5)  # past the record: nan
+
+
+def test_reach_speeds_and_a_front_that_falls_or_holds_or_speeds_up(tmp_path):
+    from orchestrator.studies.face_reach import reach_speeds, reach_verdict
+
+    def summary(arrivals):
+        rows = [{"gauge": f"CL{round(x * 100)}", "x_m": x, "y_m": 0.0, "arrival_s": t} for x, t in arrivals.items()]
+        rows += [{"gauge": "WG3", "x_m": 3.2, "y_m": 0.5, "arrival_s": 0.3},  # off the centreline
+                 {"gauge": "WG2", "x_m": 1.2, "y_m": 0.0, "arrival_s": 0.45},  # the study's: left out
+                 {"gauge": "WG4", "x_m": 4.89, "y_m": 0.0, "arrival_s": 9.0}]  # the face: left out
+        return pd.DataFrame(rows)
+
+    skip = ("WG2", "WG4")
+    falling = reach_speeds(summary({1.0: 0.40, 1.5: 0.60, 2.0: 0.81}), 4.89, 0.01, skip)
+    assert [(r.x0_m, r.x1_m) for r in falling] == [(1.0, 1.5), (1.5, 2.0)]
+    assert falling[0].speed_m_s == pytest.approx(2.5) and falling[1].speed_m_s == pytest.approx(0.5 / 0.21)
+    # arrivals read 0.01 s apart: a speed v over a time T uncertain by v dt / T
+    assert falling[0].uncertainty_m_s == pytest.approx(2.5 * 0.01 / 0.20)
+    assert reach_verdict(falling) == "falls or holds"
+    # faster by less than both uncertainties (0.125 + 0.132): holds
+    assert reach_verdict(reach_speeds(summary({1.0: 0.40, 1.5: 0.60, 2.0: 0.79}), 4.89, 0.01, skip)) == "falls or holds"
+    # 2.5 then 3.33 m/s: faster by more than both: named as speeding up, with its reach
+    up = reach_speeds(summary({1.0: 0.40, 1.5: 0.60, 2.0: 0.75}), 4.89, 0.01, skip)
+    assert reach_verdict(up) == "speeds up (1.5-2 m)"
+    # the same gain read from coarse samples (0.05 s) is within the uncertainty
+    assert reach_verdict(reach_speeds(summary({1.0: 0.40, 1.5: 0.60, 2.0: 0.75}), 4.89, 0.05, skip)) == "falls or holds"
+    assert reach_verdict(falling[:1]) == "-"
+
+
+def test_the_page_sets_the_face_beside_the_study_s_load_points_and_names_a_speed_up(tmp_path):
+    sweep = tmp_path / "sweep"
+    _flow_member(sweep / "a", (0.876, 1.186, 1.70), {1.0: 0.40, 1.5: 0.60, 2.0: 0.81})
+    _flow_member(sweep / "b", (0.876, 1.186, 1.72), {1.0: 0.40, 1.5: 0.60, 2.0: 0.75},
+                 refine=[4.7, 4.95, -0.06, 0.06, 0.0, 0.55])
+    files = write_flume_report(sweep, tmp_path / "page")
+    text = files["report"].read_text()
+    assert "0.16-0.5 m above the base, mean 0.4 m" in text
+    assert "| the scene as shipped | 1.700 | 0.300 (+0.20) | 0.100 | 0.200 | 0.445 (+0.20) | 0.115 | 0.215 |" in text
+    assert "| 2 cm cells in x 4.7-4.95, y -0.06..0.06, z 0-0.55 m | 1.720 |" in text
+    assert "| the scene as shipped | 2.50 +- 0.13 | 2.38 +- 0.11 | falls or holds |" in text
+    assert "| 3.33 +- 0.22 | speeds up (1.5-2 m) |" in text
+    face = pd.read_csv(files["face_table"])
+    assert list(face["reach_verdict"]) == ["falls or holds", "speeds up (1.5-2 m)"]
+    assert files["face_figure"].stat().st_size > 10_000

@@ -1,7 +1,10 @@
 """The flume as built: every member of a sweep over the gate's sill, opening and opening time, the
 wet bed's depth and the column's position (``cases/sweeps/flume-as-built.yaml``), its arrivals at WG2 and WG3 and
 at the column's face against the measured ones and against the first member (the scene as
-shipped), with the front's speed between the gauges.
+shipped), with the front's speed between the gauges; and, from the gauges' records
+(:mod:`orchestrator.studies.face_reach`), the water at the column's face against the study's load
+points and the front's speed over successive reaches of the centreline. The same page serves any
+sweep of the flume (``cases/sweeps/face-splash.yaml``: finer cells at the face).
 
 Arrivals are the post-processor's (``results/gauge_summary.csv``: the first rise of the level above
 its start by the gauge's threshold); the measured ones are the study's (``SEED_ARRIVALS``).
@@ -17,7 +20,8 @@ import pandas as pd
 import yaml
 
 from orchestrator.core.errors import InputError
-from analytical.study import SEED_ARRIVALS
+from orchestrator.studies.face_reach import AFTER_ARRIVAL_S, WET_ALPHA, MemberFlow, member_flow, reach_verdict
+from analytical.study import SEED_ARRIVALS, SEED_IMPACT_HEIGHTS_M
 
 __all__ = ["FlumeMember", "flume_members", "write_flume_report"]
 
@@ -25,6 +29,8 @@ __all__ = ["FlumeMember", "flume_members", "write_flume_report"]
 MEASURED = {name: (x, measured) for x, (name, measured, _model) in SEED_ARRIVALS.items()}
 #: The gauge at the column's upstream face in the shipped scenes.
 FACE_GAUGE = "WG4"
+#: The study's gauges by name: left out of the centreline reaches (their arrivals have their own columns).
+MEASURED_NAMES = (*(name for name, _, _ in SEED_ARRIVALS.values()), FACE_GAUGE)
 
 
 @dataclass(frozen=True)
@@ -43,6 +49,9 @@ class FlumeMember:
     face_s: float
     solver_wall_s: float
     opening_time_s: float = 0.0
+    turbulence: str = "laminar"
+    wet_bed_cells: int = 1
+    refine: str = ""  # the refinement box, in words ("": none)
 
     @property
     def speed_wg2_wg3_m_s(self) -> float:
@@ -68,7 +77,7 @@ def _member(case: Path) -> FlumeMember:
             raise InputError(str(summary), f"has no gauge {name}: the page reads WG2, WG3 and {FACE_GAUGE}")
     arrival = {name: float(table.loc[name, "arrival_s"]) for name in ("WG2", "WG3", FACE_GAUGE)}
     res, summary_json = scene["reservoir"], case / "results" / "summary.json"
-    wall = math.nan
+    wall, mesh = math.nan, scene.get("mesh") or {}
     if summary_json.is_file():
         import json
 
@@ -79,7 +88,17 @@ def _member(case: Path) -> FlumeMember:
         wet_depth_m=float(scene["bed"]["wet_depth_m"]),
         column_x_m=float(scene["column"]["x_m"]) if scene.get("column") else math.nan,
         face_x_m=float(table.loc[FACE_GAUGE, "x_m"]), wg2_s=arrival["WG2"], wg3_s=arrival["WG3"],
-        face_s=arrival[FACE_GAUGE], solver_wall_s=wall, opening_time_s=float(res.get("opening_time_s") or 0.0))
+        face_s=arrival[FACE_GAUGE], solver_wall_s=wall, opening_time_s=float(res.get("opening_time_s") or 0.0),
+        turbulence=str((scene.get("fluids") or {}).get("turbulence", "laminar")),
+        wet_bed_cells=int(mesh.get("wet_bed_cells") or 1), refine=_refine_text(mesh))
+
+
+def _refine_text(mesh: dict) -> str:
+    box, size = mesh.get("refine_box_m"), mesh.get("refine_cell_size_m")
+    if box is None or size is None:
+        return ""
+    x0, x1, y0, y1, z0, z1 = (float(v) for v in box)
+    return f"{float(size) * 100:g} cm cells in x {x0:g}-{x1:g}, y {y0:g}..{y1:g}, z {z0:g}-{z1:g} m"
 
 
 def flume_members(sweep_dir: str | Path) -> list[FlumeMember]:
@@ -119,6 +138,12 @@ def _change(m: FlumeMember, base: FlumeMember) -> str:
         parts.append(f"wet bed {m.wet_depth_m * 1000:g} mm")
     if m.column_x_m != base.column_x_m and not (math.isnan(m.column_x_m) and math.isnan(base.column_x_m)):
         parts.append(f"column at x = {m.column_x_m:g} m")
+    if m.refine != base.refine:
+        parts.append(m.refine or "no refinement box")
+    if m.turbulence != base.turbulence:
+        parts.append(f"{m.turbulence} (RANS)" if m.turbulence != "laminar" else "laminar")
+    if m.wet_bed_cells != base.wet_bed_cells:
+        parts.append(f"{m.wet_bed_cells} cells across the wet bed")
     return "; ".join(parts) or "the scene as shipped"
 
 
@@ -151,8 +176,105 @@ def _plot(members: list[FlumeMember], out: Path) -> str:
     return name
 
 
+def _face_plot(members: list[FlumeMember], flows: list[MemberFlow], out: Path) -> str:
+    """WG4's elevation (solid) and highest wet point (dashed) against the time since the front reached the
+    face, one colour a member, over the study's load points."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    lo, hi, mean = SEED_IMPACT_HEIGHTS_M
+    fig, ax = plt.subplots(figsize=(7.5, 4.2))
+    ax.axhspan(lo, hi, color="0.85", label=f"the study's load points {lo:g}-{hi:g} m")
+    ax.axhline(mean, color="0.4", lw=1, label=f"their mean {mean:g} m")
+    base = members[0]
+    for m, f in zip(members, flows):
+        t_e, v_e, t_w, v_w = f.series
+        (line,) = ax.plot(t_e - m.face_s, v_e, lw=1.2, label=_change(m, base))
+        ax.plot(t_w - m.face_s, v_w, "--", lw=0.9, color=line.get_color())
+    ax.set_xlim(-0.2, None)
+    ax.set_ylim(0, None)
+    ax.set_xlabel(f"time since the front reached the face ({FACE_GAUGE}'s arrival, s)")
+    ax.set_ylabel(f"{FACE_GAUGE} above the bed (m)")
+    ax.set_title(f"{FACE_GAUGE}: elevation (solid), highest wet point (dashed)", fontsize=9)
+    ax.legend(fontsize=6.5, loc="upper left")
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    name = "face.png"
+    fig.savefig(out / name, dpi=100)
+    plt.close(fig)
+    return name
+
+
+def _span(values: list[float]) -> str:
+    lo, hi = f"{min(values):.2f}", f"{max(values):.2f}"
+    return lo if lo == hi else f"{lo}-{hi}"
+
+
+def _face_lines(members: list[FlumeMember], flows: list[MemberFlow], figure: str) -> list[str]:
+    lo, hi, mean = SEED_IMPACT_HEIGHTS_M
+    after = " and ".join(f"{d:g}" for d in AFTER_ARRIVAL_S)
+    ends = [f.face.record_end_s - m.face_s for m, f in zip(members, flows) if f.face is not None]
+    lines = [
+        "## The water at the column's face", "",
+        f"{FACE_GAUGE}, 1 cm upstream of the column's face: its elevation (the alpha.water integral along its "
+        f"line) and its highest wet point (the highest sample with alpha.water above {WET_ALPHA:g}; water thrown "
+        f"up the face counts there but hardly in the integral), at their peaks over the run and {after} s after "
+        f"the front reached the face. The study's load points, the water surface at the face at impact read "
+        f"from its WG4 (its MDOF fit): {lo:g}-{hi:g} m above the base, mean {mean:g} m."
+        + (f" The records end {_span(ends)} s after the front reached the face." if ends else ""),
+        "",
+        "| change | front at the face (s) | elevation peak (m, s after the front) "
+        + "".join(f"| at +{d:g} s " for d in AFTER_ARRIVAL_S)
+        + "| highest wet point peak (m, s after) " + "".join(f"| at +{d:g} s " for d in AFTER_ARRIVAL_S)
+        + "| cells | solver (s) |",
+        "|---" * (6 + 2 * len(AFTER_ARRIVAL_S)) + "|",
+    ]
+    for m, f in zip(members, flows):
+        r = f.face
+        if r is None:
+            cells = ["-"] * (2 + 2 * len(AFTER_ARRIVAL_S))
+        else:
+            cells = ([f"{_fmt(r.elevation_peak_m)} ({_fmt(r.elevation_peak_s - m.face_s, '.2f', True)})"]
+                     + [_fmt(v) for v in r.elevation_after_m]
+                     + [f"{_fmt(r.wet_peak_m)} ({_fmt(r.wet_peak_s - m.face_s, '.2f', True)})"]
+                     + [_fmt(v) for v in r.wet_after_m])
+        lines.append(f"| {_change(m, members[0])} | {_fmt(m.face_s)} | " + " | ".join(cells)
+                     + f" | {f.cells or '-'} | {_fmt(m.solver_wall_s, '.0f')} |")
+    return lines + ["", f"![{FACE_GAUGE}]({figure})", ""]
+
+
+def _reach_lines(members: list[FlumeMember], flows: list[MemberFlow]) -> list[str]:
+    spans = sorted({(r.x0_m, r.x1_m) for f in flows for r in f.reaches})
+    if not spans:
+        return []
+    intervals = sorted({f.probe_interval_s for f in flows if f.probe_interval_s is not None})
+    dt = ", ".join(f"{v:g}" for v in intervals) or "one time step"
+    lines = [
+        "## The front along the centreline", "",
+        "The front's speed over each reach between successive centreline gauges (y = 0) past the gate, its "
+        "length over the difference of the arrivals, the study's gauges left out (their arrivals are above). "
+        f"The gauges are sampled {dt} s apart (outputs.probe_interval_s), so an arrival is taken as uncertain "
+        "by half that and a reach's speed v over a time T by v dt / T (the figure after the +-). A reach speeds "
+        "up when it is faster than the one before by more than both uncertainties together; otherwise the "
+        "front falls or holds.", "",
+        "| change " + "".join(f"| {a:g}-{b:g} m (m/s) " for a, b in spans) + "| verdict |",
+        "|---" * (len(spans) + 2) + "|",
+    ]
+    for m, f in zip(members, flows):
+        by_span = {(r.x0_m, r.x1_m): r for r in f.reaches}
+        cells = [f"{_fmt(by_span[s].speed_m_s, '.2f')} +- {_fmt(by_span[s].uncertainty_m_s, '.2f')}"
+                 if s in by_span else "-" for s in spans]
+        lines.append(f"| {_change(m, members[0])} | " + " | ".join(cells) + f" | {reach_verdict(list(f.reaches))} |")
+    return lines + [""]
+
+
 #: The make target that writes each shipped sweep's page.
-_MAKE_TARGETS = {"flume-as-built": "flume-as-built", "flume-centreline-2d": "flume-2d"}
+_MAKE_TARGETS = {"flume-as-built": "flume-as-built", "flume-centreline-2d": "flume-2d", "face-splash": "face-splash"}
+#: A sweep's own title and first words (default: the flume as built's).
+_TITLES = {"face-splash": ("# Splash-up at the column's face: 4 cm cells and finer cells at the face",
+                           "What each member is and why is in the sweep file's header")}
 
 
 def _setting(case: Path) -> str:
@@ -174,17 +296,24 @@ def write_flume_report(sweep_dir: str | Path, out_dir: str | Path) -> dict[str, 
             for m in members]
     pd.DataFrame(rows).to_csv(out / "flume.csv", index=False)
     figure = _plot(members, out)
+    flows = [member_flow(Path(sweep_dir) / m.member, FACE_GAUGE, m.face_x_m, m.face_s, tuple(MEASURED_NAMES))
+             for m in members]
+    _flow_table(members, flows).to_csv(out / "face.csv", index=False)
+    face_figure = _face_plot(members, flows, out)
     base = members[0]
     (x2, t2), (x3, t3) = MEASURED["WG2"], MEASURED["WG3"]
     sweep = Path(sweep_dir).resolve()
-    lines = [
+    title, about = _TITLES.get(sweep.name, (
         "# The flume as built: the gate's sill, opening and opening time, the wet bed, the column's position",
+        "The sizes are assumed: the study names the false floor acting as a sill and the gate's support columns "
+        "but gives neither's size (the sweep file says what each value stands for)"))
+    lines = [
+        title,
         "",
         f"Generated by `debrisfoam sweep cases/sweeps/{sweep.name}.yaml`, then `debrisfoam report flume` "
         f"(`make {_MAKE_TARGETS.get(sweep.name, 'sweep')}`): {_setting(Path(sweep_dir) / base.member)}, "
-        "one change at a time from the sweep's first member (the first row). The sizes are assumed: the study "
-        "names the false floor acting as a sill and the gate's support columns but gives neither's size "
-        "(the sweep file says what each value stands for). Arrivals: the first rise of each gauge's level by "
+        f"one change at a time from the sweep's first member (the first row). {about}. "
+        "Arrivals: the first rise of each gauge's level by "
         f"its threshold. Measured: WG2 (x = {x2:g} m) {t2:g} s, WG3 ({x3:g} m) {t3:g} s, the front between "
         f"them {(x3 - x2) / (t3 - t2):.2f} m/s.",
         "",
@@ -200,5 +329,29 @@ def write_flume_report(sweep_dir: str | Path, out_dir: str | Path) -> dict[str, 
             f"| {_fmt(m.speed_wg3_face_m_s, '.2f')} | {_fmt(m.wg2_s - t2, '.3f', True)}, "
             f"{_fmt(m.wg3_s - t3, '.3f', True)} | {_fmt(m.solver_wall_s, '.0f')} |")
     lines += ["", f"![arrivals]({figure})", ""]
+    lines += _face_lines(members, flows, face_figure) + _reach_lines(members, flows)
     (out / "report.md").write_text("\n".join(lines))
-    return {"report": out / "report.md", "table": out / "flume.csv", "figure": out / figure}
+    return {"report": out / "report.md", "table": out / "flume.csv", "figure": out / figure,
+            "face_table": out / "face.csv", "face_figure": out / face_figure}
+
+
+def _flow_table(members: list[FlumeMember], flows: list[MemberFlow]) -> pd.DataFrame:
+    """face.csv: a row a member, its face readings, reach speeds and verdict."""
+    rows = []
+    for m, f in zip(members, flows):
+        row: dict = {"member": m.member, "change": _change(m, members[0]), "face_s": m.face_s, "cells": f.cells,
+                     "solver_wall_s": m.solver_wall_s, "probe_interval_s": f.probe_interval_s}
+        r = f.face
+        row |= {"elevation_peak_m": r.elevation_peak_m if r else math.nan,
+                "elevation_peak_after_s": r.elevation_peak_s - m.face_s if r else math.nan,
+                "wet_peak_m": r.wet_peak_m if r else math.nan,
+                "wet_peak_after_s": r.wet_peak_s - m.face_s if r else math.nan}
+        for i, d in enumerate(AFTER_ARRIVAL_S):
+            row[f"elevation_at_{d:g}s_m"] = r.elevation_after_m[i] if r else math.nan
+            row[f"wet_at_{d:g}s_m"] = r.wet_after_m[i] if r else math.nan
+        for reach in f.reaches:
+            row[f"speed_{reach.x0_m:g}_{reach.x1_m:g}_m_s"] = reach.speed_m_s
+            row[f"uncertainty_{reach.x0_m:g}_{reach.x1_m:g}_m_s"] = reach.uncertainty_m_s
+        row["reach_verdict"] = reach_verdict(list(f.reaches))
+        rows.append(row)
+    return pd.DataFrame(rows)
