@@ -334,9 +334,8 @@ class Mesh(SceneSection):
         "(-); 1 = the wet bed is one layer (docs/bed-friction.md)")
     body_cells_across: float = Field(
         4.0, gt=0,
-        description="body-mesh cells across the smallest debris dimension (-); with 2 at 4 cm cells the body "
-        "mesh drove 12-16 m/s spurious air jets, or (margin 2) had no calculated cell beside the body and the "
-        "flow passed it by (docs/openfoam-notes.md)",
+        description="body-mesh cells across the smallest debris dimension (-); fewer drive spurious air jets "
+        "onto the body (docs/openfoam-notes.md)",
     )
     body_margin_cells: int = Field(
         3, ge=1, description="finest cells between a body and the edge of its overset mesh"
@@ -355,9 +354,8 @@ class Mesh(SceneSection):
         None, gt=0, description="cell size inside refine_box_m, finer than cell_size_m (m); null = none")
     column_approach_cell_size_m: float | None = Field(
         None, gt=0, description="cells of this size where bodies close on the column: a refinement box that "
-        "follows the column, from four lengths of the longest body upstream of its upstream face to a quarter of "
-        "its depth past its centre, across its width and the widest body's width either side, from the bed to 0.6 "
-        "of the impoundment depth (orchestrator/plan/refine.py); no finer than cell_size_m: no box; null = none (m)")
+        "follows the column and scales with the bodies (its extent: orchestrator/plan/refine.py); no finer than "
+        "cell_size_m: no box; null = none (m)")
     trim_domain: bool = Field(
         True,
         description="false: model the whole reservoir, the whole flume to its downstream end and its full height, "
