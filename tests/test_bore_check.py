@@ -66,6 +66,19 @@ def test_a_front_that_rises_over_a_time_reads_slower_at_its_mid_height():
     assert abs(check.speed_error_pct) < 2.0 and check.mid_speed_error_pct < -4.0
 
 
+def test_the_bore_depth_is_read_only_where_the_run_holds_stokers_plateau_half_a_second():
+    # up to 3.5 s Stoker's plateau lasts 0.47 s past the settling at G6 and none at G7: levels 30 %
+    # low there (a front still rising) leave the depth alone; 10 % low at G5 (0.93 s) moves it by a quarter
+    t, levels = _records()
+    for name in ("G6", "G7"):
+        levels[name] = 0.7 * levels[name]
+    check = bore_check(t, levels, GAUGES, H0, H1)
+    assert abs(check.depth_error_pct) < 0.1
+    assert [np.isfinite(v) for v in check.gauge_depth_errors_pct] == [True] * 4 + [False] * 2
+    levels["G5"] = 0.9 * levels["G5"]
+    assert bore_check(t, levels, GAUGES, H0, H1).depth_error_pct == pytest.approx(-2.5, abs=0.1)
+
+
 def test_a_front_that_speeds_up_is_said_to():
     t, levels = _records()
     t2, fast = _records(stretch=1.6)
@@ -126,27 +139,43 @@ def test_the_verb_writes_the_page_and_an_empty_sweep_is_bad_input(tmp_path):
     check_report_verb("bore", tmp_path / "sweep", tmp_path)
 
 
-#: The RANS flow over a resolved wet bed and a slip bed against Stoker at h1/h0 = 0.0375, 2 cm
-#: cells (docs/bed-friction.md): the front within 3 % of Stoker's speed (-0.3 % measured); the bore
-#: 8 % shallower than Stoker's h2 (the depth does not converge on it at 1 cm either), so within 12 %.
-#: The deeper h1/h0 = 0.1 is not within 3 % (+13.6 %) and has no such test.
-STOKER_SPEED_TOLERANCE_PCT = 3.0
-STOKER_DEPTH_TOLERANCE_PCT = 12.0
+#: RANS k-omega SST over a wet bed six cells deep and a slip bed, 1 cm cells, against Stoker
+#: (docs/results/wet-bed/, docs/bed-friction.md). At the study's h1/h0 = 0.0375 the front (read at a
+#: 2 % h0 rise and at its mid-height) and the bore depth are within 3 % (measured -1.7, -0.6, +0.4 %;
+#: at 2 cm the mid-height reads -7.9 %). At h1/h0 = 0.1 the front is (+0.6 %) and the bore is not: it
+#: stands 7.0 % below h2 (-5.7 % at 2 cm), so that test names a bore 3-10 % shallow.
+STOKER_TOLERANCE_PCT = 3.0
+STOKER_CELLS = ("fluids.turbulence=kOmegaSST", "mesh.wet_bed_cells=6", "mesh.cell_size_m=0.01")
+
+
+def _stoker_run(tmp_path, *sets):
+    case = tmp_path / "stoker"
+    render_and_run(ROOT / "cases" / "stoker-wet-bed.yaml", case, *STOKER_CELLS, *sets)
+    proc = run_cli("post", str(case))
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    return check_run(case)
 
 
 @pytest.mark.openfoam
 @pytest.mark.slow
-def test_a_frictionless_wet_bed_dam_break_runs_at_stokers_bore_speed(openfoam, tmp_path):
-    """cases/stoker-wet-bed.yaml (2D, 2 cm, 0.40 m over 15 mm on a slip bed) with k-omega SST and
-    six cells across the wet bed: the front speed fitted over the gauges 2-7 m past the gate within
-    3 % of Stoker's, the bore depth below his h2 by at most 12 % (laminar on one layer: +57 %, -27 %)."""
-    case = tmp_path / "stoker"
-    render_and_run(ROOT / "cases" / "stoker-wet-bed.yaml", case, "fluids.turbulence=kOmegaSST", "mesh.wet_bed_cells=6")
-    proc = run_cli("post", str(case))
-    assert proc.returncode == 0, proc.stderr[-2000:]
-    check = check_run(case)
-    assert abs(check.speed_error_pct) <= STOKER_SPEED_TOLERANCE_PCT, check
-    assert -STOKER_DEPTH_TOLERANCE_PCT <= check.depth_error_pct < 0.0, check
+def test_a_frictionless_wet_bed_dam_break_runs_at_stokers_bore_speed_and_depth(openfoam, tmp_path):
+    """cases/stoker-wet-bed.yaml (2D, 0.40 m over 15 mm on a slip bed), RANS on a resolved wet bed at
+    1 cm: the front speed over the gauges 2-7 m past the gate, read at its toe and at its mid-height,
+    and the bore depth each within 3 % of Stoker's (about 2.5 min of solver on 2 cores)."""
+    check = _stoker_run(tmp_path)
+    assert abs(check.speed_error_pct) <= STOKER_TOLERANCE_PCT, check
+    assert abs(check.mid_speed_error_pct) <= STOKER_TOLERANCE_PCT, check
+    assert abs(check.depth_error_pct) <= STOKER_TOLERANCE_PCT, check
+
+
+@pytest.mark.openfoam
+@pytest.mark.slow
+def test_over_a_deeper_wet_bed_the_front_runs_at_stokers_speed_and_the_bore_stands_shallow(openfoam, tmp_path):
+    """The same at h1/h0 = 0.1 (40 mm): the front within 3 % of Stoker's speed, the bore 3-10 % below
+    his h2 (no resolution tried brings it within 3 %: -5.7 % at 2 cm, -7.0 % at 1 cm)."""
+    check = _stoker_run(tmp_path, "bed.wet_depth_m=0.04")
+    assert abs(check.speed_error_pct) <= STOKER_TOLERANCE_PCT, check
+    assert -10.0 <= check.depth_error_pct <= -STOKER_TOLERANCE_PCT, check
 
 
 def test_a_member_without_its_plan_is_named(tmp_path):

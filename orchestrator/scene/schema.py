@@ -348,8 +348,7 @@ class Mesh(SceneSection):
     )
     refine_box_m: tuple[float, float, float, float, float, float] | None = Field(
         None, description="x0, x1, y0, y1, z0, z1 of a box of finer cells (refine_cell_size_m) inside the fine "
-        "region, e.g. where a body approaches the column; the block grid refines the slabs through it, and a "
-        "one-way flow record samples it at its cell centres (orchestrator/plan/refine.py); null = none (m)")
+        "region; the block grid refines the slabs through it (orchestrator/plan/refine.py); null = none (m)")
     refine_cell_size_m: float | None = Field(
         None, gt=0, description="cell size inside refine_box_m, finer than cell_size_m (m); null = none")
     column_approach_cell_size_m: float | None = Field(
@@ -400,9 +399,8 @@ class Outputs(SceneSection):
                                     "interval")
     preview: bool = Field(True, description="draw the scene to preview.png when rendering")
     flow_record_hz: float = Field(
-        50.0, gt=0, le=1000, description="frames per second of the flow record a one-way run writes "
-        "(run.debris_coupling; the bodies are carried through it) (Hz); 50 Hz is 10 frames over the bore's "
-        "passage of the study's 0.4 m flume, a scene at Froude scale lambda keeps them with 50 / sqrt(lambda)")
+        50.0, gt=0, le=1000, description="frames per second of a one-way run's flow record (Hz); 50 Hz is 10 "
+        "frames over the bore's passage in the study's flume, 50 / sqrt(lambda) at Froude scale lambda")
 
 
 class Transport(SceneSection):

@@ -12,7 +12,10 @@ bore of constant speed S and depth h2 running into still water h1. A run is read
   (the front's mid-height): Stoker's front is a step, so both readings of his solution agree, while
   a simulated front rising over a few tenths of a second reads slower at its mid-height;
 * the bore depth at a gauge is the median level between :data:`SETTLE_S` after Stoker's bore has
-  passed it and the arrival of the rarefaction's tail (or the run's end), where Stoker's level is h2.
+  passed it and the arrival of the rarefaction's tail (or the run's end), where Stoker's level is h2;
+  a gauge counts only when that window lasts :data:`MIN_PLATEAU_S` at least: the simulated fronts rise
+  over 0.5-0.8 s, so a shorter window (the far gauges near the run's end) reads the rise, not the bore.
+  The run's bore depth is the mean over the gauges that count; each gauge's is kept beside it.
 
 The sweep ``cases/sweeps/wet-bed.yaml`` runs the 2D frictionless flume of ``cases/stoker-wet-bed.yaml``
 laminar and RANS, with the wet bed as one cell layer and resolved, at the study's h1/h0 = 0.0375 and
@@ -33,13 +36,15 @@ from orchestrator.case.folder import CaseFolder
 from orchestrator.core.errors import InputError
 from orchestrator.results.metrics import ARRIVAL_FRACTION, arrival_time
 
-__all__ = ["BoreCheck", "DEVELOPED_X_FACTOR", "SETTLE_S", "bore_check", "check_run", "sweep_checks",
+__all__ = ["BoreCheck", "DEVELOPED_X_FACTOR", "MIN_PLATEAU_S", "SETTLE_S", "bore_check", "check_run", "sweep_checks",
            "write_bore_report"]
 
 #: Gauges closer to the gate than this many impoundment depths are left out of the front speed.
 DEVELOPED_X_FACTOR = 5.0
 #: The bore depth is read from this long after Stoker's bore has passed a gauge (s).
 SETTLE_S = 0.25
+#: A gauge's bore depth counts when Stoker's plateau lasts this long past SETTLE_S within the run (s).
+MIN_PLATEAU_S = 0.5
 
 
 @dataclass(frozen=True)
@@ -59,6 +64,8 @@ class BoreCheck:
     #: the front speed with each arrival read at the front's mid-height, h1 + (h2 - h1) / 2
     mid_speed_m_s: float = math.nan
     mid_speed_error_pct: float = math.nan
+    #: each used gauge's bore depth against h2 (%), NaN where its plateau is shorter than MIN_PLATEAU_S
+    gauge_depth_errors_pct: tuple[float, ...] = ()
 
     @property
     def front_speeds_up(self) -> bool:
@@ -91,7 +98,7 @@ def bore_check(time_s, levels: dict[str, np.ndarray], gauge_x_m: dict[str, float
         window = (t >= start) & (t <= end)
         xs.append(x)
         arrivals.append(ta)
-        depths.append(float(np.nanmedian(e[window])) if window.any() else math.nan)
+        depths.append(float(np.nanmedian(e[window])) if end - start >= MIN_PLATEAU_S and window.any() else math.nan)
     xs_a, ta_a = np.array(xs), np.array(arrivals)
     ok = np.isfinite(ta_a)
     speed = float(np.polyfit(ta_a[ok], xs_a[ok], 1)[0]) if ok.sum() >= 2 else math.nan
@@ -104,7 +111,8 @@ def bore_check(time_s, levels: dict[str, np.ndarray], gauge_x_m: dict[str, float
     depth = float(np.mean(finite)) if finite else math.nan
     return BoreCheck(h0_m, h1_m, speed, st.shock_speed_m_s, 100.0 * (speed / st.shock_speed_m_s - 1.0),
                      depth, st.h2_m, 100.0 * (depth / st.h2_m - 1.0), reaches, tuple(n for _, n in used),
-                     mid, 100.0 * (mid / st.shock_speed_m_s - 1.0))
+                     mid, 100.0 * (mid / st.shock_speed_m_s - 1.0),
+                     tuple(100.0 * (d / st.h2_m - 1.0) for d in depths))
 
 
 def check_run(case_dir: str | Path) -> BoreCheck:
@@ -168,7 +176,8 @@ def _plot(table: pd.DataFrame, sweep_dir: Path, out: Path) -> list[str]:
             for row in group.itertuples():
                 frame = pd.read_csv(sweep_dir / row.member / "results" / "gauges.csv")
                 ax.plot(frame["time_s"], frame[f"{gg['name']}_elevation_m"], lw=1,
-                        label=f"{row.turbulence}, {row.wet_bed_cells} cell(s) across the wet bed")
+                        label=f"{row.turbulence}, {row.wet_bed_cells} cell(s) across the wet bed, "
+                              f"{row.cell_size_m * 100:g} cm")
             ax.set_ylabel(f"x = {gg['x_m']:g} m\nlevel (m)", fontsize=8)
         axes[0].legend(fontsize=7, loc="upper left")
         axes[-1].set_xlabel("time (s)")
@@ -186,9 +195,11 @@ def write_bore_report(sweep_dir: str | Path, out_dir: str | Path) -> dict[str, P
     sweep = Path(sweep_dir)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    table = sweep_checks(sweep).sort_values(["h1_m", "turbulence", "wet_bed_cells"])
-    flat = table.drop(columns=["reach_speeds_m_s", "gauges_used"]).assign(
-        reach_speeds_m_s=[" ".join(f"{v:.2f}" for v in r) for r in table["reach_speeds_m_s"]])
+    table = sweep_checks(sweep).sort_values(["h1_m", "cell_size_m", "turbulence", "wet_bed_cells"],
+                                            ascending=[True, False, True, True])
+    flat = table.drop(columns=["reach_speeds_m_s", "gauges_used", "gauge_depth_errors_pct"]).assign(
+        reach_speeds_m_s=[" ".join(f"{v:.2f}" for v in r) for r in table["reach_speeds_m_s"]],
+        gauge_depth_errors_pct=[" ".join(f"{v:.1f}" for v in r) for r in table["gauge_depth_errors_pct"]])
     flat.to_csv(out / "bore_check.csv", index=False)
     figures = _plot(table, sweep, out)
     lines = [
@@ -196,24 +207,27 @@ def write_bore_report(sweep_dir: str | Path, out_dir: str | Path) -> dict[str, P
         "",
         "Generated by `make wet-bed` (`debrisfoam sweep cases/sweeps/wet-bed.yaml`, then "
         "`debrisfoam report bore`): a frictionless 2D flume (a slip bed, `bed.slip`), the impoundment released at once over a still wet "
-        "bed, run laminar and with RANS k-omega SST, the wet bed one cell layer or resolved by several. "
+        "bed, run laminar and with RANS k-omega SST, the wet bed one cell layer or resolved by several, at the "
+        "table's cell sizes. "
         f"Front speed: the slope of gauge position against the front's arrival (a {ARRIVAL_FRACTION:.0%} h0 rise) "
         f"over the gauges at least {DEVELOPED_X_FACTOR:g} h0 past the gate, and the same with each arrival read at "
         "the front's mid-height (half way from h1 to Stoker's h2); bore depth: the median level from "
-        f"{SETTLE_S:g} s after Stoker's bore has passed each of them to the rarefaction's tail. Reach speeds: the "
-        "front over successive gauge reaches, downstream.",
+        f"{SETTLE_S:g} s after Stoker's bore has passed each of them to the rarefaction's tail or the run's end, "
+        f"averaged over the gauges where that lasts {MIN_PLATEAU_S:g} s at least (by gauge: each one's, downstream; "
+        "'-' too short). Reach speeds: the front over successive gauge reaches, downstream.",
         "",
-        "| h1/h0 | closure | cells across the wet bed | cells | solver wall time (s) | front speed (m/s) | Stoker (m/s) "
-        "| error | at mid-height | error | bore depth (m) | Stoker (m) | error | reach speeds (m/s) |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "| h1/h0 | closure | cells across the wet bed | cell size (m) | cells | solver wall time (s) | front speed (m/s) | Stoker (m/s) "
+        "| error | at mid-height | error | bore depth (m) | Stoker (m) | error | by gauge (%) | reach speeds (m/s) |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in table.itertuples():
         wall = "-" if r.wall_time_s is None or not math.isfinite(r.wall_time_s) else f"{r.wall_time_s:.0f}"
         lines.append(
-            f"| {r.h1_m / r.h0_m:.4g} | {r.turbulence} | {r.wet_bed_cells} | {r.cells:,} | {wall} "
+            f"| {r.h1_m / r.h0_m:.4g} | {r.turbulence} | {r.wet_bed_cells} | {r.cell_size_m:g} | {r.cells:,} | {wall} "
             f"| {r.front_speed_m_s:.3f} | {r.stoker_speed_m_s:.3f} | {r.speed_error_pct:+.1f} % "
             f"| {r.mid_speed_m_s:.3f} | {r.mid_speed_error_pct:+.1f} % "
             f"| {r.bore_depth_m:.4f} | {r.stoker_depth_m:.4f} | {r.depth_error_pct:+.1f} % "
+            f"| {' '.join('-' if not math.isfinite(v) else f'{v:+.0f}' for v in r.gauge_depth_errors_pct)} "
             f"| {' '.join(f'{v:.2f}' for v in r.reach_speeds_m_s)} |")
     lines += ["", *[f"![gauges]({name})" for name in figures], ""]
     (out / "report.md").write_text("\n".join(lines))
