@@ -52,6 +52,7 @@ class FlumeMember:
     turbulence: str = "laminar"
     wet_bed_cells: int = 1
     refine: str = ""  # the refinement box, in words ("": none)
+    cell_size_m: float = math.nan  # mesh.cell_size_m
 
     @property
     def speed_wg2_wg3_m_s(self) -> float:
@@ -90,7 +91,8 @@ def _member(case: Path) -> FlumeMember:
         face_x_m=float(table.loc[FACE_GAUGE, "x_m"]), wg2_s=arrival["WG2"], wg3_s=arrival["WG3"],
         face_s=arrival[FACE_GAUGE], solver_wall_s=wall, opening_time_s=float(res.get("opening_time_s") or 0.0),
         turbulence=str((scene.get("fluids") or {}).get("turbulence", "laminar")),
-        wet_bed_cells=int(mesh.get("wet_bed_cells") or 1), refine=_refine_text(mesh))
+        wet_bed_cells=int(mesh.get("wet_bed_cells") or 1), refine=_refine_text(mesh),
+        cell_size_m=float(mesh.get("cell_size_m") or math.nan))
 
 
 def _refine_text(mesh: dict) -> str:
@@ -144,6 +146,8 @@ def _change(m: FlumeMember, base: FlumeMember) -> str:
         parts.append(f"{m.turbulence} (RANS)" if m.turbulence != "laminar" else "laminar")
     if m.wet_bed_cells != base.wet_bed_cells:
         parts.append(f"{m.wet_bed_cells} cells across the wet bed")
+    if m.cell_size_m != base.cell_size_m and math.isfinite(m.cell_size_m):
+        parts.append(f"{m.cell_size_m * 100:g} cm cells")
     return "; ".join(parts) or "the scene as shipped"
 
 
