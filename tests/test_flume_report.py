@@ -73,6 +73,7 @@ def test_a_flume_without_a_column_reads_its_wg4_as_a_plain_gauge(tmp_path):
     assert "(kOmegaSST, 2 cm cells, a 0.1 m wide flume, no column, 2 s)" in text
     assert "| the scene as shipped | 0.865 |" in text
     assert "| sill 5 cm, level 0.35 m above the bed (0.4 m deep) | 0.981 |" in text and "column at" not in text
+    assert "The water at the column's face" not in text  # no column: no face section
 
 
 # ---------------------------------------------------------------- the face and the reaches, from gauge records

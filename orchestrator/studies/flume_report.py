@@ -278,7 +278,10 @@ def _reach_lines(members: list[FlumeMember], flows: list[MemberFlow]) -> list[st
 _MAKE_TARGETS = {"flume-as-built": "flume-as-built", "flume-centreline-2d": "flume-2d", "face-splash": "face-splash"}
 #: A sweep's own title and first words (default: the flume as built's).
 _TITLES = {"face-splash": ("# Splash-up at the column's face: 4 cm cells and finer cells at the face",
-                           "What each member is and why is in the sweep file's header")}
+                           "What each member is and why is in the sweep file's header"),
+           "flume-centreline-2d": ("# The study's flume as a 2D centreline strip: RANS at 2 cm and 1 cm cells, "
+                                   "with and without the sill",
+                                   "The sill's size is assumed (the sweep file says why)")}
 
 
 def _setting(case: Path) -> str:
@@ -333,7 +336,8 @@ def write_flume_report(sweep_dir: str | Path, out_dir: str | Path) -> dict[str, 
             f"| {_fmt(m.speed_wg3_face_m_s, '.2f')} | {_fmt(m.wg2_s - t2, '.3f', True)}, "
             f"{_fmt(m.wg3_s - t3, '.3f', True)} | {_fmt(m.solver_wall_s, '.0f')} |")
     lines += ["", f"![arrivals]({figure})", ""]
-    lines += _face_lines(members, flows, face_figure) + _reach_lines(members, flows)
+    columned = any(math.isfinite(m.column_x_m) for m in members)  # a flume without one has no face to read
+    lines += (_face_lines(members, flows, face_figure) if columned else []) + _reach_lines(members, flows)
     (out / "report.md").write_text("\n".join(lines))
     return {"report": out / "report.md", "table": out / "flume.csv", "figure": out / figure,
             "face_table": out / "face.csv", "face_figure": out / face_figure}
