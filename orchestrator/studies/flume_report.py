@@ -20,6 +20,7 @@ import pandas as pd
 import yaml
 
 from orchestrator.core.errors import InputError
+from orchestrator.report.figures import pyplot
 from orchestrator.studies.face_reach import AFTER_ARRIVAL_S, WET_ALPHA, MemberFlow, member_flow, reach_verdict
 from analytical.study import SEED_ARRIVALS, SEED_IMPACT_HEIGHTS_M
 
@@ -158,11 +159,7 @@ def _fmt(value: float, spec: str = ".3f", signed: bool = False) -> str:
 
 
 def _plot(members: list[FlumeMember], out: Path) -> str:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(7.5, 4.2))
     base = members[0]
     for m in members:
@@ -171,23 +168,23 @@ def _plot(members: list[FlumeMember], out: Path) -> str:
     ax.plot([v[0] for v in MEASURED.values()], [v[1] for v in MEASURED.values()], "ks", ms=8, label="measured")
     ax.set_xlabel("x past the gate (m)")
     ax.set_ylabel("front arrival (s)")
+    return _finish(fig, ax, out / "arrivals.png")
+
+
+def _finish(fig, ax, path: Path) -> str:
+    """Legend and grid on ``ax``; ``fig`` written to ``path`` (100 dpi) and closed; the file's name."""
     ax.legend(fontsize=6.5, loc="upper left")
     ax.grid(alpha=0.3)
     fig.tight_layout()
-    name = "arrivals.png"
-    fig.savefig(out / name, dpi=100)
-    plt.close(fig)
-    return name
+    fig.savefig(path, dpi=100)
+    pyplot().close(fig)
+    return path.name
 
 
 def _face_plot(members: list[FlumeMember], flows: list[MemberFlow], out: Path) -> str:
     """WG4's elevation (solid) and highest wet point (dashed) against the time since the front reached the
     face, one colour a member, over the study's load points."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = pyplot()
     lo, hi, mean = SEED_IMPACT_HEIGHTS_M
     fig, ax = plt.subplots(figsize=(7.5, 4.2))
     ax.axhspan(lo, hi, color="0.85", label=f"the study's load points {lo:g}-{hi:g} m")
@@ -202,13 +199,7 @@ def _face_plot(members: list[FlumeMember], flows: list[MemberFlow], out: Path) -
     ax.set_xlabel(f"time since the front reached the face ({FACE_GAUGE}'s arrival, s)")
     ax.set_ylabel(f"{FACE_GAUGE} above the bed (m)")
     ax.set_title(f"{FACE_GAUGE}: elevation (solid), highest wet point (dashed)", fontsize=9)
-    ax.legend(fontsize=6.5, loc="upper left")
-    ax.grid(alpha=0.3)
-    fig.tight_layout()
-    name = "face.png"
-    fig.savefig(out / name, dpi=100)
-    plt.close(fig)
-    return name
+    return _finish(fig, ax, out / "face.png")
 
 
 def _span(values: list[float]) -> str:
