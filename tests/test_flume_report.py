@@ -167,3 +167,47 @@ def test_the_page_sets_the_face_beside_the_study_s_load_points_and_names_a_speed
     face = pd.read_csv(files["face_table"])
     assert list(face["reach_verdict"]) == ["falls or holds", "speeds up (1.5-2 m)"]
     assert files["face_figure"].stat().st_size > 10_000
+
+
+# ---------------------------------------------------------------- arrivals read at other rises
+
+def _toe(x, t, c=2.0, height=0.10, length=0.5, start=0.015):
+    """The level at x of a front moving at c whose toe rises linearly over ``length`` (m) behind its tip."""
+    import numpy as np
+
+    return start + height * np.clip((c * np.asarray(t) - x) / length, 0.0, 1.0)
+
+
+def test_a_toe_of_one_shape_reads_one_speed_at_every_rise_and_the_fitted_rise_is_found():
+    import numpy as np
+
+    from orchestrator.studies.gauge_reading import rise_for_arrival
+
+    t = np.linspace(0.0, 3.0, 3001)
+    # the tip reaches x = 2.4 m at 1.2 s; a rise r is reached length * r / height / c later
+    assert rise_for_arrival(t, _toe(2.4, t), 1.2 + 0.5 * 0.02 / 0.10 / 2.0) == pytest.approx(0.02, abs=1e-5)
+    assert rise_for_arrival(t, _toe(2.4, t), 1.0) != rise_for_arrival(t, _toe(2.4, t), 1.0)  # before the tip: nan
+    assert rise_for_arrival(t, _toe(2.4, t), 2.0) != rise_for_arrival(t, _toe(2.4, t), 2.0)  # after the crest: nan
+
+
+def test_the_page_reads_the_front_at_other_rises_and_checks_the_wg2_rise_on_wg3(tmp_path):
+    import numpy as np
+
+    sweep = tmp_path / "sweep"
+    t = np.linspace(0.0, 2.5, 2501)
+    # a: one toe shape (2 m/s at every rise); b: the toe stretches from 0.2 m at WG2 to 0.8 m at WG3;
+    # c: a faster front whose tip reaches WG2 at 0.85 s, so a rise puts WG2 on the measured 0.91 s
+    for name, (l2, l3, c) in {"a": (0.5, 0.5, 2.0), "b": (0.2, 0.8, 2.0), "c": (0.5, 0.5, 2.4 / 0.85)}.items():
+        _member(sweep / name, (1.2, 1.6, 2.0))
+        pd.DataFrame({"time_s": t, "WG2_elevation_m": _toe(2.4, t, c=c, length=l2),
+                      "WG3_elevation_m": _toe(3.2, t, c=c, length=l3)}).to_csv(
+            sweep / name / "results" / "gauges.csv", index=False)
+    files = write_flume_report(sweep, tmp_path / "page")
+    text = files["report"].read_text()
+    assert "| the scene as shipped | 2.00 | 2.00 | 2.00 | 2.00 | 2.00 | - | - | - | - |" in text  # WG2 after 0.91 s
+    rises = pd.read_csv(files["rise_table"]).set_index("member")
+    # b at 40 mm: WG2 at 1.2 + 0.2 * 0.4 / 2 = 1.24 s, WG3 at 1.6 + 0.8 * 0.4 / 2 = 1.76 s
+    assert rises.loc["b", "speed_at_40mm_m_s"] == pytest.approx(0.8 / 0.52, rel=1e-3)
+    assert np.isnan(rises.loc["a", "fitted_rise_m"])
+    # c: 0.06 s after the tip the toe stands 0.06 c 0.10 / 0.5 = 33.9 mm; WG3 reads it 0.06 s after its tip, 3.2 / c
+    assert "| 33.9 | 1.193 | -0.197 | 2.82 |" in text

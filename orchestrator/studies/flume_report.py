@@ -22,6 +22,7 @@ import yaml
 from orchestrator.core.errors import InputError
 from orchestrator.report.figures import pyplot
 from orchestrator.studies.face_reach import AFTER_ARRIVAL_S, WET_ALPHA, MemberFlow, member_flow, reach_verdict
+from orchestrator.studies.gauge_reading import RISES_M, RiseReading, rise_reading
 from analytical.study import SEED_ARRIVALS, SEED_IMPACT_HEIGHTS_M
 
 __all__ = ["FlumeMember", "flume_members", "write_flume_report"]
@@ -265,6 +266,47 @@ def _reach_lines(members: list[FlumeMember], flows: list[MemberFlow]) -> list[st
     return lines + [""]
 
 
+def _rise_lines(members: list[FlumeMember], readings: list[RiseReading | None]) -> list[str]:
+    (x2, t2), (x3, t3) = MEASURED["WG2"], MEASURED["WG3"]
+    if not any(readings):
+        return []
+    lines = [
+        "## The front between WG2 and WG3 read at other rises", "",
+        "The study gives its arrivals without the rise of the level it read them at. Here each member's front "
+        "between WG2 and WG3, read at rises of the level above its start from "
+        f"{RISES_M[0] * 1000:g} to {RISES_M[-1] * 1000:g} mm, and at the one rise that puts WG2 on its measured "
+        f"{t2:g} s, with WG3's arrival then: one coefficient taken from one gauge and checked on the other "
+        f"(measured {t3:g} s, the front {(x3 - x2) / (t3 - t2):.2f} m/s; \"-\": the front's tip reaches WG2 "
+        f"after {t2:g} s, so no rise does). Levels: the gauges' alpha.water integrals (rises.csv).", "",
+        "| change " + "".join(f"| {r * 1000:g} mm (m/s) " for r in RISES_M)
+        + f"| rise for WG2 at {t2:g} s (mm) | WG3 then (s) | against measured (s) | front then (m/s) |",
+        "|---" * (len(RISES_M) + 5) + "|",
+    ]
+    for m, r in zip(members, readings):
+        if r is None:
+            continue
+        speeds = " | ".join(_fmt(v, ".2f") for v in r.speeds_m_s())
+        lines.append(f"| {_change(m, members[0])} | {speeds} | {_fmt(r.fitted_rise_m * 1000, '.1f')} "
+                     f"| {_fmt(r.wg3_at_fitted_s)} | {_fmt(r.wg3_at_fitted_s - t3, '.3f', True)} "
+                     f"| {_fmt(r.speed_at_fitted_m_s, '.2f')} |")
+    return lines + [""]
+
+
+def _rise_table(members: list[FlumeMember], readings: list[RiseReading | None]) -> pd.DataFrame:
+    rows = []
+    for m, r in zip(members, readings):
+        if r is None:
+            continue
+        row: dict = {"member": m.member, "change": _change(m, members[0])}
+        for rise, a, b, v in zip(r.rises_m, r.wg2_s, r.wg3_s, r.speeds_m_s()):
+            row |= {f"wg2_at_{rise * 1000:g}mm_s": a, f"wg3_at_{rise * 1000:g}mm_s": b,
+                    f"speed_at_{rise * 1000:g}mm_m_s": v}
+        row |= {"fitted_rise_m": r.fitted_rise_m, "wg2_at_fitted_s": r.wg2_at_fitted_s,
+                "wg3_at_fitted_s": r.wg3_at_fitted_s, "speed_at_fitted_m_s": r.speed_at_fitted_m_s}
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
 #: The make target that writes each shipped sweep's page.
 _MAKE_TARGETS = {"flume-as-built": "flume-as-built", "flume-centreline-2d": "flume-2d", "face-splash": "face-splash"}
 #: A sweep's own title and first words (default: the flume as built's).
@@ -286,7 +328,7 @@ def _setting(case: Path) -> str:
 
 
 def write_flume_report(sweep_dir: str | Path, out_dir: str | Path) -> dict[str, Path]:
-    """report.md, flume.csv and arrivals.png in ``out_dir``."""
+    """report.md, flume.csv, arrivals.png, face.csv, face.png and (with gauge records) rises.csv in ``out_dir``."""
     members = flume_members(sweep_dir)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -329,9 +371,15 @@ def write_flume_report(sweep_dir: str | Path, out_dir: str | Path) -> dict[str, 
     lines += ["", f"![arrivals]({figure})", ""]
     columned = any(math.isfinite(m.column_x_m) for m in members)  # a flume without one has no face to read
     lines += (_face_lines(members, flows, face_figure) if columned else []) + _reach_lines(members, flows)
+    readings = [rise_reading(Path(sweep_dir) / m.member, MEASURED["WG2"], MEASURED["WG3"]) for m in members]
+    lines += _rise_lines(members, readings)
+    files = {}
+    if any(readings):
+        _rise_table(members, readings).to_csv(out / "rises.csv", index=False)
+        files["rise_table"] = out / "rises.csv"
     (out / "report.md").write_text("\n".join(lines))
     return {"report": out / "report.md", "table": out / "flume.csv", "figure": out / figure,
-            "face_table": out / "face.csv", "face_figure": out / face_figure}
+            "face_table": out / "face.csv", "face_figure": out / face_figure, **files}
 
 
 def _flow_table(members: list[FlumeMember], flows: list[MemberFlow]) -> pd.DataFrame:
