@@ -60,6 +60,17 @@ def test_a_member_without_a_gauge_and_an_empty_sweep_are_named(tmp_path):
         flume_members(tmp_path)
 
 
+def test_a_folder_the_sweep_no_longer_lists_is_left_off_the_page(tmp_path):
+    import json
+
+    sweep = tmp_path / "sweep"
+    for name, arrivals in {"new2": (0.9, 1.2, 1.7), "new1": (0.876, 1.186, 1.708), "old": (0.8, 1.1, 1.6)}.items():
+        _member(sweep / name, arrivals)
+    assert [m.member for m in flume_members(sweep)] == ["new1", "new2", "old"]  # no sweep.json: every folder
+    (sweep / "sweep.json").write_text(json.dumps({"members": [{"member": 1, "id": "new2"}, {"member": 2, "id": "new1"}]}))
+    assert [m.member for m in flume_members(sweep)] == ["new2", "new1"]  # the sweep's members, in its order
+
+
 def test_the_verb_writes_the_page_and_refuses_an_empty_sweep(tmp_path):
     _member(tmp_path / "sweep" / "a", (0.876, 1.186, 1.708))
     check_report_verb("flume", tmp_path / "sweep", tmp_path)

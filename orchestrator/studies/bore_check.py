@@ -35,6 +35,7 @@ from analytical.dambreak import StokerSolution
 from orchestrator.case.folder import CaseFolder
 from orchestrator.core.errors import InputError
 from orchestrator.results.metrics import ARRIVAL_FRACTION, arrival_time
+from orchestrator.studies.sweep.store import member_dirs
 
 __all__ = ["BoreCheck", "DEVELOPED_X_FACTOR", "MIN_PLATEAU_S", "SETTLE_S", "bore_check", "check_run", "sweep_checks",
            "write_bore_report"]
@@ -137,7 +138,7 @@ def check_run(case_dir: str | Path) -> BoreCheck:
 def sweep_checks(sweep_dir: str | Path) -> pd.DataFrame:
     """One row per finished member of a sweep: its model, cells, wall time and :func:`check_run`."""
     rows = []
-    for case in sorted(p.parent.parent for p in Path(sweep_dir).glob("*/results/gauges.csv")):
+    for case in member_dirs(sweep_dir, "results/gauges.csv"):
         import yaml
 
         scene = yaml.safe_load((case / "scene.yaml").read_text())

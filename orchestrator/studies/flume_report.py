@@ -23,6 +23,7 @@ from orchestrator.core.errors import InputError
 from orchestrator.report.figures import pyplot
 from orchestrator.studies.face_reach import AFTER_ARRIVAL_S, WET_ALPHA, MemberFlow, member_flow, reach_verdict
 from orchestrator.studies.gauge_reading import RISES_M, RiseReading, rise_reading
+from orchestrator.studies.sweep.store import member_dirs
 from analytical.study import SEED_ARRIVALS, SEED_IMPACT_HEIGHTS_M
 
 __all__ = ["FlumeMember", "flume_members", "write_flume_report"]
@@ -106,27 +107,11 @@ def _refine_text(mesh: dict) -> str:
 
 
 def flume_members(sweep_dir: str | Path) -> list[FlumeMember]:
-    """The post-processed members of the sweep, in the sweep file's order when its store lists it."""
-    sweep = Path(sweep_dir)
-    cases = [p.parent.parent for p in sweep.glob("*/results/gauge_summary.csv")]
+    """The sweep's post-processed members, in the sweep file's order (:func:`member_dirs`)."""
+    cases = member_dirs(sweep_dir, "results/gauge_summary.csv")
     if not cases:
-        raise InputError(str(sweep), "holds no post-processed member (no */results/gauge_summary.csv)")
-    order = _sweep_order(sweep)
-    cases.sort(key=lambda c: (order.get(c.name, len(order)), c.name))
+        raise InputError(str(sweep_dir), "holds no post-processed member (no */results/gauge_summary.csv)")
     return [_member(c) for c in cases]
-
-
-def _sweep_order(sweep: Path) -> dict[str, int]:
-    """Member id -> its index in the sweep (results.sqlite's members table), when the store is there."""
-    store = sweep / "results.sqlite"
-    if not store.is_file():
-        return {}
-    import sqlite3
-
-    with sqlite3.connect(store) as db:
-        cols = {row[1] for row in db.execute("PRAGMA table_info(members)")}
-        rows = db.execute("SELECT member_id, member FROM members").fetchall() if {"member", "member_id"} <= cols else []
-    return {str(i): int(k) for i, k in rows}
 
 
 def _change(m: FlumeMember, base: FlumeMember) -> str:

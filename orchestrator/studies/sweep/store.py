@@ -59,6 +59,23 @@ def write_member_record(case_dir: str | Path, record: dict[str, Any]) -> Path:
     return write_json_atomic(Path(case_dir) / MEMBER_JSON, record)
 
 
+def member_dirs(sweep_dir: str | Path, holding: str) -> list[Path]:
+    """The member folders of a sweep that hold ``holding`` (a path inside a member, such as
+    ``results/gauges.csv``), in the sweep's order.
+
+    With a sweep.json, only the members it lists: a folder left by an earlier version of the sweep
+    file (its scene, and so its id, since changed) is not one of this sweep's members. Without one,
+    every such folder, by name.
+    """
+    sweep = Path(sweep_dir)
+    found = {p.relative_to(sweep).parts[0]: sweep / p.relative_to(sweep).parts[0] for p in sweep.glob(f"*/{holding}")}
+    manifest = read_json_object(sweep / SWEEP_JSON)
+    if manifest is None:
+        return [found[k] for k in sorted(found)]
+    ids = [str(m.get("id")) for m in manifest.get("members") or [] if isinstance(m, dict)]
+    return [found[i] for i in ids if i in found]
+
+
 def write_manifest(sweep: Sweep, out: Path) -> None:
     """sweep.json and scenes/<id>.yaml: the expanded sweep, written before anything runs."""
     scenes = out / SCENES_DIR
