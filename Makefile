@@ -41,7 +41,7 @@ help:
 	@echo "make flume-2d               the study's flume as a 2D centreline strip, RANS at 2 cm cells, with and without the 5 cm sill: how much the 3D arrivals owe to 4 cm cells (about 1 min; docs/results/flume-centreline-2d/)"
 	@echo "make face-splash            the water at the column's face at 4 cm cells and with 2 cm cells at the face (laminar and RANS), against the study's load points 0.16-0.50 m; the front's speed over 0.5 m reaches (about 30 min; docs/results/face-splash/)"
 	@echo "make flume-as-built         the gate's sill and opening, the wet bed's depth, the column's position: arrivals one change at a time and the sill and opening together (about 7 min; docs/results/flume-as-built/)"
-	@echo "make wet-bed                the bore against Stoker's wet-bed solution, laminar and RANS (about 25 min; docs/results/wet-bed/)"
+	@echo "make wet-bed                the bore against Stoker's wet-bed solution, laminar and RANS (about 40 min; docs/results/wet-bed/)"
 	@echo "make synthetic-study        the seed's SDOF/MDOF/ASCE analysis on 22 synthetic records"
 	@echo "make scene-doc              docs/scene.md, the scene reference, from the schema"
 	@echo "make catalogue-doc          docs/catalogue.md, the debris and column catalogue, from its data"
@@ -235,9 +235,9 @@ stability: venv openfoam
 	-$(NICE) $(VENV)/bin/debrisfoam sweep cases/sweeps/hard-cases.yaml
 	$(VENV)/bin/debrisfoam report stability runs/sweeps/hard-cases -o runs/sweeps/hard-cases/stability.md --force
 
-# The bore against Stoker's wet-bed dam break: cases/sweeps/wet-bed.yaml (8 frictionless 2D members,
-# laminar and RANS, the wet bed one cell layer or six, h1/h0 0.0375 and 0.1; about 25 min on 2 cores;
-# run again to resume), then the page docs/results/wet-bed/.
+# The bore against Stoker's wet-bed dam break: cases/sweeps/wet-bed.yaml (13 frictionless 2D members,
+# laminar and RANS, the wet bed one cell layer or six, h1/h0 0.0375-0.2, 2 cm to 5 mm cells; about 40 min
+# on 2 idle cores, 22 of them the 5 mm member; run again to resume), then the page docs/results/wet-bed/.
 wet-bed: venv openfoam
 	-$(NICE) $(VENV)/bin/debrisfoam sweep cases/sweeps/wet-bed.yaml
 	$(VENV)/bin/debrisfoam report bore runs/sweeps/wet-bed -o docs/results/wet-bed --force
