@@ -222,3 +222,21 @@ def test_the_page_reads_the_front_at_other_rises_and_checks_the_wg2_rise_on_wg3(
     assert np.isnan(rises.loc["a", "fitted_rise_m"])
     # c: 0.06 s after the tip the toe stands 0.06 c 0.10 / 0.5 = 33.9 mm; WG3 reads it 0.06 s after its tip, 3.2 / c
     assert "| 33.9 | 1.193 | -0.197 | 2.82 |" in text
+
+
+def test_a_step_in_the_front_is_read_as_a_shelf_and_a_plain_ramp_as_none():
+    import numpy as np
+
+    from orchestrator.studies.gauge_reading import front_shelf
+
+    t = np.linspace(0.0, 2.5, 2501)
+    # 15 mm, up to 40 mm over 0.1 s from 1.0 s (0.25 m/s), held to 1.6 s, then up to 120 mm over 0.2 s (0.4 m/s)
+    step = np.interp(t, [0.0, 1.0, 1.1, 1.6, 1.8, 2.5], [0.015, 0.015, 0.04, 0.04, 0.12, 0.12])
+    shelf = front_shelf(t, step, 1.0, 0.056)
+    # 56 mm is reached 0.016 / 0.4 s into the second rise; the 10 mm band best takes in the slower ramp below
+    assert shelf.rise_s == pytest.approx(0.64, abs=2e-3)
+    assert shelf.held_s == pytest.approx(0.5 + 0.01 / 0.25, abs=3e-3)
+    assert 0.035 < shelf.level_m < 0.041
+    ramp = np.interp(t, [0.0, 1.0, 1.5, 2.5], [0.015, 0.015, 0.12, 0.12])  # 0.21 m/s without a pause
+    assert front_shelf(t, ramp, 1.0, 0.056).held_s == pytest.approx(0.01 / 0.21, abs=3e-3)
+    assert np.isnan(front_shelf(t, step, 1.0, 0.5).rise_s)  # never reaches 0.5 m: no rise time

@@ -22,8 +22,9 @@ import yaml
 from orchestrator.core.errors import InputError
 from orchestrator.report.figures import pyplot
 from orchestrator.studies.face_reach import AFTER_ARRIVAL_S, WET_ALPHA, MemberFlow, member_flow, reach_verdict
-from orchestrator.studies.gauge_reading import RISES_M, RiseReading, rise_reading
+from orchestrator.studies.gauge_reading import RISES_M, SHELF_BAND_M, RiseReading, rise_reading
 from orchestrator.studies.sweep.store import member_dirs
+from analytical.dambreak import stoker_state
 from analytical.study import SEED_ARRIVALS, SEED_IMPACT_HEIGHTS_M
 
 __all__ = ["FlumeMember", "flume_members", "write_flume_report"]
@@ -262,19 +263,33 @@ def _rise_lines(members: list[FlumeMember], readings: list[RiseReading | None]) 
         f"{RISES_M[0] * 1000:g} to {RISES_M[-1] * 1000:g} mm, and at the one rise that puts WG2 on its measured "
         f"{t2:g} s, with WG3's arrival then: one coefficient taken from one gauge and checked on the other "
         f"(measured {t3:g} s, the front {(x3 - x2) / (t3 - t2):.2f} m/s; \"-\": the front's tip reaches WG2 "
-        f"after {t2:g} s, so no rise does). Levels: the gauges' alpha.water integrals (rises.csv).", "",
+        f"after {t2:g} s, so no rise does). Levels: the gauges' alpha.water integrals (rises.csv). WG2's "
+        "step, which the study puts down to the gate's support columns: the time its level takes from the "
+        "arrival to half Stoker's bore depth, and the longest span in between that it holds within "
+        f"{SHELF_BAND_M * 1000:g} mm, at its mean level.", "",
         "| change " + "".join(f"| {r * 1000:g} mm (m/s) " for r in RISES_M)
-        + f"| rise for WG2 at {t2:g} s (mm) | WG3 then (s) | against measured (s) | front then (m/s) |",
-        "|---" * (len(RISES_M) + 5) + "|",
+        + f"| rise for WG2 at {t2:g} s (mm) | WG3 then (s) | against measured (s) | front then (m/s) "
+        "| WG2 to half the bore (s) | WG2 held (s, at m) |",
+        "|---" * (len(RISES_M) + 7) + "|",
     ]
     for m, r in zip(members, readings):
         if r is None:
             continue
         speeds = " | ".join(_fmt(v, ".2f") for v in r.speeds_m_s())
+        sh = r.wg2_shelf
+        step = (f"| {_fmt(sh.rise_s, '.2f')} | {_fmt(sh.held_s, '.2f')} at {_fmt(sh.level_m)} |" if sh is not None
+                else "| - | - |")
         lines.append(f"| {_change(m, members[0])} | {speeds} | {_fmt(r.fitted_rise_m * 1000, '.1f')} "
                      f"| {_fmt(r.wg3_at_fitted_s)} | {_fmt(r.wg3_at_fitted_s - t3, '.3f', True)} "
-                     f"| {_fmt(r.speed_at_fitted_m_s, '.2f')} |")
+                     f"| {_fmt(r.speed_at_fitted_m_s, '.2f')} {step}")
     return lines + [""]
+
+
+def _half_bore(m: FlumeMember) -> tuple[float, float] | None:
+    """(WG2's arrival s, half Stoker's bore depth m) for a wet bed below the impoundment; None otherwise."""
+    if not 0.0 < m.wet_depth_m < m.depth_m or not math.isfinite(m.wg2_s):
+        return None
+    return m.wg2_s, 0.5 * stoker_state(m.depth_m, m.wet_depth_m).h2_m
 
 
 def _rise_table(members: list[FlumeMember], readings: list[RiseReading | None]) -> pd.DataFrame:
@@ -288,6 +303,9 @@ def _rise_table(members: list[FlumeMember], readings: list[RiseReading | None]) 
                     f"speed_at_{rise * 1000:g}mm_m_s": v}
         row |= {"fitted_rise_m": r.fitted_rise_m, "wg2_at_fitted_s": r.wg2_at_fitted_s,
                 "wg3_at_fitted_s": r.wg3_at_fitted_s, "speed_at_fitted_m_s": r.speed_at_fitted_m_s}
+        if r.wg2_shelf is not None:
+            row |= {"wg2_rise_to_half_bore_s": r.wg2_shelf.rise_s, "wg2_held_s": r.wg2_shelf.held_s,
+                    "wg2_held_level_m": r.wg2_shelf.level_m}
         rows.append(row)
     return pd.DataFrame(rows)
 
@@ -356,7 +374,8 @@ def write_flume_report(sweep_dir: str | Path, out_dir: str | Path) -> dict[str, 
     lines += ["", f"![arrivals]({figure})", ""]
     columned = any(math.isfinite(m.column_x_m) for m in members)  # a flume without one has no face to read
     lines += (_face_lines(members, flows, face_figure) if columned else []) + _reach_lines(members, flows)
-    readings = [rise_reading(Path(sweep_dir) / m.member, MEASURED["WG2"], MEASURED["WG3"]) for m in members]
+    readings = [rise_reading(Path(sweep_dir) / m.member, MEASURED["WG2"], MEASURED["WG3"],
+                             shelf=_half_bore(m)) for m in members]
     lines += _rise_lines(members, readings)
     files = {}
     if any(readings):

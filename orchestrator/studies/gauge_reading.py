@@ -9,6 +9,11 @@ reads a later arrival, later still where the toe has stretched. So each member i
 and at the one rise that puts WG2 on its measured arrival: one coefficient taken from one gauge and
 checked on the other (:func:`rise_for_arrival`).
 
+The front's shape at WG2 (:func:`front_shelf`): the study saw a step in WG2's record and puts it down
+to the gate's support columns, whose cross-waves reach the gauge ahead of the bore. A step is a shelf:
+from the arrival until the level first stands half Stoker's bore depth above the bed, the longest time
+the level holds within :data:`SHELF_BAND_M`, and the time that rise takes.
+
 Levels are the alpha.water integrals of ``results/gauges.csv``; a gauge's starting level is its first
 sample.
 """
@@ -16,6 +21,7 @@ sample.
 from __future__ import annotations
 
 import math
+from collections import deque
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -24,12 +30,59 @@ import pandas as pd
 
 from orchestrator.results.metrics import arrival_time
 
-__all__ = ["RISES_M", "RiseReading", "rise_for_arrival", "rise_reading"]
+__all__ = ["RISES_M", "SHELF_BAND_M", "RiseReading", "Shelf", "front_shelf", "rise_for_arrival", "rise_reading"]
 
 #: The rises above a gauge's starting level at which its arrival is read (m).
 RISES_M = (0.002, 0.008, 0.015, 0.025, 0.04)
+#: A level that stays within this band (m) is held: a shelf in the front's rise.
+SHELF_BAND_M = 0.01
 #: The smallest rise :func:`rise_for_arrival` tries (m): below it a level's noise is the arrival.
 MIN_RISE_M = 1e-4
+
+
+@dataclass(frozen=True)
+class Shelf:
+    """The front's rise at one gauge: from its arrival to ``until_m`` (s; nan: not within the record), and
+    the longest span (s) in between that the level holds within :data:`SHELF_BAND_M`, at its mean level (m)."""
+
+    rise_s: float
+    held_s: float
+    level_m: float
+
+
+def front_shelf(time_s, elevation_m, arrival_s: float, until_m: float, band_m: float = SHELF_BAND_M) -> Shelf:
+    """The front's rise and its longest shelf between ``arrival_s`` and the level's first reaching ``until_m``
+    (the record's end when it never does). The shelf is found over the samples with a sliding window whose
+    highest and lowest levels are kept in monotone queues."""
+    t, e = np.asarray(time_s, dtype=float), np.asarray(elevation_m, dtype=float)
+    keep = np.isfinite(t) & np.isfinite(e)
+    t, e = t[keep], e[keep]
+    if not math.isfinite(arrival_s) or t.size == 0:
+        return Shelf(math.nan, math.nan, math.nan)
+    reached = arrival_time(t, e, 0.0, until_m)
+    end = reached if math.isfinite(reached) else float(t[-1])
+    inside = (t >= arrival_s) & (t <= end)
+    tw, ew = t[inside], e[inside]
+    best, level = 0.0, math.nan
+    highs: deque[int] = deque()
+    lows: deque[int] = deque()
+    first = 0
+    for j, v in enumerate(ew):
+        while highs and ew[highs[-1]] <= v:
+            highs.pop()
+        highs.append(j)
+        while lows and ew[lows[-1]] >= v:
+            lows.pop()
+        lows.append(j)
+        while ew[highs[0]] - ew[lows[0]] > band_m:
+            first += 1
+            if highs[0] < first:
+                highs.popleft()
+            if lows[0] < first:
+                lows.popleft()
+        if tw[j] - tw[first] > best:
+            best, level = float(tw[j] - tw[first]), float(np.mean(ew[first:j + 1]))
+    return Shelf(float(reached - arrival_s) if math.isfinite(reached) else math.nan, best, level)
 
 
 @dataclass(frozen=True)
@@ -44,6 +97,7 @@ class RiseReading:
     fitted_rise_m: float
     wg2_at_fitted_s: float
     wg3_at_fitted_s: float
+    wg2_shelf: Shelf | None = None
 
     def speeds_m_s(self) -> tuple[float, ...]:
         """The front's speed between the gauges at each rise (m/s)."""
@@ -89,10 +143,11 @@ def rise_for_arrival(time_s, elevation_m, target_s: float) -> float:
 
 
 def rise_reading(case: str | Path, wg2: tuple[float, float], wg3: tuple[float, float],
-                 rises_m: tuple[float, ...] = RISES_M) -> RiseReading | None:
+                 rises_m: tuple[float, ...] = RISES_M, shelf: tuple[float, float] | None = None) -> RiseReading | None:
     """WG2 and WG3 of one run read at ``rises_m`` and at the rise fitted to WG2's measured arrival.
 
-    ``wg2``, ``wg3``: (x m, measured arrival s). None when ``results/gauges.csv`` or either gauge's
+    ``wg2``, ``wg3``: (x m, measured arrival s). ``shelf``: (WG2's arrival s, the level m that ends its
+    rise) to read WG2's shelf (:func:`front_shelf`). None when ``results/gauges.csv`` or either gauge's
     column is missing.
     """
     table = Path(case) / "results" / "gauges.csv"
@@ -111,4 +166,5 @@ def rise_reading(case: str | Path, wg2: tuple[float, float], wg3: tuple[float, f
     return RiseReading(
         rises_m=tuple(rises_m), wg2_s=tuple(arrival_time(t, e2, s2, r) for r in rises_m),
         wg3_s=tuple(arrival_time(t, e3, s3, r) for r in rises_m), distance_m=wg3[0] - wg2[0],
-        fitted_rise_m=rise, wg2_at_fitted_s=fitted[0], wg3_at_fitted_s=fitted[1])
+        fitted_rise_m=rise, wg2_at_fitted_s=fitted[0], wg3_at_fitted_s=fitted[1],
+        wg2_shelf=None if shelf is None else front_shelf(t, e2, shelf[0], shelf[1]))
