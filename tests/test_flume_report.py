@@ -216,6 +216,7 @@ def test_the_page_reads_the_front_at_other_rises_and_checks_the_wg2_rise_on_wg3(
     files = write_flume_report(sweep, tmp_path / "page")
     text = files["report"].read_text()
     assert "| the scene as shipped | 2.00 | 2.00 | 2.00 | 2.00 | 2.00 | - | - | - | - |" in text  # WG2 after 0.91 s
+    assert files["gauge_figure"].stat().st_size > 10_000 and "![WG2 and WG3](gauges.png)" in text
     rises = pd.read_csv(files["rise_table"]).set_index("member")
     # b at 40 mm: WG2 at 1.2 + 0.2 * 0.4 / 2 = 1.24 s, WG3 at 1.6 + 0.8 * 0.4 / 2 = 1.76 s
     assert rises.loc["b", "speed_at_40mm_m_s"] == pytest.approx(0.8 / 0.52, rel=1e-3)

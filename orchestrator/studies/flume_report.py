@@ -16,6 +16,7 @@ import math
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 import yaml
 
@@ -156,6 +157,40 @@ def _plot(members: list[FlumeMember], out: Path) -> str:
     ax.set_xlabel("x past the gate (m)")
     ax.set_ylabel("front arrival (s)")
     return _finish(fig, ax, out / "arrivals.png")
+
+
+def _gauge_plot(members: list[FlumeMember], sweep_dir: Path, out: Path) -> str | None:
+    """WG2's and WG3's levels over time, one colour a member, the measured arrivals marked: the step in
+    a front shows as a shelf. None when no member has ``results/gauges.csv``."""
+    plt = pyplot()
+    fig, axes = plt.subplots(1, 2, figsize=(10, 5.6), sharey=True)
+    for ax in axes:
+        ax.set_prop_cycle(color=plt.cm.tab20(np.linspace(0, 1, 20)))
+    drawn = False
+    for m in members:
+        table = sweep_dir / m.member / "results" / "gauges.csv"
+        if not table.is_file():
+            continue
+        data = pd.read_csv(table)
+        for ax, name in zip(axes, ("WG2", "WG3")):
+            if f"{name}_elevation_m" in data:
+                ax.plot(data["time_s"], data[f"{name}_elevation_m"] * 1000, lw=1, label=_change(m, members[0]))
+                drawn = True
+    if not drawn:
+        plt.close(fig)
+        return None
+    for ax, name in zip(axes, ("WG2", "WG3")):
+        ax.axvline(MEASURED[name][1], color="k", ls="--", lw=1, label="measured arrival" if name == "WG2" else None)
+        ax.set_xlim(MEASURED["WG2"][1] - 0.3, None)
+        ax.set_xlabel("time (s)")
+        ax.set_title(f"{name} (x = {MEASURED[name][0]:g} m)", fontsize=9)
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("level above the bed (mm)")
+    fig.legend(*axes[0].get_legend_handles_labels(), loc="lower center", ncol=3, fontsize=6.5)
+    fig.tight_layout(rect=(0, 0.17, 1, 1))
+    fig.savefig(out / "gauges.png", dpi=100)
+    plt.close(fig)
+    return "gauges.png"
 
 
 def _finish(fig, ax, path: Path) -> str:
@@ -331,7 +366,8 @@ def _setting(case: Path) -> str:
 
 
 def write_flume_report(sweep_dir: str | Path, out_dir: str | Path) -> dict[str, Path]:
-    """report.md, flume.csv, arrivals.png, face.csv, face.png and (with gauge records) rises.csv in ``out_dir``."""
+    """report.md, flume.csv, arrivals.png, face.csv, face.png and (with gauge records) rises.csv and gauges.png
+    in ``out_dir``."""
     members = flume_members(sweep_dir)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -376,11 +412,14 @@ def write_flume_report(sweep_dir: str | Path, out_dir: str | Path) -> dict[str, 
     lines += (_face_lines(members, flows, face_figure) if columned else []) + _reach_lines(members, flows)
     readings = [rise_reading(Path(sweep_dir) / m.member, MEASURED["WG2"], MEASURED["WG3"],
                              shelf=_half_bore(m)) for m in members]
-    lines += _rise_lines(members, readings)
+    gauge_figure = _gauge_plot(members, Path(sweep_dir), out)
+    lines += _rise_lines(members, readings) + ([f"![WG2 and WG3]({gauge_figure})", ""] if gauge_figure else [])
     files = {}
     if any(readings):
         _rise_table(members, readings).to_csv(out / "rises.csv", index=False)
         files["rise_table"] = out / "rises.csv"
+    if gauge_figure:
+        files["gauge_figure"] = out / gauge_figure
     (out / "report.md").write_text("\n".join(lines))
     return {"report": out / "report.md", "table": out / "flume.csv", "figure": out / figure,
             "face_table": out / "face.csv", "face_figure": out / face_figure, **files}
