@@ -40,7 +40,7 @@ help:
 	@echo "make ensemble-flow-pair     the ensemble through a second mesh's flow: Table 2 with the flow's own uncertainty (docs/results/ensemble-flow-pair/)"
 	@echo "make flume-2d               the study's flume as a 2D centreline strip, RANS at 2 cm cells, with and without the 5 cm sill: how much the 3D arrivals owe to 4 cm cells (about 1 min; docs/results/flume-centreline-2d/)"
 	@echo "make face-splash            the water at the column's face at 4 cm cells and with 2 cm cells at the face (laminar and RANS), against the study's load points 0.16-0.50 m; the front's speed over 0.5 m reaches (about 30 min; docs/results/face-splash/)"
-	@echo "make flume-as-built         the gate's sill and opening, the wet bed's depth, the column's position: arrivals one change at a time and the sill and opening together (about 7 min; docs/results/flume-as-built/)"
+	@echo "make flume-as-built         the gate's sill and opening, the wet bed's depth, the column's position, the bed drag's coefficient: arrivals one change at a time and the sill and opening together (about 12 min; docs/results/flume-as-built/)"
 	@echo "make wet-bed                the bore against Stoker's wet-bed solution, laminar and RANS (about 40 min; docs/results/wet-bed/)"
 	@echo "make synthetic-study        the seed's SDOF/MDOF/ASCE analysis on 22 synthetic records"
 	@echo "make scene-doc              docs/scene.md, the scene reference, from the schema"
@@ -242,8 +242,8 @@ wet-bed: venv openfoam
 	-$(NICE) $(VENV)/bin/debrisfoam sweep cases/sweeps/wet-bed.yaml
 	$(VENV)/bin/debrisfoam report bore runs/sweeps/wet-bed -o docs/results/wet-bed --force
 
-# The flume as built: cases/sweeps/flume-as-built.yaml (10 hydrodynamic members, one change each from
-# cases/nodebris.yaml; about 7 min on 2 idle cores; run again to resume), then docs/results/flume-as-built/.
+# The flume as built: cases/sweeps/flume-as-built.yaml (16 hydrodynamic members, one change each from
+# cases/nodebris.yaml; about 12 min on 2 idle cores; run again to resume), then docs/results/flume-as-built/.
 flume-as-built: venv openfoam
 	-$(NICE) $(VENV)/bin/debrisfoam sweep cases/sweeps/flume-as-built.yaml
 	$(VENV)/bin/debrisfoam report flume runs/sweeps/flume-as-built -o docs/results/flume-as-built --force

@@ -15,12 +15,12 @@ FACE_X = 4.89
 
 
 def _member(folder, arrivals, sill=0.0, depth=0.40, opening=None, column_x=5.0, closure="laminar", opening_s=0.0,
-            cell=None):
+            cell=None, drag=None):
     (folder / "results").mkdir(parents=True)
     scene = {"name": "nodebris", "flume": {"width_m": 1.5 if column_x else 0.1}, "fluids": {"turbulence": closure},
              "reservoir": {"depth_m": depth, "sill_height_m": sill, "opening_width_m": opening,
                            "opening_time_s": opening_s},
-             "bed": {"wet_depth_m": 0.015}, "column": None if column_x is None else {"x_m": column_x},
+             "bed": {"wet_depth_m": 0.015, **({} if drag is None else {"friction_calibration": drag})}, "column": None if column_x is None else {"x_m": column_x},
              "mesh": {"cell_size_m": cell or (0.04 if column_x else 0.02)}, "run": {"end_time_s": 2.0}}
     (folder / "scene.yaml").write_text(yaml.safe_dump(scene))
     rows = [{"gauge": name, "x_m": x, "arrival_s": t}
@@ -34,6 +34,7 @@ def test_each_member_is_set_beside_the_measured_arrivals_and_the_scene_as_shippe
     _member(sweep / "b", (0.932, 1.265, 1.910), sill=0.05, depth=0.35)
     _member(sweep / "c", (0.910, 1.204, 1.735), opening_s=0.2)
     _member(sweep / "d", (0.890, 1.250, 1.800), cell=0.02)
+    _member(sweep / "e", (0.903, 1.231, 1.719), drag=3.0)
     members = flume_members(sweep)
     # the front's speed over each reach: distance over the difference of the arrivals
     assert members[1].speed_wg2_wg3_m_s == pytest.approx(0.80 / (1.265 - 0.932))
@@ -47,7 +48,8 @@ def test_each_member_is_set_beside_the_measured_arrivals_and_the_scene_as_shippe
     assert "+0.022, -0.125" in text  # against the measured 0.91 and 1.39 s
     assert "| gate opening over 0.2 s | 0.910 | +0.034 | 1.204 | +0.018 |" in text
     assert "| 2 cm cells | 0.890 | +0.014 |" in text  # a finer mesh is named as the change
-    assert len(pd.read_csv(files["table"])) == 4 and files["figure"].stat().st_size > 10_000
+    assert "| bed drag calibration 3 | 0.903 | +0.027 |" in text  # the drag layer's coefficient is named
+    assert len(pd.read_csv(files["table"])) == 5 and files["figure"].stat().st_size > 10_000
 
 
 def test_a_member_without_a_gauge_and_an_empty_sweep_are_named(tmp_path):

@@ -271,8 +271,8 @@ def _water(scene: Scene, domain: Domain, facts: SceneFacts, reasons: dict[str, s
         reasons["bed_friction"] = (
             f"Darcy f = {scene.bed.friction_factor:g} as a drag rho (f/8)|U|U on the cell layers next to the bed: "
             "without friction the front arrives 15-30 % early (docs/openfoam-notes.md); the drag is multiplied by "
-            f"bed.friction_calibration = {scene.bed.friction_calibration:g}, calibrated against Chanson's arrival "
-            "times (docs/bed-friction.md)"
+            f"bed.friction_calibration = {scene.bed.friction_calibration:g}, calibrated against Chanson's dry-bed "
+            "arrival times, not the study's gauges (docs/bed-friction.md)"
         )
     return tuple(water)
 

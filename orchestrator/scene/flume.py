@@ -52,7 +52,7 @@ class Bed(SceneSection):
                        "with friction_factor 0); false = no-slip")
     friction_calibration: float = Field(
         2.2, gt=0,
-        description="multiplier on the bed-friction drag of the cell layers next to the bed (they under-brake the "
-        "thin bore tip); the default 2.2 makes the arrivals at 2.40 m and 3.20 m match Chanson's solution with "
-        "f = 0.0293 within 0.012 s at 4 cm cells (docs/bed-friction.md)",
+        description="laminar only: multiplier on the bed drag of the cell layers next to the bed, standing for the "
+        "momentum the missing turbulence would share with the still wet bed; 2.2 puts the arrivals on Chanson's "
+        "dry-bed solution, 3.2 WG2 on its measured 0.91 s and WG3 0.15 s early (docs/bed-friction.md)",
     )

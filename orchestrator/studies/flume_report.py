@@ -58,6 +58,7 @@ class FlumeMember:
     wet_bed_cells: int = 1
     refine: str = ""  # the refinement box, in words ("": none)
     cell_size_m: float = math.nan  # mesh.cell_size_m
+    friction_calibration: float = math.nan  # bed.friction_calibration (nan: the schema's default)
 
     @property
     def speed_wg2_wg3_m_s(self) -> float:
@@ -97,7 +98,8 @@ def _member(case: Path) -> FlumeMember:
         face_s=arrival[FACE_GAUGE], solver_wall_s=wall, opening_time_s=float(res.get("opening_time_s") or 0.0),
         turbulence=str((scene.get("fluids") or {}).get("turbulence", "laminar")),
         wet_bed_cells=int(mesh.get("wet_bed_cells") or 1), refine=_refine_text(mesh),
-        cell_size_m=float(mesh.get("cell_size_m") or math.nan))
+        cell_size_m=float(mesh.get("cell_size_m") or math.nan),
+        friction_calibration=float(scene["bed"].get("friction_calibration") or math.nan))
 
 
 def _refine_text(mesh: dict) -> str:
@@ -137,6 +139,8 @@ def _change(m: FlumeMember, base: FlumeMember) -> str:
         parts.append(f"{m.wet_bed_cells} cells across the wet bed")
     if m.cell_size_m != base.cell_size_m and math.isfinite(m.cell_size_m):
         parts.append(f"{m.cell_size_m * 100:g} cm cells")
+    if m.friction_calibration != base.friction_calibration and math.isfinite(m.friction_calibration):
+        parts.append(f"bed drag calibration {m.friction_calibration:g}")
     return "; ".join(parts) or "the scene as shipped"
 
 
