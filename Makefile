@@ -28,7 +28,7 @@ help:
 	@echo "make case-layouts           the study's four debris layouts one-way (about 27 min on 2 idle cores), then results-layouts"
 	@echo "make results-layouts        after it: the layouts side by side to docs/results/layouts/"
 	@echo "make sweep SWEEP=mesh-study a sweep from cases/sweeps/ (runs/sweeps/<name>; run again to resume)"
-	@echo "make speed-error            mesh study + hand-made baseline, then the speed-against-error report"
+	@echo "make speed-error            mesh study + hand-made baseline, then the speed-against-error report (about 15 min; docs/results/speed-error/)"
 	@echo "make speed-error-debris     mesh study with one container to its impact, then its report"
 	@echo "make compare-coupling       the short flume to the first strike two-way and one-way on one mesh, side by side (about 30 min)"
 	@echo "make stability              the hard cases of cases/hard/ (about 2 h), then their stability table"
