@@ -12,7 +12,7 @@ COUPLING ?=
 OUT      ?= runs/1debris$(if $(COUPLING),-$(COUPLING),)
 CASE_SET := $(if $(CELL),--set mesh.cell_size_m=$(CELL),) $(if $(COUPLING),--set run.debris_coupling=$(COUPLING),)
 
-.PHONY: approach ensemble-flow-pair prototype-1debris design-street design-1debris forcing-variants help venv openfoam test test-all test-fast docs-check case-1debris case-layouts results-layouts compare-coupling sweep speed-error speed-error-debris stability flume-as-built flume-2d face-splash wet-bed synthetic-study contact-law results-1debris ensemble-1debris spreading scene-doc catalogue-doc bench bench-transport clean
+.PHONY: approach ensemble-flow-pair prototype-1debris design-street design-1debris forcing-variants help venv openfoam test test-all test-fast docs-check case-1debris case-layouts results-layouts compare-coupling sweep speed-error speed-error-debris stability flume-as-built flume-2d face-splash wet-bed synthetic-study contact-law results-1debris ensemble-1debris ensemble-flows spreading scene-doc catalogue-doc bench bench-transport clean
 
 help:
 	@echo "make help                   this list: every target"
@@ -37,6 +37,7 @@ help:
 	@echo "make test-fast              the Python tests without OpenFOAM and without the slow ones"
 	@echo "make clean                  remove the venv and build files"
 	@echo "make docs-check             the docs: links resolve, no history, README at most 800 words, docs/*.md at most 15,000, make help complete, figures the planner gives"
+	@echo "make ensemble-flows         the ensemble through RANS with a sill, the flume as built, the posts alone and the WG2-read bed drag (about 1 h; docs/results/ensemble-1debris-*/)"
 	@echo "make ensemble-flow-pair     the ensemble through a second mesh's flow: Table 2 with the flow's own uncertainty (docs/results/ensemble-flow-pair/)"
 	@echo "make flume-2d               the study's flume as a 2D centreline strip, RANS at 2 cm cells, with and without the 5 cm sill: how much the 3D arrivals owe to 4 cm cells (about 1 min; docs/results/flume-centreline-2d/)"
 	@echo "make face-splash            the water at the column's face at 4 cm cells and with 2 cm cells at the face (laminar and RANS), against the study's load points 0.16-0.50 m; the front's speed over 0.5 m reaches (about 30 min; docs/results/face-splash/)"
@@ -140,6 +141,16 @@ ensemble-1debris: venv openfoam
 	mkdir -p docs/results/$(ENS_NAME)
 	cp runs/$(ENS_NAME)/report.md runs/$(ENS_NAME)/ensemble.json runs/$(ENS_NAME)/histograms.png \
 	   runs/$(ENS_NAME)/envelope.png docs/results/$(ENS_NAME)/
+
+# make ensemble-flows: the ensemble above through the four other flows the bed-friction
+# page compares (docs/bed-friction.md): RANS with the 5 cm sill, the flume as built (sill and 0.9 m
+# opening), the 0.9 m opening alone, and the bed drag's coefficient read from WG2 (c = 3.2). About 1 h on 2 idle cores
+# (the RANS flow about 30 min, each laminar one about 10).
+ensemble-flows: venv openfoam
+	$(MAKE) ensemble-1debris ENS_NAME=ensemble-1debris-rans-sill ENS_SET="--set reservoir.sill_height_m=0.05 --set reservoir.depth_m=0.35 --set fluids.turbulence=kOmegaSST --set mesh.wet_bed_cells=4"
+	$(MAKE) ensemble-1debris ENS_NAME=ensemble-1debris-as-built ENS_SET="--set reservoir.sill_height_m=0.05 --set reservoir.depth_m=0.35 --set reservoir.opening_width_m=0.9"
+	$(MAKE) ensemble-1debris ENS_NAME=ensemble-1debris-posts ENS_SET="--set reservoir.opening_width_m=0.9"
+	$(MAKE) ensemble-1debris ENS_NAME=ensemble-1debris-c-wg2 ENS_SET="--set bed.friction_calibration=3.2"
 
 # make ensemble-flow-pair: the ensemble above (made first when missing) and the same starts through a second
 # mesh's flow (4 cm cells at the column too: runs/ensemble-1debris-4cm, about 3 min of interFoam), then the
