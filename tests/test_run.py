@@ -296,7 +296,7 @@ def test_a_runner_that_died_mid_segment_leaves_the_cases_own_controls_back(body_
                                                "segment_control": {"endTime": 0.1, "writeInterval": 0.025,
                                                                    "maxDeltaT": 0.004}}))
     set_control(case, endTime=0.1, writeInterval=0.025, maxDeltaT=0.0007)  # a segment's, left behind
-    info = _original_controls(load_case_info(case))
+    info = _original_controls(load_case_info(case), json.loads((case / "run.json").read_text()))
     control = read_control(case)
     assert (info.end_time_s, info.write_interval_s, info.max_delta_t_s) == (0.2, 0.05, 0.004)
     assert (float(control["endTime"]), float(control["writeInterval"]), float(control["maxDeltaT"])) == (0.2, 0.05,

@@ -106,7 +106,7 @@ from typing import Any, Callable
 
 from orchestrator.core.errors import DebrisfoamError, InputError
 from orchestrator.case import bodystate, foam, split_bodies
-from orchestrator.case.folder import EPS_T, PLAN_JSON, SCENE_YAML, CaseFolder, processor_dirs
+from orchestrator.case.folder import EPS_T, PLAN_JSON, SCENE_YAML, processor_dirs
 from orchestrator.contact.settings import ContactSettings
 from orchestrator.plan.scale import froude_factor
 from orchestrator.run import body_policy, held, openfoam
@@ -118,7 +118,7 @@ from orchestrator.run.control import set_control
 from orchestrator.run.errors import ContactError, DivergenceError, RunError, RunInterrupted
 from orchestrator.run.held import still_state
 from orchestrator.run.monitor import Diagnosis, DivergenceLimits, Progress, StepRecord
-from orchestrator.run.run_json import now, states_in_logs, versions
+from orchestrator.run.run_json import RunRecord, now, states_in_logs, versions
 from orchestrator.run.segments import STOPPED_REASONS, SegmentResult, StopFlag
 from orchestrator.run.supervisor import Supervisor
 from orchestrator.run.times import MIN_SEGMENT_FRACTION, latest_time, remove_times_from, segment_span
@@ -208,14 +208,14 @@ def _lock_case(case: Path):
 
 def _run_locked(case_dir, np, quiet, reconstruct, contact, limits, stop_event, poll_interval_s, stream, on_step,
                 wall0) -> RunSummary:
-    info = _original_controls(load_case_info(case_dir, np))
+    rec = RunRecord(Path(case_dir).resolve())  # run.json, read once: the controls a dead runner left, the record
+    info = _original_controls(load_case_info(case_dir, np), rec.data)
     case = info.case
     stop = StopFlag(stop_event)
     if contact is None:  # the defaults, at the case's scale (they were set on the study's 0.40 m flume)
         contact = ContactSettings().froude_scaled(froude_factor(info.water_depth_m) if info.water_depth_m > 0 else 1.0)
     sup = Supervisor(info, quiet, contact, limits or DivergenceLimits(), stop,
-                     poll_interval_s, stream, on_step)
-    rec = sup.record
+                     poll_interval_s, stream, on_step, rec)
     data = rec.data
     data.update({"case": str(case), "solver": info.solver, "ranks": info.ranks, "end_time_s": info.end_time_s,
                  "scene": SCENE_YAML, "plan": PLAN_JSON, "versions": versions()})
@@ -226,7 +226,7 @@ def _run_locked(case_dir, np, quiet, reconstruct, contact, limits, stop_event, p
 
     reached, name = latest_time(case, info.ranks)
     if data.get("status") == "finished" and reached >= info.end_time_s - EPS_T:
-        return _summary(info, data, True, reached, time.perf_counter() - wall0)
+        return _summary(info, rec, True, reached, time.perf_counter() - wall0)
 
     data["status"] = "running"
     data.pop("error", None)
@@ -466,16 +466,13 @@ def _finish(info: CaseInfo, sup: Supervisor, reconstruct: str, reached: float, n
                                           "between_segments_s": round(sup.between_s, 3),
                                           "overhead_fraction": round(cpu / solver_wall, 5) if solver_wall else 0.0})
     sup.record.save()
-    return _summary(info, data, False, reached, time.perf_counter() - wall0)
+    return _summary(info, sup.record, False, reached, time.perf_counter() - wall0)
 
 
-def _original_controls(info: CaseInfo) -> CaseInfo:
+def _original_controls(info: CaseInfo, data: dict[str, Any]) -> CaseInfo:
     """The case's own endTime/writeInterval/maxDeltaT: a runner that died during a segment left the
-    segment's values in controlDict (run.json says which); otherwise controlDict's (a user
+    segment's values in controlDict (``data``, run.json, says which); otherwise controlDict's (a user
     may have changed endTime to extend a run)."""
-    data = CaseFolder(info.case).run_record()
-    if data is None:
-        return info
     seg, own = data.get("segment_control"), data.get("control")
     if seg and own and math.isclose(seg["endTime"], info.end_time_s) and math.isclose(
             seg["writeInterval"], info.write_interval_s):
@@ -487,7 +484,8 @@ def _original_controls(info: CaseInfo) -> CaseInfo:
     return info
 
 
-def _summary(info: CaseInfo, data: dict, already: bool, reached: float, wall: float) -> RunSummary:
+def _summary(info: CaseInfo, rec: RunRecord, already: bool, reached: float, wall: float) -> RunSummary:
+    data = rec.data
     segs = data.get("segments", [])
     solver_wall = sum(s["wall_s"] for s in segs)
     cpu = sum(s.get("runner_cpu_s", 0.0) for s in segs)
@@ -495,7 +493,7 @@ def _summary(info: CaseInfo, data: dict, already: bool, reached: float, wall: fl
         case=info.case, status=data.get("status", "unknown"), already_finished=already, end_time_s=info.end_time_s,
         reached_time_s=reached, time_steps=int(data.get("time_steps", 0)), segments=len(segs),
         contacts=int(data.get("contacts", 0)), wall_s=wall, solver_wall_s=solver_wall, runner_cpu_s=cpu,
-        overhead_fraction=cpu / solver_wall if solver_wall else 0.0, run_json=CaseFolder(info.case).run_path)
+        overhead_fraction=cpu / solver_wall if solver_wall else 0.0, run_json=rec.path)
 
 
 def _check_decomposition(case: Path, ranks: int) -> None:

@@ -63,7 +63,8 @@ class Supervisor:
     `book` (ContactBook) keeps the contacts, its `watch` (SegmentWatch) runs the segments."""
 
     def __init__(self, info: CaseInfo, quiet: bool, contact: ContactSettings, limits: DivergenceLimits,
-                 stop: StopFlag, poll_interval_s: float, stream, on_step: Callable[[StepRecord], None] | None):
+                 stop: StopFlag, poll_interval_s: float, stream, on_step: Callable[[StepRecord], None] | None,
+                 record: RunRecord | None = None):
         self.info = info
         self.case = info.case
         self.quiet = quiet
@@ -73,7 +74,7 @@ class Supervisor:
         self.end_time_s = info.end_time_s
         self.write_interval_s = info.write_interval_s
         self.stream = stream
-        self.record = RunRecord(self.case)
+        self.record = record if record is not None else RunRecord(self.case)
         self.book = ContactBook(info, contact, self.record.data, self.say)
         self.pacing = Pacing(poll_interval_s, info.delta_t_s)
         self.watch = SegmentWatch(info, self.limits, stop, contact, self.book, self.pacing, on_step)
