@@ -155,7 +155,7 @@ def carry_debris(case: str | Path, already: bool = False, quiet: bool = False) -
     folder = CaseFolder(case)
     if folder.debris_coupling() != "one-way":
         return None
-    done = (folder.run_record() or {}).get("transport") if already else None
+    done = folder.run_state().transport if already else None
     if done is not None:
         laws = contact_laws(load_scene(folder.scene_path))
         if done.get("contact_laws") == laws:

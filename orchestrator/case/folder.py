@@ -22,6 +22,7 @@ from foamlib import FoamCase
 
 from orchestrator.core.errors import InputError
 from orchestrator.core.files import read_json, read_json_object, write_json_atomic, write_text_atomic
+from orchestrator.case.run_state import RunState
 from orchestrator.plan.model import ModelPlan
 from orchestrator.scene.scenefile import dump_scene_yaml
 from orchestrator.scene.schema import Scene
@@ -176,9 +177,15 @@ class CaseFolder:
                              str(self.plan_path)) from None
 
     def run_record(self, notes: list[str] | None = None) -> dict | None:
-        """run.json, or None when missing or unreadable."""
+        """run.json as a raw mapping, or None when missing or unreadable: for its writers (the
+        runner, the transport); readers take :meth:`run_state`."""
         data = read_json(self.run_path, notes)
         return data if isinstance(data, dict) else None
+
+    def run_state(self, notes: list[str] | None = None) -> RunState:
+        """run.json as a :class:`RunState` (empty when the case has not run or it is unreadable: a
+        line added to ``notes`` says why)."""
+        return RunState.from_dict(self.run_record(notes))
 
     def summary(self) -> dict | None:
         """results/summary.json, or None."""

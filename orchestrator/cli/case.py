@@ -80,7 +80,7 @@ def cmd_run(args: argparse.Namespace) -> int:
                                      "(render one with `debrisfoam render SCENE -o DIR`)", str(args.case_dir))
     writable_folder(folder.path, "case_dir")
     plan = folder.model_plan()  # unreadable: run_case says why
-    if plan and (folder.run_record() or {}).get("status") != "finished":
+    if plan and not folder.run_state().finished:
         ranks = args.np or plan.cores  # the planner's solver time, spread over the ranks it runs on
         demand = Demand(int(plan.cell_count), plan.solver, ranks, float(plan.estimated_wall_time_s) * plan.cores / ranks)
         large = confirm_large(lambda yes: check_resources(demand, str(folder.plan_path), confirmed=yes), args.yes)

@@ -128,7 +128,7 @@ def _freed_s(lay: Layout, body: str) -> float:
     """When the runner first let a body held on the bed float (run.json `freed`; NaN: never held or
     never freed). The runner holds a resting body until the water it measures all round the body is
     deep enough and the fluid lifts it by its weight (orchestrator/run/bedwatch.py)."""
-    times = [float(f["time_s"]) for f in lay.run.get("freed", []) if f.get("body") == body]
+    times = [float(f["time_s"]) for f in lay.run.freed if f.get("body") == body]
     return min(times) if times else float("nan")
 
 
@@ -248,7 +248,7 @@ def compare_coupling(one_way: str | Path, two_way: str | Path, allow_stopped: bo
 
 def _stop_reason(lay: Layout) -> str:
     """Why a run stopped before its end: its runner's error, else the reached time."""
-    error = lay.run.get("error")
+    error = lay.run.error
     message = error.get("message") if isinstance(error, dict) else error
     if not message:
         return f"reached t = {figure_text(lay.summary.get('reached_time_s'), '.4g', ' s')}"

@@ -35,7 +35,7 @@ CONTACT_ROWS = 12
 
 
 def _ranks(done: list) -> str:
-    ranks = sorted({int(lay.run.get("ranks") or 1) for lay in done})
+    ranks = sorted({int(lay.run.ranks or 1) for lay in done})
     return " or ".join(str(r) for r in ranks) + (" core" if ranks == [1] else " cores")
 
 

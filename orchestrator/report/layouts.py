@@ -42,6 +42,7 @@ import pandas as pd
 
 from orchestrator.core.errors import InputError
 from orchestrator.case.folder import CaseFolder
+from orchestrator.case.run_state import RunState
 from orchestrator.contact.events import read_events
 from orchestrator.core.files import read_json_object, write_text_atomic
 from orchestrator.plan.model import ModelPlan
@@ -79,7 +80,7 @@ class Layout:
     error: str | None = None
     log: str | None = None
     scene: Any | None = None
-    run: dict = field(default_factory=dict)
+    run: RunState = field(default_factory=RunState)
     plan: ModelPlan | None = None
     member: dict = field(default_factory=dict)
     summary: dict = field(default_factory=dict)
@@ -180,14 +181,11 @@ def find_runs(paths) -> list[Path]:
     return out
 
 
-def _failure(folder: CaseFolder, run: dict, member: dict) -> tuple[str, str | None, str | None]:
+def _failure(folder: CaseFolder, run: RunState, member: dict) -> tuple[str, str | None, str | None]:
     """(status, error, log) of a run without results: the sweep's record, else run.json's."""
-    status = member.get("status") or run.get("status") or "not run"
-    error = member.get("error") or run.get("error") or run.get("diagnosis")
-    logs = [s.get("log") for s in [*run.get("steps", []), *run.get("segments", [])] if s.get("log")]
-    failed = [s.get("log") for s in [*run.get("steps", []), *run.get("segments", [])]
-              if s.get("exit_status") not in (0, None) and s.get("log")]
-    log = (failed or logs or [None])[-1]
+    status = member.get("status") or run.status or "not run"
+    error = member.get("error") or run.error or (dict(run.diagnosis) or None)
+    log = (run.logs(failed_only=True) or run.logs() or [None])[-1]
     if status == "finished":
         status, error = "not post-processed", error or "no results/summary.json (run `debrisfoam post` on it)"
     return status, error, str(folder.path / log) if log else None
@@ -249,7 +247,7 @@ def impact_table(layout: Layout) -> pd.DataFrame:
 def load_layout(case_dir: str | Path) -> Layout:
     """Read one layout's run (see the module notes); a run without results is read as far as it goes."""
     folder = CaseFolder(case_dir)
-    plan, run = folder.model_plan(), folder.run_record() or {}
+    plan, run = folder.model_plan(), folder.run_state()
     if plan is None and folder.plan_path.is_file():  # a member folder the sweep never rendered has none
         raise InputError(folder.plan_path.name, "not the plan `debrisfoam render` writes (a JSON object of its "
                          "keys): render the case again", str(folder.path))
@@ -295,7 +293,7 @@ def _solver_cpu_s(layout: Layout) -> float | None:
     """The solver's CPU time on its master rank (s): the last ``ExecutionTime`` of each segment's
     log, summed (the wall time also counts other jobs' turns on a shared machine; this does not)."""
     total, found = 0.0, False
-    for seg in layout.run.get("segments", []):
+    for seg in layout.run.segments:
         log = layout.case / str(seg.get("log") or "")
         if seg.get("log") and log.is_file():
             hits = _EXECUTION_TIME.findall(log.read_text(errors="replace"))
@@ -306,12 +304,10 @@ def _solver_cpu_s(layout: Layout) -> float | None:
 
 def _wall(layout: Layout) -> dict[str, float | None]:
     run = layout.run
-    mesh = sum(float(s.get("wall_s") or 0.0) for s in run.get("steps", []) if not s.get("skipped"))
-    solver = (run.get("runner") or {}).get("solver_wall_s")
-    if solver is None:
-        solver = sum(float(s.get("wall_s") or 0.0) for s in run.get("segments", [])) or None
-    transport = run.get("transport") or {}
-    return {"mesh_wall_s": mesh or None, "flow_wall_s": solver, "flow_cpu_s": _solver_cpu_s(layout), "transport_wall_s": run.get("transport_wall_s"),
+    mesh = sum(float(s.get("wall_s") or 0.0) for s in run.steps if not s.get("skipped"))
+    transport = run.transport or {}
+    return {"mesh_wall_s": mesh or None, "flow_wall_s": run.solver_wall_s, "flow_cpu_s": _solver_cpu_s(layout),
+            "transport_wall_s": run.transport_wall_s,
             "transport_stepping_s": transport.get("wall_s"), "transport_pulses_s": transport.get("pulse_wall_s"),
             "member_wall_s": layout.member.get("wall_time_s")}
 

@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from orchestrator.case.outputs import water_balance_summary
+from orchestrator.case.run_state import RunState
 from orchestrator.contact.events import read_events
 from orchestrator.core.numbers import finite_or_none
 from orchestrator.results.readers import CaseData
@@ -21,19 +22,19 @@ from orchestrator.results.tables import Results
 __all__ = ["headline"]
 
 
-def _wall_times(run: dict | None) -> dict[str, float | None]:
+def _wall_times(run: RunState) -> dict[str, float | None]:
     """Wall time (s) of the solver's segments, the meshing steps, and in all."""
-    if not run:
+    if not run.recorded:
         return {"solver_s": None, "mesh_s": None, "total_s": None}
-    solver = sum(float(s.get("wall_s", 0.0)) for s in run.get("segments", []))
-    mesh = sum(float(s.get("wall_s", 0.0)) for s in run.get("steps", []) if not s.get("skipped"))
-    between = float((run.get("runner") or {}).get("between_segments_s", 0.0))
+    solver = sum(float(s.get("wall_s", 0.0)) for s in run.segments)
+    mesh = sum(float(s.get("wall_s", 0.0)) for s in run.steps if not s.get("skipped"))
+    between = float(run.runner.get("between_segments_s", 0.0))
     return {"solver_s": round(solver, 3), "mesh_s": round(mesh, 3), "total_s": round(solver + mesh + between, 3)}
 
 
 def _cells(data: CaseData) -> int | None:
     """The mesh's cell count: as run, else as planned."""
-    cells = (data.run or {}).get("cells") or {}
+    cells = data.run.cells
     for key in ("total", "planned"):
         if cells.get(key):
             return int(cells[key])
@@ -73,9 +74,9 @@ def headline(results: Results) -> dict[str, Any]:
 def _run_figures(results: Results) -> dict[str, Any]:
     """The run as run.json records it: status, end and reached times, cells, wall time, steps."""
     data = results.data
-    run = data.run or {}
-    status = run.get("status") or ("unknown (no run.json: run by hand?)" if not run else "unknown")
-    end = (run.get("end_time_s") if run else None) or (data.scene.run.end_time_s if data.scene else None)
+    run = data.run
+    status = run.status or ("unknown (no run.json: run by hand?)" if not run.recorded else "unknown")
+    end = run.end_time_s or (data.scene.run.end_time_s if data.scene else None)
     return {
         "case": str(data.case),
         "scene": data.scene.name if data.scene is not None else None,
@@ -86,7 +87,7 @@ def _run_figures(results: Results) -> dict[str, Any]:
         "complete": status == "finished",
         "cells": _cells(data),
         "wall_time_s": _wall_times(data.run),
-        "time_steps": run.get("time_steps"),
+        "time_steps": run.time_steps,
     }
 
 

@@ -28,6 +28,7 @@ from orchestrator.core.errors import DebrisfoamError, InputError
 from orchestrator.case.bodystate import read_mesh_poses
 from orchestrator.case.folder import EPS_T, CaseFolder
 from orchestrator.case.outputs import numeric_dirs
+from orchestrator.case.run_state import RunState
 from orchestrator.plan.model import ModelPlan
 from orchestrator.run.monitor import parse_log
 from orchestrator.scene.scenefile import load_scene
@@ -57,7 +58,7 @@ class CaseData:
     case: Path
     plan: ModelPlan | None
     scene: Any | None
-    run: dict | None
+    run: RunState
     solver: str | None
     column: Any | None
     notes: list[str] = field(default_factory=list)
@@ -115,9 +116,9 @@ def load_case(case_dir: str | Path) -> CaseData:
     folder = CaseFolder(case.resolve())
     notes: list[str] = []
     plan = folder.model_plan(notes)
-    run = folder.run_record(notes)
+    run = folder.run_state(notes)
     scene = _load_scene(folder, notes)
-    solver = (run or {}).get("solver") or (plan.solver if plan else None)
+    solver = run.solver or (plan.solver if plan else None)
     column = column_for_analysis(scene) if scene is not None and scene.column is not None else None
     return CaseData(folder.path, plan, scene, run, solver, column, notes)
 

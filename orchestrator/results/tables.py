@@ -241,11 +241,11 @@ def _fringe_note(fringe: pd.DataFrame | None) -> str:
 
 def _reached_time(data: CaseData, *frames: pd.DataFrame) -> float | None:
     """The time the run reached: run.json's when it finished, else the latest time any table or segment holds."""
-    run = data.run or {}
-    if run.get("reached_time_s") is not None and run.get("status") == "finished":
-        return float(run["reached_time_s"])
+    run = data.run
+    if run.reached_time_s is not None and run.finished:
+        return run.reached_time_s
     last = [float(f["time_s"].max()) for f in frames if not f.empty and "time_s" in f]
-    segs = run.get("segments") or []
+    segs = run.segments
     if segs:
         try:
             last.append(float(segs[-1]["end_time"]))

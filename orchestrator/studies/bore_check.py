@@ -145,11 +145,10 @@ def sweep_checks(sweep_dir: str | Path) -> pd.DataFrame:
         check = check_run(case)
         folder = CaseFolder(case)
         plan = folder.require_plan()
-        run = folder.run_record() or {}
         row = {"member": case.name, "turbulence": plan.turbulence,
                "wet_bed_cells": int(scene.get("mesh", {}).get("wet_bed_cells", 1)),
                "cell_size_m": float(scene["mesh"]["cell_size_m"]), "cells": int(plan.cell_count),
-               "wall_time_s": (run.get("runner") or {}).get("solver_wall_s"), **asdict(check)}
+               "wall_time_s": folder.run_state().runner.get("solver_wall_s"), **asdict(check)}
         rows.append(row)
     if not rows:
         raise InputError(str(sweep_dir), "holds no post-processed member (no */results/gauges.csv)")

@@ -140,8 +140,8 @@ def compare_scales(lab_dir: str | Path, proto_dir: str | Path) -> ScaleCompariso
     impacts = {k: _csv(r / "impacts.csv", "kind") for k, r in res.items()}
     n = {k: (0 if f is None else int((f["kind"] == "column").sum())) for k, f in impacts.items()}
     rows.append(_row("column strikes", "-", 0.0, float(n["lab"]), float(n["proto"]), scale))
-    runs = {k: CaseFolder(d).run_record() or {} for k, d in (("lab", lab_dir), ("proto", proto_dir))}
-    steps = {k: r.get("time_steps") for k, r in runs.items()}
+    runs = {k: CaseFolder(d).run_state() for k, d in (("lab", lab_dir), ("proto", proto_dir))}
+    steps = {k: r.time_steps for k, r in runs.items()}
     rows.append(_row("solver time steps", "-", 0.0, steps["lab"], steps["proto"], scale))
     cpu = {k: solver_cpu_s(d) for k, d in (("lab", lab_dir), ("proto", proto_dir))}
     rows.append(_row("solver CPU time (master rank; cost, not physics)", "s", 0.0, cpu["lab"], cpu["proto"], scale))

@@ -102,8 +102,7 @@ def solver_cpu_s(case_dir: str | Path) -> float | None:
     to ``log.<solver>.N``, so every log is one solver process (restarts that were later
     undone included: they cost CPU too). None when no log says."""
     case = Path(case_dir)
-    run = CaseFolder(case).run_record() or {}
-    bases = {str(seg.get("log")) for seg in run.get("segments") or [] if seg.get("log")}
+    bases = {str(seg["log"]) for seg in CaseFolder(case).run_state().segments if seg.get("log")}
     logs = {p for base in bases for p in [case / base, *case.glob(f"{base}.*")]
             if p.is_file() and (p.name == base or p.suffix[1:].isdigit())}
     total, found = 0.0, False

@@ -30,6 +30,7 @@ import pandas as pd
 
 from orchestrator.core.errors import InputError
 from orchestrator.case.folder import CaseFolder
+from orchestrator.case.run_state import RunState
 from orchestrator.case.outputs import (
     WATER_BALANCE_TOLERANCE,
     read_force_series,
@@ -123,14 +124,14 @@ def _forces_finite(case: Path) -> bool | None:
     return bool(all(checks)) if checks else None
 
 
-def _outcome(run: dict | None, member: dict | None) -> tuple[str, str]:
+def _outcome(run: RunState, member: dict | None) -> tuple[str, str]:
     """(outcome, diagnosis) from run.json and, in a sweep, the member's record."""
-    if run is None:
+    if not run.recorded:
         error = (member or {}).get("error")
         return ("failed", error) if isinstance(error, str) and error else ("not run", "")
-    status = run.get("status")
-    diagnosis = run.get("diagnosis") or {}
-    error = next((e for e in ((member or {}).get("error"), run.get("error")) if isinstance(e, str) and e), "")
+    status = run.status
+    diagnosis = run.diagnosis
+    error = next((e for e in ((member or {}).get("error"), run.error) if isinstance(e, str) and e), "")
     if status == "finished":
         return "finished", ""
     if status in ("diverged", "stalled"):
@@ -152,12 +153,11 @@ def assess(case_dir: str | Path, member: dict | None = None) -> Assessment:
     if not case.is_dir():
         raise InputError("case_dir", "not a directory", str(case))
     folder = CaseFolder(case)
-    run = folder.run_record()
+    run = folder.run_state()
     plan = folder.model_plan()
     scene = load_scene(folder.scene_path) if folder.scene_path.is_file() else None
     outcome, diagnosis = _outcome(run, member)
-    run = run or {}
-    segments = run.get("segments") or []
+    segments = run.segments
     reached = finite_or_none(segments[-1].get("end_time")) if segments else None
     balance = water_balance_summary(read_water_balance(case))
     deepest, what, sink, clearance = _clearances(case, plan, scene)
@@ -170,11 +170,11 @@ def assess(case_dir: str | Path, member: dict | None = None) -> Assessment:
         outcome=outcome,
         sane=None,
         reached_time_s=reached,
-        end_time_s=finite_or_none(run.get("end_time_s")),
+        end_time_s=run.end_time_s,
         wall_time_s=finite_or_none(wall),
         solver_wall_s=finite_or_none(sum(float(s.get("wall_s", 0.0)) for s in segments)) if segments else None,
-        cells=(run.get("cells") or {}).get("total"),
-        time_steps=run.get("time_steps"),
+        cells=run.cells.get("total"),
+        time_steps=run.time_steps,
         water_error=balance["max_error"] if balance else None,
         water_outflow_m3=balance["outflow_m3"] if balance else None,
         deepest_inside_m=deepest,

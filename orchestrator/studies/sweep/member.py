@@ -80,12 +80,7 @@ def earlier_attempts_wall_s(case: str | Path, started: str) -> float:
     ``started`` (an ISO time with its offset): what earlier attempts of a resumed member ran."""
     try:
         begun = _dt.datetime.fromisoformat(started)
-        run = CaseFolder(case).run_record() or {}
-        total = 0.0
-        for item in [*(run.get("steps") or []), *(run.get("segments") or [])]:
-            if item.get("start") and _dt.datetime.fromisoformat(item["start"]) < begun:
-                total += float(item.get("wall_s") or 0.0)
-        return total
+        return CaseFolder(case).run_state().wall_before_s(begun)
     except (TypeError, ValueError):  # a record this version cannot read: count this attempt alone
         return 0.0
 

@@ -31,6 +31,7 @@ import pandas as pd
 
 from orchestrator.core.errors import InputError
 from orchestrator.case.folder import CaseFolder
+from orchestrator.case.run_state import RunState
 from orchestrator.core.files import read_json_object, write_bytes_atomic, write_json_atomic, write_text_atomic
 from orchestrator.core.jsonio import json_default
 from orchestrator.scene.scenefile import dump_scene_yaml
@@ -109,12 +110,12 @@ def member_state(case_dir: str | Path) -> str:
         return "failed"
     folder = CaseFolder(case)
     summary = folder.summary() or {}
-    run = folder.run_record() or {}
-    if summary.get("status") == "finished" and run.get("status") == "finished":
+    run = folder.run_state()
+    if summary.get("status") == "finished" and run.finished:
         return "finished"
     if record.get("status") == "interrupted":  # even if a step the stop killed left run.json "failed"
         return "incomplete"
-    if run.get("status") in ("diverged", "stalled", "failed"):
+    if run.status in ("diverged", "stalled", "failed"):
         return "failed"
     return "incomplete"
 
@@ -134,20 +135,20 @@ def _peak_signed(path: Path, column: str) -> float | None:
     return float(values[np.argmax(np.abs(values))]) if values.size else None
 
 
-def _run_metrics(h: dict, run: dict) -> dict[str, Any]:
+def _run_metrics(h: dict, run: RunState) -> dict[str, Any]:
     """Size, times and how far the run got: from the headline, else from run.json."""
-    cells = run.get("cells") or {}
+    cells = run.cells
     wall = h.get("wall_time_s") or {}
     out: dict[str, Any] = {
-        "run_status": run.get("status") or h.get("status"),
+        "run_status": run.status or h.get("status"),
         "cells": h.get("cells") or cells.get("total") or cells.get("planned"),
-        "time_steps": h.get("time_steps", run.get("time_steps")),
-        "end_time_s": h.get("end_time_s", run.get("end_time_s")),
-        "reached_time_s": h.get("reached_time_s", run.get("reached_time_s")),
+        "time_steps": h.get("time_steps", run.time_steps),
+        "end_time_s": h.get("end_time_s", run.end_time_s),
+        "reached_time_s": h.get("reached_time_s", run.reached_time_s),
         "solver_wall_s": wall.get("solver_s"),
         "mesh_wall_s": wall.get("mesh_s"),
     }
-    segments = run.get("segments") or []
+    segments = run.segments
     if out["solver_wall_s"] is None and segments:
         out["solver_wall_s"] = round(sum(float(s.get("wall_s", 0.0)) for s in segments), 3)
     if out["reached_time_s"] is None and segments:  # a run stopped early: where its last segment got
@@ -155,7 +156,7 @@ def _run_metrics(h: dict, run: dict) -> dict[str, Any]:
             out["reached_time_s"] = float(segments[-1]["end_time"])
         except (KeyError, TypeError, ValueError):
             pass
-    diagnosis = run.get("diagnosis") or {}
+    diagnosis = run.diagnosis
     if diagnosis:
         out["diagnosis"] = f"{diagnosis.get('kind')}: {diagnosis.get('cause')} at t = {diagnosis.get('time_s')} s"
     return out
@@ -180,7 +181,7 @@ def member_metrics(case_dir: str | Path) -> dict[str, Any]:
     results/column_forces.csv and, for a run that did not finish, run.json."""
     folder = CaseFolder(case_dir)
     h = folder.summary() or {}
-    out = _run_metrics(h, folder.run_record() or {})
+    out = _run_metrics(h, folder.run_state())
     for gauge, g in (h.get("gauges") or {}).items():
         out[f"{gauge}_arrival_s"] = g.get("arrival_s")
         out[f"{gauge}_peak_elevation_m"] = g.get("peak_elevation_m")
@@ -237,8 +238,8 @@ def member_row_from_disk(sweep: Sweep, member: Member, out: Path, status: str) -
     folder = CaseFolder(out / member.id)
     record = read_member_record(folder.path) or {}
     if status == "failed" and not record.get("error"):
-        run = folder.run_record() or {}
-        record = {**record, "error": run.get("error") or (run.get("diagnosis") or {}).get("cause")}
+        run = folder.run_state()
+        record = {**record, "error": run.error or run.diagnosis.get("cause")}
     if status == "finished" and record.get("wall_time_s") is None:  # run outside the sweep
         summary = folder.summary() or {}
         record = {**record, "wall_time_s": (summary.get("wall_time_s") or {}).get("total_s")}
