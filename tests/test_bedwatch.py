@@ -73,7 +73,7 @@ def test_the_ring_is_kept_off_the_other_bodies_overset_holes():
 
 def test_the_columns_ring_the_bodies_kept_on_the_bed_one_point_per_layer(case):
     plan = CaseFolder(case).require_plan()
-    axis = waterdepth.z_axis(plan, waterdepth._scene(case))
+    axis = waterdepth.z_axis(plan, CaseFolder(case).scene().mesh.cell_size_m)
     assert axis.z.max() > max(w.max_m[2] for w in plan.water)  # up to the reservoir's level
     assert axis.dz[:4] == pytest.approx([plan.bed_gap_m / 4] * 4)  # the gap's four layers
     # a still 25 mm wet bed read through its layers: exactly 25 mm
@@ -99,7 +99,7 @@ def test_the_columns_ring_the_bodies_kept_on_the_bed_one_point_per_layer(case):
 def test_a_point_sampled_in_a_body_mesh_as_well_counts_once(case, tmp_path):
     # v1912's sets writes a point that lies in a body's overset mesh once per mesh: a still 25 mm
     # bed read through such a column must still be 25 mm, not twice that
-    axis = waterdepth.z_axis(CaseFolder(case).require_plan(), waterdepth._scene(case))
+    axis = waterdepth.z_axis(CaseFolder(case).require_plan(), CaseFolder(case).scene().mesh.cell_size_m)
     wet = axis.z < 0.025
     rows = [(x, 0.0, z, 1.0 if w else 0.0) for x in (0.1, 0.5) for z, w in zip(axis.z, wet)]
     rows += [(0.5, 0.0, z, 1.0 if w else 0.0) for z, w in zip(axis.z, wet)]  # x = 0.5: in a body mesh on the other rank too

@@ -11,13 +11,12 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
-import yaml
 
 from analytical.dambreak import StokerSolution
 from orchestrator.core.errors import InputError
 from orchestrator.plan.model import ModelPlan
 from orchestrator.plan.planner import plan_case
-from orchestrator.scene.scenefile import load_scene
+from orchestrator.scene.scenefile import dump_scene_yaml, load_scene
 from orchestrator.studies.bore_check import bore_check, check_run, write_bore_report
 from tests.conftest import check_report_verb, render_and_run, run_cli
 
@@ -106,10 +105,9 @@ def _member(folder, turbulence, cells, stretch):
     (folder / "results").mkdir(parents=True)
     pd.DataFrame({"time_s": t, **{f"{n}_elevation_m": v for n, v in levels.items()}}).to_csv(
         folder / "results" / "gauges.csv", index=False)
-    scene = {"reservoir": {"depth_m": H0}, "bed": {"wet_depth_m": H1}, "mesh": {"cell_size_m": 0.02,
-             "wet_bed_cells": cells}, "run": {"end_time_s": 3.5},
-             "gauges": [{"name": n, "x_m": x, "y_m": 0.0} for n, x in GAUGES.items()]}
-    (folder / "scene.yaml").write_text(yaml.safe_dump(scene))
+    scene = load_scene(ROOT / "cases" / "stoker-wet-bed.yaml", [f"mesh.wet_bed_cells={cells}"])  # G2-G7, H0 over H1
+    assert {g.name: g.x_m for g in scene.gauges} == GAUGES and scene.bed.wet_depth_m == H1
+    (folder / "scene.yaml").write_text(dump_scene_yaml(scene))
     (folder / "plan.json").write_text(replace(_plan(), turbulence=turbulence, cell_count=1000).to_json())
     (folder / "run.json").write_text(json.dumps({"runner": {"solver_wall_s": 12.5}}))
 

@@ -3,26 +3,34 @@ member's, the front's speed between the gauges, bad sweeps named."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pandas as pd
 import pytest
-import yaml
-
 from orchestrator.core.errors import InputError
+from orchestrator.scene.scenefile import dump_scene_yaml, load_scene
 from orchestrator.studies.flume_report import flume_members, write_flume_report
 from tests.conftest import check_report_verb
 
 FACE_X = 4.89
+CASES = Path(__file__).resolve().parents[1] / "cases"
 
 
 def _member(folder, arrivals, sill=0.0, depth=0.40, opening=None, column_x=5.0, closure="laminar", opening_s=0.0,
-            cell=None, drag=None):
+            cell=None, drag=None, interval=None, refine=None):
+    """A post-processed member: the shipped flume scene (its 2D centreline strip without a column)
+    with these changes, and its gauges' arrivals."""
     (folder / "results").mkdir(parents=True)
-    scene = {"name": "nodebris", "flume": {"width_m": 1.5 if column_x else 0.1}, "fluids": {"turbulence": closure},
-             "reservoir": {"depth_m": depth, "sill_height_m": sill, "opening_width_m": opening,
-                           "opening_time_s": opening_s},
-             "bed": {"wet_depth_m": 0.015, **({} if drag is None else {"friction_calibration": drag})}, "column": None if column_x is None else {"x_m": column_x},
-             "mesh": {"cell_size_m": cell or (0.04 if column_x else 0.02)}, "run": {"end_time_s": 2.0}}
-    (folder / "scene.yaml").write_text(yaml.safe_dump(scene))
+    base = CASES / ("flume-centreline-2d.yaml" if column_x is None else "nodebris.yaml")
+    sets = [f"fluids.turbulence={closure}", f"reservoir.depth_m={depth}", f"reservoir.sill_height_m={sill}",
+            f"reservoir.opening_time_s={opening_s}", f"mesh.cell_size_m={cell or (0.02 if column_x is None else 0.04)}",
+            "run.end_time_s=2.0"]
+    sets += [] if column_x is None else [f"column.x_m={column_x}"]
+    sets += [] if opening is None else [f"reservoir.opening_width_m={opening}"]
+    sets += [] if drag is None else [f"bed.friction_calibration={drag}"]
+    sets += [] if interval is None else [f"outputs.probe_interval_s={interval}"]
+    sets += [] if refine is None else [f"mesh.refine_box_m={list(refine)}", "mesh.refine_cell_size_m=0.02"]
+    (folder / "scene.yaml").write_text(dump_scene_yaml(load_scene(base, sets)))
     rows = [{"gauge": name, "x_m": x, "arrival_s": t}
             for (name, x), t in zip((("WG2", 2.40), ("WG3", 3.20), ("WG4", FACE_X)), arrivals)]
     pd.DataFrame(rows).to_csv(folder / "results" / "gauge_summary.csv", index=False)
@@ -107,11 +115,7 @@ def _profiles(folder, gauge, times, wet_tops, step=0.01, top=0.6):
 def _flow_member(folder, arrivals, centreline, interval=0.01, refine=None):
     """A member with WG2-WG4 (:func:`_member`), centreline gauges {x: arrival}, a probe interval,
     a gauges.csv for WG4 and raw WG4 profiles with a splash above the integral."""
-    _member(folder, arrivals)
-    scene = yaml.safe_load((folder / "scene.yaml").read_text())
-    scene["outputs"] = {"probe_interval_s": interval}
-    scene["mesh"] |= {"refine_box_m": refine, "refine_cell_size_m": 0.02 if refine else None}
-    (folder / "scene.yaml").write_text(yaml.safe_dump(scene))
+    _member(folder, arrivals, interval=interval, refine=refine)
     summary = pd.read_csv(folder / "results" / "gauge_summary.csv")
     summary["y_m"] = 0.0
     extra = [{"gauge": f"CL{round(x * 100)}", "x_m": x, "y_m": 0.0, "arrival_s": t} for x, t in centreline.items()]

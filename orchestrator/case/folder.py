@@ -24,7 +24,7 @@ from orchestrator.core.errors import InputError
 from orchestrator.core.files import read_json, read_json_object, write_json_atomic, write_text_atomic
 from orchestrator.case.run_state import RunState
 from orchestrator.plan.model import ModelPlan
-from orchestrator.scene.scenefile import dump_scene_yaml
+from orchestrator.scene.scenefile import dump_scene_yaml, load_scene
 from orchestrator.scene.schema import Scene
 
 SCENE_YAML = "scene.yaml"
@@ -190,6 +190,14 @@ class CaseFolder:
     def summary(self) -> dict | None:
         """results/summary.json, or None."""
         return read_json_object(self.summary_path)
+
+    def scene(self) -> Scene:
+        """scene.yaml as the resolved :class:`Scene` the case was rendered from; InputError naming
+        the file when it is missing or today's checks refuse it."""
+        if not self.scene_path.is_file():
+            raise InputError("scene.yaml", "missing: not a case folder that `debrisfoam render` wrote",
+                             str(self.scene_path))
+        return load_scene(self.scene_path)
 
     def scene_text(self) -> str | None:
         """scene.yaml's text, or None."""

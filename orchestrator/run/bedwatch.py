@@ -77,7 +77,6 @@ from pathlib import Path
 from typing import Callable, Sequence
 
 import numpy as np
-import yaml
 
 from orchestrator.case.bodystate import BodyState
 from orchestrator.case.folder import CaseFolder
@@ -161,18 +160,16 @@ class BedWatch:
     def for_case(cls, case: Path, margin_m: float, say: Callable[[str], None], friction: bool = True) -> "BedWatch":
         folder = CaseFolder(case)
         plan = folder.require_plan()
-        scene = yaml.safe_load(folder.scene_path.read_text())
-        rho = float(scene.get("fluids", {}).get("water_density_kg_m3", 998.2))
-        g = float(scene.get("fluids", {}).get("gravity_m_s2", 9.81))
-        mu = {d["name"]: float((d.get("contact") or {}).get("bed_friction_coefficient", 0.3))
-              for d in scene.get("debris") or []}
+        scene = folder.scene()
+        rho, g = float(scene.fluids.water_density_kg_m3), float(scene.fluids.gravity_m_s2)
+        mu = {d.name: float(d.contact.bed_friction_coefficient) for d in scene.debris}
         bodies = {b.name: b for b in plan.bodies}
         initial = {}
         for b in plan.bodies:
             x, y = (float(v) for v in b.centre_of_mass_m[:2])
             initial[b.name] = max((float(w.max_m[2]) - float(w.min_m[2]) for w in plan.water
                                    if w.min_m[0] <= x <= w.max_m[0] and w.min_m[1] <= y <= w.max_m[1]), default=0.0)
-        axis = waterdepth.z_axis(plan, scene) if bodies else None
+        axis = waterdepth.z_axis(plan, scene.mesh.cell_size_m) if bodies else None
         if axis is not None:
             waterdepth.install(case, axis)  # the lift of every body; columns once a restart needs them
         bed_z = float(plan.domain_m[2][0])

@@ -41,10 +41,9 @@ import re
 import shutil
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Sequence
 
 import numpy as np
-import yaml
 
 from orchestrator.case.folder import CaseFolder
 from orchestrator.case.outputs import numeric_dirs, read_force_series
@@ -116,13 +115,10 @@ class Sample:
     depth_m: np.ndarray  # (n,)
 
 
-def _scene(case: Path) -> dict[str, Any]:
-    return yaml.safe_load(CaseFolder(case).scene_path.read_text())
-
-
-def z_axis(plan: ModelPlan, scene: dict[str, Any]) -> ZAxis:
-    """The background's layers up to the highest still water (the reservoir) plus a cell."""
-    h = float(scene["mesh"]["cell_size_m"])
+def z_axis(plan: ModelPlan, cell_size_m: float) -> ZAxis:
+    """The background's layers up to the highest still water (the reservoir) plus a cell of the
+    scene's ``cell_size_m`` (mesh.cell_size_m)."""
+    h = float(cell_size_m)
     (z0, z1) = (float(v) for v in plan.domain_m[2])
     water_top = max((float(w.max_m[2]) for w in plan.water), default=z1)
     planes = {round(z0, 12)}

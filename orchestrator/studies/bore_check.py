@@ -118,7 +118,6 @@ def bore_check(time_s, levels: dict[str, np.ndarray], gauge_x_m: dict[str, float
 
 def check_run(case_dir: str | Path) -> BoreCheck:
     """:func:`bore_check` of a post-processed run (its results/gauges.csv, plan.json and scene.yaml)."""
-    import yaml
 
     case = Path(case_dir)
     table = case / "results" / "gauges.csv"
@@ -127,27 +126,23 @@ def check_run(case_dir: str | Path) -> BoreCheck:
     for name in ("scene.yaml", "plan.json"):
         if not (case / name).is_file():
             raise InputError(str(case / name), "missing: not a case folder that `debrisfoam render` wrote")
-    scene = yaml.safe_load((case / "scene.yaml").read_text())
+    scene = CaseFolder(case).scene()
     frame = pd.read_csv(table)
-    gauges = {gg["name"]: float(gg["x_m"]) for gg in scene["gauges"]}
+    gauges = {gg.name: float(gg.x_m) for gg in scene.gauges}
     levels = {name: frame[f"{name}_elevation_m"].to_numpy() for name in gauges}
-    return bore_check(frame["time_s"].to_numpy(), levels, gauges, float(scene["reservoir"]["depth_m"]),
-                      float(scene["bed"]["wet_depth_m"]), float(scene.get("fluids", {}).get("gravity_m_s2", 9.81)))
+    return bore_check(frame["time_s"].to_numpy(), levels, gauges, float(scene.reservoir.depth_m),
+                      float(scene.bed.wet_depth_m), float(scene.fluids.gravity_m_s2))
 
 
 def sweep_checks(sweep_dir: str | Path) -> pd.DataFrame:
     """One row per finished member of a sweep: its model, cells, wall time and :func:`check_run`."""
     rows = []
     for case in member_dirs(sweep_dir, "results/gauges.csv"):
-        import yaml
-
-        scene = yaml.safe_load((case / "scene.yaml").read_text())
         check = check_run(case)
         folder = CaseFolder(case)
-        plan = folder.require_plan()
-        row = {"member": case.name, "turbulence": plan.turbulence,
-               "wet_bed_cells": int(scene.get("mesh", {}).get("wet_bed_cells", 1)),
-               "cell_size_m": float(scene["mesh"]["cell_size_m"]), "cells": int(plan.cell_count),
+        plan, mesh = folder.require_plan(), folder.scene().mesh
+        row = {"member": case.name, "turbulence": plan.turbulence, "wet_bed_cells": int(mesh.wet_bed_cells),
+               "cell_size_m": float(mesh.cell_size_m), "cells": int(plan.cell_count),
                "wall_time_s": folder.run_state().runner.get("solver_wall_s"), **asdict(check)}
         rows.append(row)
     if not rows:
@@ -160,25 +155,25 @@ def _plot(table: pd.DataFrame, sweep_dir: Path, out: Path) -> list[str]:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    import yaml
 
     names = []
     for h1, group in table.groupby("h1_m"):
         first = sweep_dir / group["member"].iloc[0]
-        scene = yaml.safe_load((first / "scene.yaml").read_text())
-        gauges = [gg for gg in scene["gauges"] if gg["x_m"] >= DEVELOPED_X_FACTOR * scene["reservoir"]["depth_m"]]
-        stoker = StokerSolution(float(scene["reservoir"]["depth_m"]), float(h1))
+        scene = CaseFolder(first).scene()
+        h0 = float(scene.reservoir.depth_m)
+        gauges = [gg for gg in scene.gauges if gg.x_m >= DEVELOPED_X_FACTOR * h0]
+        stoker = StokerSolution(h0, float(h1))
         fig, axes = plt.subplots(len(gauges), 1, figsize=(7.5, 1.7 * len(gauges) + 0.6), sharex=True)
         axes = np.atleast_1d(axes)
-        t = np.linspace(0.0, float(scene["run"]["end_time_s"]), 700)
+        t = np.linspace(0.0, float(scene.run.end_time_s), 700)
         for ax, gg in zip(axes, gauges):
-            ax.plot(t, [float(stoker.profile(gg["x_m"], tt)[0]) for tt in t], "k--", lw=1.2, label="Stoker")
+            ax.plot(t, [float(stoker.profile(gg.x_m, tt)[0]) for tt in t], "k--", lw=1.2, label="Stoker")
             for row in group.itertuples():
                 frame = pd.read_csv(sweep_dir / row.member / "results" / "gauges.csv")
-                ax.plot(frame["time_s"], frame[f"{gg['name']}_elevation_m"], lw=1,
+                ax.plot(frame["time_s"], frame[f"{gg.name}_elevation_m"], lw=1,
                         label=f"{row.turbulence}, {row.wet_bed_cells} cell(s) across the wet bed, "
                               f"{row.cell_size_m * 100:g} cm")
-            ax.set_ylabel(f"x = {gg['x_m']:g} m\nlevel (m)", fontsize=8)
+            ax.set_ylabel(f"x = {gg.x_m:g} m\nlevel (m)", fontsize=8)
         axes[0].legend(fontsize=7, loc="upper left")
         axes[-1].set_xlabel("time (s)")
         fig.suptitle(f"h0 = {stoker.h0_m:g} m over a {h1:g} m wet bed (h1/h0 = {h1 / stoker.h0_m:.4g})", fontsize=9)

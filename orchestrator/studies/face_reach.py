@@ -26,6 +26,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from orchestrator.case.folder import CaseFolder
 from orchestrator.results.readers import read_gauge_samples
 
 __all__ = ["AFTER_ARRIVAL_S", "WET_ALPHA", "FaceReading", "MemberFlow", "Reach", "face_reading",
@@ -172,17 +173,13 @@ def member_flow(case: str | Path, face_gauge: str, face_x_m: float, face_s: floa
                 skip: tuple[str, ...] = ()) -> MemberFlow:
     """:func:`face_reading` and :func:`reach_speeds` of a post-processed member (its results/, scene.yaml
     and plan.json), the gauges in ``skip`` left out of the reaches."""
-    import json
-
-    import yaml
-
-    case = Path(case)
-    scene = yaml.safe_load((case / "scene.yaml").read_text()) or {}
-    interval = (scene.get("outputs") or {}).get("probe_interval_s")
+    folder = CaseFolder(case)
+    case = folder.path
+    interval = folder.scene().outputs.probe_interval_s
     interval = None if interval is None else float(interval)
     summary = pd.read_csv(case / "results" / "gauge_summary.csv")
-    plan = case / "plan.json"
-    cells = int(json.loads(plan.read_text()).get("cell_count") or 0) if plan.is_file() else 0
+    plan = folder.model_plan()
+    cells = int(plan.cell_count) if plan is not None else 0
     series = face_series(case, face_gauge)
     return MemberFlow(face_reading(series, face_s), series, tuple(reach_speeds(summary, face_x_m, interval, skip)),
                       interval, cells)

@@ -18,12 +18,13 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-import yaml
-
+from orchestrator.case.folder import CaseFolder
 from orchestrator.core.errors import InputError
 from orchestrator.report.figures import pyplot
 from orchestrator.studies.face_reach import AFTER_ARRIVAL_S, WET_ALPHA, MemberFlow, member_flow, reach_verdict
 from orchestrator.studies.gauge_reading import RISES_M, SHELF_BAND_M, RiseReading, rise_reading
+from orchestrator.scene.flume import Bed
+from orchestrator.scene.schema import Mesh
 from orchestrator.studies.sweep.store import member_dirs
 from analytical.dambreak import stoker_state
 from analytical.study import SEED_ARRIVALS, SEED_IMPACT_HEIGHTS_M
@@ -58,7 +59,7 @@ class FlumeMember:
     wet_bed_cells: int = 1
     refine: str = ""  # the refinement box, in words ("": none)
     cell_size_m: float = math.nan  # mesh.cell_size_m
-    friction_calibration: float = math.nan  # bed.friction_calibration (nan: the schema's default)
+    friction_calibration: float = Bed.model_fields["friction_calibration"].default  # bed.friction_calibration
 
     @property
     def speed_wg2_wg3_m_s(self) -> float:
@@ -77,33 +78,32 @@ def _member(case: Path) -> FlumeMember:
     summary = case / "results" / "gauge_summary.csv"
     if not summary.is_file():
         raise InputError(str(summary), "missing: run `debrisfoam post` on the member first")
-    scene = yaml.safe_load((case / "scene.yaml").read_text())
+    scene = CaseFolder(case).scene()
     table = pd.read_csv(summary).set_index("gauge")
     for name in ("WG2", "WG3", FACE_GAUGE):
         if name not in table.index:
             raise InputError(str(summary), f"has no gauge {name}: the page reads WG2, WG3 and {FACE_GAUGE}")
     arrival = {name: float(table.loc[name, "arrival_s"]) for name in ("WG2", "WG3", FACE_GAUGE)}
-    res, summary_json = scene["reservoir"], case / "results" / "summary.json"
-    wall, mesh = math.nan, scene.get("mesh") or {}
+    res, summary_json = scene.reservoir, case / "results" / "summary.json"
+    wall, mesh = math.nan, scene.mesh
     if summary_json.is_file():
         import json
 
         wall = float((json.loads(summary_json.read_text()).get("wall_time_s") or {}).get("solver_s") or math.nan)
     return FlumeMember(
-        member=case.name, sill_height_m=float(res.get("sill_height_m") or 0.0), depth_m=float(res["depth_m"]),
-        opening_width_m=None if res.get("opening_width_m") is None else float(res["opening_width_m"]),
-        wet_depth_m=float(scene["bed"]["wet_depth_m"]),
-        column_x_m=float(scene["column"]["x_m"]) if scene.get("column") else math.nan,
+        member=case.name, sill_height_m=float(res.sill_height_m), depth_m=float(res.depth_m),
+        opening_width_m=None if res.opening_width_m is None else float(res.opening_width_m),
+        wet_depth_m=float(scene.bed.wet_depth_m),
+        column_x_m=float(scene.column.x_m) if scene.column is not None else math.nan,
         face_x_m=float(table.loc[FACE_GAUGE, "x_m"]), wg2_s=arrival["WG2"], wg3_s=arrival["WG3"],
-        face_s=arrival[FACE_GAUGE], solver_wall_s=wall, opening_time_s=float(res.get("opening_time_s") or 0.0),
-        turbulence=str((scene.get("fluids") or {}).get("turbulence", "laminar")),
-        wet_bed_cells=int(mesh.get("wet_bed_cells") or 1), refine=_refine_text(mesh),
-        cell_size_m=float(mesh.get("cell_size_m") or math.nan),
-        friction_calibration=float(scene["bed"].get("friction_calibration") or math.nan))
+        face_s=arrival[FACE_GAUGE], solver_wall_s=wall, opening_time_s=float(res.opening_time_s),
+        turbulence=str(scene.fluids.turbulence), wet_bed_cells=int(mesh.wet_bed_cells), refine=_refine_text(mesh),
+        cell_size_m=float(mesh.cell_size_m),
+        friction_calibration=float(scene.bed.friction_calibration))
 
 
-def _refine_text(mesh: dict) -> str:
-    box, size = mesh.get("refine_box_m"), mesh.get("refine_cell_size_m")
+def _refine_text(mesh: Mesh) -> str:
+    box, size = mesh.refine_box_m, mesh.refine_cell_size_m
     if box is None or size is None:
         return ""
     x0, x1, y0, y1, z0, z1 = (float(v) for v in box)
@@ -139,7 +139,7 @@ def _change(m: FlumeMember, base: FlumeMember) -> str:
         parts.append(f"{m.wet_bed_cells} cells across the wet bed")
     if m.cell_size_m != base.cell_size_m and math.isfinite(m.cell_size_m):
         parts.append(f"{m.cell_size_m * 100:g} cm cells")
-    if m.friction_calibration != base.friction_calibration and math.isfinite(m.friction_calibration):
+    if m.friction_calibration != base.friction_calibration:
         parts.append(f"bed drag calibration {m.friction_calibration:g}")
     return "; ".join(parts) or "the scene as shipped"
 
@@ -361,12 +361,10 @@ _TITLES = {"face-splash": ("# Splash-up at the column's face: 4 cm cells and fin
 
 def _setting(case: Path) -> str:
     """What every member shares, from the first member's scene: its name, closure, cells and end time."""
-    scene = yaml.safe_load((case / "scene.yaml").read_text())
-    closure = (scene.get("fluids") or {}).get("turbulence", "laminar")
-    width = float(scene.get("flume", {}).get("width_m", math.nan))
-    column = "no column" if not scene.get("column") else "the column"
-    return (f"the scene `{scene.get('name')}` ({closure}, {float(scene['mesh']['cell_size_m']) * 100:g} cm cells, "
-            f"a {width:g} m wide flume, {column}, {float(scene['run']['end_time_s']):g} s)")
+    scene = CaseFolder(case).scene()
+    column = "no column" if scene.column is None else "the column"
+    return (f"the scene `{scene.name}` ({scene.fluids.turbulence}, {scene.mesh.cell_size_m * 100:g} cm cells, "
+            f"a {scene.flume.width_m:g} m wide flume, {column}, {scene.run.end_time_s:g} s)")
 
 
 def write_flume_report(sweep_dir: str | Path, out_dir: str | Path) -> dict[str, Path]:
