@@ -29,7 +29,6 @@ from orchestrator.report.preview import preview_scene
 from orchestrator.run import openfoam
 from orchestrator.run.runner import run_case
 from orchestrator.scene.schema import Scene
-from orchestrator.scene.scenefile import load_scene
 from orchestrator.transport.case_transport import TransportSummary, contact_laws, transport_case
 
 #: Post-processing draws with matplotlib's pyplot (and pyvista), which are not thread-safe:
@@ -47,7 +46,7 @@ def folder_scene(folder: CaseFolder) -> Scene | None:
     if not folder.scene_path.is_file():
         return None
     try:
-        return load_scene(folder.scene_path)
+        return folder.scene()
     except InputError:
         return None
 
@@ -81,7 +80,7 @@ def prepare_case(scene: Scene, plan: ModelPlan, scene_path: str | Path, out_dir:
     if out.is_dir() and any(out.iterdir()):
         folder = CaseFolder(out)
         try:
-            existing = load_scene(folder.scene_path) if folder.scene_path.is_file() else None
+            existing = folder.scene() if folder.scene_path.is_file() else None
         except InputError as exc:  # written under rules it does not pass today
             raise InputError("-o/--out", f"{out} holds a case whose scene.yaml today's checks refuse ({exc}), so "
                              "it cannot be resumed; choose another folder, or remove it to start again") from exc
@@ -157,7 +156,7 @@ def carry_debris(case: str | Path, already: bool = False, quiet: bool = False) -
         return None
     done = folder.run_state().transport if already else None
     if done is not None:
-        laws = contact_laws(load_scene(folder.scene_path))
+        laws = contact_laws(folder.scene())
         if done.get("contact_laws") == laws:
             return None
         if not quiet:

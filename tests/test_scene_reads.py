@@ -36,6 +36,32 @@ def test_a_module_outside_the_scene_stage_parses_no_yaml(module):
     assert not yaml_imports((ROOT / module).read_text()), f"{module}: read scene.yaml with CaseFolder(case).scene()"
 
 
+def case_scene_loads(source: str) -> list[int]:
+    """Lines that load a case folder's own scene.yaml as it is (``load_scene(folder.scene_path)``,
+    ``load_scene(case / "scene.yaml")``) instead of taking ``CaseFolder.scene()``; a load with
+    overrides (a second argument) makes another scene from it and is not counted."""
+    out = []
+    for node in ast.walk(ast.parse(source)):
+        if not (isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "load_scene"
+                and len(node.args) == 1 and not node.keywords):
+            continue
+        arg = node.args[0]
+        if any(isinstance(n, ast.Attribute) and n.attr == "scene_path" for n in ast.walk(arg)) or any(
+                isinstance(n, ast.Constant) and n.value == "scene.yaml" for n in ast.walk(arg)):
+            out.append(node.lineno)
+    return out
+
+
+@pytest.mark.parametrize("module", [m for m in _modules() if m != "orchestrator/case/folder.py"])
+def test_a_case_folders_scene_is_read_through_the_folder(module):
+    assert not case_scene_loads((ROOT / module).read_text()), f"{module}: take CaseFolder(case).scene()"
+
+
+def test_the_scan_sees_a_case_scene_loaded_by_hand():
+    assert case_scene_loads("s = load_scene(folder.scene_path)\nt = load_scene(case / 'scene.yaml')\n") == [1, 2]
+    assert not case_scene_loads("s = load_scene(args.scene)\nt = load_scene(folder.scene_path, ['a=1'])\n")
+
+
 def test_the_scan_sees_an_import_inside_a_function():
     assert yaml_imports("def f():\n    import yaml\n    return yaml.safe_load('a: 1')\n") == [2]
     assert yaml_imports("from yaml import safe_load\n") == [1]

@@ -50,7 +50,6 @@ from orchestrator.report import layout_plots
 from orchestrator.report.layout_page import markdown
 from orchestrator.results.compare import SPREADING_ANGLES_DEG, spreading_area
 from orchestrator.results.tables import write_table
-from orchestrator.scene.scenefile import load_scene
 from orchestrator.transport.case_transport import TRANSPORT_DIR
 
 __all__ = ["IMPACT_TABLE_COLUMNS", "Layout", "find_runs", "flow_agreement", "impact_table", "layout_row", "load_layout",
@@ -254,7 +253,7 @@ def load_layout(case_dir: str | Path) -> Layout:
     member_path = folder.path / MEMBER_JSON
     member = read_json_object(member_path) or {}
     summary = folder.summary() or {}
-    scene = load_scene(folder.scene_path) if folder.scene_path.is_file() else None
+    scene = folder.scene() if folder.scene_path.is_file() else None
     name = summary.get("scene") or (scene.name if scene is not None else None) or \
         (member.get("params") or {}).get("scene") or folder.path.name
     if not summary:

@@ -31,7 +31,6 @@ from orchestrator.case.outputs import numeric_dirs
 from orchestrator.case.run_state import RunState
 from orchestrator.plan.model import ModelPlan
 from orchestrator.run.monitor import parse_log
-from orchestrator.scene.scenefile import load_scene
 from orchestrator.scene.schema import column_for_analysis
 
 __all__ = [
@@ -129,7 +128,7 @@ def _load_scene(folder: CaseFolder, notes: list[str]):
         notes.append("no scene.yaml: no initial levels from the scene, no analytical comparisons")
         return None
     try:
-        return load_scene(folder.scene_path)
+        return folder.scene()
     except DebrisfoamError as exc:
         notes.append(f"scene.yaml could not be loaded ({exc}): no analytical comparisons")
         return None

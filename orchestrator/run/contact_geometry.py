@@ -25,7 +25,6 @@ from orchestrator.contact import geometry as geo
 from orchestrator.contact.resolution import resolve
 from orchestrator.contact.settings import ContactSettings
 from orchestrator.run.case_info import CaseInfo
-from orchestrator.scene.scenefile import load_scene
 
 __all__ = ["Contact", "Geometry", "resting_contact"]
 
@@ -51,7 +50,7 @@ class Geometry:
     """The case's obstacles (from scene.yaml and plan.json) and its bodies, for orchestrator.contact.geometry."""
 
     def __init__(self, info: CaseInfo):
-        self.scene = load_scene(CaseFolder(info.case).scene_path)
+        self.scene = CaseFolder(info.case).scene()
         # the modelled domain's walls: where the CFD has them (its upstream end is a wall
         # also when the reservoir is cut short; the downstream end only if it is a wall)
         self.obstacles = geo.scene_obstacles(

@@ -30,6 +30,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from orchestrator.case.folder import CaseFolder
 from orchestrator.core.errors import InputError
 from orchestrator.scene.scenefile import load_scene
 from orchestrator.transport.budget import force_budget
@@ -193,7 +194,7 @@ def coupled_run(case: Path, *, label: str, cell_m: float) -> ApproachRun | None:
     bodies, impacts = case / "results" / "bodies.csv", case / "results" / "impacts.csv"
     if not (bodies.is_file() and impacts.is_file()):
         return None
-    scene = load_scene(case / "scene.yaml")
+    scene = CaseFolder(case).scene()
     body = scene.debris[0]
     track = pd.read_csv(bodies).query("body == @body.name").reset_index(drop=True)
     track, strike = _to_strike(track, pd.read_csv(impacts).query("body == @body.name"), body.size_m,

@@ -22,6 +22,7 @@ import numpy as np
 import pandas as pd
 
 from analytical.study import SEED_IMPACT_VELOCITY_M_S
+from orchestrator.case.folder import CaseFolder
 from orchestrator.core.errors import InputError
 from orchestrator.core.files import write_bytes_atomic, write_text_atomic
 from orchestrator.studies.approach import APPROACH_REACH_M, ApproachFlow, ApproachRun, carry, coupled_run, thinned
@@ -118,7 +119,7 @@ def run_all(default: Path, runs: Path, say=print,
         if (case / "scene.yaml").is_file():
             name = case.name if case.name != "two-way" else case.parent.name
             run = coupled_run(case, label=f"coupled: {name}",
-                              cell_m=near_column_cell_m(load_scene(case / "scene.yaml")))
+                              cell_m=near_column_cell_m(CaseFolder(case).scene()))
         if run is None:
             notes.append(f"`{case}` has no scene.yaml, results/bodies.csv and impacts.csv: no coupled carry "
                          "(`make case-1debris COUPLING=two-way`, or `debrisfoam post --tables-only` of a stopped run)")

@@ -18,7 +18,6 @@ import numpy as np
 
 from orchestrator.case.folder import CaseFolder
 from orchestrator.core.errors import InputError
-from orchestrator.scene.scenefile import load_scene
 from orchestrator.transport.case_transport import case_flow, scene_settings, transport_setup
 from orchestrator.transport.mujoco_model import with_start
 from orchestrator.transport.engine import run_transport
@@ -45,7 +44,7 @@ def forcing_variants(case_dir: str | Path, say: Callable[[str], None] = print) -
     if not folder.scene_path.is_file():
         raise InputError("case_dir", "no scene.yaml: not a debrisfoam case (run `make case-1debris` first)",
                          str(case_dir))
-    scene = load_scene(folder.scene_path)
+    scene = folder.scene()
     if not scene.debris:
         raise InputError("debris", "the scene has no debris to carry through its record", str(folder.scene_path))
     flow, _ = case_flow(folder.path, say=lambda _: None)

@@ -26,7 +26,6 @@ from orchestrator.core.errors import InputError
 from orchestrator.core.files import write_text_atomic
 from orchestrator.report.figures import pyplot, save_figure
 from orchestrator.results.tables import write_table
-from orchestrator.scene.scenefile import load_scene
 from orchestrator.studies.speed_error import solver_cpu_s
 
 __all__ = ["TARGET", "ScaleComparison", "compare_scales", "write_scale_report"]
@@ -69,7 +68,7 @@ def _csv(path: Path, *columns: str) -> pd.DataFrame | None:
 
 
 def _scale(lab_dir: Path, proto_dir: Path) -> float:
-    lab, proto = (load_scene(CaseFolder(d).path / "scene.yaml") for d in (lab_dir, proto_dir))
+    lab, proto = (CaseFolder(d).scene() for d in (lab_dir, proto_dir))
     scale = proto.reservoir.depth_m / lab.reservoir.depth_m
     pairs = {"flume.width_m": (lab.flume.width_m, proto.flume.width_m),
              "mesh.cell_size_m": (lab.mesh.cell_size_m, proto.mesh.cell_size_m)}
@@ -147,14 +146,14 @@ def compare_scales(lab_dir: str | Path, proto_dir: str | Path) -> ScaleCompariso
     rows.append(_row("solver CPU time (master rank; cost, not physics)", "s", 0.0, cpu["lab"], cpu["proto"], scale))
     table = pd.DataFrame(rows, columns=list(COLUMNS))
     notes = _notes(lab_dir, scale)
-    name = load_scene(CaseFolder(lab_dir).path / "scene.yaml").name
+    name = CaseFolder(lab_dir).scene().name
     return ScaleComparison(lab_dir, proto_dir, scale, table, _csv(res["lab"] / "gauges.csv", "time_s"),
                            _csv(res["proto"] / "gauges.csv", "time_s"), notes, name)
 
 
 def _notes(lab_dir: Path, scale: float) -> list[str]:
     """What Froude similarity leaves out, with its numbers."""
-    scene = load_scene(CaseFolder(lab_dir).path / "scene.yaml")
+    scene = CaseFolder(lab_dir).scene()
     g, h0, nu = scene.fluids.gravity_m_s2, scene.reservoir.depth_m, scene.fluids.water_viscosity_m2_s
     re_lab = math.sqrt(g * h0) * h0 / nu
     re_proto = re_lab * scale ** 1.5

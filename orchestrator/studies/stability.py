@@ -41,7 +41,6 @@ from orchestrator.contact.events import read_events
 from orchestrator.contact.geometry import box_state, find_contacts, scene_obstacles
 from orchestrator.core.numbers import finite_or_none
 from orchestrator.plan.model import ModelPlan
-from orchestrator.scene.scenefile import load_scene
 from orchestrator.studies.sweep.store import load_store, read_member_record
 
 __all__ = ["INSIDE_TOLERANCE_M", "MASS_TOLERANCE", "Assessment", "assess", "markdown", "stability_table"]
@@ -155,7 +154,7 @@ def assess(case_dir: str | Path, member: dict | None = None) -> Assessment:
     folder = CaseFolder(case)
     run = folder.run_state()
     plan = folder.model_plan()
-    scene = load_scene(folder.scene_path) if folder.scene_path.is_file() else None
+    scene = folder.scene() if folder.scene_path.is_file() else None
     outcome, diagnosis = _outcome(run, member)
     segments = run.segments
     reached = finite_or_none(segments[-1].get("end_time")) if segments else None

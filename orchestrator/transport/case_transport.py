@@ -37,7 +37,6 @@ from orchestrator.contact.resolution import body_contact_law
 from orchestrator.core.files import write_text_atomic
 from orchestrator.plan.scale import time_scale
 from orchestrator.scene.schema import DebrisBody, Scene, column_for_analysis
-from orchestrator.scene.scenefile import load_scene
 from orchestrator.transport.engine import TransportResult, TransportSettings, run_transport
 from orchestrator.transport.mujoco_model import FlumeBounds, PlacedColumn
 from orchestrator.transport.flow import FlowField
@@ -203,7 +202,7 @@ def transport_case(case_dir: str | Path, *, settings: TransportSettings | None =
     if coupling != "one-way":
         raise InputError(str(folder.plan_path), f"debris_coupling is {coupling!r}: only a one-way "
                                                 "case carries its bodies through a recorded flow")
-    scene = load_scene(folder.scene_path)
+    scene = folder.scene()
     flow, npz = case_flow(folder.path, say=say)
     bodies, flume, column = transport_setup(scene, flow)
     t_end = float(folder.require_plan().end_time_s)  # a one-way plan reads typed: case_flow has read it

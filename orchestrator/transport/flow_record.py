@@ -46,7 +46,6 @@ from orchestrator.core.errors import InputError
 from orchestrator.case.folder import EPS_T, CaseFolder
 from orchestrator.case.outputs import numeric_dirs
 from orchestrator.plan.model import FlowRecordPlan, ModelPlan
-from orchestrator.scene.scenefile import load_scene
 from orchestrator.transport.flow import FlowField
 
 __all__ = ["FLOW_RECORD_NPZ", "FlowRecordError", "RecordFiles", "read_flow_record"]
@@ -240,7 +239,7 @@ def _converted(npz: Path, record: FlowRecordPlan, end_time_s: float) -> RecordFi
 def _fluids(folder: CaseFolder) -> tuple[float, float]:
     """(water density, gravity) of the case's scene (the scene's defaults without one)."""
     if folder.scene_path.is_file():
-        fluids = load_scene(folder.scene_path).fluids
+        fluids = folder.scene().fluids
         return fluids.water_density_kg_m3, fluids.gravity_m_s2
     return 998.2, 9.81
 
