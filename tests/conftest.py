@@ -57,6 +57,13 @@ def closed_tank(gauge: tuple[str, float], mesh: dict | None = None, run: dict | 
     }
 
 
+def package_modules(*owners: str) -> list[str]:
+    """The modules of orchestrator/ (paths from the repository's root) outside the ``owners`` (path
+    prefixes): what a scan for a format read outside its owners goes through."""
+    paths = (str(p.relative_to(ROOT)) for p in sorted((ROOT / "orchestrator").rglob("*.py")))
+    return [p for p in paths if not p.startswith(owners)]
+
+
 def run_cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
     """Run `debrisfoam ARGS` as a user would (a separate process)."""
     return subprocess.run(

@@ -19,6 +19,7 @@ import ast
 from pathlib import Path
 
 import pytest
+from tests.conftest import package_modules
 
 ROOT = Path(__file__).resolve().parents[1]
 #: Where plan.json may be read as a mapping: the plan's own reader and the case folder that owns the file.
@@ -65,12 +66,7 @@ def plan_json_reads(source: str) -> list[tuple[int, str]]:
     return out
 
 
-def _modules() -> list[str]:
-    return [str(p.relative_to(ROOT)) for p in sorted((ROOT / "orchestrator").rglob("*.py"))
-            if not str(p.relative_to(ROOT)).startswith(OWNERS)]
-
-
-@pytest.mark.parametrize("module", _modules())
+@pytest.mark.parametrize("module", package_modules(*OWNERS))
 def test_plan_json_is_read_as_a_model_plan(module):
     reads = plan_json_reads((ROOT / module).read_text())
     if module in ALLOWED:

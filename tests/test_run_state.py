@@ -16,6 +16,7 @@ import pytest
 
 from orchestrator.case.folder import CaseFolder
 from orchestrator.case.run_state import RunState
+from tests.conftest import package_modules
 
 ROOT = Path(__file__).resolve().parents[1]
 #: The writers of run.json and the folder that owns the file: where the raw mapping may be taken.
@@ -29,12 +30,7 @@ def raw_reads(source: str) -> list[int]:
             if isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and n.func.attr == "run_record"]
 
 
-def _readers() -> list[str]:
-    return [str(p.relative_to(ROOT)) for p in sorted((ROOT / "orchestrator").rglob("*.py"))
-            if not str(p.relative_to(ROOT)).startswith(WRITERS)]
-
-
-@pytest.mark.parametrize("module", _readers())
+@pytest.mark.parametrize("module", package_modules(*WRITERS))
 def test_a_reader_takes_run_json_as_a_run_state(module):
     assert not raw_reads((ROOT / module).read_text()), f"{module}: take CaseFolder.run_state(), not run_record()"
 

@@ -10,6 +10,7 @@ import pytest
 
 from orchestrator.case.folder import CaseFolder
 from orchestrator.core.errors import InputError
+from tests.conftest import package_modules
 
 ROOT = Path(__file__).resolve().parents[1]
 #: the scene stage parses YAML; render writes it
@@ -26,12 +27,7 @@ def yaml_imports(source: str) -> list[int]:
     return out
 
 
-def _modules() -> list[str]:
-    return [str(p.relative_to(ROOT)) for p in sorted((ROOT / "orchestrator").rglob("*.py"))
-            if not str(p.relative_to(ROOT)).startswith(OWNERS)]
-
-
-@pytest.mark.parametrize("module", _modules())
+@pytest.mark.parametrize("module", package_modules(*OWNERS))
 def test_a_module_outside_the_scene_stage_parses_no_yaml(module):
     assert not yaml_imports((ROOT / module).read_text()), f"{module}: read scene.yaml with CaseFolder(case).scene()"
 
@@ -52,7 +48,7 @@ def case_scene_loads(source: str) -> list[int]:
     return out
 
 
-@pytest.mark.parametrize("module", [m for m in _modules() if m != "orchestrator/case/folder.py"])
+@pytest.mark.parametrize("module", package_modules(*OWNERS, "orchestrator/case/folder.py"))
 def test_a_case_folders_scene_is_read_through_the_folder(module):
     assert not case_scene_loads((ROOT / module).read_text()), f"{module}: take CaseFolder(case).scene()"
 
