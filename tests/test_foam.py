@@ -175,16 +175,12 @@ def test_done_predicate_skips_and_logs_are_written(tmp_path, openfoam):
 
 
 def _run_all(case: Path, plan) -> dict[str, float]:
-    """Every step in order, as the runner takes them: between the planned decomposition and the
-    real one, several bodies' meshes are split across the ranks (orchestrator/case/split_bodies.py)."""
-    from orchestrator.case import split_bodies
-
+    """Every step in order, as the runner takes them (with several bodies, the split of their
+    meshes across the ranks is one of them: orchestrator/case/split_bodies.py)."""
     timings = {}
     for step in foam.mesh_steps(case, plan) + foam.solve_steps(case, plan):
         start = time.perf_counter()
         run_step(step.name, step.argv, case, np=step.np, done=step.done, timeout_s=300)
-        if step.name == "decomposePar.cellDist":
-            split_bodies.split(case, math.prod(int(n) for n in plan.decomposition))
         timings[step.name] = time.perf_counter() - start
     return timings
 

@@ -50,6 +50,27 @@ def test_split_moves_half_of_each_whole_body_mesh_to_the_next_rank(tmp_path):
     assert not (tmp_path / "0" / "cellDist").exists()
 
 
+def test_the_split_step_runs_in_the_case_folder_and_refuses_a_case_without_cell_dist(tmp_path, monkeypatch):
+    _field(tmp_path / "0" / "zoneID", [0, 0, 1, 1, 2, 2])
+    (tmp_path / "constant").mkdir()
+    (tmp_path / "system").mkdir()
+    monkeypatch.chdir(tmp_path)
+    assert split_bodies.main(["2"]) == 2  # no 0/cellDist: decomposePar -cellDist has not run
+    assert not (tmp_path / split_bodies.DICT).exists()
+    _field(tmp_path / "0" / "cellDist", [0, 1, 0, 0, 1, 1])
+    assert split_bodies.main(["1"]) == 2  # one rank needs no split
+    assert split_bodies.main(["2"]) == 0
+    assert (tmp_path / split_bodies.DICT).is_file() and not (tmp_path / "0" / "cellDist").exists()
+
+
+def _ranks_per_zone(case: Path) -> dict[int, int]:
+    """How many ranks hold cells of each body zone, from the case's cellDecomposition and zoneID."""
+    table = (case / "constant" / "cellDecomposition").read_text()
+    procs = np.array(table.split("(", 1)[1].split(")", 1)[0].split(), dtype=int)
+    zone = split_bodies._internal(case / "0" / "zoneID")
+    return {int(z): int(np.unique(procs[zone == z]).size) for z in range(1, int(zone.max()) + 1)}
+
+
 def test_the_split_is_planned_only_for_two_or_more_bodies_on_two_or_more_ranks():
     class Plan:
         decomposition = (2, 1, 1)
@@ -58,7 +79,8 @@ def test_the_split_is_planned_only_for_two_or_more_bodies_on_two_or_more_ranks()
     plan = Plan()
     plan.bodies = ("a", "b")
     names = [s.name for s in foam.solve_steps("case", plan)]
-    assert names[:2] == ["decomposePar.cellDist", "decomposePar"]
+    assert names[:3] == ["decomposePar.cellDist", "splitBodies", "decomposePar"]
+    assert [s.name for s in foam.decompose_steps("case", plan)] == names[:3]
     plan.bodies = ("a",)
     assert [s.name for s in foam.solve_steps("case", plan)][0] == "decomposePar"
     plan.bodies = ("a", "b")
@@ -87,7 +109,10 @@ def test_three_overlapping_body_meshes_get_past_the_first_steps_on_two_ranks(ope
     run_case(case, quiet=True, contact=solvers_kept(case))  # the solvers at work on their zones
     record = json.loads((case / "run.json").read_text())
     assert record["status"] == "finished"
-    assert {k: len([n for n in v if n > 0]) for k, v in record["body_mesh_ranks"].items()} == {"1": 2, "2": 2, "3": 2}
+    assert _ranks_per_zone(case) == {1: 2, 2: 2, 3: 2}
+    names = [s["name"] for s in record["steps"]]
+    k = names.index("decomposePar.cellDist")
+    assert names[k:k + 3] == ["decomposePar.cellDist", "splitBodies", "decomposePar"]
     log = "".join(p.read_text() for p in sorted(case.glob("log.overInterDyMFoam*")))
     steps = len(re.findall(r"^Time = ", log, re.M))
     # 6 zone pairs (background and three bodies) addressed at every step, none left hanging

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import re
 import shlex
+import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable, Sequence
@@ -140,13 +141,30 @@ def mesh_steps(case_dir: str | Path, plan) -> list[Step]:
 
 
 def solve_steps(case_dir: str | Path, plan, np: int | None = None) -> list[Step]:
-    """decomposePar (hierarchical), the solver on `np` ranks, reconstructPar.
+    """:func:`decompose_steps`, the solver on `np` ranks, reconstructPar.
 
-    `np` defaults to the plan's decomposition. Done-predicates: processor0 exists
-    (decomposePar); the runner decides itself when the solver is finished.
+    `np` defaults to the plan's decomposition. The runner decides itself when the solver is
+    finished.
     """
+    steps = decompose_steps(case_dir, plan, np)
+    ranks = _ranks(plan, np)
+    steps.append(Step(plan.solver, (plan.solver,), f"the solver on {ranks} core(s)", np=ranks))
+    if ranks > 1:
+        steps.append(Step("reconstructPar", ("reconstructPar",), "gather the time directories"))
+    return steps
+
+
+def _ranks(plan, np: int | None) -> int:
     n = plan.decomposition
-    ranks = np or int(n[0]) * int(n[1]) * int(n[2])
+    return np or int(n[0]) * int(n[1]) * int(n[2])
+
+
+def decompose_steps(case_dir: str | Path, plan, np: int | None = None) -> list[Step]:
+    """The case split into `np` subdomains (none on one rank): decomposePar (hierarchical), or,
+    with two or more body meshes, the split of :mod:`orchestrator.case.split_bodies` in three
+    steps. Done-predicates: processor0 exists (decomposePar), the manual dictionary exists (the
+    two before it)."""
+    ranks = _ranks(plan, np)
     steps = []
     if ranks > 1 and split_bodies.needed(len(plan.bodies), ranks):
         # v1912's overset hangs when two body meshes share a rank (orchestrator/case/split_bodies.py)
@@ -154,16 +172,16 @@ def solve_steps(case_dir: str | Path, plan, np: int | None = None) -> list[Step]
         steps.append(Step("decomposePar.cellDist", ("decomposePar", "-cellDist", "-dry-run"),
                           f"the planned split into {ranks} subdomains, written to 0/cellDist only",
                           done=lambda case: (Path(case) / split_bodies.DICT).is_file()))
+        steps.append(Step("splitBodies", (sys.executable, "-m", "orchestrator.case.split_bodies", str(ranks)),
+                          f"move half of each body mesh that sits whole on one rank to the next: {table} and "
+                          f"{split_bodies.DICT}",
+                          done=lambda case: (Path(case) / split_bodies.DICT).is_file()))
         steps.append(Step("decomposePar", ("decomposePar", "-force", "-decomposeParDict", split_bodies.DICT),
-                          f"split the case into {ranks} subdomains, every body mesh across two ranks ({table} "
-                          "and the dictionary written by `debrisfoam run` between these two steps)",
+                          f"split the case into {ranks} subdomains, every body mesh across two ranks",
                           done=lambda case: (Path(case) / "processor0").is_dir()))
     elif ranks > 1:
         steps.append(Step("decomposePar", ("decomposePar",), f"split the case into {ranks} subdomains",
                           done=lambda case: (Path(case) / "processor0").is_dir()))
-    steps.append(Step(plan.solver, (plan.solver,), f"the solver on {ranks} core(s)", np=ranks))
-    if ranks > 1:
-        steps.append(Step("reconstructPar", ("reconstructPar",), "gather the time directories"))
     return steps
 
 

@@ -16,7 +16,9 @@ all of them. So with two or more bodies on several ranks:
    on one rank, preserveFaceZones) writes the split as 0/cellDist, and no processor directories;
 2. :func:`split` moves the second half (in cell order) of each body mesh that sits on one rank to
    the next rank and writes constant/cellDecomposition and a `manual` dictionary beside the
-   planned one;
+   planned one; the case runs it as a step of its own, `python -m orchestrator.case.split_bodies
+   RANKS` in the case folder (:func:`orchestrator.case.foam.solve_steps`), logged to
+   log.splitBodies like the OpenFOAM steps around it;
 3. `decomposePar -force` with that dictionary.
 
 Cells never change rank while the bodies move, so every pair stays spread. docs/stability.md
@@ -25,6 +27,8 @@ Cells never change rank while the bodies move, so every pair stays spread. docs/
 
 from __future__ import annotations
 
+import sys
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
@@ -32,7 +36,7 @@ import numpy as np
 from orchestrator.core.errors import InputError
 from orchestrator.core.files import write_text_atomic
 
-__all__ = ["DICT", "needed", "split"]
+__all__ = ["DICT", "main", "needed", "split"]
 
 DICT = "system/decomposeParDict.bodies"  # the manual dictionary, relative to the case
 _TABLE = "constant/cellDecomposition"
@@ -80,3 +84,31 @@ def split(case: str | Path, ranks: int) -> dict[int, list[int]]:
         f"numberOfSubdomains {ranks};\n\nmethod          manual;\n\n"
         f"coeffs\n{{\n    dataFile        \"cellDecomposition\";\n}}\n")
     return counts
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``python -m orchestrator.case.split_bodies RANKS`` in a case folder: :func:`split` there,
+    each body zone's cells per rank printed for the step's log. Exit 2 with the reason on bad
+    input (no 0/cellDist, a mesh that is not the case's)."""
+    args = list(sys.argv[1:] if argv is None else argv)
+    if len(args) != 1 or not args[0].isdigit() or int(args[0]) < 2:
+        print("usage: python -m orchestrator.case.split_bodies RANKS (2 or more), in the case folder",
+              file=sys.stderr)
+        return 2
+    case = Path.cwd()
+    if not (case / "0" / "cellDist").is_file():
+        print(f"{case / '0' / 'cellDist'} is missing: run `decomposePar -cellDist -dry-run` first", file=sys.stderr)
+        return 2
+    try:
+        counts = split(case, int(args[0]))
+    except InputError as exc:
+        print(exc, file=sys.stderr)
+        return 2
+    for zone, per_rank in counts.items():
+        print(f"body zone {zone}: cells per rank {per_rank}")
+    print(f"wrote {_TABLE} and {DICT}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

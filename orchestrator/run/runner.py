@@ -105,7 +105,7 @@ from pathlib import Path
 from typing import Any, Callable
 
 from orchestrator.core.errors import DebrisfoamError, InputError
-from orchestrator.case import bodystate, foam, split_bodies
+from orchestrator.case import bodystate, foam
 from orchestrator.case.folder import EPS_T, PLAN_JSON, SCENE_YAML, processor_dirs
 from orchestrator.contact.settings import ContactSettings
 from orchestrator.plan.scale import froude_factor
@@ -272,7 +272,7 @@ def _run_steps(info: CaseInfo, sup: Supervisor, stop: StopFlag, quiet: bool, rec
 def _prepare(info: CaseInfo, sup: Supervisor) -> None:
     """The split for --np, mesh, checkMesh's cell count, decomposePar; the scene's obstacles and the bed watch."""
     case, data = info.case, sup.record.data
-    steps = [s for s in foam.solve_steps(case, info.plan, info.ranks) if s.name.startswith("decomposePar")]
+    steps = foam.decompose_steps(case, info.plan, info.ranks)
     # the planned split follows --np: decomposeParDict along x when --np differs (noted in run.json)
     planned = foam.set_subdomains(case, info.ranks) if steps and not steps[0].done(case) else None
     if planned is not None:
@@ -289,10 +289,7 @@ def _prepare(info: CaseInfo, sup: Supervisor) -> None:
         except openfoam.StepError:
             pass
     for step in steps:
-        ran = not step.done(case)
         sup.run_step(step)
-        if ran and step.name == "decomposePar.cellDist":  # every body mesh across two ranks
-            data["body_mesh_ranks"] = split_bodies.split(case, info.ranks)
 
     if info.bodies:  # scene, obstacles, imports: once, before the solver competes for the cores
         t_setup = time.perf_counter()
