@@ -50,16 +50,19 @@ def test_split_moves_half_of_each_whole_body_mesh_to_the_next_rank(tmp_path):
     assert not (tmp_path / "0" / "cellDist").exists()
 
 
-def test_the_split_step_runs_in_the_case_folder_and_refuses_a_case_without_cell_dist(tmp_path, monkeypatch):
+def test_the_split_step_is_a_debrisfoam_verb_that_refuses_a_case_without_cell_dist(tmp_path):
     _field(tmp_path / "0" / "zoneID", [0, 0, 1, 1, 2, 2])
     (tmp_path / "constant").mkdir()
     (tmp_path / "system").mkdir()
-    monkeypatch.chdir(tmp_path)
-    assert split_bodies.main(["2"]) == 2  # no 0/cellDist: decomposePar -cellDist has not run
+    proc = run_cli("split-bodies", ".", "--ranks", "2", cwd=tmp_path)
+    assert proc.returncode == 2 and "0/cellDist" in proc.stderr  # decomposePar -cellDist has not run
     assert not (tmp_path / split_bodies.DICT).exists()
     _field(tmp_path / "0" / "cellDist", [0, 1, 0, 0, 1, 1])
-    assert split_bodies.main(["1"]) == 2  # one rank needs no split
-    assert split_bodies.main(["2"]) == 0
+    proc = run_cli("split-bodies", ".", "--ranks", "1", cwd=tmp_path)
+    assert proc.returncode == 2 and "--ranks" in proc.stderr
+    proc = run_cli("split-bodies", ".", "--ranks", "2", "--json", cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    assert json.loads(proc.stdout)["body zone 1: cells per rank"] == [1, 1]
     assert (tmp_path / split_bodies.DICT).is_file() and not (tmp_path / "0" / "cellDist").exists()
 
 

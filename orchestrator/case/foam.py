@@ -49,6 +49,10 @@ def parallel_argv(argv: Sequence[str], np: int) -> list[str]:
 # --------------------------------------------------------------------------- steps
 
 
+#: the `debrisfoam` command of this Python, for the steps that are debrisfoam's own
+DEBRISFOAM = (sys.executable, "-m", "orchestrator.cli")
+
+
 @dataclass(frozen=True)
 class Step:
     """One application to run in the case directory.
@@ -168,11 +172,11 @@ def decompose_steps(case_dir: str | Path, plan, np: int | None = None) -> list[S
     steps = []
     if ranks > 1 and split_bodies.needed(len(plan.bodies), ranks):
         # v1912's overset hangs when two body meshes share a rank (orchestrator/case/split_bodies.py)
-        table = "constant/cellDecomposition"
+        table = split_bodies.TABLE
         steps.append(Step("decomposePar.cellDist", ("decomposePar", "-cellDist", "-dry-run"),
                           f"the planned split into {ranks} subdomains, written to 0/cellDist only",
                           done=lambda case: (Path(case) / split_bodies.DICT).is_file()))
-        steps.append(Step("splitBodies", (sys.executable, "-m", "orchestrator.case.split_bodies", str(ranks)),
+        steps.append(Step("splitBodies", (*DEBRISFOAM, "split-bodies", ".", "--ranks", str(ranks)),
                           f"move half of each body mesh that sits whole on one rank to the next: {table} and "
                           f"{split_bodies.DICT}",
                           done=lambda case: (Path(case) / split_bodies.DICT).is_file()))

@@ -16,9 +16,9 @@ all of them. So with two or more bodies on several ranks:
    on one rank, preserveFaceZones) writes the split as 0/cellDist, and no processor directories;
 2. :func:`split` moves the second half (in cell order) of each body mesh that sits on one rank to
    the next rank and writes constant/cellDecomposition and a `manual` dictionary beside the
-   planned one; the case runs it as a step of its own, `python -m orchestrator.case.split_bodies
-   RANKS` in the case folder (:func:`orchestrator.case.foam.solve_steps`), logged to
-   log.splitBodies like the OpenFOAM steps around it;
+   planned one; the case runs it as a step of its own, `debrisfoam split-bodies . --ranks N` in
+   the case folder (:func:`orchestrator.case.foam.decompose_steps`), logged to log.splitBodies like
+   the OpenFOAM steps around it;
 3. `decomposePar -force` with that dictionary.
 
 Cells never change rank while the bodies move, so every pair stays spread. docs/stability.md
@@ -27,8 +27,6 @@ Cells never change rank while the bodies move, so every pair stays spread. docs/
 
 from __future__ import annotations
 
-import sys
-from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
@@ -36,10 +34,10 @@ import numpy as np
 from orchestrator.core.errors import InputError
 from orchestrator.core.files import write_text_atomic
 
-__all__ = ["DICT", "main", "needed", "split"]
+__all__ = ["DICT", "TABLE", "needed", "split"]
 
 DICT = "system/decomposeParDict.bodies"  # the manual dictionary, relative to the case
-_TABLE = "constant/cellDecomposition"
+TABLE = "constant/cellDecomposition"
 
 
 def needed(n_bodies: int, ranks: int) -> bool:
@@ -71,7 +69,7 @@ def split(case: str | Path, ranks: int) -> dict[int, list[int]]:
             proc[cells[cells.size // 2:]] = (proc[cells[0]] + 1) % ranks
         counts[z] = np.bincount(proc[cells], minlength=ranks).tolist()
     body = "\n".join(str(int(p)) for p in proc)
-    write_text_atomic(case / _TABLE,
+    write_text_atomic(case / TABLE,
         'FoamFile\n{\n    version 2.0;\n    format ascii;\n    class labelList;\n    location "constant";\n'
         f"    object cellDecomposition;\n}}\n\n{proc.size}\n(\n{body}\n)\n")
     (case / "0" / "cellDist").unlink()  # a picture of the split, not a field to run
@@ -85,30 +83,3 @@ def split(case: str | Path, ranks: int) -> dict[int, list[int]]:
         f"coeffs\n{{\n    dataFile        \"cellDecomposition\";\n}}\n")
     return counts
 
-
-def main(argv: Sequence[str] | None = None) -> int:
-    """``python -m orchestrator.case.split_bodies RANKS`` in a case folder: :func:`split` there,
-    each body zone's cells per rank printed for the step's log. Exit 2 with the reason on bad
-    input (no 0/cellDist, a mesh that is not the case's)."""
-    args = list(sys.argv[1:] if argv is None else argv)
-    if len(args) != 1 or not args[0].isdigit() or int(args[0]) < 2:
-        print("usage: python -m orchestrator.case.split_bodies RANKS (2 or more), in the case folder",
-              file=sys.stderr)
-        return 2
-    case = Path.cwd()
-    if not (case / "0" / "cellDist").is_file():
-        print(f"{case / '0' / 'cellDist'} is missing: run `decomposePar -cellDist -dry-run` first", file=sys.stderr)
-        return 2
-    try:
-        counts = split(case, int(args[0]))
-    except InputError as exc:
-        print(exc, file=sys.stderr)
-        return 2
-    for zone, per_rank in counts.items():
-        print(f"body zone {zone}: cells per rank {per_rank}")
-    print(f"wrote {_TABLE} and {DICT}")
-    return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

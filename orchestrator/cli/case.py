@@ -1,5 +1,6 @@
 """The case verbs: ``render`` a scene into an OpenFOAM case, ``preview`` it as a PNG, ``run``
-the case, ``post``-process it, or ``case`` (render, run and post in one go).
+the case, ``post``-process it, or ``case`` (render, run and post in one go); ``split-bodies`` is
+one of a case's steps (listed in its README), which ``run`` takes in turn.
 
 Runs are resumable: an interrupted ``run`` or ``case`` exits 128 + the signal (130 for
 Ctrl-C) and the same command continues it. Each verb imports its stage when it runs.
@@ -27,7 +28,8 @@ from orchestrator.cli.common import (
 )
 from orchestrator.scene.shipped import resolve_scene
 
-__all__ = ["add_case_parsers", "cmd_case", "cmd_post", "cmd_preview", "cmd_render", "cmd_run"]
+__all__ = ["add_case_parsers", "cmd_case", "cmd_post", "cmd_preview", "cmd_render", "cmd_run",
+           "cmd_split_bodies"]
 
 def cmd_render(args: argparse.Namespace) -> int:
     out = writable_folder(args.out, "-o/--out")  # only checked: render makes it when the scene is valid
@@ -175,8 +177,24 @@ def cmd_case(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def cmd_split_bodies(args: argparse.Namespace) -> int:
+    from orchestrator.case import split_bodies
+
+    case = Path(args.case_dir)
+    if args.ranks < 2:
+        raise InputError("--ranks", f"a split needs 2 or more ranks, got {args.ranks}")
+    if not (case / "0" / "cellDist").is_file():
+        raise InputError("case_dir", "has no 0/cellDist: run `decomposePar -cellDist -dry-run` in it first",
+                         str(case))
+    counts = split_bodies.split(case, args.ranks)
+    emit({"case": str(case), **{f"body zone {z}: cells per rank": v for z, v in counts.items()},
+          "written": f"{split_bodies.TABLE}, {split_bodies.DICT}"}, args.json)
+    return EXIT_OK
+
+
 def add_case_parsers(verbs) -> None:
-    """The ``render``, ``preview``, ``run``, ``post`` and ``case`` verbs, on the top parser's ``verbs``."""
+    """The ``render``, ``preview``, ``run``, ``split-bodies``, ``post`` and ``case`` verbs, on the top
+    parser's ``verbs``."""
     p = verbs.add_parser("render", help="render an OpenFOAM case from a scene YAML")
     p.add_argument("scene", type=resolve_scene, help=SCENE_HELP)
     p.add_argument("-o", "--out", required=True, help="case folder to write (new or empty, or --force)")
@@ -205,6 +223,14 @@ def add_case_parsers(verbs) -> None:
                    help="stop the run as stalled after S wall seconds without solver output (default: the "
                         "scene's run.stall_limit_s, else 600 s)")
     closing_options(p, cmd_run, yes=True)
+
+    p = verbs.add_parser("split-bodies", help="a case step with several body meshes on several ranks: move half "
+                                              "of each body mesh that decomposePar -cellDist keeps on one rank to "
+                                              "the next (`run` does it between its decomposePar steps)")
+    p.add_argument("case_dir", help="a rendered case folder, after `decomposePar -cellDist -dry-run`")
+    p.add_argument("--ranks", type=int, required=True, help="the number of subdomains (2 or more)")
+    p.set_defaults(func=cmd_split_bodies)
+    p.add_argument("--json", action="store_true", help="print JSON")
 
     p = verbs.add_parser("post", help="post-process a run (finished or not) into DIR/results/: tables, "
                                       "comparisons, plots, report.md")
