@@ -32,18 +32,18 @@ help:
 	@echo "make speed-error-debris     mesh study with one container to its impact, then its report"
 	@echo "make compare-coupling       the short flume to the first strike two-way and one-way on one mesh, side by side (about 30 min)"
 	@echo "make stability              the hard cases of cases/hard/ (about 2 h), then their stability table"
-	@echo "make test                   the default test suite, real OpenFOAM runs included (about 6 min on 2 idle cores; installs the venv and OpenFOAM first)"
+	@echo "make test                   the default test suite, real OpenFOAM runs included (about 8 min on 2 cores; installs the venv and OpenFOAM first)"
 	@echo "make test-all               every test, the slow ones too (about 45 min on 2 idle cores)"
 	@echo "make test-fast              the Python tests without OpenFOAM and without the slow ones"
 	@echo "make clean                  remove the venv and build files"
 	@echo "make docs-check             the docs: links resolve, no history, README at most 800 words, docs/*.md at most 15,000, make help complete, figures the planner gives"
 	@echo "make ensemble-flows         the ensemble through RANS with a sill, the flume as built, the posts alone and the WG2-read bed drag (about 1 h; docs/results/ensemble-1debris-*/)"
 	@echo "make ensemble-flow-pair     the ensemble through a second mesh's flow: Table 2 with the flow's own uncertainty (docs/results/ensemble-flow-pair/)"
-	@echo "make flume-2d               the study's flume as a 2D centreline strip, RANS at 2 cm cells, with and without the 5 cm sill: how much the 3D arrivals owe to 4 cm cells (about 1 min; docs/results/flume-centreline-2d/)"
+	@echo "make flume-2d               the study's flume as a 2D centreline strip, RANS at 2 cm and 1 cm cells, each with and without the 5 cm sill: how much the 3D arrivals owe to 4 cm cells (docs/results/flume-centreline-2d/)"
 	@echo "make face-splash            the water at the column's face at 4 cm cells and with 2 cm cells at the face (laminar and RANS), against the study's load points 0.16-0.50 m; the front's speed over 0.5 m reaches (about 30 min; docs/results/face-splash/)"
 	@echo "make flume-as-built         the gate's sill and opening, the wet bed's depth, the column's position, the bed drag's coefficient: arrivals one change at a time and the sill and opening together (about 12 min; docs/results/flume-as-built/)"
 	@echo "make wet-bed                the bore against Stoker's wet-bed solution, laminar and RANS (about 40 min; docs/results/wet-bed/)"
-	@echo "make synthetic-study        the seed's SDOF/MDOF/ASCE analysis on 22 synthetic records"
+	@echo "make synthetic-study        the study's SDOF/MDOF/ASCE analysis on 22 synthetic records"
 	@echo "make scene-doc              docs/scene.md, the scene reference, from the schema"
 	@echo "make catalogue-doc          docs/catalogue.md, the debris and column catalogue, from its data"
 	@echo "make contact-law            calibrate the contact law on Table 2 (22 impacts), check it on Table 1 (docs/results/contact-law/)"
@@ -116,7 +116,7 @@ prototype-1debris: venv openfoam
 results-1debris: venv
 	$(VENV)/bin/debrisfoam report case $(OUT) -o docs/results/case-1debris$(if $(COUPLING),-$(COUPLING),) --force
 
-# The seed's four debris layouts (cases/sweeps/debris-layouts.yaml), each one-way (run.debris_coupling
+# The study's four debris layouts (cases/sweeps/debris-layouts.yaml), each one-way (run.debris_coupling
 # auto): the flow without the bodies, then the bodies carried through its record; run again to resume.
 # A failed member does not stop the page: it is listed there with its error and log.
 LAYOUTS_OUT ?= runs/sweeps/debris-layouts
@@ -259,8 +259,8 @@ flume-as-built: venv openfoam
 	-$(NICE) $(VENV)/bin/debrisfoam sweep cases/sweeps/flume-as-built.yaml
 	$(VENV)/bin/debrisfoam report flume runs/sweeps/flume-as-built -o docs/results/flume-as-built --force
 
-# The 2D centreline flume at 2 cm cells (cases/sweeps/flume-centreline-2d.yaml: RANS, with and without the
-# 5 cm sill; under a minute of interFoam on 2 idle cores), then docs/results/flume-centreline-2d/.
+# The 2D centreline flume at 2 cm and 1 cm cells (cases/sweeps/flume-centreline-2d.yaml: RANS, each with and
+# without the 5 cm sill), then docs/results/flume-centreline-2d/.
 flume-2d: venv openfoam
 	-$(NICE) $(VENV)/bin/debrisfoam sweep cases/sweeps/flume-centreline-2d.yaml
 	$(VENV)/bin/debrisfoam report flume runs/sweeps/flume-centreline-2d -o docs/results/flume-centreline-2d --force

@@ -62,7 +62,7 @@ rotational values are probably low by about a quarter.
 The study's 1:40 container
 --------------------------
 0.15 x 0.06 x 0.06 m, 0.236 kg, in fresh water (998 kg/m^3): draft 0.0263 m (double body
-0.15 x 0.06 x 0.0526 m); :data:`SEED_CONTAINER_ADDED_MASS`:
+0.15 x 0.06 x 0.0526 m); :data:`STUDY_CONTAINER_ADDED_MASS`:
 
 ========  ======  =============  ==========================
 axis      C_a     added mass     source
@@ -101,13 +101,13 @@ import numpy as np
 from scipy.special import elliprd
 
 from analytical.errors import InputError, require_positive
-from analytical.study import SEED_CONTAINER_SIZE_M, SEED_DEBRIS_MASS_KG
+from analytical.study import STUDY_CONTAINER_SIZE_M, STUDY_DEBRIS_MASS_KG
 
 __all__ = [
     "AXES",
     "DNV_PLATE_TABLE",
     "DNV_SQUARE_PRISM_TABLE",
-    "SEED_CONTAINER_ADDED_MASS",
+    "STUDY_CONTAINER_ADDED_MASS",
     "WATER_DENSITY_KG_M3",
     "AddedMass",
     "box_added_mass",
@@ -258,5 +258,5 @@ def box_added_mass(size_m, mass_kg: float, water_density_kg_m3: float = WATER_DE
     return AddedMass((length, beam, height), m, draft, displaced, floating, coefficients, masses, inertias)
 
 
-SEED_CONTAINER_ADDED_MASS = box_added_mass(SEED_CONTAINER_SIZE_M, SEED_DEBRIS_MASS_KG)
+STUDY_CONTAINER_ADDED_MASS = box_added_mass(STUDY_CONTAINER_SIZE_M, STUDY_DEBRIS_MASS_KG)
 """The study's 1:40 container afloat in fresh water (see the module docstring's table)."""

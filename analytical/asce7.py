@@ -1,6 +1,6 @@
 """Debris impact load of ASCE/SEI 7-22 Section 6.11 (tsunami loads: debris impact).
 
-The standard's impact model (Clauses 6.11.2, 6.11.6 and 6.11.8, as applied by the seed study,
+The standard's impact model (Clauses 6.11.2, 6.11.6 and 6.11.8, as applied by the study,
 Sec. 3.2.3, eqs. [8]-[10]):
 
     F_ni = u_max sqrt(k m_d)              nominal maximum instantaneous impact force, N
@@ -12,7 +12,7 @@ with ``u_max`` the maximum flow velocity at the site (m/s), ``m_d`` the debris m
 the lesser of the effective stiffness of the impacting debris and the lateral stiffness of the
 impacted structural element (N/m), ``I_tsu`` the tsunami importance factor and ``C_o`` the
 orientation coefficient. The impulse ``F_i t_d = 2 I_tsu C_o m_d u_max`` does not depend on
-``k``: the seed's observation that the k_d and k_s load histories carry the same impulse.
+``k``: the study's observation that the k_d and k_s load histories carry the same impulse.
 
 Everything here is pure: numbers in, frozen result objects out.
 
@@ -22,7 +22,7 @@ ASCE/SEI 7-22, *Minimum Design Loads and Associated Criteria for Buildings and O
 Structures*, Chapter 6 (Tsunami Loads and Effects), Sections 6.8.3 and 6.11.
 Haehnel, R. B. and Daly, S. F. (2004). Maximum impact force of woody debris on floodplain
 structures. *J. Hydraulic Engineering* 130(2), 112-120.
-Seed study: /work/shared/seed/000_8aacdf6dd6a42dd6.txt, Sec. 2.1 (eqs. [1]-[3]), 3.2.3, 3.3.
+The study: Joynt, Nistor, Palermo & Stolle (analytical/study.py), Sec. 2.1 (eqs. [1]-[3]), 3.2.3, 3.3.
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ from dataclasses import dataclass
 from analytical.errors import InputError, require_positive
 from analytical.pulses import Rectangular, make_pulse
 from analytical.sdof import max_force_response
-from analytical.study import SEED_DEBRIS_STIFFNESS_N_M, SEED_STRUCTURE_STIFFNESS_N_M
+from analytical.study import STUDY_DEBRIS_STIFFNESS_N_M, STUDY_STRUCTURE_STIFFNESS_N_M
 
 __all__ = [
     "ORIENTATION_CONTAINER",
@@ -47,8 +47,8 @@ __all__ = [
     "asce7_design",
     "SIMPLIFIED_STATIC_LOAD_N",
     "dynamic_response_ratio",
-    "SEED_STRUCTURE_STIFFNESS_N_M",
-    "SEED_DEBRIS_STIFFNESS_N_M",
+    "STUDY_STRUCTURE_STIFFNESS_N_M",
+    "STUDY_DEBRIS_STIFFNESS_N_M",
     "FULL_SCALE_MIN_MASS_KG",
     "MAX_FLOW_SPEED_M_S",
     "DEBRIS_STIFFNESS_RANGE_N_M",
@@ -62,7 +62,7 @@ __all__ = [
 ]
 
 ORIENTATION_CONTAINER = 0.65
-"""Orientation coefficient C_o for shipping containers (ASCE 7-22 Clause 6.11.6; seed Sec. 3.2.3)."""
+"""Orientation coefficient C_o for shipping containers (ASCE 7-22 Clause 6.11.6; study Sec. 3.2.3)."""
 
 ORIENTATION_LOGS_POLES = 0.65
 """Orientation coefficient C_o for wood logs and poles (ASCE 7-22 Clause 6.11.2)."""
@@ -77,7 +77,7 @@ IMPORTANCE_FACTORS: dict[str, float] = {
 
 ASCE/SEI 7-16 and 7-22, Table 6.8-1 (Section 6.8.3): Tsunami Risk Category II 1.0; III 1.25;
 IV, Tsunami Vertical Evacuation Refuge Structures (and TRC III critical facilities) 1.25.
-The seed (Sec. 3.2.3) confirms I_tsu = 1.0 for Risk Category II. No online copy of the table
+The study (Sec. 3.2.3) confirms I_tsu = 1.0 for Risk Category II. No online copy of the table
 could be retrieved when this was written: check the III/IV values against the printed standard.
 """
 
@@ -97,7 +97,7 @@ def importance_factor(risk_category: str) -> float:
 
 
 def effective_stiffness(structure_stiffness_N_m: float, debris_stiffness_N_m: float) -> float:
-    """Structure and debris stiffness in series, ``1/k = 1/k_s + 1/k_d`` (seed eq. [2]).
+    """Structure and debris stiffness in series, ``1/k = 1/k_s + 1/k_d`` (study eq. [2]).
 
     Parameters
     ----------
@@ -149,17 +149,17 @@ class AsceImpact:
 
     @property
     def nominal_force_N(self) -> float:
-        """``F_ni = u_max sqrt(k m_d)``, N (seed eq. [9]; Haehnel and Daly 2004)."""
+        """``F_ni = u_max sqrt(k m_d)``, N (study eq. [9]; Haehnel and Daly 2004)."""
         return self.velocity_m_s * math.sqrt(self.stiffness_N_m * self.mass_kg)
 
     @property
     def force_N(self) -> float:
-        """``F_i = I_tsu C_o F_ni``, N (seed eq. [8])."""
+        """``F_i = I_tsu C_o F_ni``, N (study eq. [8])."""
         return self.importance * self.orientation * self.nominal_force_N
 
     @property
     def duration_s(self) -> float:
-        """``t_d = 2 m_d u_max / F_ni = 2 sqrt(m_d / k)``, s (seed eq. [10]); independent of u."""
+        """``t_d = 2 m_d u_max / F_ni = 2 sqrt(m_d / k)``, s (study eq. [10]); independent of u."""
         return 2.0 * self.mass_kg * self.velocity_m_s / self.nominal_force_N
 
     @property
@@ -194,7 +194,7 @@ def asce7_impact(
     importance: float = 1.0,
     orientation: float = ORIENTATION_CONTAINER,
 ) -> AsceImpact:
-    """Debris impact force, duration and pulse per ASCE 7-22 Section 6.11 (seed eqs. [8]-[10]).
+    """Debris impact force, duration and pulse per ASCE 7-22 Section 6.11 (study eqs. [8]-[10]).
 
     Parameters
     ----------
@@ -486,8 +486,8 @@ class AsceDesign:
         }
 
 
-def asce7_design(velocity_m_s: float, mass_kg: float, debris_stiffness_N_m: float = SEED_DEBRIS_STIFFNESS_N_M,
-                 structure_stiffness_N_m: float = SEED_STRUCTURE_STIFFNESS_N_M, importance: float = 1.0,
+def asce7_design(velocity_m_s: float, mass_kg: float, debris_stiffness_N_m: float = STUDY_DEBRIS_STIFFNESS_N_M,
+                 structure_stiffness_N_m: float = STUDY_STRUCTURE_STIFFNESS_N_M, importance: float = 1.0,
                  orientation: float = ORIENTATION_CONTAINER, prototype: bool = False,
                  velocity_basis: str = "u_max") -> AsceDesign:
     """The ASCE 7-22 6.11.2 design impact force with the governing (lesser) stiffness (:class:`AsceDesign`).

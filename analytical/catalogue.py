@@ -30,7 +30,7 @@ References
 ----------
 ISO 668 (Series 1 freight containers: classification, dimensions and ratings), as summarised at
     howlingpixel.com/i-en/ISO_668 (from Wikipedia "ISO 668").
-Joynt et al., the reference study (seed sections 3.1, 3.2.3; Table 2) and
+Joynt et al., the reference study (study sections 3.1, 3.2.3; Table 2) and
     :mod:`analytical.contact_law` (its calibration, docs/contact-law.md).
 """
 
@@ -40,7 +40,7 @@ from dataclasses import dataclass, field
 
 from analytical.contact_law import CONTAINER_DAMPING_RATIO, CONTAINER_STIFFNESS_N_M, box_inertia
 from analytical.errors import InputError, require_positive
-from analytical.study import SEED_CONTAINER_SIZE_M, SEED_CONTAINER_WALL_M, SEED_DEBRIS_MASS_KG, SEED_DEBRIS_STIFFNESS_N_M
+from analytical.study import STUDY_CONTAINER_SIZE_M, STUDY_CONTAINER_WALL_M, STUDY_DEBRIS_MASS_KG, STUDY_DEBRIS_STIFFNESS_N_M
 
 __all__ = [
     "FAMILIES",
@@ -55,7 +55,7 @@ __all__ = [
 ]
 
 LAB_SCALE = 40.0
-"""Length scale of the reference study's flume model (seed 3.1: 1:40 shipping containers)."""
+"""Length scale of the reference study's flume model (study 3.1: 1:40 shipping containers)."""
 
 SOURCES = {
     "iso668": "ISO 668 (Series 1 freight containers), external and minimum internal dimensions and maximum "
@@ -85,7 +85,7 @@ SOURCES = {
     "kd": "the study's k_d, backed out of its Table 1 ASCE rows (analytical.asce7)",
     "asce_kd": "ASCE 7-22 Table 6.11-2 (container mass and debris stiffness): not retrievable here "
                "(docs/catalogue.md); give contact.stiffness_N_m from the printed standard",
-    "seed": "the reference study, section 3.1: 1:40 20-ft container, 0.15 x 0.06 x 0.06 m, 5 mm "
+    "study": "the reference study, section 3.1: 1:40 20-ft container, 0.15 x 0.06 x 0.06 m, 5 mm "
             "polyethylene wall, 0.236 kg; contact law calibrated on its Table 2 (analytical.contact_law)",
 }
 """Every source the catalogue cites, by key; each entry's ``sources`` maps its fields to these."""
@@ -237,12 +237,12 @@ _ENTRIES = (
                30480.0, "gross40", 3750.0, "tare40"),
     DebrisType(
         name="container-20ft-study-1to40", description="the reference study's 1:40 polyethylene model container",
-        size_m=tuple(SEED_CONTAINER_SIZE_M), mass_kg=SEED_DEBRIS_MASS_KG, tare_kg=SEED_DEBRIS_MASS_KG,
-        inner_size_m=None, wall_thickness_m=SEED_CONTAINER_WALL_M, contact_stiffness_N_m=CONTAINER_STIFFNESS_N_M,
-        contact_damping_ratio=CONTAINER_DAMPING_RATIO, kd_N_m=SEED_DEBRIS_STIFFNESS_N_M, scale=1.0,
-        sources={"size_m": "seed", "mass_kg": "seed", "tare_kg": "seed", "wall_thickness_m": "seed",
-                 "moment_of_inertia_kg_m2": "seed", "contact_stiffness_N_m": "seed",
-                 "contact_damping_ratio": "seed", "kd_N_m": "kd", "asce_kd_N_m": "asce_kd"}),
+        size_m=tuple(STUDY_CONTAINER_SIZE_M), mass_kg=STUDY_DEBRIS_MASS_KG, tare_kg=STUDY_DEBRIS_MASS_KG,
+        inner_size_m=None, wall_thickness_m=STUDY_CONTAINER_WALL_M, contact_stiffness_N_m=CONTAINER_STIFFNESS_N_M,
+        contact_damping_ratio=CONTAINER_DAMPING_RATIO, kd_N_m=STUDY_DEBRIS_STIFFNESS_N_M, scale=1.0,
+        sources={"size_m": "study", "mass_kg": "study", "tare_kg": "study", "wall_thickness_m": "study",
+                 "moment_of_inertia_kg_m2": "study", "contact_stiffness_N_m": "study",
+                 "contact_damping_ratio": "study", "kd_N_m": "kd", "asce_kd_N_m": "asce_kd"}),
 )
 _BY_NAME = {e.name: e for e in _ENTRIES}
 

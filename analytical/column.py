@@ -12,7 +12,7 @@ the reference study's acrylic column (the study's section 3.1):
 
 The measured ``natural_frequency_Hz`` and ``stiffness_N_m`` drive the SDOF model and the
 ASCE 7-22 stiffness; the geometry and material drive the MDOF beam model
-(:mod:`analytical.mdof`). ``base`` chooses the MDOF support: ``"rigid"`` (the seed's
+(:mod:`analytical.mdof`). ``base`` chooses the MDOF support: ``"rigid"`` (the study's
 MDOF, built from the geometry alone; f1 about 88 Hz), ``"calibrated"`` (a rotational
 base spring tuned so the beam's f1 equals ``natural_frequency_Hz``) or ``"spring"`` (a
 rotational base spring of the given ``base_spring_Nm_rad``). ``ends`` restrains the member's top:

@@ -1,14 +1,14 @@
 """The column's finite-element model: assembled matrices, supports, modes, damping and statics.
 
 :func:`column_model` builds (once per :class:`analytical.column.Column`; cached) a cantilever
-of ``column.elements`` equal Timoshenko elements (:mod:`analytical.beam`; seed section
+of ``column.elements`` equal Timoshenko elements (:mod:`analytical.beam`; study section
 3.2.2: 160 elements, consistent mass, Rayleigh damping) and solves its eigenproblem. The
 dynamic responses (:mod:`analytical.mdof`, :mod:`analytical.newmark`) and the impact model
 (:mod:`analytical.impact`) all work on this one :class:`ColumnModel`.
 
 Supports
 --------
-``base="rigid"`` fixes both base DOFs (the seed's MDOF). ``base="calibrated"`` fixes the
+``base="rigid"`` fixes both base DOFs (the study's MDOF). ``base="calibrated"`` fixes the
 base displacement and restrains the base rotation by a rotational spring ``k_theta``
 (N m/rad) found with Brent's method so that the model's first frequency equals
 ``column.natural_frequency_Hz`` (the measured 70 Hz; the rigid-base beam gives about
@@ -32,7 +32,7 @@ A fixed-fixed member's base moment is the same form on the base rotation's row.
 References
 ----------
 Chopra, A.K. (2017). Dynamics of Structures, 5th ed. Pearson. (Rayleigh damping 11.4.)
-Joynt et al. (2021) and the seed study, section 3.2.2 (160 elements).
+Joynt et al. (2021) and the study, section 3.2.2 (160 elements).
 """
 
 from __future__ import annotations
@@ -335,7 +335,7 @@ def _first_frequency_Hz(k_band: np.ndarray, m_band: np.ndarray, start: np.ndarra
 def modes(column: Column) -> np.ndarray:
     """Natural frequencies (Hz, ascending) of the column's MDOF model (a read-only array).
 
-    The seed's column (rigid base, 160 elements) gives f1 = 88.36 Hz, f2 = 360.3 Hz,
+    The study's column (rigid base, 160 elements) gives f1 = 88.36 Hz, f2 = 360.3 Hz,
     f3 = 762.4 Hz; an Euler-Bernoulli cantilever with the same E I and rho A would have
     f1 = 1.8751^2 sqrt(E I / (rho A H^4)) / (2 pi) = 100.5 Hz: shear deformation (kappa =
     0.5) and rotary inertia lower it. ``base="calibrated"`` returns f1 =

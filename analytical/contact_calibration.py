@@ -13,7 +13,7 @@ standard error.
 The strike population (:func:`strike_population`, stated assumptions)
 ----------------------------------------------------------------------
 * speed: the study's, normal with mean 1.60 m/s and standard deviation 0.13 m/s (backed out
-  of Table 2's ASCE rows, :data:`analytical.study.SEED_IMPACT_VELOCITY_M_S`);
+  of Table 2's ASCE rows, :data:`analytical.study.STUDY_IMPACT_VELOCITY_M_S`);
 * water level at the face (the study's load point): 0.16-0.50 m with the study's mean 0.40 m,
   a Beta(2.4, 1) distribution on that range (a uniform one would have a mean of 0.33 m).
   The container's centre of mass floats 3.7 mm above the water line (draft 26.3 mm of 60 mm);
@@ -83,7 +83,7 @@ from analytical.added_mass import box_added_mass
 from analytical.asce7 import ORIENTATION_CONTAINER
 from analytical.column import Column
 from analytical.contact_law import (
-    SEED_TABLE1_EVENT,
+    STUDY_TABLE1_EVENT,
     STUDY_FIT_DT_S,
     STUDY_FIT_POST_S,
     STUDY_FIT_PRE_S,
@@ -94,12 +94,12 @@ from analytical.contact_law import (
 from analytical.contact_studyfit import HalfSineModes, fast_study_fit
 from analytical.errors import InputError
 from analytical.study import (
-    SEED_CONTAINER_SIZE_M,
-    SEED_DEBRIS_MASS_KG,
-    SEED_IMPACT_COUNT,
-    SEED_IMPACT_HEIGHTS_M,
-    SEED_IMPACT_VELOCITY_M_S,
-    SEED_TABLE2_MDOF,
+    STUDY_CONTAINER_SIZE_M,
+    STUDY_DEBRIS_MASS_KG,
+    STUDY_IMPACT_COUNT,
+    STUDY_IMPACT_HEIGHTS_M,
+    STUDY_IMPACT_VELOCITY_M_S,
+    STUDY_TABLE2_MDOF,
 )
 
 __all__ = [
@@ -132,7 +132,7 @@ STUDY_COLUMN = Column(base="calibrated")
 tuned to the measured 70 Hz."""
 
 #: Height of the container's centre of mass (= nose centre) above the water line (m).
-_CM_ABOVE_WATER_M = SEED_CONTAINER_SIZE_M[2] / 2.0 - box_added_mass(SEED_CONTAINER_SIZE_M, SEED_DEBRIS_MASS_KG).draft_m
+_CM_ABOVE_WATER_M = STUDY_CONTAINER_SIZE_M[2] / 2.0 - box_added_mass(STUDY_CONTAINER_SIZE_M, STUDY_DEBRIS_MASS_KG).draft_m
 #: Beta shape of the water level on [0.16, 0.50] m: mean 0.40 m as the study's.
 _HEIGHT_BETA = (2.4, 1.0)
 #: Half-range of the velocity's obliquity (degrees).
@@ -142,15 +142,15 @@ MAX_OBLIQUITY_DEG = 15.0
 def table2_standard_errors(model_means: dict | None = None) -> dict[str, float]:
     """Standard error of each of Table 2's MDOF means (see the module docstring); with
     ``model_means`` the mean-speed term is taken relative to the model's value."""
-    n = SEED_IMPACT_COUNT
-    u_mean, u_std = SEED_IMPACT_VELOCITY_M_S
+    n = STUDY_IMPACT_COUNT
+    u_mean, u_std = STUDY_IMPACT_VELOCITY_M_S
     # the speed's mean is backed out of 0.49 N s = 2 C_o m u (rounded to 0.01 N s)
-    speed_se = math.hypot(u_std / math.sqrt(n), 0.01 / math.sqrt(12) / (2 * ORIENTATION_CONTAINER * SEED_DEBRIS_MASS_KG))
+    speed_se = math.hypot(u_std / math.sqrt(n), 0.01 / math.sqrt(12) / (2 * ORIENTATION_CONTAINER * STUDY_DEBRIS_MASS_KG))
     rounding = {"peak_force_N": 0.01 / math.sqrt(12), "duration_s": 1e-4 / math.sqrt(12),
                 "impulse_Ns": 0.01 / math.sqrt(12)}
     out = {}
     for name in FIGURES:
-        mean, std = SEED_TABLE2_MDOF[name]
+        mean, std = STUDY_TABLE2_MDOF[name]
         value = (model_means or {}).get(name, mean)
         speed = value * speed_se / u_mean if name != "duration_s" else 0.0
         out[name] = math.sqrt((std / math.sqrt(n)) ** 2 + rounding[name] ** 2 + speed**2)
@@ -188,9 +188,9 @@ def strike_population(count: int = 32, seed: int = 2019, geometry: bool = True) 
     if count < 2:
         raise InputError("count", f"must be >= 2, got {count}")
     u = qmc.LatinHypercube(d=4, seed=seed).random(count)
-    lo, hi, _ = SEED_IMPACT_HEIGHTS_M
+    lo, hi, _ = STUDY_IMPACT_HEIGHTS_M
     water = lo + (hi - lo) * beta_dist.ppf(u[:, 0], *_HEIGHT_BETA)
-    width, height = SEED_CONTAINER_SIZE_M[1], SEED_CONTAINER_SIZE_M[2]
+    width, height = STUDY_CONTAINER_SIZE_M[1], STUDY_CONTAINER_SIZE_M[2]
     scale = 1.0 if geometry else 0.0
     lateral = scale * width * (u[:, 1] - 0.5)
     vertical = scale * height * (u[:, 2] - 0.5)
@@ -244,7 +244,7 @@ class UnitFigures:
     restitution: np.ndarray
     effective_mass_kg: np.ndarray
 
-    def means(self, mean_speed_m_s: float = SEED_IMPACT_VELOCITY_M_S[0]) -> dict[str, float]:
+    def means(self, mean_speed_m_s: float = STUDY_IMPACT_VELOCITY_M_S[0]) -> dict[str, float]:
         """The population's mean fitted peak, duration and impulse at this mean speed."""
         return {"peak_force_N": mean_speed_m_s * float(np.mean(self.fit_peak_force_N)),
                 "duration_s": float(np.mean(self.fit_duration_s)),
@@ -288,7 +288,7 @@ def half_sine_modes(column: Column, level_m: float) -> HalfSineModes:
 #: The velocity head at the study's mean strike speed, u^2 / (2 g) at 1.60 m/s (m): how far the water
 #: stands up at a stagnation point above the approaching free surface (Bernoulli), and so about how far
 #: a container afloat in the approaching flow meets the column below the water level at its face.
-VELOCITY_HEAD_M = SEED_IMPACT_VELOCITY_M_S[0] ** 2 / (2.0 * 9.80665)
+VELOCITY_HEAD_M = STUDY_IMPACT_VELOCITY_M_S[0] ** 2 / (2.0 * 9.80665)
 
 
 def lowered(population: Population, drop_m: float) -> Population:
@@ -299,7 +299,7 @@ def lowered(population: Population, drop_m: float) -> Population:
     drop = float(drop_m)
     if not math.isfinite(drop) or drop < 0.0:
         raise InputError("drop_m", f"must be >= 0 m, got {drop_m}")
-    floor = SEED_CONTAINER_SIZE_M[2] / 2.0
+    floor = STUDY_CONTAINER_SIZE_M[2] / 2.0
     contact = np.maximum(population.contact_height_m - drop, floor)
     return Population(population.water_level_m, contact, population.lateral_offset_m,
                       population.vertical_offset_m, population.obliquity_deg, population.effective_mass_kg)
@@ -311,7 +311,7 @@ def contact_drop(law: ContactLaw, population: Population, drops_m=(0.0, 0.05, 0.
     load point (:func:`lowered`): per drop, the population's means at 1.60 m/s, their z-scores
     against Table 2 and the chi-square of the three (the law held, so 3 degrees of freedom).
     ``level``: the same law's figures over ``population`` already struck (used for a drop of 0)."""
-    targets = {k: SEED_TABLE2_MDOF[k][0] for k in FIGURES}
+    targets = {k: STUDY_TABLE2_MDOF[k][0] for k in FIGURES}
     rows = []
     for drop in drops_m:
         figures = (level if level is not None and drop == 0.0
@@ -363,7 +363,7 @@ class LawFit:
         return {"law": self.law.to_dict(), "free": list(self.free), "stiffness_se_N_m": self.stiffness_se_N_m,
                 "damping_ratio_se": self.damping_ratio_se, "correlation": self.correlation, "chi2": self.chi2,
                 "dof": self.dof, "p_value": self.p_value, "means": self.means,
-                "table2_means": {k: SEED_TABLE2_MDOF[k][0] for k in FIGURES},
+                "table2_means": {k: STUDY_TABLE2_MDOF[k][0] for k in FIGURES},
                 "standard_errors": self.standard_errors, "z": self.z, "evaluations": self.evaluations,
                 "strikes": len(self.figures.population), "start": list(self.start),
                 "singular_values": list(self.singular_values), "converged": self.converged}
@@ -377,7 +377,7 @@ def calibrate(population: Population | None = None, column: Column | None = None
     ``fast``: :func:`unit_figures`' closed-form fit (False: the reference)."""
     population = strike_population() if population is None else population
     column = STUDY_COLUMN if column is None else column
-    targets = {k: SEED_TABLE2_MDOF[k][0] for k in FIGURES}
+    targets = {k: STUDY_TABLE2_MDOF[k][0] for k in FIGURES}
     cache: dict[tuple, UnitFigures] = {}
 
     def figures(x) -> UnitFigures:
@@ -450,7 +450,7 @@ def table2_impulse_relation() -> float:
     """``(2 / pi) x peak x duration`` of Table 2's means (N s): what its mean impulse would be if
     every fitted half-sine had the mean peak and duration; against its 0.52 N s it says how much
     of the third mean is a number of its own."""
-    return 2.0 / math.pi * SEED_TABLE2_MDOF["peak_force_N"][0] * SEED_TABLE2_MDOF["duration_s"][0]
+    return 2.0 / math.pi * STUDY_TABLE2_MDOF["peak_force_N"][0] * STUDY_TABLE2_MDOF["duration_s"][0]
 
 
 def calibrate_multistart(population: Population | None = None, column: Column | None = None,
@@ -478,7 +478,7 @@ class Scatter:
 
     def to_dict(self) -> dict:
         return {"means": self.means, "stds": self.stds, "quantiles": self.quantiles,
-                "table2_stds": {k: SEED_TABLE2_MDOF[k][1] for k in FIGURES},
+                "table2_stds": {k: STUDY_TABLE2_MDOF[k][1] for k in FIGURES},
                 "table1_percentiles_at_its_speed": self.table1_percentiles,
                 "table1_percentiles_in_population": self.table1_percentiles_population, "draws": self.draws}
 
@@ -490,12 +490,12 @@ def scatter(figures: UnitFigures, draws: int = 200_000, seed: int = 22) -> Scatt
     event (its peak, duration, impulse) among the population's strikes at its own speed,
     1.50 m/s (the geometry varying), and in the whole population."""
     rng = np.random.default_rng(seed)
-    speeds = rng.normal(*SEED_IMPACT_VELOCITY_M_S, size=draws)
+    speeds = rng.normal(*STUDY_IMPACT_VELOCITY_M_S, size=draws)
     pick = rng.integers(0, len(figures.population), size=draws)
     unit = {"peak_force_N": figures.fit_peak_force_N, "duration_s": figures.fit_duration_s,
             "impulse_Ns": figures.fit_impulse_Ns}
     values = {k: (speeds if k != "duration_s" else 1.0) * unit[k][pick] for k in FIGURES}
-    e = SEED_TABLE1_EVENT
+    e = STUDY_TABLE1_EVENT
     event = {"peak_force_N": e.peak_force_N, "duration_s": e.duration_s, "impulse_Ns": e.impulse_Ns}
     at_speed = {k: (e.velocity_m_s if k != "duration_s" else 1.0) * unit[k] for k in FIGURES}
     return Scatter(

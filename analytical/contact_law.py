@@ -53,23 +53,23 @@ from analytical.impact import (
     inverse_inertia_tensor,
 )
 from analytical.study import (
-    SEED_CONTAINER_SIZE_M,
-    SEED_CONTAINER_WALL_M,
-    SEED_DEBRIS_MASS_KG,
-    SEED_DEBRIS_STIFFNESS_N_M,
-    SEED_IMPACT_HEIGHTS_M,
-    SEED_MEAN_HEIGHT_M,
-    SEED_TABLE1,
-    SEED_TABLE1_VELOCITY_M_S,
-    SEED_TABLE2_MDOF,
+    STUDY_CONTAINER_SIZE_M,
+    STUDY_CONTAINER_WALL_M,
+    STUDY_DEBRIS_MASS_KG,
+    STUDY_DEBRIS_STIFFNESS_N_M,
+    STUDY_IMPACT_HEIGHTS_M,
+    STUDY_MEAN_HEIGHT_M,
+    STUDY_TABLE1,
+    STUDY_TABLE1_VELOCITY_M_S,
+    STUDY_TABLE2_MDOF,
 )
 
 __all__ = [
     "ASCE7_KD",
     "CONTAINER",
     "LAWS",
-    "SEED_TABLE1_EVENT",
-    "SEED_TABLE2_MDOF",
+    "STUDY_TABLE1_EVENT",
+    "STUDY_TABLE2_MDOF",
     "ContactLaw",
     "ImpactEvent",
     "box_inertia",
@@ -94,8 +94,8 @@ class ImpactEvent:
     impulse_Ns: float
 
 
-SEED_TABLE1_EVENT = ImpactEvent(SEED_TABLE1_VELOCITY_M_S, SEED_MEAN_HEIGHT_M, SEED_DEBRIS_MASS_KG,
-                                *SEED_TABLE1["MDOF fit"])
+STUDY_TABLE1_EVENT = ImpactEvent(STUDY_TABLE1_VELOCITY_M_S, STUDY_MEAN_HEIGHT_M, STUDY_DEBRIS_MASS_KG,
+                                *STUDY_TABLE1["MDOF fit"])
 """The study's Table 1 event: measured velocity 1.50 m/s, MDOF-fitted half-sine (its Fig. 4).
 The height is the mean of its 22 impacts (0.40 m); the event's own height is not given."""
 
@@ -166,7 +166,7 @@ def damping_for_restitution(restitution: float) -> float:
     return float(brentq(lambda z: wall_restitution(z) - e, 0.0, hi, xtol=1e-12))
 
 
-# Calibrated on SEED_TABLE2_MDOF by analytical.contact_calibration.calibrate() (docs/contact-law.md,
+# Calibrated on STUDY_TABLE2_MDOF by analytical.contact_calibration.calibrate() (docs/contact-law.md,
 # `make contact-law`) on the study's column with its base tuned to the measured 70 Hz, from 6
 # starts: k = 6.34e4 +- 1.5e4 N/m, zeta = 0.620 +- 0.065 (correlation -1.00), chi-square 1.21 on
 # 1 dof. tests/test_contact_law.py checks that they reproduce Table 2 and are the calibration's minimum.
@@ -176,7 +176,7 @@ CONTAINER_DAMPING_RATIO = 0.620
 CONTAINER = ContactLaw(CONTAINER_STIFFNESS_N_M, CONTAINER_DAMPING_RATIO, "container")
 """The 1:40 polyethylene container, calibrated on the study's Table 2 (22 impacts)."""
 
-ASCE7_KD = ContactLaw(SEED_DEBRIS_STIFFNESS_N_M, 0.0, "asce7_kd")
+ASCE7_KD = ContactLaw(STUDY_DEBRIS_STIFFNESS_N_M, 0.0, "asce7_kd")
 """ASCE 7-22's rigid debris: the study's k_d, undamped."""
 
 LAWS = {"container": CONTAINER, "asce7_kd": ASCE7_KD}
@@ -228,13 +228,13 @@ def box_inertia(size_m, mass_kg: float, wall_thickness_m: float | None) -> tuple
 def column_impact(
     law: ContactLaw,
     velocity_m_s: float,
-    height_m: float = SEED_IMPACT_HEIGHTS_M[2],
+    height_m: float = STUDY_IMPACT_HEIGHTS_M[2],
     *,
     column: Column | None = None,
     obliquity_deg: float = 0.0,
-    mass_kg: float = SEED_DEBRIS_MASS_KG,
-    size_m=SEED_CONTAINER_SIZE_M,
-    wall_thickness_m: float | None = SEED_CONTAINER_WALL_M,
+    mass_kg: float = STUDY_DEBRIS_MASS_KG,
+    size_m=STUDY_CONTAINER_SIZE_M,
+    wall_thickness_m: float | None = STUDY_CONTAINER_WALL_M,
     friction_coefficient: float = DEFAULT_FRICTION_COEFFICIENT,
     added_mass_coefficient: float | None = None,
     lateral_offset_m: float = 0.0,

@@ -1,11 +1,11 @@
-"""Fit an impact pulse to a measured force-response record (the seed's sections 3.2.1-3.2.2).
+"""Fit an impact pulse to a measured force-response record (the study's sections 3.2.1-3.2.2).
 
 A record is the force a load cell measured while a column rang after a debris
 impact. We look for the pulse p(t) (half-sine by default) whose modelled response
 matches it best in the least-squares sense:
 
 * ``fit_sdof``: the response R = k u of a single-degree-of-freedom oscillator; the
-  seed varied magnitude, duration, damping, stiffness and natural frequency within
+  study varied magnitude, duration, damping, stiffness and natural frequency within
   the bounds of Stolle et al. (2019): f1 = 70 +- 2.2 Hz, zeta = 0.045 +- 0.005,
   k = 4.653e5 .. 4.701e5 N/m. We keep the widths of those bounds and centre them
   on the column's measured values (`natural_frequency_Hz`, `damping_ratio`), so a
@@ -51,13 +51,13 @@ from analytical.mdof import mdof_response
 from analytical.oscillator import oscillator_response
 from analytical.pulses import make_pulse
 
-#: Half-widths of the seed's SDOF fit bounds (Stolle et al. 2019 via the seed, section
+#: Half-widths of the study's SDOF fit bounds (Stolle et al. 2019 via its section
 #: 3.2.1: f1 = 70 +- 2.2 Hz, damping 0.045 +- 0.005, k = 4.653e5 .. 4.701e5 N/m).
 SDOF_FREQUENCY_TOL_HZ = 2.2
 SDOF_DAMPING_TOL = 0.005
 SDOF_STIFFNESS_N_M = (4.653e5, 4.701e5)
 
-#: Pulse durations searched, s (the seed's fitted pulses lasted 0.6-7 ms).
+#: Pulse durations searched, s (the study's fitted pulses lasted 0.6-7 ms).
 DURATION_BOUNDS_S = (2.0e-4, 2.0e-2)
 
 
@@ -325,10 +325,10 @@ def _sdof_start(time_s, column, prep: "_Prepared", earliest_start_s) -> tuple[fl
 def fit_sdof(time_s, force_N, column=None, shape: str = "half-sine", window_s: float = 0.04,
              mass_kg: float | None = None, earliest_start_s: float | None = None,
              identifiability: bool = True) -> PulseFit:
-    """Fit a pulse with the SDOF model R = k u (seed eq. [6]) to a force record.
+    """Fit a pulse with the SDOF model R = k u (study eq. [6]) to a force record.
 
     Varies magnitude (N), duration (s), start (s), damping ratio and natural
-    frequency (Hz) within the seed's bounds around the column's measured values
+    frequency (Hz) within the study's bounds around the column's measured values
     (module constants); the stiffness is the column's (it does not change R, see
     the module docstring).
 
@@ -341,7 +341,7 @@ def fit_sdof(time_s, force_N, column=None, shape: str = "half-sine", window_s: f
     ringing (docs/fitting.md gives the figures); pass `earliest_start_s` to move it.
 
     `mass_kg` (default None: m = k / omega^2, a consistent oscillator) holds the mass
-    fixed while the frequency is fitted, as a literal reading of the seed's eq. [6]
+    fixed while the frequency is fitted, as a literal reading of the study's eq. [6]
     with k, m_s and omega as separate inputs does: then R = (k / m_s) q.
 
     `identifiability` (default True) adds `duration_identifiability` to the result
@@ -379,7 +379,7 @@ def fit_mdof(time_s, force_N, column=None, height_m: float = 0.40, shape: str = 
     """Fit a pulse at `height_m` (m above the base) with the MDOF column's base shear.
 
     Varies magnitude (N), duration (s) and start (s); the column's matrices are fixed
-    (the seed's section 3.2.2).
+    (the study's section 3.2.2).
     """
     column = column if column is not None else Column()
     if not (0.0 < float(height_m) <= column.height_m):

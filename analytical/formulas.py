@@ -1,4 +1,4 @@
-"""Empirical and semi-analytical debris impact force formulas (seed Sec. 2.1, eqs. [1]-[5]).
+"""Empirical and semi-analytical debris impact force formulas (study Sec. 2.1, eqs. [1]-[5]).
 
 Each function returns the maximum impact force in N. Inputs are SI; scalars give a float,
 arrays (NumPy broadcasting) give an array. Bad input raises ``InputError`` naming the argument.
@@ -39,7 +39,7 @@ MATSUTOMI_CMA_STEADY = 1.9
 """Matsutomi's apparent-mass coefficient for driftwood in steady flow (as commonly quoted)."""
 
 IKENO_KAPPA = 0.243
-"""Ikeno et al. (2013) dimensionless coefficient kappa (seed eq. [5])."""
+"""Ikeno et al. (2013) dimensionless coefficient kappa (study eq. [5])."""
 
 GRAVITY_M_S2 = 9.81
 
@@ -61,7 +61,7 @@ def _result(value: np.ndarray, *inputs: np.ndarray):
 
 
 def haehnel_daly(velocity_m_s, mass_kg, stiffness_N_m, structure_stiffness_N_m=None):
-    """Maximum impact force of a debris item, ``F = u sqrt(k m)`` (Haehnel and Daly 2004; seed eq. [1]).
+    """Maximum impact force of a debris item, ``F = u sqrt(k m)`` (Haehnel and Daly 2004; study eq. [1]).
 
     The debris (mass ``m``) strikes through a linear contact spring ``k`` and stops; all its
     kinetic energy goes into the spring: ``k x^2 / 2 = m u^2 / 2``, ``F = k x = u sqrt(k m)``.
@@ -77,7 +77,7 @@ def haehnel_daly(velocity_m_s, mass_kg, stiffness_N_m, structure_stiffness_N_m=N
         Debris (contact) stiffness ``k_d``, N/m (> 0); the effective stiffness when
         ``structure_stiffness_N_m`` is not given.
     structure_stiffness_N_m:
-        Optional structure stiffness ``k_s``, N/m: then ``k = k_s k_d / (k_s + k_d)`` (seed eq. [2]).
+        Optional structure stiffness ``k_s``, N/m: then ``k = k_s k_d / (k_s + k_d)`` (study eq. [2]).
 
     Returns
     -------
@@ -96,7 +96,7 @@ def haehnel_daly(velocity_m_s, mass_kg, stiffness_N_m, structure_stiffness_N_m=N
     if structure_stiffness_N_m is None:
         return _result(u * np.sqrt(k * m), u, m, k)
     ks = _positive("structure_stiffness_N_m", structure_stiffness_N_m)
-    k_eff = ks * k / (ks + k)  # series springs, seed eq. [2] (as asce7.effective_stiffness)
+    k_eff = ks * k / (ks + k)  # series springs, study eq. [2] (as asce7.effective_stiffness)
     return _result(u * np.sqrt(k_eff * m), u, m, k, ks)
 
 
@@ -109,7 +109,7 @@ def matsutomi(
     added_mass_coefficient=MATSUTOMI_CMA_BORE,
     g=GRAVITY_M_S2,
 ):
-    """Maximum collision force of driftwood (Matsutomi 2009; seed eq. [4]).
+    """Maximum collision force of driftwood (Matsutomi 2009; study eq. [4]).
 
     ``F = 1.6 C_MA (v / sqrt(g D))^1.2 (sigma_f / (gamma L))^0.4 gamma D^2 L``
 
@@ -142,7 +142,7 @@ def matsutomi(
     dimensionless. Valid range: end-on collisions of cylindrical wooden logs with a rigid
     structure, in air, bores or steady flow, as in the author's experiments (laboratory and
     larger-scale wooden logs). The original parameter ranges could not be verified here; treat
-    any non-log debris (e.g. the seed's 1:40 polyethylene container) as an extrapolation.
+    any non-log debris (e.g. the study's 1:40 polyethylene container) as an extrapolation.
 
     References
     ----------
@@ -171,7 +171,7 @@ def ikeno(
     added_mass_coefficient=MATSUTOMI_CMA_BORE,
     kappa=IKENO_KAPPA,
 ):
-    """Maximum collision force, Hertz-contact type (Ikeno et al. 2013, 2016; seed eq. [5]).
+    """Maximum collision force, Hertz-contact type (Ikeno et al. 2013, 2016; study eq. [5]).
 
     ``F = kappa (C_MA m)^0.6 V_H^1.2 D^0.2 E~^0.4``
 
@@ -208,7 +208,7 @@ def ikeno(
     ----------
     Ikeno, M. et al. (2013): Hertz-type collision force formula for woody debris, validated by
     in-air and in-water experiments; Ikeno, M. et al. (2016): the same with the collision angle.
-    Both as cited by the seed, Sec. 2.1 (full references in the seed's bibliography).
+    Both as cited by the study, Sec. 2.1 (full references in the study's bibliography).
     """
     v = _positive("velocity_m_s", velocity_m_s)
     m = _positive("mass_kg", mass_kg)

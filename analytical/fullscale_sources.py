@@ -58,8 +58,7 @@ UNIT_TO_SI = {
 }
 
 CITATIONS = {
-    "seed": "Joynt, Nistor, Palermo & Stolle, the reference study: its text "
-            "/work/shared/seed/000_8aacdf6dd6a42dd6.txt (a secondary source for ASCE 7-22: it applies "
+    "study": "Joynt, Nistor, Palermo & Stolle, the reference study (analytical/study.py; a secondary source for ASCE 7-22: it applies "
             "Clauses 6.11.2, 6.11.6 and 6.11.8 and quotes their formulas and C_o)",
     "riggs2014": "Riggs, H. R., Cox, D. T., Ko, H. T.-S., Naito, C. J., Piran Aghl, P., Kobayashi, M. H. and "
                  "Khowitar, E. (as the ASME page lists them, by affiliation) (2014). Experimental and analytical "
@@ -130,19 +129,19 @@ def _r(key, quantity, value, unit, source, where, note="") -> SourceRecord:
 
 SOURCE_RECORDS: tuple[SourceRecord, ...] = (
     # ---- ASCE 7-22 section 6.11, as the reference study applies it (a secondary source)
-    _r("asce_Co_container", "ASCE 7-22 orientation coefficient C_o, shipping containers", 0.65, "1", "seed",
+    _r("asce_Co_container", "ASCE 7-22 orientation coefficient C_o, shipping containers", 0.65, "1", "study",
        "Sec. 3.2.3, after eq. [10]: 'following Clause 6.11.6, the orientation is equal to 0.65 for shipping "
        "containers'", "the standard's own clause was not retrieved"),
-    _r("asce_Itsu_II", "ASCE 7-22 tsunami importance factor I_tsu, Tsunami Risk Category II", 1.0, "1", "seed",
+    _r("asce_Itsu_II", "ASCE 7-22 tsunami importance factor I_tsu, Tsunami Risk Category II", 1.0, "1", "study",
        "Sec. 3.2.3: 'the importance factor was selected to be one, corresponding to a Tsunami Risk Category of II'"),
-    _r("asce_Fi", "ASCE 7-22 design impact force", "F_i = I_tsu C_o F_ni", "N", "seed", "Sec. 3.2.3, eq. [8]"),
-    _r("asce_Fni", "ASCE 7-22 nominal maximum instantaneous impact force", "F_ni = u_max sqrt(k m_d)", "N", "seed",
+    _r("asce_Fi", "ASCE 7-22 design impact force", "F_i = I_tsu C_o F_ni", "N", "study", "Sec. 3.2.3, eq. [8]"),
+    _r("asce_Fni", "ASCE 7-22 nominal maximum instantaneous impact force", "F_ni = u_max sqrt(k m_d)", "N", "study",
        "Sec. 3.2.3, eq. [9]; Sec. 2.1 eq. [1] (Haehnel and Daly 2004)"),
     _r("asce_k", "ASCE 7-22 stiffness k in F_ni", "the lesser of the debris' effective stiffness and the lateral "
-       "stiffness of the impacted structural element", "N/m", "seed", "Sec. 2.1, on Clause 6.11.2"),
-    _r("asce_td", "ASCE 7-22 impact duration", "t_d = 2 m_d u_max / F_ni", "s", "seed",
+       "stiffness of the impacted structural element", "N/m", "study", "Sec. 2.1, on Clause 6.11.2"),
+    _r("asce_td", "ASCE 7-22 impact duration", "t_d = 2 m_d u_max / F_ni", "s", "study",
        "Sec. 3.2.3, eq. [10]; Sec. 2.1 eq. [3] (Clause 6.11.2)"),
-    _r("asce_pulse", "ASCE 7-22 impact load history", "rectangular pulse of F_i over t_d", "N", "seed",
+    _r("asce_pulse", "ASCE 7-22 impact load history", "rectangular pulse of F_i over t_d", "N", "study",
        "Sec. 3.2.3: 'following Clause 6.11.8, the impact force history will take the shape of a rectangular pulse'"),
     # ---- ASCE 7-22 values not found in any source text
     *(_r(f"asce_table_6_11_2_{c}_{q}", f"ASCE 7-22 Table 6.11-2, {c.replace('_', ' ')} container, {q}", None,
@@ -187,7 +186,7 @@ SOURCE_RECORDS: tuple[SourceRecord, ...] = (
        "'the telephone-pole-size 1,000-pound default log assumed by most U.S. building-design guidelines'"),
     _r("haehnel_log_stiffness", "effective contact stiffness, logs striking structures (laboratory flume and basin)",
        2.4, "MN/m", "haehnel2002", "abstract: 'with an effective contact stiffness of 2.4 MN/m'",
-       "the model ASCE 7-22 6.11 derives from (seed Sec. 2.1); woody debris, not containers"),
+       "the model ASCE 7-22 6.11 derives from (study Sec. 2.1); woody debris, not containers"),
     # ---- the full-scale papers whose data were not found
     _r("piran_aghl_2014_2015_tests", "Piran Aghl, Naito, Riggs et al. (2014, 2015), 'Full-scale experimental study "
        "of impact demands resulting from high mass, low velocity debris', J. Struct. Eng.: test speeds, masses, "

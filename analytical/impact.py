@@ -14,7 +14,7 @@ obstacle into the body) the body is a single mass, its **effective mass at the c
 (``r`` from the centre of mass to the contact point, ``I^-1`` the inverse inertia tensor in
 the global frame, ``C_a`` the added-mass coefficient on the translational part). The body
 presses on a **compression-only linear contact spring** ``k`` (the debris stiffness, default
-:data:`analytical.study.SEED_DEBRIS_STIFFNESS_N_M`), optionally with a dashpot (default none),
+:data:`analytical.study.STUDY_DEBRIS_STIFFNESS_N_M`), optionally with a dashpot (default none),
 and the spring acts on the obstacle:
 
 * :class:`RigidWall`: the spring is grounded. Undamped, this is Haehnel & Daly's model: a
@@ -37,12 +37,12 @@ The base shear at the load cell is the column's response to the resulting force 
 computed by :func:`analytical.mdof.mdof_response`: exact modal superposition, each mode carried
 over the pulse's samples by an exact recurrence
 (:func:`analytical.oscillator.piecewise_linear_response`), so its cost grows as (samples +
-times) x modes; an undamped column uses the Newmark option. It is the same quantity the seed's
+times) x modes; an undamped column uses the Newmark option. It is the same quantity the study's
 MDOF fits produce. The coupled integration's own base shear is kept in
 :attr:`ImpactResult.history` (it agrees with the modal one; a test checks it).
 
 Body-body contacts (:func:`pair_impact`) use the two bodies' combined contact compliance
-(two-body effective mass) on one spring with no column; its default stiffness is two seed
+(two-body effective mass) on one spring with no column; its default stiffness is two of the study's
 debris in series, ``k_d / 2``.
 
 *Tangential part (impulse level).* Coulomb friction acts on the total impulse at the contact
@@ -68,7 +68,7 @@ Defaults and why
   end-on (longitudinally), laboratory work found the water adds little to the impact force:
   Haehnel & Daly (2004) for logs, and Ko et al. (2015) for shipping-container models struck
   in water and in air; ASCE 7-16/7-22 Clause 6.11 accordingly has no added-mass term, and the
-  seed's debris stiffness (:data:`~analytical.study.SEED_DEBRIS_STIFFNESS_N_M`) was backed out
+  study's debris stiffness (:data:`~analytical.study.STUDY_DEBRIS_STIFFNESS_N_M`) was backed out
   of that formula without one, so adding mass on top would double count. (The papers could
   not be retrieved here; these are their findings as widely quoted.) For sensitivity, Matsutomi's
   apparent-mass coefficient for driftwood in a bore, ``C_MA = 1.7``, means ``C_a = 0.7``
@@ -77,20 +77,20 @@ Defaults and why
   bound; :mod:`analytical.added_mass`); :func:`analytical.contact_law.column_impact` gives the
   body its own added mass along the normal by default, the container law being calibrated so.
 * ``friction_coefficient = 0.3`` (:data:`DEFAULT_FRICTION_COEFFICIENT`): kinetic friction of
-  polyethylene (the seed's debris) on a smooth hard surface (acrylic, glass, steel) is
+  polyethylene (the study's debris) on a smooth hard surface (acrylic, glass, steel) is
   quoted at 0.2-0.3 in engineering tables; water lubricates it downwards. 0.3, the upper end,
-  gives the most rotation from a glancing blow. No measured value exists for the seed's pair.
+  gives the most rotation from a glancing blow. No measured value exists for the study's pair.
 * ``damping_ratio = 0`` (contact dashpot as a fraction of ``2 sqrt(k m_eff)``): the energy a
   column impact loses must come out of the structural model, not from an assumed coefficient;
-  Haehnel & Daly (2004) found damping negligible in the impact, and the seed's ``k_d`` comes
+  Haehnel & Daly (2004) found damping negligible in the impact, and the study's ``k_d`` comes
   from their undamped formula; no damping was measured for the polyethylene containers.
   Give a value to model a lossy debris material; with a dashpot the contact ends when the
   force (spring + dashpot) returns to zero, and the spring energy left then is counted as lost.
 
-Seed comparison (Table 1 event: 0.236 kg at 1.5 m/s, column struck at 0.40 m)
+Study comparison (Table 1 event: 0.236 kg at 1.5 m/s, column struck at 0.40 m)
 -----------------------------------------------------------------------------
 With ``k_d`` the coupled model gives 1137 N over 0.86 ms, 0.624 N s, restitution 0.76, base
-shear 1004 N (rigid base; 886 N calibrated): between the seed's ASCE 7-22 ``k_d`` row
+shear 1004 N (rigid base; 886 N calibrated): between the study's ASCE 7-22 ``k_d`` row
 (822 N = 0.65 x Haehnel & Daly's rigid-wall 1270 N, 0.6 ms, 0.46 N s) and the rigid wall,
 and far from its MDOF fit (237 N, 4.7 ms, 0.71 N s). The MDOF fit's pulse is what this model
 gives with an undamped contact about 30 times softer than ``k_d``: ``k = 1.05e5 N/m`` yields
@@ -135,7 +135,7 @@ from analytical.impact_results import ImpactEnergy, ImpactResult
 from analytical.mdof import mdof_response
 from analytical.pulses import Tabulated
 from analytical.sdof import ForceResponse
-from analytical.study import SEED_DEBRIS_STIFFNESS_N_M
+from analytical.study import STUDY_DEBRIS_STIFFNESS_N_M
 
 __all__ = [
     "DEFAULT_ADDED_MASS_COEFFICIENT",
@@ -173,7 +173,7 @@ def impact(
     normal,
     target: RigidWall | ColumnTarget,
     *,
-    stiffness_N_m: float = SEED_DEBRIS_STIFFNESS_N_M,
+    stiffness_N_m: float = STUDY_DEBRIS_STIFFNESS_N_M,
     friction_coefficient: float = DEFAULT_FRICTION_COEFFICIENT,
     damping_ratio: float = DEFAULT_CONTACT_DAMPING_RATIO,
     dt_s: float | None = None,
@@ -194,7 +194,7 @@ def impact(
     target:
         :class:`RigidWall` or :class:`ColumnTarget`.
     stiffness_N_m:
-        Contact (debris) stiffness k (N/m); default the seed's k_d, 3.04e6 N/m.
+        Contact (debris) stiffness k (N/m); default the study's k_d, 3.04e6 N/m.
     friction_coefficient:
         Coulomb mu (>= 0) for the tangential impulse.
     damping_ratio:
@@ -262,7 +262,7 @@ def pair_impact(
     contact_point_m,
     normal,
     *,
-    stiffness_N_m: float = SEED_DEBRIS_STIFFNESS_N_M / 2.0,
+    stiffness_N_m: float = STUDY_DEBRIS_STIFFNESS_N_M / 2.0,
     friction_coefficient: float = DEFAULT_FRICTION_COEFFICIENT,
     damping_ratio: float = DEFAULT_CONTACT_DAMPING_RATIO,
     dt_s: float | None = None,
@@ -271,7 +271,7 @@ def pair_impact(
 
     ``normal`` points from ``other`` into ``body``; the impulse ``J`` acts on ``body`` and
     ``-J`` on ``other``. ``1 / m_eff = n . (K_body + K_other) n`` with each body's contact
-    compliance (:meth:`Body.compliance`). The default stiffness is two seed debris in series,
+    compliance (:meth:`Body.compliance`). The default stiffness is two of the study's debris in series,
     ``k_d / 2``. Velocities in the result are relative (``body`` minus ``other``) at the
     contact point; ``velocity_out_m_s`` etc. are ``body``'s, ``other_*`` the other's.
     """

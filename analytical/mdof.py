@@ -2,7 +2,7 @@
 
 The column (:class:`analytical.column.Column`) is modelled by Timoshenko beam elements
 (:mod:`analytical.beam`, assembled with its support and damping by
-:func:`analytical.column_fem.column_model`; seed section 3.2.2). A point force ``P(t)`` (a
+:func:`analytical.column_fem.column_model`; study section 3.2.2). A point force ``P(t)`` (a
 pulse from :mod:`analytical.pulses`) acts along ``+x`` at a height ``z`` above the base,
 and :func:`mdof_response` gives the *base shear*: the force the column transmits to its
 base support (the load cell), positive in the load direction. This module is the entry
@@ -36,7 +36,7 @@ Time integration
 ``method="modal"``: modal superposition, exact per mode: underdamped modes with
 :func:`analytical.oscillator.oscillator_response`, the overdamped high modes that Rayleigh
 damping produces (``zeta_n = a0 / (2 omega_n) + a1 omega_n / 2`` exceeds 1 above about 10 kHz
-for the seed's column) with the real-root closed form of :func:`_overdamped_response`; a sampled
+for the study's column) with the real-root closed form of :func:`_overdamped_response`; a sampled
 pulse (:class:`~analytical.pulses.Tabulated`, as the impact integration gives) has every mode
 carried over its samples by the exact recurrence of
 :func:`analytical.oscillator.piecewise_linear_response`, whose cost grows as (samples + times)

@@ -13,7 +13,7 @@ energy. :func:`analytical.mdof.mdof_response` uses it for ``method="newmark"``, 
 References
 ----------
 Chopra, A.K. (2017). Dynamics of Structures, 5th ed. Pearson. (Newmark 5.4, 15.3.)
-Joynt et al. (2021) and the seed study, section 3.2.2 (dt = 1e-6 s).
+Joynt et al. (2021) and the study, section 3.2.2 (dt = 1e-6 s).
 """
 
 from __future__ import annotations
@@ -90,8 +90,8 @@ def newmark_history(
         lasts a whole number of steps. The Newmark period error is about
         ``(omega dt)^2 / 12`` (0.08 % at ``omega dt = 0.1``), so the modes that carry the
         peak are phased to better than 0.1 %; against the modal solution the peak errors
-        measured for the seed's Table 1 pulses at 0.16, 0.40 and 0.80 m were below 2e-4.
-        For the seed's column this gives dt of about 3.9e-6 s.
+        measured for the study's Table 1 pulses at 0.16, 0.40 and 0.80 m were below 2e-4.
+        For the study's column this gives dt of about 3.9e-6 s.
     start_s:
         The column is at rest up to the first grid time: one step before the pulse, or
         earlier to reach ``start_s`` (s).

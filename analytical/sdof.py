@@ -1,6 +1,6 @@
-"""The single-degree-of-freedom structure of the seed study and its force response to impact pulses.
+"""The single-degree-of-freedom structure of the study and its force response to impact pulses.
 
-The seed's SDOF model (its eq. [6]) is :class:`SDOF` with :func:`sdof_response`,
+The study's SDOF model (its eq. [6]) is :class:`SDOF` with :func:`sdof_response`,
 ``R(t) = k u(t)``: the spring force of a damped oscillator, evaluated exactly by
 :func:`analytical.oscillator.oscillator_response`. :func:`max_force_response` finds the largest
 response over all time (response spectra, dynamic load factors), undamped and resonant cases
@@ -42,7 +42,7 @@ _EPS = float(np.finfo(float).eps)
 
 @dataclass(frozen=True)
 class SDOF:
-    """Linear single-degree-of-freedom structure (seed study Sec. 3.2.1).
+    """Linear single-degree-of-freedom structure (study Sec. 3.2.1).
 
     Parameters
     ----------
@@ -69,8 +69,8 @@ class SDOF:
         object.__setattr__(self, "damping_ratio", z)
 
     @classmethod
-    def seed(cls) -> "SDOF":
-        """The seed study's column (Stolle et al. 2019): k = 4.685e5 N/m, 70 Hz, zeta = 0.045."""
+    def study(cls) -> "SDOF":
+        """The study's column (Stolle et al. 2019): k = 4.685e5 N/m, 70 Hz, zeta = 0.045."""
         return cls(stiffness_N_m=4.685e5, natural_frequency_Hz=70.0, damping_ratio=0.045)
 
     @property
@@ -157,7 +157,7 @@ def load_direction(pulse) -> int:
 
 
 def sdof_response(pulse, sdof: SDOF, t) -> ForceResponse:
-    """Force response ``R(t) = k u(t)`` of an SDOF structure to a pulse (seed eq. [6]).
+    """Force response ``R(t) = k u(t)`` of an SDOF structure to a pulse (study eq. [6]).
 
     Parameters
     ----------

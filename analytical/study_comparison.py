@@ -1,7 +1,7 @@
 """The tool's strikes beside the study's 22, like for like: the study's fit of a base-shear
 history, and a test of two means that can fail.
 
-The study (the seed, section 3.2.2) turned each measured force response into a pulse by
+The study (its section 3.2.2) turned each measured force response into a pulse by
 fitting a half-sine on its MDOF column, loaded at the water level at the column's face
 (0.16-0.50 m, mean 0.40 m), varying magnitude and duration; Table 2's MDOF row gives the
 mean and standard deviation of those pulses over its 22 impacts (section 3.1: 22 experiments
@@ -32,13 +32,13 @@ from scipy import stats
 from analytical.column import Column
 from analytical.errors import InputError, require_finite, require_positive
 from analytical.fitting import fit_mdof
-from analytical.study import SEED_IMPACT_COUNT, SEED_IMPACT_VELOCITY_M_S, SEED_TABLE2_MDOF
+from analytical.study import STUDY_IMPACT_COUNT, STUDY_IMPACT_VELOCITY_M_S, STUDY_TABLE2_MDOF
 
 __all__ = [
     "FIT_PRE_CONTACT_S",
     "JsonFigures",
     "FIT_SAMPLE_S",
-    "SEED_IMPACT_COUNT",
+    "STUDY_IMPACT_COUNT",
     "SIGNIFICANCE",
     "STUDY_FIGURES",
     "StudyComparison",
@@ -53,11 +53,11 @@ SIGNIFICANCE = 0.05
 """The two-sided level below which the means are said to differ."""
 
 STUDY_FIGURES: dict[str, tuple[float, float, int]] = {
-    "speed_m_s": (*SEED_IMPACT_VELOCITY_M_S, SEED_IMPACT_COUNT),
-    "normal_speed_m_s": (*SEED_IMPACT_VELOCITY_M_S, SEED_IMPACT_COUNT),
-    "peak_force_N": (*SEED_TABLE2_MDOF["peak_force_N"], SEED_IMPACT_COUNT),
-    "duration_s": (*SEED_TABLE2_MDOF["duration_s"], SEED_IMPACT_COUNT),
-    "impulse_Ns": (*SEED_TABLE2_MDOF["impulse_Ns"], SEED_IMPACT_COUNT),
+    "speed_m_s": (*STUDY_IMPACT_VELOCITY_M_S, STUDY_IMPACT_COUNT),
+    "normal_speed_m_s": (*STUDY_IMPACT_VELOCITY_M_S, STUDY_IMPACT_COUNT),
+    "peak_force_N": (*STUDY_TABLE2_MDOF["peak_force_N"], STUDY_IMPACT_COUNT),
+    "duration_s": (*STUDY_TABLE2_MDOF["duration_s"], STUDY_IMPACT_COUNT),
+    "impulse_Ns": (*STUDY_TABLE2_MDOF["impulse_Ns"], STUDY_IMPACT_COUNT),
 }
 """The study's (mean, std, n) of each compared quantity. The study measured the debris's
 speed, not its part along the contact normal, so both the tool's total speed and its normal
@@ -111,7 +111,7 @@ class StudyComparison(JsonFigures):
     verdict: str
 
 
-def compare_with_study(samples, study_mean: float, study_std: float, study_n: int = SEED_IMPACT_COUNT,
+def compare_with_study(samples, study_mean: float, study_std: float, study_n: int = STUDY_IMPACT_COUNT,
                        significance: float = SIGNIFICANCE) -> StudyComparison:
     """The tool's ``samples`` (NaN dropped) against the study's ``study_mean`` +- ``study_std``
     over ``study_n`` values (module notes): Welch's t test for two or more samples, a z for one.

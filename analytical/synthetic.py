@@ -1,15 +1,15 @@
-"""The seed's SDOF / MDOF / ASCE comparison (its section 3.3) on synthetic records.
+"""The study's SDOF / MDOF / ASCE comparison (its section 3.3) on synthetic records.
 
 No experimental force records are available, so we make them: known half-sine
-pulses, spread like the seed's MDOF row of Table 2 (the pulses it judged closest
-to the truth), are applied to the MDOF column at impact heights like the seed's
+pulses, spread like the study's MDOF row of Table 2 (the pulses it judged closest
+to the truth), are applied to the MDOF column at impact heights like the study's
 (0.16-0.50 m, mean 0.40 m), and noise, a load-cell offset and a pre-impact
-stretch are added. Each record then goes through the seed's procedure: fit SDOF
+stretch are added. Each record then goes through the study's procedure: fit SDOF
 and MDOF pulses, build the ASCE 7-22 pulses for the debris and the structure
 stiffness at the record's impact velocity, apply every pulse to the MDOF column
 and compare the peak modelled base shear with the peak "measured" one (Fig. 7).
 
-Because the truth is known here, the study can say what the seed could not: how
+Because the truth is known here, this analysis can say what the study could not: how
 far each method's pulse is from the pulse that really acted.
 """
 
@@ -25,17 +25,17 @@ from analytical.fitting import PulseFit, fit_mdof, fit_sdof, prepare_record
 from analytical.mdof import mdof_response
 from analytical.pulses import HalfSine
 from analytical.study import (
-    SEED_DEBRIS_MASS_KG,
-    SEED_DEBRIS_STIFFNESS_N_M,
-    SEED_MEAN_HEIGHT_M,
-    SEED_TABLE1_MDOF,
-    SEED_TABLE1_SDOF,
-    SEED_TABLE2,
-    SEED_VELOCITY_M_S,
+    STUDY_DEBRIS_MASS_KG,
+    STUDY_DEBRIS_STIFFNESS_N_M,
+    STUDY_MEAN_HEIGHT_M,
+    STUDY_TABLE1_MDOF,
+    STUDY_TABLE1_SDOF,
+    STUDY_TABLE2,
+    STUDY_VELOCITY_M_S,
 )
 
-#: Methods that stand for the seed's SDOF fit when comparing with its figures.
-SEED_EQUIVALENT = {"sdof_column_mass": "sdof"}
+#: Methods that stand for the study's SDOF fit when comparing with its figures.
+STUDY_EQUIVALENT = {"sdof_column_mass": "sdof"}
 METHODS = ("asce_kd", "asce_ks", "sdof", "sdof_column_mass", "mdof")
 
 
@@ -79,7 +79,7 @@ def make_records(
     pre_s: float = 0.012,
     noise_fraction: float = 0.025,
 ) -> list[SyntheticRecord]:
-    """Make `n` records: half-sine pulses (magnitude lognormal with the seed's MDOF mean
+    """Make `n` records: half-sine pulses (magnitude lognormal with the study's MDOF mean
     and std, 171 +- 63 N, so always positive without a floor; duration ~ N(4.7, 0.5) ms
     clipped to 3-6.5 ms) at heights in [0.16, 0.50] m with mean ~0.40 m, applied
     to the MDOF column; white noise of `noise_fraction` of the peak, an offset of up
@@ -87,16 +87,16 @@ def make_records(
     column = column if column is not None else Column()
     rng = np.random.default_rng(seed)
     t = np.arange(0.0, record_s, 1.0 / sample_rate_Hz)
-    mag_mean, mag_std = SEED_TABLE2["mdof"]["magnitude_N"]
-    dur_mean, dur_std = SEED_TABLE2["mdof"]["duration_s"]
+    mag_mean, mag_std = STUDY_TABLE2["mdof"]["magnitude_N"]
+    dur_mean, dur_std = STUDY_TABLE2["mdof"]["duration_s"]
     records = []
     for i in range(n):
         sigma2 = np.log1p((mag_std / mag_mean) ** 2)
         magnitude = float(rng.lognormal(np.log(mag_mean) - sigma2 / 2, np.sqrt(sigma2)))
         duration = float(np.clip(rng.normal(dur_mean, dur_std), 3.0e-3, 6.5e-3))
-        # Beta(2.4, 1) on [0.16, 0.50] has mean 0.40 m, the seed's average impact height
+        # Beta(2.4, 1) on [0.16, 0.50] has mean 0.40 m, the study's average impact height
         height = 0.16 + 0.34 * float(rng.beta(2.4, 1.0))
-        velocity = float(rng.normal(*SEED_VELOCITY_M_S))
+        velocity = float(rng.normal(*STUDY_VELOCITY_M_S))
         start = pre_s + float(rng.uniform(0.0, 1.0 / sample_rate_Hz))  # impacts fall between samples
         pulse = HalfSine(float(magnitude), duration, start)
         clean = mdof_response(pulse, column, height, t).response_N
@@ -111,10 +111,10 @@ def analyse_record(
     record: SyntheticRecord,
     column: Column | None = None,
     fit_column: Column | None = None,
-    debris_stiffness_N_m: float = SEED_DEBRIS_STIFFNESS_N_M,
-    mass_kg: float = SEED_DEBRIS_MASS_KG,
+    debris_stiffness_N_m: float = STUDY_DEBRIS_STIFFNESS_N_M,
+    mass_kg: float = STUDY_DEBRIS_MASS_KG,
 ) -> RecordAnalysis:
-    """The seed's procedure on one record.
+    """The study's procedure on one record.
 
     `column` made the record and receives every pulse (the "structure"); `fit_column`
     is the model the fits use (default: the same column).
@@ -124,7 +124,7 @@ def analyse_record(
     t = record.time_s
     fits: dict[str, PulseFit] = {
         "sdof": fit_sdof(t, record.force_N, column=fit_column),
-        # the seed's eq. [6] read literally: mass held at the column's physical mass
+        # the study's eq. [6] read literally: mass held at the column's physical mass
         "sdof_column_mass": fit_sdof(t, record.force_N, column=fit_column, mass_kg=fit_column.mass_kg),
         "mdof": fit_mdof(t, record.force_N, column=fit_column, height_m=record.height_m),
     }
@@ -218,14 +218,14 @@ def table1_sdof_check(column: Column, fit_column: Column, sample_rate_Hz: float 
     that starts at the impact, load 0.40 m up): its pulse, where it starts, whether its duration
     is fixed, and the study's Fig. 7 ratio (its pulse's peak MDOF response over the record's)."""
     t = np.arange(0.0, record_s, 1.0 / sample_rate_Hz)
-    truth = HalfSine(*SEED_TABLE1_MDOF, 0.0)
-    record = mdof_response(truth, column, SEED_MEAN_HEIGHT_M, t).response_N
+    truth = HalfSine(*STUDY_TABLE1_MDOF, 0.0)
+    record = mdof_response(truth, column, STUDY_MEAN_HEIGHT_M, t).response_N
     t_fine = np.arange(0.0, record_s, 2e-5)
     out = {"record_peak_N": float(np.max(record))}
     for name, mass in (("sdof", None), ("sdof_column_mass", fit_column.mass_kg)):
         f = fit_sdof(t, record, column=fit_column, mass_kg=mass)
         ident = f.duration_identifiability
-        peak = float(mdof_response(f.pulse, column, SEED_MEAN_HEIGHT_M, t_fine).peak_N)
+        peak = float(mdof_response(f.pulse, column, STUDY_MEAN_HEIGHT_M, t_fine).peak_N)
         out[name] = {"magnitude_N": f.magnitude_N, "duration_s": f.duration_s, "impulse_Ns": f.impulse_Ns,
                      "start_s": f.start_s, "record_start_s": float(t[0]), "rmse_N": f.rmse_N,
                      "natural_frequency_Hz": f.natural_frequency_Hz, "peak_measured_N": f.peak_measured_N,
@@ -252,7 +252,7 @@ def sdof_row_response(t, column: Column | None = None, start_s: float = 0.0) -> 
 
     column = column if column is not None else Column()
     omega = column.natural_circular_frequency_rad_s
-    q = oscillator_response(HalfSine(*SEED_TABLE1_SDOF, start_s), np.asarray(t, dtype=float), omega,
+    q = oscillator_response(HalfSine(*STUDY_TABLE1_SDOF, start_s), np.asarray(t, dtype=float), omega,
                             column.damping_ratio)
     return column.stiffness_N_m / column.mass_kg * q
 
@@ -280,11 +280,11 @@ def table1_column_models(heights_m=(0.16, 0.30, 0.40, 0.50), bases=("rigid", "ca
         column = Column(base=base)
         model = column_model(column)
         top = lateral_stiffness(column, column.height_m)
-        at = lateral_stiffness(column, SEED_MEAN_HEIGHT_M)
+        at = lateral_stiffness(column, STUDY_MEAN_HEIGHT_M)
         k_meas = column.stiffness_N_m
-        z_meas = (brentq(lambda z: lateral_stiffness(column, z) - k_meas, SEED_MEAN_HEIGHT_M, column.height_m)
+        z_meas = (brentq(lambda z: lateral_stiffness(column, z) - k_meas, STUDY_MEAN_HEIGHT_M, column.height_m)
                   if top < k_meas < at else float("nan"))
-        shear = mdof_response(HalfSine(*SEED_TABLE1_MDOF, 0.0), column, SEED_MEAN_HEIGHT_M, t).response_N
+        shear = mdof_response(HalfSine(*STUDY_TABLE1_MDOF, 0.0), column, STUDY_MEAN_HEIGHT_M, t).response_N
         fits = {}
         for h in heights_m:
             f = fit_mdof(t, record, column=column, height_m=float(h))

@@ -4,7 +4,7 @@
 
 Measures, on this machine:
   * one MDOF response (160 elements, 50 ms record, modal solution, model cached),
-    against the direct Newmark loop with the seed's settings (160 elements, dt = 1e-6 s):
+    against the direct Newmark loop with the study's settings (160 elements, dt = 1e-6 s):
     speed-up and the difference in peak base shear;
   * one column pulse as the one-way transport resolves it (contact integration and base shear),
     against the same impact with steps phased to the column's modes up to 4 kHz and Newmark
@@ -29,11 +29,11 @@ sys.path.insert(0, str(ROOT))
 from analytical.column import Column  # noqa: E402
 from analytical.fitting import fit_mdof, fit_sdof  # noqa: E402
 from analytical.mdof import column_model, mdof_response  # noqa: E402
-from analytical.asce7 import SEED_DEBRIS_MASS_KG  # noqa: E402
+from analytical.asce7 import STUDY_DEBRIS_MASS_KG  # noqa: E402
 from analytical.contact_law import (  # noqa: E402
     CONTAINER,
-    SEED_CONTAINER_SIZE_M,
-    SEED_CONTAINER_WALL_M,
+    STUDY_CONTAINER_SIZE_M,
+    STUDY_CONTAINER_WALL_M,
     box_inertia,
     column_impact,
 )
@@ -59,7 +59,7 @@ def main() -> None:
     column_model.cache_clear() if hasattr(column_model, "cache_clear") else None
     column_model(column)
     build_s = time.perf_counter() - t_build0
-    pulse = HalfSine(236.93, 0.0047, 0.0)  # the seed's Table 1 MDOF pulse
+    pulse = HalfSine(236.93, 0.0047, 0.0)  # the study's Table 1 MDOF pulse
     t = np.arange(0.0, 0.05 + 1e-12, 1e-5)
     modal_s, modal = best_of(lambda: mdof_response(pulse, column, 0.40, t))
     newmark_s, newmark = best_of(lambda: mdof_response(pulse, column, 0.40, t, method="newmark", dt=1e-6), repeat=1)
@@ -71,8 +71,8 @@ def main() -> None:
     impact_s, strike = best_of(lambda: column_impact(CONTAINER, 1.4, 0.088))
 
     def fine_pipeline():
-        inertia = box_inertia(SEED_CONTAINER_SIZE_M, SEED_DEBRIS_MASS_KG, SEED_CONTAINER_WALL_M)
-        body = Body(SEED_DEBRIS_MASS_KG, inverse_inertia_tensor(inertia, np.eye(3)), (-0.075, 0.0, 0.088),
+        inertia = box_inertia(STUDY_CONTAINER_SIZE_M, STUDY_DEBRIS_MASS_KG, STUDY_CONTAINER_WALL_M)
+        body = Body(STUDY_DEBRIS_MASS_KG, inverse_inertia_tensor(inertia, np.eye(3)), (-0.075, 0.0, 0.088),
                     (1.4, 0.0, 0.0))
         r = impact(body, (0.0, 0.0, 0.088), (-1.0, 0.0, 0.0), ColumnTarget(column, 0.088),
                    dt_s=phase_limited_step(column_model(column)), **CONTAINER.options())
@@ -98,7 +98,7 @@ def main() -> None:
     rows = [
         ("MDOF column model build (160 elements, matrices + eigenpairs, once per column)", f"{1e3 * build_s:.1f} ms", "-"),
         ("one MDOF response, modal (160 el., 50 ms record)", f"{1e3 * modal_s:.2f} ms", "< 20 ms"),
-        ("one MDOF response, direct Newmark, dt = 1e-6 s (the seed's settings)", f"{newmark_s:.2f} s", "baseline"),
+        ("one MDOF response, direct Newmark, dt = 1e-6 s (the study's settings)", f"{newmark_s:.2f} s", "baseline"),
         ("speed-up modal / Newmark", f"{newmark_s / modal_s:.0f}x", "-"),
         ("peak base shear: modal vs Newmark dt = 1e-6 s", f"{modal.peak_N:.4f} N vs {newmark.peak_N:.4f} N (relative {diff:.1e})", "< 0.1 %"),
         ("one column pulse (container law, 1.4 m/s at 0.088 m): contact integration + base shear",

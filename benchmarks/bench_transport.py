@@ -1,7 +1,7 @@
 """Benchmark of the one-way transport engine: 1, 6 and 50 containers over 3.5 s of a dam break.
 
-The flow is Ritter's dam break of the seed's 0.40 m reservoir (:meth:`FlowField.ritter`, gate at
-x = 0) recorded every 0.02 s on a 0.05 m grid over x = -1..6 m, across the seed flume's 1.5 m;
+The flow is Ritter's dam break of the study's 0.40 m reservoir (:meth:`FlowField.ritter`, gate at
+x = 0) recorded every 0.02 s on a 0.05 m grid over x = -1..6 m, across the study flume's 1.5 m;
 the column (0.20 x 0.20 x 0.80 m) stands at x = 5 m as in cases/1debris.yaml. The containers
 (0.15 x 0.06 x 0.06 m, 0.236 kg, the calibrated contact law) start at rest on the bed around
 x = 3.2 m: one on the centreline, six in two rows, fifty in five rows of ten.

@@ -1,6 +1,6 @@
 """Convergence and cost of the MDOF column model (analytical.mdof).
 
-Peak base shear for the seed's Table 1 MDOF pulse (half-sine, 236.93 N x 4.7 ms) at the mean
+Peak base shear for the study's Table 1 MDOF pulse (half-sine, 236.93 N x 4.7 ms) at the mean
 impact height 0.40 m, against the number of Timoshenko elements and the Newmark time step,
 the modal result, wall times, and the rigid against calibrated base comparison.
 
@@ -28,7 +28,7 @@ from analytical.pulses import HalfSine, Rectangular
 HERE = Path(__file__).resolve().parent
 OUT = HERE / "mdof_convergence.md"
 
-PULSE = HalfSine(236.93, 4.7e-3)  # seed Table 1, MDOF
+PULSE = HalfSine(236.93, 4.7e-3)  # study Table 1, MDOF
 HEIGHT_M = 0.40
 RECORD_S = 0.05
 #: Output sampling of the timed response (10 us, 5001 samples over 50 ms).
@@ -66,7 +66,7 @@ def main() -> str:
         lines.append(text)
         print(text)
 
-    seed = Column()
+    study = Column()
     out("# MDOF column model: convergence and cost")
     out()
     out(
@@ -78,15 +78,15 @@ def main() -> str:
     )
     out()
     out(
-        f"Load: the seed's Table 1 MDOF pulse, half-sine {PULSE.magnitude_N} N x {PULSE.duration_s * 1e3:g} ms, "
+        f"Load: the study's Table 1 MDOF pulse, half-sine {PULSE.magnitude_N} N x {PULSE.duration_s * 1e3:g} ms, "
         f"at z = {HEIGHT_M} m; record {RECORD_S * 1e3:g} ms. Output: peak base shear (force on the load cell, "
         "positive along the load)."
     )
     out()
 
     # ---------------------------------------------------------------- reference
-    model = mdof.column_model(seed)
-    reference, _ = timed(lambda: mdof.mdof_response(PULSE, seed, HEIGHT_M, T_FINE).peak_N)
+    model = mdof.column_model(study)
+    reference, _ = timed(lambda: mdof.mdof_response(PULSE, study, HEIGHT_M, T_FINE).peak_N)
 
     # ---------------------------------------------------------------- elements
     out("## Peak base shear against the number of elements (modal, rigid base)")
@@ -108,7 +108,7 @@ def main() -> str:
             f"{build:.2f} | {wall * 1e3:.1f} |"
         )
     out()
-    mdof.column_model(seed)  # back in the cache
+    mdof.column_model(study)  # back in the cache
 
     # ---------------------------------------------------------------- time step
     out("## Peak base shear against the Newmark time step (160 elements, rigid base)")
@@ -118,21 +118,21 @@ def main() -> str:
     out("| method | dt (s) | steps | peak (N) | vs modal | wall time (s) |")
     out("|---|---:|---:|---:|---:|---:|")
     for dt in (1e-4, 3e-5, 1e-5, 3e-6, 1e-6):
-        peak, wall, steps = newmark_peak(seed, dt)
+        peak, wall, steps = newmark_peak(study, dt)
         out(f"| Newmark | {dt:.0e} | {steps} | {peak:.5f} | {peak / reference - 1:+.1e} | {wall:.3f} |")
-    default_hist, wall = timed(lambda: mdof.newmark_history(PULSE, seed, HEIGHT_M, RECORD_S))
+    default_hist, wall = timed(lambda: mdof.newmark_history(PULSE, study, HEIGHT_M, RECORD_S))
     peak = float(default_hist.base_shear_N.max())
     out(
         f"| Newmark, default dt | {default_hist.dt_s:.2e} | {len(default_hist.time_s) - 1} | {peak:.5f} | "
         f"{peak / reference - 1:+.1e} | {wall:.3f} |"
     )
-    resp, wall_modal = timed(lambda: mdof.mdof_response(PULSE, seed, HEIGHT_M, T_OUT), repeat=41)
-    _, best_modal = timed(lambda: mdof.mdof_response(PULSE, seed, HEIGHT_M, T_OUT), repeat=41, best=True)
+    resp, wall_modal = timed(lambda: mdof.mdof_response(PULSE, study, HEIGHT_M, T_OUT), repeat=41)
+    _, best_modal = timed(lambda: mdof.mdof_response(PULSE, study, HEIGHT_M, T_OUT), repeat=41, best=True)
     out(
         f"| modal (adaptive modes), 5001 samples | - | - | {resp.peak_N:.5f} | {resp.peak_N / reference - 1:+.1e} | "
         f"{wall_modal:.4f} |"
     )
-    _, wall_fine = timed(lambda: mdof.mdof_response(PULSE, seed, HEIGHT_M, T_FINE), repeat=5)
+    _, wall_fine = timed(lambda: mdof.mdof_response(PULSE, study, HEIGHT_M, T_FINE), repeat=5)
     out(
         f"| modal (adaptive modes), 50001 samples | - | - | {reference:.5f} | 0 | {wall_fine:.4f} |"
     )
@@ -140,10 +140,10 @@ def main() -> str:
     out(
         f"Performance target (one response, 160 elements, 50 ms record, peak converged to 0.1 %, "
         f"under 20 ms with the model cached): modal **{wall_modal * 1e3:.1f} ms** median, "
-        f"{best_modal * 1e3:.1f} ms best of 41, for 5001 output samples (10 us). The seed's setting, Newmark with dt = 1e-6 s, is the baseline above."
+        f"{best_modal * 1e3:.1f} ms best of 41, for 5001 output samples (10 us). The study's setting, Newmark with dt = 1e-6 s, is the baseline above."
     )
     out()
-    _, build = timed(lambda: (mdof.column_model.cache_clear(), mdof.column_model(seed)))
+    _, build = timed(lambda: (mdof.column_model.cache_clear(), mdof.column_model(study)))
     out(f"Building the cached model (assembly, eigen-analysis of 320 DOFs, rigid base): {build:.2f} s.")
     out()
 
@@ -161,11 +161,11 @@ def main() -> str:
     out("|---|---:|---:|---:|---:|---:|")
     t_short = np.arange(0.0, 0.01, 1e-6)
     for (name, pulse), z in ((TABLE1[3], HEIGHT_M), (TABLE1[0], HEIGHT_M), (TABLE1[0], 0.16)):
-        full = mdof.mdof_response(pulse, seed, z, t_short, n_modes=n_all).peak_N
+        full = mdof.mdof_response(pulse, study, z, t_short, n_modes=n_all).peak_N
         for n in (1, 3, 10, n_under, 100, n_all):
-            peak = mdof.mdof_response(pulse, seed, z, t_short, n_modes=n).peak_N
+            peak = mdof.mdof_response(pulse, study, z, t_short, n_modes=n).peak_N
             out(f"| {name} | {z} | {n} | {model.frequencies_Hz[n - 1]:.0f} | {peak:.4f} | {peak / full - 1:+.1e} |")
-        auto = mdof.mdof_response(pulse, seed, z, t_short).peak_N
+        auto = mdof.mdof_response(pulse, study, z, t_short).peak_N
         out(f"| {name} | {z} | adaptive | - | {auto:.4f} | {auto / full - 1:+.1e} |")
     out()
     out(
@@ -190,20 +190,20 @@ def main() -> str:
             f"{m.rayleigh_a1_s:.4e} | {mdof.lateral_stiffness(m.column, 0.40):.4e} | "
             f"{mdof.lateral_stiffness(m.column, m.column.height_m):.4e} |"
         )
-    ei = seed.bending_stiffness_Nm2
-    f_eb = 1.87510406871196**2 * math.sqrt(ei / (seed.mass_per_length_kg_m * seed.height_m**4)) / (2 * math.pi)
+    ei = study.bending_stiffness_Nm2
+    f_eb = 1.87510406871196**2 * math.sqrt(ei / (study.mass_per_length_kg_m * study.height_m**4)) / (2 * math.pi)
     out()
     out(
-        f"Euler-Bernoulli cantilever, same E I and rho A: f1 = {f_eb:.2f} Hz. Measured (seed): f1 = 70 Hz, "
+        f"Euler-Bernoulli cantilever, same E I and rho A: f1 = {f_eb:.2f} Hz. Measured (study): f1 = 70 Hz, "
         "k = 4.685e5 N/m, zeta = 0.045."
     )
     out()
-    out(f"Peak base shear (N) at {HEIGHT_M} m for the seed's Table 1 pulses (modal, sampled every 1 us):")
+    out(f"Peak base shear (N) at {HEIGHT_M} m for the study's Table 1 pulses (modal, sampled every 1 us):")
     out()
     out("| pulse | magnitude (N) | duration (ms) | rigid base | calibrated base | calibrated / rigid |")
     out("|---|---:|---:|---:|---:|---:|")
     for name, pulse in TABLE1:
-        peaks = [mdof.mdof_response(pulse, c, HEIGHT_M, T_FINE).peak_N for c in (seed, cal)]
+        peaks = [mdof.mdof_response(pulse, c, HEIGHT_M, T_FINE).peak_N for c in (study, cal)]
         out(
             f"| {name} | {pulse.magnitude_N:.2f} | {pulse.duration_s * 1e3:.1f} | {peaks[0]:.2f} | {peaks[1]:.2f} | "
             f"{peaks[1] / peaks[0]:.3f} |"

@@ -8,7 +8,7 @@ import pytest
 
 from analytical.added_mass import (
     DNV_SQUARE_PRISM_TABLE,
-    SEED_CONTAINER_ADDED_MASS,
+    STUDY_CONTAINER_ADDED_MASS,
     box_added_mass,
     dnv_block_added_mass,
     ellipsoid_coefficients,
@@ -55,7 +55,7 @@ def test_a_floating_cube_half_submerged_is_half_the_tabulated_cube():
 
 
 def test_the_studys_container():
-    am = SEED_CONTAINER_ADDED_MASS
+    am = STUDY_CONTAINER_ADDED_MASS
     assert am.floating and am.draft_m == pytest.approx(0.236 / (998.0 * 0.15 * 0.06))
     assert am.displaced_mass_kg == pytest.approx(0.236)
     surge, sway, heave = am.coefficients[:3]
@@ -88,5 +88,5 @@ def test_bad_input_names_the_field(kwargs, field):
 
 def test_direction_must_be_nonzero():
     with pytest.raises(InputError):
-        SEED_CONTAINER_ADDED_MASS.along((0.0, 0.0, 0.0))
-    assert math.isfinite(SEED_CONTAINER_ADDED_MASS.along((0.0, 0.0, -1.0)))
+        STUDY_CONTAINER_ADDED_MASS.along((0.0, 0.0, 0.0))
+    assert math.isfinite(STUDY_CONTAINER_ADDED_MASS.along((0.0, 0.0, -1.0)))

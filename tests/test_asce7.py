@@ -1,4 +1,4 @@
-"""ASCE 7-22 Section 6.11 debris impact, the seed's Tables 1-2, and the dynamic response ratio."""
+"""ASCE 7-22 Section 6.11 debris impact, the study's Tables 1-2, and the dynamic response ratio."""
 
 from __future__ import annotations
 
@@ -18,16 +18,16 @@ from analytical.asce7 import (
     importance_factor,
 )
 from analytical.study import (
-    SEED_DEBRIS_MASS_KG,
-    SEED_DEBRIS_STIFFNESS_N_M,
-    SEED_STRUCTURE_STIFFNESS_N_M,
-    SEED_TABLE1_VELOCITY_M_S,
+    STUDY_DEBRIS_MASS_KG,
+    STUDY_DEBRIS_STIFFNESS_N_M,
+    STUDY_STRUCTURE_STIFFNESS_N_M,
+    STUDY_TABLE1_VELOCITY_M_S,
 )
 from analytical.errors import InputError
 from analytical.pulses import Rectangular, make_pulse
 from analytical.sdof import half_sine_closed_form, rectangular_closed_form
 
-KS, M = SEED_STRUCTURE_STIFFNESS_N_M, SEED_DEBRIS_MASS_KG
+KS, M = STUDY_STRUCTURE_STIFFNESS_N_M, STUDY_DEBRIS_MASS_KG
 
 
 # ===================================================================== the formulas
@@ -51,10 +51,10 @@ def test_pulse_is_the_rectangular_design_load():
 
 
 def test_impulse_is_independent_of_stiffness():
-    """The seed's finding: k_d and k_s give the same impulse; in fact any k does."""
+    """The study's finding: k_d and k_s give the same impulse; in fact any k does."""
     impulses = [asce7_impact(1.5, M, k).impulse_Ns for k in np.logspace(2, 9, 15)]
     np.testing.assert_allclose(impulses, 2 * 1.0 * ORIENTATION_CONTAINER * M * 1.5, rtol=1e-14)
-    assert asce7_impact(1.5, M, KS).impulse_Ns == pytest.approx(asce7_impact(1.5, M, SEED_DEBRIS_STIFFNESS_N_M).impulse_Ns)
+    assert asce7_impact(1.5, M, KS).impulse_Ns == pytest.approx(asce7_impact(1.5, M, STUDY_DEBRIS_STIFFNESS_N_M).impulse_Ns)
 
 
 def test_duration_is_independent_of_velocity():
@@ -66,9 +66,9 @@ def test_effective_stiffness_in_series():
     assert effective_stiffness(2.0, 2.0) == pytest.approx(1.0)
     assert effective_stiffness(3.0, 6.0) == pytest.approx(2.0)
     assert effective_stiffness(KS, 1e12) == pytest.approx(KS, rel=1e-6)
-    k = effective_stiffness(KS, SEED_DEBRIS_STIFFNESS_N_M)
-    assert k < KS and k == pytest.approx(effective_stiffness(SEED_DEBRIS_STIFFNESS_N_M, KS))
-    assert 1 / k == pytest.approx(1 / KS + 1 / SEED_DEBRIS_STIFFNESS_N_M)
+    k = effective_stiffness(KS, STUDY_DEBRIS_STIFFNESS_N_M)
+    assert k < KS and k == pytest.approx(effective_stiffness(STUDY_DEBRIS_STIFFNESS_N_M, KS))
+    assert 1 / k == pytest.approx(1 / KS + 1 / STUDY_DEBRIS_STIFFNESS_N_M)
 
 
 def test_importance_factors():
@@ -117,28 +117,28 @@ def test_effective_stiffness_bad_input():
     assert e.value.field == "debris_stiffness_N_m"
 
 
-# ================================================================= the seed's numbers
+# ================================================================= the study's numbers
 
 
-def test_seed_debris_stiffness_backed_out_of_table_1():
-    assert SEED_DEBRIS_STIFFNESS_N_M == pytest.approx(3.04e6, rel=1e-3)
-    assert math.sqrt(SEED_DEBRIS_STIFFNESS_N_M / KS) == pytest.approx(822.34 / 322.83, rel=1e-12)
+def test_study_debris_stiffness_backed_out_of_table_1():
+    assert STUDY_DEBRIS_STIFFNESS_N_M == pytest.approx(3.04e6, rel=1e-3)
+    assert math.sqrt(STUDY_DEBRIS_STIFFNESS_N_M / KS) == pytest.approx(822.34 / 322.83, rel=1e-12)
     assert 822.34 / 322.83 == pytest.approx(2.5473, abs=1e-4)
 
 
 @pytest.mark.parametrize(
     "stiffness, magnitude_N, duration_s, impulse_Ns",
-    [(KS, 322.83, 0.0014, 0.46), (SEED_DEBRIS_STIFFNESS_N_M, 822.34, 0.0006, 0.46)],
+    [(KS, 322.83, 0.0014, 0.46), (STUDY_DEBRIS_STIFFNESS_N_M, 822.34, 0.0006, 0.46)],
     ids=["k_s", "k_d"],
 )
-def test_seed_table_1_rows(stiffness, magnitude_N, duration_s, impulse_Ns):
-    imp = asce7_impact(SEED_TABLE1_VELOCITY_M_S, M, stiffness)  # I_tsu = 1.0, C_o = 0.65
+def test_study_table_1_rows(stiffness, magnitude_N, duration_s, impulse_Ns):
+    imp = asce7_impact(STUDY_TABLE1_VELOCITY_M_S, M, stiffness)  # I_tsu = 1.0, C_o = 0.65
     assert imp.force_N == pytest.approx(magnitude_N, rel=0.005)
     assert round(imp.duration_s, 4) == duration_s
     assert round(imp.impulse_Ns, 2) == impulse_Ns
 
 
-def test_seed_table_1_printed_magnitudes_imply_u_1_4936():
+def test_study_table_1_printed_magnitudes_imply_u_1_4936():
     """With u = 1.50 exactly the k_s row is 0.43 % above print; u = 1.4936 m/s reproduces both rows."""
     at_150 = asce7_impact(1.50, M, KS).force_N
     assert at_150 == pytest.approx(324.20, abs=0.01)
@@ -146,21 +146,21 @@ def test_seed_table_1_printed_magnitudes_imply_u_1_4936():
     u = 322.83 / (0.65 * math.sqrt(KS * M))
     assert u == pytest.approx(1.4937, abs=1e-4)
     assert asce7_impact(u, M, KS).force_N == pytest.approx(322.83, abs=1e-9)
-    assert asce7_impact(u, M, SEED_DEBRIS_STIFFNESS_N_M).force_N == pytest.approx(822.34, abs=1e-9)
+    assert asce7_impact(u, M, STUDY_DEBRIS_STIFFNESS_N_M).force_N == pytest.approx(822.34, abs=1e-9)
 
 
-def test_seed_table_2_means_imply_a_mean_velocity_of_1_59():
+def test_study_table_2_means_imply_a_mean_velocity_of_1_59():
     # F is linear in u, so the mean force is the force at the mean velocity
     u_mean = 343.60 / (0.65 * math.sqrt(KS * M))
     assert u_mean == pytest.approx(1.59, abs=0.005)
     ks_row = asce7_impact(u_mean, M, KS)
-    kd_row = asce7_impact(u_mean, M, SEED_DEBRIS_STIFFNESS_N_M)
+    kd_row = asce7_impact(u_mean, M, STUDY_DEBRIS_STIFFNESS_N_M)
     assert ks_row.force_N == pytest.approx(343.60, rel=1e-12)
     assert kd_row.force_N == pytest.approx(875.25, rel=0.005)
     assert round(ks_row.duration_s, 4) == 0.0014 and round(kd_row.duration_s, 4) == 0.0006
     assert round(ks_row.impulse_Ns, 2) == 0.49 == round(kd_row.impulse_Ns, 2)
     # the standard deviations scale the same way: 70.22 / 27.57 = sqrt(k_d / k_s)
-    assert 70.22 / 27.57 == pytest.approx(math.sqrt(SEED_DEBRIS_STIFFNESS_N_M / KS), rel=0.005)
+    assert 70.22 / 27.57 == pytest.approx(math.sqrt(STUDY_DEBRIS_STIFFNESS_N_M / KS), rel=0.005)
     u_std = 27.57 / (0.65 * math.sqrt(KS * M))
     assert u_std == pytest.approx(0.13, abs=0.005)
 
@@ -221,7 +221,7 @@ def test_damped_ratio_equals_the_closed_form_maximum(shape, closed_form, r):
     assert got < dynamic_response_ratio(r, 1.0, shape)  # damping lowers it
 
 
-def test_seed_asce_pulses_on_the_seed_sdof():
+def test_study_asce_pulses_on_the_study_sdof():
     # t_d/T_n = 0.0014 * 70 ~ 0.1 for k_s: far below 1/2, the response is impulse-like
     imp = asce7_impact(1.5, M, KS)
     r = dynamic_response_ratio(imp.duration_s, 1 / 70.0, "rectangular", 0.045)
@@ -249,7 +249,7 @@ def test_the_lesser_stiffness_governs_and_the_other_is_context():
     d = asce7_design(1.5, 0.236)  # the study's container (k_d 3.04e6) on its column (k_s 4.685e5)
     assert d.governing == "k_s" and d.design.stiffness_N_m == 4.685e5
     assert d.force_N == pytest.approx(0.65 * 1.5 * math.sqrt(4.685e5 * 0.236))  # 324.2 N
-    assert d.other.force_N == pytest.approx(0.65 * 1.5 * math.sqrt(SEED_DEBRIS_STIFFNESS_N_M * 0.236))
+    assert d.other.force_N == pytest.approx(0.65 * 1.5 * math.sqrt(STUDY_DEBRIS_STIFFNESS_N_M * 0.236))
     assert d.force_N < d.other.force_N
     stiff = asce7_design(1.5, 0.236, debris_stiffness_N_m=1e5)  # a soft body on the same column: k_d governs
     assert stiff.governing == "k_d" and stiff.force_N == pytest.approx(0.65 * 1.5 * math.sqrt(1e5 * 0.236))

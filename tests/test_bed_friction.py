@@ -1,6 +1,6 @@
 """Bed friction: a container sliding on the bed decelerates under Coulomb friction.
 
-The scene (tests/data/scenes/bed-friction.yaml) stands the seed's container on the 7.5 mm gap
+The scene (tests/data/scenes/bed-friction.yaml) stands the study's container on the 7.5 mm gap
 over a 15 mm wet bed, far from the dam break, and gives it 0.6 m/s along the flume. The water is
 shallower than its draft, so the runner keeps it on the bed and gives it the friction of
 orchestrator.run.bedwatch: a sixDoF linearDamper sized at every restart to mu N at the speed then,

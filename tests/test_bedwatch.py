@@ -169,7 +169,7 @@ def test_the_runner_edits_the_bed_constraints_and_the_friction_damper(case):
 def test_the_friction_lever_arm_is_the_footprints_mean_distance_from_its_centre():
     # a unit square: (sqrt(2) + ln(1 + sqrt(2))) / 6 = 0.3826 (the classic mean distance to the centre)
     assert footprint_mean_radius(1.0, 1.0) == pytest.approx((np.sqrt(2) + np.log(1 + np.sqrt(2))) / 6, rel=1e-12)
-    # the seed's container against a midpoint-rule integration of its 0.15 x 0.06 m footprint
+    # the study's container against a midpoint-rule integration of its 0.15 x 0.06 m footprint
     n = 1500
     x = (np.arange(n) + 0.5) / n * 0.15 - 0.075
     y = (np.arange(n) + 0.5) / n * 0.06 - 0.03

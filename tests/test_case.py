@@ -26,7 +26,7 @@ def test_case_produces_every_table_plot_and_a_contact_event(finished_case, openf
     results = out / "results"
     for table in ("gauges", "gauge_summary", "column_forces", "bodies", "impacts", "column_response"):
         assert (results / f"{table}.csv").is_file(), table
-    for plot in ("gauges", "column_forces", "impacts", "seed_fits", "tracks"):
+    for plot in ("gauges", "column_forces", "impacts", "study_fits", "tracks"):
         assert (results / f"{plot}.png").stat().st_size > 10_000, plot
     assert (results / "report.md").is_file() and (results / "summary.json").is_file()
     impacts = pd.read_csv(results / "impacts.csv")

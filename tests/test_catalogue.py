@@ -19,7 +19,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from analytical.study import SEED_DEBRIS_STIFFNESS_N_M
+from analytical.study import STUDY_DEBRIS_STIFFNESS_N_M
 from analytical.catalogue import (
     SOURCES,
     container_inertia,
@@ -127,7 +127,7 @@ def test_full_size_entries_carry_no_contact_law_and_the_model_keeps_its_laborato
             assert text.startswith("not found") and "Froude similarity does not scale elasticity" in text
     model = debris_type("container-20ft-study-1to40")
     assert model.contact_stiffness_N_m == CONTAINER_STIFFNESS_N_M and model.mass_kg == 0.236
-    assert model.contact_damping_ratio == CONTAINER_DAMPING_RATIO and model.kd_N_m == SEED_DEBRIS_STIFFNESS_N_M
+    assert model.contact_damping_ratio == CONTAINER_DAMPING_RATIO and model.kd_N_m == STUDY_DEBRIS_STIFFNESS_N_M
     assert model.scene_fields()["contact"]["stiffness_N_m"] == CONTAINER_STIFFNESS_N_M
 
 

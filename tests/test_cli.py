@@ -39,7 +39,7 @@ def test_modes_rigid_and_calibrated():
     rigid = cli_json("analytical", "modes")["frequencies_Hz"]
     cal = cli_json("analytical", "modes", "--set", "column.base=calibrated")
     assert len(rigid) >= 3 and rigid == sorted(rigid)
-    assert 80 < rigid[0] < 95  # the seed's rigid-base column: about 88 Hz
+    assert 80 < rigid[0] < 95  # the study's rigid-base column: about 88 Hz
     assert cal["frequencies_Hz"][0] == pytest.approx(70.0, rel=1e-6)
     assert cal["base_spring_Nm_per_rad"] > 0
     other = cli_json("analytical", "modes", "--set", "column.base=calibrated", "--set", "column.natural_frequency_Hz=60")
@@ -172,12 +172,12 @@ def test_analytical_impact_json_keys_and_the_strikes_momentum():
     """A head-on strike at Table 1's 1.5 m/s: the contact's impulse is the effective mass (the
     box's 0.236 kg and its added mass along the normal) times (1 + e) times the speed, and e is
     the law's rigid-wall restitution (the column is 7 times stiffer than the contact spring)."""
-    from analytical.added_mass import SEED_CONTAINER_ADDED_MASS
+    from analytical.added_mass import STUDY_CONTAINER_ADDED_MASS
     from analytical.contact_law import CONTAINER
 
     out = cli_json("analytical", "impact", "--velocity", "1.5", "--height", "0.4")
     assert {"peak_force_N", "duration_s", "impulse_Ns", "restitution", "peak_base_shear_N"} <= set(out)
-    m_eff = 0.236 + SEED_CONTAINER_ADDED_MASS.masses_kg[0]
+    m_eff = 0.236 + STUDY_CONTAINER_ADDED_MASS.masses_kg[0]
     assert out["impulse_Ns"] == pytest.approx(m_eff * (1.0 + out["restitution"]) * 1.5, rel=0.01)
     assert out["restitution"] == pytest.approx(CONTAINER.wall_restitution, abs=0.01)
     rigid = cli_json("analytical", "impact", "--velocity", "1.5", "--set", "contact.law=asce7_kd")

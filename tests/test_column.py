@@ -1,4 +1,4 @@
-"""Tests of analytical.column: the seed's defaults, derived section properties, validation."""
+"""Tests of analytical.column: the study's defaults, derived section properties, validation."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from analytical.column import BASES, Column
 from tests.conftest import input_error
 
 
-def test_defaults_are_the_seed_column():
+def test_defaults_are_the_study_column():
     c = Column()
     assert (c.size_x_m, c.size_y_m, c.height_m, c.wall_thickness_m) == (0.20, 0.20, 0.80, 0.005)
     assert (c.youngs_modulus_Pa, c.density_kg_m3, c.poisson_ratio, c.shear_coefficient) == (2.5e9, 1200.0, 0.375, 0.5)
@@ -19,7 +19,7 @@ def test_defaults_are_the_seed_column():
     assert (c.base, c.elements) == ("rigid", 160)
 
 
-def test_section_properties_of_the_seed_column_by_hand():
+def test_section_properties_of_the_study_column_by_hand():
     c = Column()
     # 0.2 x 0.2 outer, 0.19 x 0.19 inner.
     assert c.area_m2 == pytest.approx(0.2**2 - 0.19**2, rel=1e-12)  # 3.9e-3 m^2

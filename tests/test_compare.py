@@ -1,4 +1,4 @@
-"""Comparisons with the analytical models and the seed, on closed forms and committed real runs."""
+"""Comparisons with the analytical models and the study, on closed forms and committed real runs."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import pandas as pd
 import pytest
 
 from analytical.asce7 import asce7_impact
-from analytical.study import SEED_DEBRIS_STIFFNESS_N_M
+from analytical.study import STUDY_DEBRIS_STIFFNESS_N_M
 from orchestrator.results import compare
 from orchestrator.report.postprocess import post_case
 from orchestrator.results.tables import tables
@@ -52,7 +52,7 @@ def test_spreading_angles_name_their_sources():
     for name, spec in compare.SPREADING_ANGLES_DEG.items():
         assert name.split()[0] in spec["source"] and 0 < spec["half_angle_deg"] < 45
     assert compare.SPREADING_ANGLES_DEG["Naito et al. (2014)"]["half_angle_deg"] == 22.5
-    # the seed finds the Nistor et al. area the narrower of the two (its Fig. 14)
+    # the study finds the Nistor et al. area the narrower of the two (its Fig. 14)
     assert compare.SPREADING_ANGLES_DEG["Nistor et al. (2017b)"]["half_angle_deg"] < 22.5
 
 
@@ -67,7 +67,7 @@ def test_spreading_table_of_the_committed_run(debris):
 # --------------------------------------------------------------------------- arrivals
 
 
-def test_arrivals_against_chanson_and_the_seed():
+def test_arrivals_against_chanson_and_the_study():
     scene = load_scene(ROOT / "cases/nodebris.yaml")
     summary = pd.DataFrame({"gauge": ["WG1", "WG2", "WG3"], "x_m": [-0.10, 2.40, 3.20], "y_m": [0.0, 0.0, 0.5],
                             "arrival_s": [np.nan, 0.95, 1.30]})
@@ -76,10 +76,10 @@ def test_arrivals_against_chanson_and_the_seed():
     # Chanson with the study's f = 0.0293 (docs/bed-friction.md: 0.871 s and 1.201 s)
     assert table.loc[("WG2", "Chanson"), "reference_arrival_s"] == pytest.approx(0.871, abs=1e-3)
     assert table.loc[("WG3", "Chanson"), "reference_arrival_s"] == pytest.approx(1.201, abs=1e-3)
-    assert table.loc[("WG2", "seed experiment (WG2)"), "reference_arrival_s"] == 0.91
-    assert table.loc[("WG3", "seed model (WG3)"), "reference_arrival_s"] == 1.20
-    assert table.loc[("WG3", "seed experiment (WG3)"), "error_s"] == pytest.approx(1.30 - 1.39)
-    assert table.loc[("WG2", "seed model (WG2)"), "error_percent"] == pytest.approx(100 * (0.95 - 0.88) / 0.88)
+    assert table.loc[("WG2", "study experiment (WG2)"), "reference_arrival_s"] == 0.91
+    assert table.loc[("WG3", "study model (WG3)"), "reference_arrival_s"] == 1.20
+    assert table.loc[("WG3", "study experiment (WG3)"), "error_s"] == pytest.approx(1.30 - 1.39)
+    assert table.loc[("WG2", "study model (WG2)"), "error_percent"] == pytest.approx(100 * (0.95 - 0.88) / 0.88)
     # a 15 mm wet bed: Stoker too; Ritter is the fastest front
     assert table.loc[("WG2", "Ritter"), "reference_arrival_s"] < table.loc[("WG2", "Chanson"), "reference_arrival_s"]
     assert ("WG2", "Stoker") in table.index
@@ -102,19 +102,19 @@ def test_formulas_at_the_simulated_velocity(debris):
     rows = comp.impact_formulas.set_index("method")
     u = results.impacts["impact_velocity_m_s"].iloc[0]
     assert rows.loc["ASCE 7-22, k_d", "impact_velocity_m_s"] == u
-    kd = asce7_impact(u, 0.236, SEED_DEBRIS_STIFFNESS_N_M)
+    kd = asce7_impact(u, 0.236, STUDY_DEBRIS_STIFFNESS_N_M)
     assert rows.loc["ASCE 7-22, k_d", "peak_force_N"] == pytest.approx(kd.force_N)
     assert rows.loc["ASCE 7-22, k_s", "peak_force_N"] == pytest.approx(asce7_impact(u, 0.236, 4.685e5).force_N)
-    # ASCE's impulse does not depend on the stiffness (the seed's remark on its Table 1)
+    # ASCE's impulse does not depend on the stiffness (the study's remark on its Table 1)
     assert rows.loc["ASCE 7-22, k_d", "impulse_Ns"] == pytest.approx(rows.loc["ASCE 7-22, k_s", "impulse_Ns"])
-    assert rows.loc["Haehnel & Daly, k_d", "peak_force_N"] == pytest.approx(u * math.sqrt(SEED_DEBRIS_STIFFNESS_N_M
+    assert rows.loc["Haehnel & Daly, k_d", "peak_force_N"] == pytest.approx(u * math.sqrt(STUDY_DEBRIS_STIFFNESS_N_M
                                                                                          * 0.236))
     assert rows.loc["contact model (simulated)", "peak_ratio"] == 1.0
     assert {"Matsutomi (C_MA 1.7)", "Ikeno (C_MA 1.7)", "Haehnel & Daly, k_d + k_s in series"} <= set(rows.index)
 
 
-def test_the_seeds_procedure_recovers_the_contact_pulse(debris):
-    """Fitting an MDOF half-sine to the column's response (the seed's 3.2.2) on our own output
+def test_the_study_procedure_recovers_the_contact_pulse(debris):
+    """Fitting an MDOF half-sine to the column's response (the study's 3.2.2) on our own output
     gives back the pulse the contact model produced: the fit is only as good as the model."""
     results, comp = debris
     table = comp.table1.set_index("method")
@@ -127,9 +127,9 @@ def test_the_seeds_procedure_recovers_the_contact_pulse(debris):
     assert mdof["impulse_Ns"] == pytest.approx(contact["impulse_Ns"], rel=0.01)
     assert contact["ratio_to_simulated"] == pytest.approx(1.0, abs=1e-3)  # one impact: it is the whole response
     assert mdof["ratio_to_simulated"] == pytest.approx(1.0, abs=0.05)
-    assert table.loc["ASCE 7-22, k_d", "seed_magnitude_N"] == 822.34
-    assert table.loc["MDOF fit", "seed_duration_s"] == 0.0047
-    fits = comp.seed_fits.set_index("model")
+    assert table.loc["ASCE 7-22, k_d", "study_magnitude_N"] == 822.34
+    assert table.loc["MDOF fit", "study_duration_s"] == 0.0047
+    fits = comp.study_fits.set_index("model")
     assert fits.loc["MDOF fit", "height_m"] == pytest.approx(results.impacts["height_m"].iloc[0])
     record = comp.fit_records[1]
     assert record["record_N"].max() == pytest.approx(contact["peak_base_shear_N"], rel=0.01)
@@ -156,10 +156,10 @@ def test_no_debris_run_gets_every_plot_and_the_report(tmp_path):
     for file in PLOTS.values():
         assert f"]({file})" in report
     assert "No impact events in this run" in report and "Chanson" in report
-    for table in ("arrivals", "impact_formulas", "seed_fits", "table1", "spreading"):
+    for table in ("arrivals", "impact_formulas", "study_fits", "table1", "spreading"):
         assert (case / "results" / f"{table}.csv").is_file()
     arrivals = pd.read_csv(case / "results/arrivals.csv")
-    assert set(arrivals["reference"]) == {"Ritter", "Chanson"}  # dry bed, and no seed gauge positions here
+    assert set(arrivals["reference"]) == {"Ritter", "Chanson"}  # dry bed, and none of the study's gauge positions here
     assert arrivals["error_s"].notna().all()
     assert "comparisons" in summary.headline and any("snapshot" in m for m in summary.missing)
 
@@ -195,7 +195,7 @@ def test_the_run_names_one_design_value_as_the_analytical_verbs_do(debris):
     assert comp.site_flow is None and math.isnan(row["u_max_m_s"]) and "impact speed" in row["design_basis"]
     assert row["governing_stiffness"] == "k_s" and row["other_stiffness"] == "k_d"
     assert row["design_force_N"] == pytest.approx(0.65 * speed * math.sqrt(4.685e5 * 0.236))
-    assert row["other_force_N"] == pytest.approx(0.65 * speed * math.sqrt(SEED_DEBRIS_STIFFNESS_N_M * 0.236))
+    assert row["other_force_N"] == pytest.approx(0.65 * speed * math.sqrt(STUDY_DEBRIS_STIFFNESS_N_M * 0.236))
     verb = cli_json("analytical", "asce7", "--velocity", repr(float(speed)), "--mass", "0.236")
     strike = cli_json("analytical", "impact", "--velocity", repr(float(speed)))
     assert verb["force_N"] == pytest.approx(row["design_force_N"], rel=1e-12)

@@ -48,7 +48,7 @@ MASS = 0.236
 
 @pytest.fixture(scope="module")
 def scene():
-    """The seed's 1-debris scene on the coupled (overset) path, whose runner these contacts serve."""
+    """The study's 1-debris scene on the coupled (overset) path, whose runner these contacts serve."""
     return load_scene(ROOT / "cases" / "1debris.yaml", ["run.debris_coupling=two-way"])
 
 

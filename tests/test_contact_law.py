@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from analytical.added_mass import SEED_CONTAINER_ADDED_MASS
-from analytical.study import SEED_DEBRIS_STIFFNESS_N_M, SEED_TABLE2_MDOF
+from analytical.added_mass import STUDY_CONTAINER_ADDED_MASS
+from analytical.study import STUDY_DEBRIS_STIFFNESS_N_M, STUDY_TABLE2_MDOF
 from analytical.column import Column
 from analytical.contact_calibration import (
     FIGURES,
@@ -23,7 +23,7 @@ from analytical.contact_calibration import (
 from analytical.contact_law import (
     ASCE7_KD,
     CONTAINER,
-    SEED_TABLE1_EVENT,
+    STUDY_TABLE1_EVENT,
     ContactLaw,
     box_inertia,
     column_impact,
@@ -61,7 +61,7 @@ def test_restitution_and_damping_ratio_invert_each_other(e):
 def test_an_end_on_strike_carries_the_lengthwise_added_mass_and_an_eccentric_one_less():
     head_on = column_impact(CONTAINER, 1.5, 0.4)
     # m_eff head-on = m (1 + C_a surge); the rotation does not enter at the nose's centre
-    assert head_on.effective_mass_kg == pytest.approx(0.236 + SEED_CONTAINER_ADDED_MASS.masses_kg[0], rel=1e-9)
+    assert head_on.effective_mass_kg == pytest.approx(0.236 + STUDY_CONTAINER_ADDED_MASS.masses_kg[0], rel=1e-9)
     bare = column_impact(CONTAINER, 1.5, 0.4, added_mass_coefficient=0.0)
     assert bare.effective_mass_kg == pytest.approx(0.236, rel=1e-9)
     corner = column_impact(CONTAINER, 1.5, 0.4, lateral_offset_m=0.03, vertical_offset_m=0.03)
@@ -117,7 +117,7 @@ def test_the_shipped_law_reproduces_table_2_through_the_studys_fit_and_is_the_ca
     def chi2(law):
         means = unit_figures(law, population, STUDY_COLUMN).means()
         se = table2_standard_errors(means)
-        z = np.array([(means[k] - SEED_TABLE2_MDOF[k][0]) / se[k] for k in FIGURES])
+        z = np.array([(means[k] - STUDY_TABLE2_MDOF[k][0]) / se[k] for k in FIGURES])
         return z, float(z @ z)
 
     z, best = chi2(CONTAINER)
@@ -137,16 +137,16 @@ def test_table_1s_event_lies_in_the_upper_tail_of_the_laws_scatter():
     sc = scatter(figures, draws=20_000)
     # the study's elastic event: stronger than most of the law's strikes at its speed
     assert sc.table1_percentiles["impulse_Ns"] > 90.0
-    assert sc.means["duration_s"] == pytest.approx(SEED_TABLE2_MDOF["duration_s"][0], rel=0.05)
+    assert sc.means["duration_s"] == pytest.approx(STUDY_TABLE2_MDOF["duration_s"][0], rel=0.05)
     # the law's spread is narrower than the study's (speed and geometry alone)
-    assert sc.stds["peak_force_N"] < SEED_TABLE2_MDOF["peak_force_N"][1]
+    assert sc.stds["peak_force_N"] < STUDY_TABLE2_MDOF["peak_force_N"][1]
 
 
 def test_the_rigid_kd_law_is_the_asce_upper_bound():
-    r = column_impact(CONTAINER, SEED_TABLE1_EVENT.velocity_m_s, SEED_TABLE1_EVENT.height_m)
-    kd = column_impact(ASCE7_KD, SEED_TABLE1_EVENT.velocity_m_s, SEED_TABLE1_EVENT.height_m)
+    r = column_impact(CONTAINER, STUDY_TABLE1_EVENT.velocity_m_s, STUDY_TABLE1_EVENT.height_m)
+    kd = column_impact(ASCE7_KD, STUDY_TABLE1_EVENT.velocity_m_s, STUDY_TABLE1_EVENT.height_m)
     assert kd.peak_force_N > 4 * r.peak_force_N and kd.duration_s < r.duration_s / 4
-    assert 20 < SEED_DEBRIS_STIFFNESS_N_M / CONTAINER.stiffness_N_m < 80
+    assert 20 < STUDY_DEBRIS_STIFFNESS_N_M / CONTAINER.stiffness_N_m < 80
 
 
 @pytest.mark.parametrize(

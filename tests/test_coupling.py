@@ -1,7 +1,7 @@
 """The coupling choice (run.debris_coupling) and the one-way plan's flow record.
 
 The criterion (orchestrator/plan/coupling.py): one-way when the bodies displace under 0.1 % of
-the reservoir's water and block under 40 % of the flume's width. The seed's four layouts go
+the reservoir's water and block under 40 % of the flume's width. The study's four layouts go
 one-way (0.0042-0.025 % and 4-24 %); a body across 60 % of the width goes two-way.
 """
 
@@ -30,7 +30,7 @@ from orchestrator.scene.scenefile import load_scene
 from tests.conftest import CASES, ROOT, run_cli
 
 #: layout -> (displaced volume as % of the reservoir, blockage %), as the reasons state them
-SEED_LAYOUTS = {
+STUDY_LAYOUTS = {
     "1debris": ("0.0042 %", "4 %"),
     "3debris-3x1": ("0.013 %", "12 %"),
     "3debris-1x3": ("0.013 %", "12 %"),
@@ -46,13 +46,13 @@ def _blocking_scene(coupling: str = "auto"):
     return scene_from_dict(data)
 
 
-@pytest.mark.parametrize("name", sorted(SEED_LAYOUTS))
-def test_the_seed_layouts_go_one_way_and_say_why(name):
+@pytest.mark.parametrize("name", sorted(STUDY_LAYOUTS))
+def test_the_study_layouts_go_one_way_and_say_why(name):
     scene = load_scene(CASES / f"{name}.yaml")
     load = debris_load(scene, scene_facts(scene).rotations)
     assert load.volume_fraction < VOLUME_LIMIT and load.blockage < BLOCKAGE_LIMIT
     plan = plan_case(scene)
-    volume, blockage = SEED_LAYOUTS[name]
+    volume, blockage = STUDY_LAYOUTS[name]
     reason = plan.reasons["debris_coupling"]
     assert plan.debris_coupling == "one-way" and reason.startswith("one-way (run.debris_coupling auto)")
     assert f"{volume} of the reservoir" in reason and f"block {blockage}" in reason.replace("blocks", "block")

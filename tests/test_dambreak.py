@@ -26,8 +26,8 @@ from analytical.errors import InputError
 from tests.conftest import input_error
 
 G = 9.81
-H0_FLUME_M = 0.40  # seed study impoundment
-F_FLUME = 0.0293  # seed study Darcy friction factor
+H0_FLUME_M = 0.40  # the study's impoundment
+F_FLUME = 0.0293  # the study's Darcy friction factor
 
 
 # ----------------------------------------------------------------------------------
@@ -338,7 +338,7 @@ def test_stoker_against_finite_volume(ratio):
 
 
 def test_chanson_flume_arrival_times():
-    """Seed flume (h0 = 0.40 m, f = 0.0293): 0.871 s at WG2 (2.40 m), 1.201 s at WG3 (3.20 m)."""
+    """The study's flume (h0 = 0.40 m, f = 0.0293): 0.871 s at WG2 (2.40 m), 1.201 s at WG3 (3.20 m)."""
     sol = dam_break("chanson", H0_FLUME_M, friction=F_FLUME)
     t = sol.arrival_time_s(np.array([2.40, 3.20]))
     assert t[0] == pytest.approx(0.871, rel=0.02)

@@ -13,7 +13,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from analytical.asce7 import SEED_DEBRIS_STIFFNESS_N_M, asce7_design
+from analytical.asce7 import STUDY_DEBRIS_STIFFNESS_N_M, asce7_design
 from analytical.column import Column
 from analytical.column_demand import column_demands, rigid_rotation, strike_demands
 from analytical.column_fem import column_model, static_deflection
@@ -228,7 +228,7 @@ def test_the_page_sets_asce_beside_the_curves(tmp_path):
     summary = json.loads((tmp_path / "design.json").read_text())
     assert set(files) == {"summary", "figure", "report"} and (tmp_path / "exceedance.png").stat().st_size > 10000
     assert summary["strike_probability"]["probability"] == pytest.approx(0.8)
-    code = asce7_design(0.9, 0.236, SEED_DEBRIS_STIFFNESS_N_M, scene.column.stiffness_N_m, 1.25)
+    code = asce7_design(0.9, 0.236, STUDY_DEBRIS_STIFFNESS_N_M, scene.column.stiffness_N_m, 1.25)
     asce = summary["asce"]
     assert asce["importance_I_tsu"] == 1.25 and asce["governing"] == code.governing
     assert asce["values"][code.governing]["peak_force_N"] == pytest.approx(code.force_N)

@@ -13,7 +13,7 @@ import pandas as pd
 import pytest
 
 from analytical.column import Column
-from analytical.study import SEED_IMPACT_VELOCITY_M_S
+from analytical.study import STUDY_IMPACT_VELOCITY_M_S
 from analytical.errors import InputError
 from orchestrator.studies.ensemble import (
     TABLE_COLUMNS,
@@ -262,8 +262,8 @@ def test_the_summary_counts_strikes_and_states_sample_statistics():
     assert s["impact_velocity_m_s"]["std"] == pytest.approx(0.1)  # ddof 1
     assert s["peak_force_N"] == pytest.approx({"count": 3, "mean": 160.0, "std": 10.0, "min": 150.0, "max": 170.0})
     assert s["strikes_per_struck_body"]["mean"] == 2 and s["transport_wall_time_s"] == 6.0
-    assert s["seed_study"]["impact_velocity_m_s"] == dict(zip(("mean", "std"), SEED_IMPACT_VELOCITY_M_S))
-    assert s["seed_study"]["peak_force_N"]["mean"] == pytest.approx(171.07)
+    assert s["study"]["impact_velocity_m_s"] == dict(zip(("mean", "std"), STUDY_IMPACT_VELOCITY_M_S))
+    assert s["study"]["peak_force_N"]["mean"] == pytest.approx(171.07)
     head = EnsembleResult(table, pd.DataFrame(), s).headline()
     assert set(head) == HEADLINE_KEYS and set(head["impact_velocity_m_s"]) == {"mean", "std"}
     one = summarise(_table([1.4], misses=3), 4, 1.0)

@@ -1,6 +1,6 @@
 """A container on a wet bed reached by a bore deeper than its draft leaves the bed and floats.
 
-The scene (tests/data/scenes/float-carry.yaml) stands the seed's container (0.236 kg, 0.15 x 0.06
+The scene (tests/data/scenes/float-carry.yaml) stands the study's container (0.236 kg, 0.15 x 0.06
 x 0.06 m: draft 26.3 mm) on the 7.5 mm gap (plan.BedGap) over a 25 mm wet bed, 0.3 m downstream
 of the tiny flume's 0.16 m reservoir. The runner holds it on the bed until the depth it measures
 all round it (orchestrator.run.waterdepth, body_depth.csv) exceeds its underside plus its draft plus

@@ -1,6 +1,6 @@
 """A container resting on the bed floats up in still water deeper than its draft (Archimedes).
 
-The scene (tests/data/scenes/float-off.yaml) stands the seed's container (0.236 kg, 0.15 x
+The scene (tests/data/scenes/float-off.yaml) stands the study's container (0.236 kg, 0.15 x
 0.06 m footprint: draft 26.3 mm) on the bed under 50 mm of still water. It must rise to the
 height where it displaces its own weight, overshoot it and come back (a lightly damped heave
 oscillation about that height). Before the planner left a gap under resting bodies

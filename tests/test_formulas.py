@@ -24,7 +24,7 @@ LOG = dict(diameter_m=0.1, length_m=1.0, unit_weight_N_m3=600 * 9.81, yield_stre
 
 
 def test_haehnel_daly_hand_value():
-    # the seed's debris on the seed's column: 1.5 * sqrt(4.685e5 * 0.236) = 498.772 N
+    # the study's debris on the study's column: 1.5 * sqrt(4.685e5 * 0.236) = 498.772 N
     assert haehnel_daly(1.5, 0.236, 4.685e5) == pytest.approx(498.772, abs=1e-3)
 
 

@@ -38,17 +38,17 @@ from tests.conftest import ROOT
 # (key, printed value, printed unit, source key): as read in the cited text.
 PUBLISHED = [
     # the reference study, Sec. 3.2.3: "following Clause 6.11.6, the orientation is equal to 0.65 for shipping containers"
-    ("asce_Co_container", 0.65, "1", "seed"),
+    ("asce_Co_container", 0.65, "1", "study"),
     # the reference study, Sec. 3.2.3: "the importance factor was selected to be one, ... Tsunami Risk Category of II"
-    ("asce_Itsu_II", 1.0, "1", "seed"),
+    ("asce_Itsu_II", 1.0, "1", "study"),
     # the reference study, eqs. [8]-[10] and Clause 6.11.8
-    ("asce_Fi", "F_i = I_tsu C_o F_ni", "N", "seed"),
-    ("asce_Fni", "F_ni = u_max sqrt(k m_d)", "N", "seed"),
-    ("asce_td", "t_d = 2 m_d u_max / F_ni", "s", "seed"),
+    ("asce_Fi", "F_i = I_tsu C_o F_ni", "N", "study"),
+    ("asce_Fni", "F_ni = u_max sqrt(k m_d)", "N", "study"),
+    ("asce_td", "t_d = 2 m_d u_max / F_ni", "s", "study"),
     # the reference study, Sec. 2.1 on Clause 6.11.2
     ("asce_k", "the lesser of the debris' effective stiffness and the lateral stiffness of the impacted structural "
-               "element", "N/m", "seed"),
-    ("asce_pulse", "rectangular pulse of F_i over t_d", "N", "seed"),
+               "element", "N/m", "study"),
+    ("asce_pulse", "rectangular pulse of F_i over t_d", "N", "study"),
     # Riggs et al. (2014) JOMAE 136(4) 041603, abstract: "a 1:5 scale shipping container model was used for in-water tests"
     ("riggs_model_scale", 5.0, "1", "riggs2014"),
     # Lehigh Resolve vol. 2 (2012): "a standard, 3.5-ton, 20-foot intermodal shipping container on 30-foot cables"

@@ -1,4 +1,4 @@
-"""The impact model (analytical.impact): closed forms, conservation laws and the seed's Table 1.
+"""The impact model (analytical.impact): closed forms, conservation laws and the study's Table 1.
 
 Rigid wall: Haehnel & Daly's undamped spring (half-sine, restitution 1) and the damped
 spring-dashpot's closed-form restitution. Column: energy bookkeeping of the coupled
@@ -15,7 +15,7 @@ import math
 import numpy as np
 import pytest
 
-from analytical.study import SEED_DEBRIS_STIFFNESS_N_M
+from analytical.study import STUDY_DEBRIS_STIFFNESS_N_M
 from analytical.column import Column
 from analytical.column_fem import column_model
 from analytical.contact_integration import ColumnBlock, NormalIntegrator, column_blocks
@@ -36,15 +36,15 @@ from analytical.impact_bodies import effective_mass
 from analytical.mdof import mdof_response
 from analytical.newmark import phase_limited_step
 
-M = 0.236  # the seed's container, kg
-V = 1.5  # the seed's Table 1 impact velocity, m/s
-K = SEED_DEBRIS_STIFFNESS_N_M
+M = 0.236  # the study's container, kg
+V = 1.5  # the study's Table 1 impact velocity, m/s
+K = STUDY_DEBRIS_STIFFNESS_N_M
 L, W, H = 0.15, 0.06, 0.06
 # Principal inertia of a solid box of the container's size (kg m^2).
 I_BOX = np.array([M * (W**2 + H**2), M * (L**2 + H**2), M * (L**2 + W**2)]) / 12.0
-# The seed's Table 1 rows (magnitude N, duration s, impulse N s).
-SEED_ASCE_KD = (822.34, 0.0006, 0.46)
-SEED_MDOF_FIT = (236.93, 0.0047, 0.71)
+# The study's Table 1 rows (magnitude N, duration s, impulse N s).
+STUDY_ASCE_KD = (822.34, 0.0006, 0.46)
+STUDY_MDOF_FIT = (236.93, 0.0047, 0.71)
 
 
 def rz(deg: float) -> np.ndarray:
@@ -57,14 +57,14 @@ def box_body(velocity, omega=(0.0, 0.0, 0.0), yaw_deg=0.0, centre=(0.0, 0.0, 0.0
 
 
 @pytest.fixture(scope="module")
-def seed_rigid():
-    """The seed's Table 1 event on the seed's (rigid-base) column at 0.40 m, frictionless."""
+def study_rigid():
+    """The study's Table 1 event on the study's (rigid-base) column at 0.40 m, frictionless."""
     target = ColumnTarget(Column(), 0.4)
     return impact(Body.particle(M, (V, 0, 0)), (0, 0, 0.4), (-1, 0, 0), target, friction_coefficient=0)
 
 
 @pytest.fixture(scope="module")
-def seed_calibrated():
+def study_calibrated():
     column = Column(base="calibrated")
     target = ColumnTarget(column, 0.4)
     return impact(Body.particle(M, (V, 0, 0)), (0, 0, 0.4), (-1, 0, 0), target, friction_coefficient=0)
@@ -142,13 +142,13 @@ def test_anisotropic_added_mass_acts_along_the_normal_in_body_axes():
     assert 0.0 < abs(w_heavy) < abs(w_light)
 
 
-def test_base_shear_added_later_equals_the_base_shear_computed_at_once(seed_rigid):
+def test_base_shear_added_later_equals_the_base_shear_computed_at_once(study_rigid):
     target = ColumnTarget(Column(), 0.4)
     bare = impact(Body.particle(M, (V, 0, 0)), (0, 0, 0.4), (-1, 0, 0), target, friction_coefficient=0,
                   base_shear=False)
-    assert bare.base_shear is None and bare.peak_force_N == seed_rigid.peak_force_N
+    assert bare.base_shear is None and bare.peak_force_N == study_rigid.peak_force_N
     later = with_base_shear(bare, target)
-    np.testing.assert_array_equal(later.base_shear.response_N, seed_rigid.base_shear.response_N)
+    np.testing.assert_array_equal(later.base_shear.response_N, study_rigid.base_shear.response_N)
     with pytest.raises(InputError):
         with_base_shear(bare, RigidWall())
 
@@ -182,7 +182,7 @@ def test_time_step_convergence_on_the_rigid_wall():
 
 
 # ----------------------------------------------------------------------------- column
-@pytest.mark.parametrize("fixture", ["seed_rigid", "seed_calibrated"])
+@pytest.mark.parametrize("fixture", ["study_rigid", "study_calibrated"])
 def test_column_energy_bookkeeping(fixture, request):
     r = request.getfixturevalue(fixture)
     e = r.energy
@@ -195,10 +195,10 @@ def test_column_energy_bookkeeping(fixture, request):
     assert r.restitution < 0.95
 
 
-def test_restitution_below_one_and_set_by_the_column(seed_rigid, seed_calibrated):
-    assert seed_rigid.restitution < 1 and seed_calibrated.restitution < 1
+def test_restitution_below_one_and_set_by_the_column(study_rigid, study_calibrated):
+    assert study_rigid.restitution < 1 and study_calibrated.restitution < 1
     # the base matters (slightly at k_d: the 0.9 ms contact is short against the 11-14 ms period)
-    assert abs(seed_rigid.restitution - seed_calibrated.restitution) > 5e-4
+    assert abs(study_rigid.restitution - study_calibrated.restitution) > 5e-4
     # with a softer contact spring (a longer pulse) the base matters more
     soft = {}
     for base in ("rigid", "calibrated"):
@@ -218,8 +218,8 @@ def test_restitution_below_one_and_set_by_the_column(seed_rigid, seed_calibrated
     assert r.peak_force_N == pytest.approx(V * math.sqrt(K * M), rel=2e-3)
 
 
-def test_column_momentum_and_impulse(seed_rigid):
-    r = seed_rigid
+def test_column_momentum_and_impulse(study_rigid):
+    r = study_rigid
     dv = r.normal_velocity_out_m_s - r.normal_velocity_in_m_s
     assert r.normal_impulse_Ns == pytest.approx(r.effective_mass_kg * dv, rel=1e-12)
     # the pulse carries exactly that impulse (Newmark's velocity update is the trapezoidal rule)
@@ -229,8 +229,8 @@ def test_column_momentum_and_impulse(seed_rigid):
     assert r.velocity_out_m_s[0] == pytest.approx(-r.restitution * V, rel=1e-12)
 
 
-def test_coupled_base_shear_matches_the_modal_solution_of_the_pulse(seed_rigid):
-    r = seed_rigid
+def test_coupled_base_shear_matches_the_modal_solution_of_the_pulse(study_rigid):
+    r = study_rigid
     hist = r.history
     t = hist.time_s  # the pulse and the watch after it (free vibration, no contact)
     modal = mdof_response(r.force, Column(), 0.4, t)
@@ -385,13 +385,13 @@ def test_pair_impact_equal_masses_exchange_velocities():
     np.testing.assert_allclose(total, [M * V, 0, 0], atol=1e-12)
 
 
-# ----------------------------------------------------------------------------- seed Table 1
-def test_seed_table1_event(seed_rigid, seed_calibrated):
-    """Where the coupled model falls against the seed's Table 1 (0.236 kg, 1.5 m/s, 0.40 m).
+# ----------------------------------------------------------------------------- study Table 1
+def test_study_table1_event(study_rigid, study_calibrated):
+    """Where the coupled model falls against the study's Table 1 (0.236 kg, 1.5 m/s, 0.40 m).
 
     Computed (k_d = 3.04e6 N/m, 160 elements): rigid base 1137 N, 0.863 ms, 0.624 N s,
     e = 0.763, base shear 1004 N; calibrated base 1137 N, 0.862 ms, 0.624 N s, e = 0.762,
-    base shear 886 N. Seed: ASCE 7-22 with k_d 822 N, 0.6 ms, 0.46 N s; MDOF fit 237 N,
+    base shear 886 N. The study: ASCE 7-22 with k_d 822 N, 0.6 ms, 0.46 N s; MDOF fit 237 N,
     4.7 ms, 0.71 N s. So with k_d the contact force is above the ASCE row (which carries
     C_o = 0.65 on H&D's rigid-wall 1270 N) and five times the MDOF fit's, over a pulse five
     times shorter; its impulse lies between the two rows. The MDOF-fit pulse corresponds to
@@ -399,22 +399,22 @@ def test_seed_table1_event(seed_rigid, seed_calibrated):
     231 N, 4.70 ms, 0.69 N s.
     """
     hd_peak = V * math.sqrt(K * M)
-    for r in (seed_rigid, seed_calibrated):
-        assert SEED_ASCE_KD[0] < r.peak_force_N < hd_peak  # below the rigid wall, above ASCE's 0.65 H&D
+    for r in (study_rigid, study_calibrated):
+        assert STUDY_ASCE_KD[0] < r.peak_force_N < hd_peak  # below the rigid wall, above ASCE's 0.65 H&D
         assert r.peak_force_N == pytest.approx(1137, rel=0.01)
         assert r.duration_s == pytest.approx(0.86e-3, rel=0.01)
         assert r.impulse_Ns == pytest.approx(0.624, rel=0.01)
-        assert SEED_ASCE_KD[2] < r.impulse_Ns < SEED_MDOF_FIT[2]
-        assert r.peak_force_N > 4 * SEED_MDOF_FIT[0] and r.duration_s < SEED_MDOF_FIT[1] / 4
-    assert seed_rigid.base_shear.peak_N == pytest.approx(1004, rel=0.01)
-    assert seed_calibrated.base_shear.peak_N == pytest.approx(886, rel=0.01)
+        assert STUDY_ASCE_KD[2] < r.impulse_Ns < STUDY_MDOF_FIT[2]
+        assert r.peak_force_N > 4 * STUDY_MDOF_FIT[0] and r.duration_s < STUDY_MDOF_FIT[1] / 4
+    assert study_rigid.base_shear.peak_N == pytest.approx(1004, rel=0.01)
+    assert study_calibrated.base_shear.peak_N == pytest.approx(886, rel=0.01)
     soft = impact(
         Body.particle(M, (V, 0, 0)), (0, 0, 0.4), (-1, 0, 0), ColumnTarget(Column(), 0.4),
         stiffness_N_m=1.05e5, friction_coefficient=0,
     )
-    assert soft.peak_force_N == pytest.approx(SEED_MDOF_FIT[0], rel=0.05)
-    assert soft.duration_s == pytest.approx(SEED_MDOF_FIT[1], rel=0.05)
-    assert soft.impulse_Ns == pytest.approx(SEED_MDOF_FIT[2], rel=0.05)
+    assert soft.peak_force_N == pytest.approx(STUDY_MDOF_FIT[0], rel=0.05)
+    assert soft.duration_s == pytest.approx(STUDY_MDOF_FIT[1], rel=0.05)
+    assert soft.impulse_Ns == pytest.approx(STUDY_MDOF_FIT[2], rel=0.05)
 
 
 # ----------------------------------------------------------------------------- inputs

@@ -202,7 +202,7 @@ def test_the_page_states_the_figures_and_links_every_figure_it_draws(tmp_path):
     assert "1 contacts with the flume's side walls, 2 with the record's end walls" in text
     assert "recorded over x = 0.63 to 1.60 m" in text and "Reached the end: debris1 from 0.180 s (x = 1.60 m)" in text
     assert "| 45 / 2 / -1 deg |" in text  # debris1's first strike: yaw / pitch / roll
-    # the one-way statement: the flows coincide but for what the plans make different; the seed's finding assumed
+    # the one-way statement: the flows coincide but for what the plans make different; the study's finding assumed
     assert "two-a and two-b run the same plan: between them, the gauges by at most 2.0 mm" in text
     assert "the hydrodynamic force by at most 1.50 N" in text
     assert "an assumption of the one-way model, not a result" in text

@@ -21,9 +21,9 @@ from analytical.errors import InputError
 from analytical.pulses import HalfSine, Rectangular, Tabulated
 from tests.conftest import input_error
 
-SEED = Column()
+STUDY = Column()
 CALIBRATED = Column(base="calibrated")
-#: The seed's Table 1 MDOF pulse.
+#: The study's Table 1 MDOF pulse.
 MDOF_PULSE = HalfSine(236.93, 4.7e-3)
 BETA1 = 1.87510406871196  # first root of cos(x) cosh(x) = -1
 
@@ -147,7 +147,7 @@ def test_element_rejects_bad_arguments():
 
 
 # --------------------------------------------------------------------------- statics
-@pytest.mark.parametrize("column", [SEED, Column(elements=7), CALIBRATED], ids=["seed", "7 elements", "calibrated"])
+@pytest.mark.parametrize("column", [STUDY, Column(elements=7), CALIBRATED], ids=["study", "7 elements", "calibrated"])
 def test_static_deflection_matches_timoshenko_closed_form(column):
     EI, kGA, H = column.bending_stiffness_Nm2, column.shear_stiffness_N, column.height_m
     k_theta = mdof.column_model(column).base_spring_Nm_rad
@@ -168,7 +168,7 @@ def test_static_deflection_matches_timoshenko_closed_form(column):
 
 
 def test_static_reciprocity():
-    for column in (SEED, CALIBRATED, Column(elements=9)):
+    for column in (STUDY, CALIBRATED, Column(elements=9)):
         for z1, z2 in ((0.16, 0.8), (0.4031, 0.123), (0.0021, 0.79)):
             d12 = mdof.static_deflection(column, z1, z2)
             d21 = mdof.static_deflection(column, z2, z1)
@@ -177,7 +177,7 @@ def test_static_reciprocity():
 
 # --------------------------------------------------------------------------- modes
 def test_euler_bernoulli_limit_frequency_converges_to_closed_form():
-    EI, rA, H = SEED.bending_stiffness_Nm2, SEED.mass_per_length_kg_m, SEED.height_m
+    EI, rA, H = STUDY.bending_stiffness_Nm2, STUDY.mass_per_length_kg_m, STUDY.height_m
     exact = BETA1**2 * math.sqrt(EI / (rA * H**4)) / (2 * math.pi)  # 100.50 Hz
     errors = []
     for n in (2, 4, 8, 16):
@@ -188,15 +188,15 @@ def test_euler_bernoulli_limit_frequency_converges_to_closed_form():
     assert all(b < a / 10 for a, b in zip(errors, errors[1:]))  # ~ h^4
     assert errors[-1] < 1e-6
     # A Column with a huge kappa G A keeps its rotary inertia, which lowers f1 a little
-    # (a Rayleigh beam); shear deformation (the seed's kappa = 0.5) lowers it much more.
+    # (a Rayleigh beam); shear deformation (the study's kappa = 0.5) lowers it much more.
     stiff = mdof.modes(Column(shear_coefficient=1e9, elements=40))[0]
     assert 0.95 * exact < stiff < exact
-    assert mdof.modes(SEED)[0] < 0.9 * stiff
+    assert mdof.modes(STUDY)[0] < 0.9 * stiff
 
 
-def test_seed_rigid_base_frequencies_match_exact_timoshenko_cantilever():
-    f = mdof.modes(SEED)
-    exact = _timoshenko_frequencies(SEED, f_max=1200.0)  # 88.357, 360.27, 762.32, 1117.97 Hz
+def test_study_rigid_base_frequencies_match_exact_timoshenko_cantilever():
+    f = mdof.modes(STUDY)
+    exact = _timoshenko_frequencies(STUDY, f_max=1200.0)  # 88.357, 360.27, 762.32, 1117.97 Hz
     assert f[0] == pytest.approx(88.36, abs=0.01)  # the rigid-base beam: about 88 Hz (analytical/mdof.py)
     assert f[0] == pytest.approx(exact[0], rel=1e-5)
     np.testing.assert_allclose(f[:4], exact[:4], rtol=2e-4)
@@ -207,11 +207,11 @@ def test_calibrated_base_reaches_the_measured_frequency():
     model = mdof.column_model(CALIBRATED)
     assert model.frequencies_Hz[0] == pytest.approx(70.0, rel=1e-6)
     assert model.base_spring_Nm_rad is not None and model.base_spring_Nm_rad > 0
-    assert mdof.column_model(SEED).base_spring_Nm_rad is None
+    assert mdof.column_model(STUDY).base_spring_Nm_rad is None
     exact = _timoshenko_frequencies(CALIBRATED, model.base_spring_Nm_rad, f_max=800.0)
     np.testing.assert_allclose(model.frequencies_Hz[:3], exact[:3], rtol=1e-4)
     # A spring softens every mode a little.
-    assert np.all(model.frequencies_Hz[:4] < mdof.modes(SEED)[:4])
+    assert np.all(model.frequencies_Hz[:4] < mdof.modes(STUDY)[:4])
 
 
 def test_calibrated_target_above_the_rigid_frequency_is_refused():
@@ -233,13 +233,13 @@ def test_modes_are_mass_normalised_and_rayleigh_damping_is_on_modes_1_and_2():
 
 
 def test_model_is_cached_per_column():
-    assert mdof.column_model(Column()) is mdof.column_model(SEED)
+    assert mdof.column_model(Column()) is mdof.column_model(STUDY)
     with pytest.raises(InputError, match="column"):
-        mdof.column_model("seed")
+        mdof.column_model("study")
 
 
 # --------------------------------------------------------------------------- dynamics
-@pytest.mark.parametrize("column", [SEED, CALIBRATED], ids=["rigid", "calibrated"])
+@pytest.mark.parametrize("column", [STUDY, CALIBRATED], ids=["rigid", "calibrated"])
 @pytest.mark.parametrize("pulse", [MDOF_PULSE, Rectangular(322.83, 1.4e-3)], ids=["half-sine", "rectangular"])
 def test_modal_and_newmark_base_shear_agree(pulse, column):
     t = np.arange(0.0, 0.03, 1e-5) + 0.5e-5  # samples off the pulse's jumps
@@ -251,7 +251,7 @@ def test_modal_and_newmark_base_shear_agree(pulse, column):
     assert modal.peak_N > 100.0  # a real response, not two zeros agreeing
 
 
-@pytest.mark.parametrize("column", [SEED, CALIBRATED], ids=["rigid", "calibrated"])
+@pytest.mark.parametrize("column", [STUDY, CALIBRATED], ids=["rigid", "calibrated"])
 def test_long_sampled_pulse_modal_recurrence_against_newmark(column):
     # An impact pulse as the contact integration gives it: 1,500 samples with a kink at each.
     # Modal superposition carries every mode over the samples by the exact recurrence
@@ -270,35 +270,35 @@ def test_long_sampled_pulse_modal_recurrence_against_newmark(column):
 
 
 def test_short_rectangular_pulse_low_on_the_column_needs_every_mode():
-    # The ASCE (k_d) pulse of the seed's Table 1 at 0.16 m: the jumps excite the overdamped
+    # The ASCE (k_d) pulse of the study's Table 1 at 0.16 m: the jumps excite the overdamped
     # high modes (zeta > 1 above about 10 kHz); leaving them out of the modal sum puts a
     # spurious 2 % spike at the end of the pulse.
     pulse = Rectangular(822.34, 0.6e-3)
     t = np.arange(0.0, 3e-3, 1e-6)
-    modal = mdof.mdof_response(pulse, SEED, 0.16, t)
-    newmark = mdof.newmark_history(pulse, SEED, 0.16, 3e-3, dt=2e-7)
+    modal = mdof.mdof_response(pulse, STUDY, 0.16, t)
+    newmark = mdof.newmark_history(pulse, STUDY, 0.16, 3e-3, dt=2e-7)
     assert modal.peak_N == pytest.approx(newmark.base_shear_N.max(), rel=2e-4)
     near_end = (t > 0.59e-3) & (t < 0.7e-3)
     reference = np.interp(t[near_end], newmark.time_s, newmark.base_shear_N)
     np.testing.assert_allclose(modal.response_N[near_end], reference, atol=1e-3 * modal.peak_N)
 
 
-def test_seed_mdof_pulse_peak_base_shear():
-    # The seed's Table 1 MDOF pulse at the mean impact height; the measured peak of that record
-    # is about 225 N and the seed's fit underestimated it by 8.7 %: about 205 N.
+def test_study_mdof_pulse_peak_base_shear():
+    # The study's Table 1 MDOF pulse at the mean impact height; the measured peak of that record
+    # is about 225 N and the study's fit underestimated it by 8.7 %: about 205 N.
     t = np.linspace(0.0, 0.05, 50001)
-    r = mdof.mdof_response(MDOF_PULSE, SEED, 0.40, t)
+    r = mdof.mdof_response(MDOF_PULSE, STUDY, 0.40, t)
     assert r.peak_N == pytest.approx(207.63, abs=0.02)
     assert 0.004 < r.time_of_peak_s < 0.005
 
 
 def test_modal_number_of_modes_converges():
     t = np.linspace(0.0, 0.02, 2001)
-    auto = mdof.mdof_response(MDOF_PULSE, SEED, 0.40, t).response_N
-    every = mdof.mdof_response(MDOF_PULSE, SEED, 0.40, t, n_modes=len(mdof.modes(SEED))).response_N
+    auto = mdof.mdof_response(MDOF_PULSE, STUDY, 0.40, t).response_N
+    every = mdof.mdof_response(MDOF_PULSE, STUDY, 0.40, t, n_modes=len(mdof.modes(STUDY))).response_N
     np.testing.assert_allclose(auto, every, atol=1e-5 * np.abs(every).max())
     errors = [
-        abs(mdof.mdof_response(MDOF_PULSE, SEED, 0.40, t, n_modes=n).peak_N - every.max()) for n in (1, 3, 10)
+        abs(mdof.mdof_response(MDOF_PULSE, STUDY, 0.40, t, n_modes=n).peak_N - every.max()) for n in (1, 3, 10)
     ]
     assert errors[0] > errors[1] > errors[2] and errors[0] > 0.01 * every.max()
 
@@ -331,7 +331,7 @@ def test_slowly_applied_load_gives_base_shear_equal_to_the_load():
     ramp = np.linspace(0.3, 0.99, 70)
     hold = np.linspace(1.4, 1.99, 60)
     t = np.concatenate([ramp, hold])
-    for column in (SEED, CALIBRATED):
+    for column in (STUDY, CALIBRATED):
         for method in ("modal", "newmark"):
             kwargs = {"dt": 1e-4} if method == "newmark" else {}
             r = mdof.mdof_response(pulse, column, 0.55, t, method=method, **kwargs)
@@ -342,26 +342,26 @@ def test_slowly_applied_load_gives_base_shear_equal_to_the_load():
 
 def test_linearity_and_time_invariance():
     t = np.linspace(0.0, 0.02, 801)
-    base = mdof.mdof_response(MDOF_PULSE, SEED, 0.3, t).response_N
-    doubled = mdof.mdof_response(MDOF_PULSE.scaled(-2.0), SEED, 0.3, t)
+    base = mdof.mdof_response(MDOF_PULSE, STUDY, 0.3, t).response_N
+    doubled = mdof.mdof_response(MDOF_PULSE.scaled(-2.0), STUDY, 0.3, t)
     np.testing.assert_allclose(doubled.response_N, -2.0 * base, rtol=1e-10, atol=1e-9)
     assert doubled.peak_N == pytest.approx(-2.0 * base.max(), rel=1e-10)  # peak in the load's direction
-    later = mdof.mdof_response(MDOF_PULSE.shifted(0.002), SEED, 0.3, t + 0.002).response_N
+    later = mdof.mdof_response(MDOF_PULSE.shifted(0.002), STUDY, 0.3, t + 0.002).response_N
     np.testing.assert_allclose(later, base, atol=1e-8 * base.max())
 
 
 def test_newmark_is_linear_and_time_invariant():
     t = np.linspace(0.0, 0.01, 201)
-    a = mdof.mdof_response(MDOF_PULSE, SEED, 0.2, t, method="newmark", dt=2e-5).response_N
-    b = mdof.mdof_response(MDOF_PULSE.scaled(3.0), SEED, 0.2, t, method="newmark", dt=2e-5).response_N
+    a = mdof.mdof_response(MDOF_PULSE, STUDY, 0.2, t, method="newmark", dt=2e-5).response_N
+    b = mdof.mdof_response(MDOF_PULSE.scaled(3.0), STUDY, 0.2, t, method="newmark", dt=2e-5).response_N
     np.testing.assert_allclose(b, 3.0 * a, rtol=1e-9, atol=1e-9)
-    later = mdof.mdof_response(MDOF_PULSE.shifted(0.0031), SEED, 0.2, t + 0.0031, method="newmark", dt=2e-5)
+    later = mdof.mdof_response(MDOF_PULSE.shifted(0.0031), STUDY, 0.2, t + 0.0031, method="newmark", dt=2e-5)
     np.testing.assert_allclose(later.response_N, a, atol=1e-7 * np.abs(a).max())
 
 
 @pytest.mark.parametrize("height", [0.40, 0.0021, 0.80], ids=["0.40 m", "first element", "tip"])
 def test_base_shear_reaction_and_equilibrium_forms_agree(height):
-    for column in (SEED, CALIBRATED):
+    for column in (STUDY, CALIBRATED):
         h = mdof.newmark_history(Rectangular(322.83, 1.4e-3), column, height, 0.01, dt=5e-6)
         scale = np.abs(h.base_shear_N).max()
         np.testing.assert_allclose(h.base_shear_reaction_N, h.base_shear_N, atol=1e-7 * scale)
@@ -397,13 +397,13 @@ def test_peak_base_shear_converges_with_elements_and_time_step():
     assert all(b < a for a, b in zip(errors, errors[1:]))
     assert errors[-1] < 1e-4 * peaks[-1]  # 160 elements: converged to far better than 0.1 %
 
-    reference = mdof.mdof_response(MDOF_PULSE, SEED, 0.40, np.linspace(0.0, 0.01, 100001)).peak_N
+    reference = mdof.mdof_response(MDOF_PULSE, STUDY, 0.40, np.linspace(0.0, 0.01, 100001)).peak_N
     dt_errors = []
     for dt in (4.7e-5, 2.35e-5, 1.175e-5):
-        h = mdof.newmark_history(MDOF_PULSE, SEED, 0.40, 0.01, dt=dt)
+        h = mdof.newmark_history(MDOF_PULSE, STUDY, 0.40, 0.01, dt=dt)
         dt_errors.append(abs(h.base_shear_N.max() - reference))
     assert all(b < a / 2.5 for a, b in zip(dt_errors, dt_errors[1:]))  # second order
-    default = mdof.newmark_history(MDOF_PULSE, SEED, 0.40, 0.01)
+    default = mdof.newmark_history(MDOF_PULSE, STUDY, 0.40, 0.01)
     assert default.dt_s < 1e-5
     assert default.base_shear_N.max() == pytest.approx(reference, rel=1e-4)
 
@@ -429,11 +429,11 @@ def test_peak_base_shear_converges_with_elements_and_time_step():
 def test_bad_response_arguments_name_the_argument(kwargs, field):
     args = {"height_m": 0.4, "t": np.linspace(0, 0.01, 11)}
     args.update(kwargs)
-    input_error(field, mdof.mdof_response, MDOF_PULSE, SEED, **args)
+    input_error(field, mdof.mdof_response, MDOF_PULSE, STUDY, **args)
 
 
 def test_static_deflection_rejects_heights_outside_the_column():
     with pytest.raises(InputError, match="at_height_m"):
-        mdof.static_deflection(SEED, 0.4, 0.9)
+        mdof.static_deflection(STUDY, 0.4, 0.9)
     with pytest.raises(InputError, match="height_m"):
-        mdof.static_deflection(SEED, -0.1, 0.4)
+        mdof.static_deflection(STUDY, -0.1, 0.4)

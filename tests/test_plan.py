@@ -252,7 +252,7 @@ def test_a_floating_body_on_a_dry_bed_needs_no_bed_layer():
 
 @pytest.mark.parametrize("x", [-0.5, 3.2])
 def test_a_floating_bodys_mesh_has_a_plane_at_the_still_water(x):
-    # setFields fills whole cells by their centres: without the plane, the seed's container afloat
+    # setFields fills whole cells by their centres: without the plane, the study's container afloat
     # had its mesh's waterline row filled 3.7 mm above the background's water and heaved +-1 mm
     s = case("1debris", "bed.wet_depth_m=0.08", "debris.0.placement=floating", f"debris.0.centre_m=[{x}, 0.0]")
     b = plan_case(s).bodies[0]
@@ -287,7 +287,7 @@ def plate_inertia(a, b, c, t, rho):
     return ixx, iyy, izz
 
 
-def test_inertia_of_the_seed_container_matches_six_plates():
+def test_inertia_of_the_study_container_matches_six_plates():
     a, b, c, t, m = 0.15, 0.06, 0.06, 0.005, 0.236
     rho = m / (a * b * c - (a - 2 * t) * (b - 2 * t) * (c - 2 * t))
     assert body_inertia((a, b, c), m, t) == pytest.approx(plate_inertia(a, b, c, t, rho), rel=1e-12)
@@ -440,7 +440,7 @@ def test_a_closed_end_out_of_reach_keeps_the_trim():
 
 
 def test_run_up_at_the_column_depends_on_how_much_of_the_width_it_blocks():
-    """The seed's column blocks 13 % of the flume: its splash-up is left to the atmosphere patch
+    """The study's column blocks 13 % of the flume: its splash-up is left to the atmosphere patch
     (the air space stays at 1.5 h0 = 0.6 m). Across the whole width (2D) it acts as a wall: the air
     space goes up to the 0.8 m walls."""
     narrow = plan_case(case("1debris"))
@@ -492,7 +492,7 @@ def test_decomposition_uses_every_core_and_keeps_bodies_whole(name, cores):
         assert "on one rank (decomposePar's preserveFaceZones" in p.reasons["decomposition"]
     if n >= 2 and cores > 1:  # then the runner splits each (orchestrator/case/split_bodies.py)
         assert "moved to the next rank" in p.reasons["decomposition"]
-    # on 2 ranks the balanced cut clears the seed's one-body layout
+    # on 2 ranks the balanced cut clears the study's one-body layout
     if n == 1 and cores == 2:
         assert "1 of 1 body meshes start clear of the balanced cuts" in p.reasons["decomposition"]
         assert "1 keep their path to the column on one rank" in p.reasons["decomposition"]

@@ -26,7 +26,7 @@ from orchestrator.results.compare import compare
 DATA = Path(__file__).parent / "data" / "post"
 MAX_WIDTH_PX, MAX_HEIGHT_PX = 1600, 2000
 MIN_FONT_PT = 9.0
-FIGURES = ("gauges", "column_forces", "impacts", "seed_fits", "tracks")
+FIGURES = ("gauges", "column_forces", "impacts", "study_fits", "tracks")
 
 
 # --------------------------------------------------------------------------- checks
@@ -246,7 +246,7 @@ def test_impact_pulses_are_whole_and_the_fits_stand_apart(real):
 def test_four_impacts_fit_the_width_and_a_failed_fit_says_why(real):
     results, comp = real["tiny-1debris"]
     comp = _four_impacts(comp)
-    for builder in (plots.figure_impacts, plots.figure_seed_fits):
+    for builder in (plots.figure_impacts, plots.figure_study_fits):
         fig = builder(results, comp)
         try:
             check_figure(fig)

@@ -456,7 +456,7 @@ def test_decomposition_keeps_every_body_mesh_on_one_rank(tmp_path, openfoam, cor
     body meshes, yet decomposePar (with the preserveFaceZones constraint) puts each body's cells
     on one rank: the planned split the runner then halves every body mesh from
     (orchestrator/case/split_bodies.py). The price is balance: a rank is off the mean by at
-    most two body meshes (one lump at each of its cuts). On the seed's 6-debris flume at
+    most two body meshes (one lump at each of its cuts). On the study's 6-debris flume at
     4 cm on 4 ranks that was 0.7 % of a rank's cells; on this 5,564-cell mesh one body is
     4 % of a rank."""
     from orchestrator.plan.planner import plan_case

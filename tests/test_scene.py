@@ -47,7 +47,7 @@ def raw(path: Path) -> dict:
 
 
 @pytest.mark.parametrize("name", CASE_NAMES)
-def test_every_case_loads_and_reproduces_the_seed(name):
+def test_every_case_loads_and_reproduces_the_study(name):
     s = load_scene(CASES / f"{name}.yaml")
     assert s.name == name
     assert s.reservoir.depth_m == 0.40

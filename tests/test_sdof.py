@@ -300,7 +300,7 @@ def test_time_invariance():
 
 
 def test_static_limit_of_a_slow_ramp_and_hold():
-    sd = SDOF.seed()
+    sd = SDOF.study()
     Tn = sd.natural_period_s
     F = 250.0
     p = Tabulated([0.0, 50 * Tn, 200 * Tn], [0.0, F, F])
@@ -314,7 +314,7 @@ def test_static_limit_of_a_slow_ramp_and_hold():
 
 
 def test_long_step_is_the_static_response():
-    R = sdof_response(Rectangular(123.0, 10.0), SDOF.seed(), np.array([9.0]))
+    R = sdof_response(Rectangular(123.0, 10.0), SDOF.study(), np.array([9.0]))
     assert R.response_N[0] == pytest.approx(123.0, rel=1e-12)
 
 
@@ -350,8 +350,8 @@ def test_forty_modes_five_thousand_times_four_atoms_is_fast():
 # ================================================================= SDOF, ForceResponse
 
 
-def test_sdof_seed_and_derived_properties():
-    s = SDOF.seed()
+def test_sdof_study_and_derived_properties():
+    s = SDOF.study()
     assert (s.stiffness_N_m, s.natural_frequency_Hz, s.damping_ratio) == (4.685e5, 70.0, 0.045)
     assert s.omega_rad_s == pytest.approx(2 * math.pi * 70)
     assert s.mass_kg == pytest.approx(4.685e5 / (2 * math.pi * 70) ** 2)
@@ -402,7 +402,7 @@ def test_force_response_peak_time_and_min():
 
 
 def test_negative_load_peaks_negative():
-    s = SDOF.seed()
+    s = SDOF.study()
     t = np.linspace(0, 0.1, 4001)
     pos = sdof_response(HalfSine(100.0, 0.004), s, t)
     neg = sdof_response(HalfSine(-100.0, 0.004), s, t)
@@ -414,8 +414,8 @@ def test_negative_load_peaks_negative():
 
 
 def test_max_force_response_agrees_with_dense_sampling():
-    s = SDOF.seed()
-    p = HalfSine(471.49, 0.0030)  # the seed's SDOF fit of Table 1
+    s = SDOF.study()
+    p = HalfSine(471.49, 0.0030)  # the study's SDOF fit of Table 1
     peak = max_force_response(p, s.natural_frequency_Hz, s.damping_ratio)
     assert isinstance(peak, PeakResponse)
     t = np.linspace(0, 0.05, 500001)

@@ -1,7 +1,7 @@
 """A container resting on the wet bed of a flume of still water, or afloat in a tank of it, stays
 where it is, two-way.
 
-tests/data/scenes/still-water-resting.yaml stands the seed's container on the planner's gap over
+tests/data/scenes/still-water-resting.yaml stands the study's container on the planner's gap over
 15 mm of still water (its draft, 26 mm, exceeds it). v1912's overset interpolation puts a spurious
 yaw moment of up to 6e-4 N m on it; without static friction it turned 131 degrees in 1 s. Static
 bed friction (orchestrator.run.bedwatch) holds it: the load it measured stays at about a tenth of

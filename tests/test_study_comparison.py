@@ -10,7 +10,7 @@ import pytest
 from scipy import stats
 
 from analytical.column import Column
-from analytical.study import SEED_IMPACT_COUNT, SEED_IMPACT_VELOCITY_M_S, SEED_TABLE2_MDOF
+from analytical.study import STUDY_IMPACT_COUNT, STUDY_IMPACT_VELOCITY_M_S, STUDY_TABLE2_MDOF
 from analytical.errors import InputError
 from analytical.mdof import mdof_response
 from analytical.pulses import make_pulse
@@ -38,10 +38,10 @@ def test_welch_by_hand():
 
 @pytest.mark.parametrize("seed, shift", [(0, 0.0), (1, 40.0), (2, -25.0), (3, 80.0)])
 def test_welch_matches_scipy(seed, shift):
-    mean, std = SEED_TABLE2_MDOF["peak_force_N"]
+    mean, std = STUDY_TABLE2_MDOF["peak_force_N"]
     x = np.random.default_rng(seed).normal(mean + shift, 38.0, 82)
-    c = compare_with_study(x, mean, std, SEED_IMPACT_COUNT)
-    ref = stats.ttest_ind_from_stats(x.mean(), x.std(ddof=1), x.size, mean, std, SEED_IMPACT_COUNT, equal_var=False)
+    c = compare_with_study(x, mean, std, STUDY_IMPACT_COUNT)
+    ref = stats.ttest_ind_from_stats(x.mean(), x.std(ddof=1), x.size, mean, std, STUDY_IMPACT_COUNT, equal_var=False)
     assert c.welch_t == pytest.approx(ref.statistic, rel=1e-12)
     assert c.p_value == pytest.approx(ref.pvalue, rel=1e-9)
     assert c.verdict.startswith("agrees" if ref.pvalue > 0.05 else "differs")
@@ -52,13 +52,13 @@ def test_the_ensembles_figures_differ_from_the_studys():
     rng = np.random.default_rng(5)
     x = rng.standard_normal(82)
     x = 233.0 + 38.0 * (x - x.mean()) / x.std(ddof=1)
-    c = compare_with_study(x, *SEED_TABLE2_MDOF["peak_force_N"])
+    c = compare_with_study(x, *STUDY_TABLE2_MDOF["peak_force_N"])
     assert c.welch_t == pytest.approx((233.0 - 171.07) / math.sqrt(38.0**2 / 82 + 62.91**2 / 22))  # 4.41
     assert c.p_value < 1e-3 and c.verdict.startswith("differs")
 
 
 def test_one_value_gets_a_z_and_none_gets_no_test():
-    u, s = SEED_IMPACT_VELOCITY_M_S
+    u, s = STUDY_IMPACT_VELOCITY_M_S
     one = compare_with_study([1.40, math.nan], u, s)
     assert one.n == 1 and one.test == "z" and math.isnan(one.welch_t) and math.isnan(one.standard_error)
     assert one.z == pytest.approx((1.40 - u) / s)

@@ -9,7 +9,7 @@ import pytest
 
 from analytical.column import Column
 from analytical.contact_calibration import STUDY_COLUMN
-from analytical.study import SEED_TABLE1_MDOF, SEED_TABLE1_SDOF, SEED_TABLE2_MDOF
+from analytical.study import STUDY_TABLE1_MDOF, STUDY_TABLE1_SDOF, STUDY_TABLE2_MDOF
 from analytical.fitting import DURATION_BOUNDS_S, fit_sdof_starts
 from analytical.mdof import mdof_response
 from analytical.oscillator import oscillator_response
@@ -32,15 +32,15 @@ def test_the_70_hz_column_turns_the_studys_sdof_row_into_its_mdof_row_and_the_ri
         assert r[base]["stiffness_at_0_40_m_N_m"] == pytest.approx(at, rel=1e-3)
         assert r[base]["stiffness_top_N_m"] == pytest.approx(top, rel=1e-3)
     good, bad = r["calibrated"]["sdof_row_fit"][0.5], r["rigid"]["sdof_row_fit"][0.5]
-    assert good["magnitude_N"] == pytest.approx(SEED_TABLE1_MDOF[0], rel=0.05)
-    assert good["duration_s"] == pytest.approx(SEED_TABLE1_MDOF[1], rel=0.05)
+    assert good["magnitude_N"] == pytest.approx(STUDY_TABLE1_MDOF[0], rel=0.05)
+    assert good["duration_s"] == pytest.approx(STUDY_TABLE1_MDOF[1], rel=0.05)
     assert good["impulse_Ns"] == pytest.approx(0.71, rel=0.01) and good["nrmse"] < 0.07
-    assert bad["nrmse"] > 0.3 and bad["duration_s"] > 2 * SEED_TABLE1_MDOF[1]
+    assert bad["nrmse"] > 0.3 and bad["duration_s"] > 2 * STUDY_TABLE1_MDOF[1]
     assert STUDY_COLUMN.base == "calibrated"
 
 
 def _record(base: str) -> np.ndarray:
-    return mdof_response(HalfSine(*SEED_TABLE1_MDOF, 0.01), Column(base=base), 0.40, T).response_N
+    return mdof_response(HalfSine(*STUDY_TABLE1_MDOF, 0.01), Column(base=base), 0.40, T).response_N
 
 
 def test_the_bounded_sdof_fit_of_table_1s_record_from_six_starts():
@@ -66,7 +66,7 @@ def test_an_sdof_record_cannot_tell_the_studys_sdof_pulse_from_a_short_one():
     impulse (0.87 against 0.90 N s) is in the record, not the split."""
     t = np.arange(0.0, 0.05, 2e-5)
     omega = 2 * math.pi * 70.0
-    ref = oscillator_response(HalfSine(*SEED_TABLE1_SDOF, 0.005), t, omega, 0.045)
+    ref = oscillator_response(HalfSine(*STUDY_TABLE1_SDOF, 0.005), t, omega, 0.045)
     best = None
     for start in np.arange(0.0055, 0.0065, 1e-5):
         r = oscillator_response(HalfSine(1.0, 1.0e-3, start), t, omega, 0.045)
@@ -82,8 +82,8 @@ def test_an_sdof_record_cannot_tell_the_studys_sdof_pulse_from_a_short_one():
 def test_table_2s_mean_impulse_is_nearly_two_over_pi_peak_times_duration():
     """0.52 N s against (2 / pi) 171.07 N x 4.7 ms = 0.512 N s: 1.6 %, a sixth of the impulse
     mean's standard error (0.047 N s). The three means hold two numbers."""
-    peak, duration, impulse = (SEED_TABLE2_MDOF[k][0] for k in ("peak_force_N", "duration_s", "impulse_Ns"))
+    peak, duration, impulse = (STUDY_TABLE2_MDOF[k][0] for k in ("peak_force_N", "duration_s", "impulse_Ns"))
     product = 2 / math.pi * peak * duration
     assert product == pytest.approx(0.5119, abs=1e-4)
     assert impulse / product - 1 == pytest.approx(0.016, abs=0.001)
-    assert (impulse - product) / (SEED_TABLE2_MDOF["impulse_Ns"][1] / math.sqrt(22)) < 0.2
+    assert (impulse - product) / (STUDY_TABLE2_MDOF["impulse_Ns"][1] / math.sqrt(22)) < 0.2

@@ -1,4 +1,4 @@
-"""The seed's section 3.3 on synthetic records: a small study checks the machinery."""
+"""The study's section 3.3 on synthetic records: a small run checks the machinery."""
 
 import numpy as np
 import pytest
@@ -14,7 +14,7 @@ def analyses():
     return [analyse_record(r, column=column, fit_column=fit_column) for r in records]
 
 
-def test_records_follow_the_seed_spread():
+def test_records_follow_the_study_spread():
     records = make_records(200, seed=1)
     mags = np.array([r.true_pulse.peak_N for r in records])
     heights = np.array([r.height_m for r in records])
@@ -39,4 +39,4 @@ def test_asce_impulse_equal_for_both_stiffnesses_and_overestimates(analyses):
     stats = pulse_statistics(analyses)
     assert stats["asce_kd"]["impulse_Ns"][0] == pytest.approx(stats["asce_ks"]["impulse_Ns"][0], rel=1e-12)
     ratios = ratio_statistics(analyses)
-    assert ratios["asce_kd"][2] > ratios["asce_ks"][2] > 1.0  # upper bounds, k_d the larger (seed Fig. 7)
+    assert ratios["asce_kd"][2] > ratios["asce_ks"][2] > 1.0  # upper bounds, k_d the larger (study Fig. 7)

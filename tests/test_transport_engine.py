@@ -2,7 +2,7 @@
 
 Each test names the expected value and a tolerance that the model could miss. The flat box
 (0.20 x 0.20 x 0.02 m, 0.4 kg: draft 10 mm, metacentric height 0.33 m) is the floating test
-body: the seed container (square section, relative density 0.44) is unstable upright in roll.
+body: the study's container (square section, relative density 0.44) is unstable upright in roll.
 """
 
 from __future__ import annotations
@@ -112,7 +112,7 @@ def test_a_box_sliding_on_a_dry_bed_stops_at_mu_g():
 
 
 def test_a_partly_submerged_box_slides_at_mu_g_less_its_buoyancy():
-    """15 mm of still water (the seed's wet bed), drag and added mass off to isolate friction:
+    """15 mm of still water (the study's wet bed), drag and added mass off to isolate friction:
     expected mu g (1 - rho V_sub / m) = 1.263 m/s^2 within 3 %."""
     body = debris("box", centre_m=(0.0, 0.0, 0.03), velocity_m_s=(1.0, 0.0, 0.0), friction=0.3,
                   **CONTAINER_BOX)

@@ -126,7 +126,7 @@ def cmd_asce7(args: argparse.Namespace) -> int:
         check_full_scale_mass,
         check_structure_stiffness,
     )
-    from analytical.study import SEED_DEBRIS_STIFFNESS_N_M, SEED_STRUCTURE_STIFFNESS_N_M
+    from analytical.study import STUDY_DEBRIS_STIFFNESS_N_M, STUDY_STRUCTURE_STIFFNESS_N_M
 
     check_flow_speed(args.velocity, "--velocity")
     if args.importance is not None and args.importance not in set(IMPORTANCE_FACTORS.values()):
@@ -163,19 +163,19 @@ def cmd_asce7(args: argparse.Namespace) -> int:
                  f"{FULL_SCALE_MIN_MASS_KG:g} kg)") if prototype else "laboratory scale (under 100 kg, no --prototype)"
         k_d, k_s = args.debris_stiffness, args.structure_stiffness
         if args.stiffness is None:
-            for value, flag, lab, what in ((k_s, "--structure-stiffness", SEED_STRUCTURE_STIFFNESS_N_M,
+            for value, flag, lab, what in ((k_s, "--structure-stiffness", STUDY_STRUCTURE_STIFFNESS_N_M,
                                             "the struck element's lateral stiffness k_s"),
-                                           (k_d, "--debris-stiffness", SEED_DEBRIS_STIFFNESS_N_M,
+                                           (k_d, "--debris-stiffness", STUDY_DEBRIS_STIFFNESS_N_M,
                                             "the debris' stiffness k_d")):
                 if value is None and prototype:
                     raise InputError(flag, f"{scale}: give {what} (N/m), or --stiffness; the default, {lab:.4g} N/m, "
                                            "is the study's laboratory value and no full-scale one")
         sources = {"k_s": "--structure-stiffness" if k_s is not None else
-                   f"the study's laboratory column ({SEED_STRUCTURE_STIFFNESS_N_M:.4g} N/m, the default)",
+                   f"the study's laboratory column ({STUDY_STRUCTURE_STIFFNESS_N_M:.4g} N/m, the default)",
                    "k_d": "--debris-stiffness" if k_d is not None else
-                   f"the study's 1:40 container ({SEED_DEBRIS_STIFFNESS_N_M:.4g} N/m, the default)"}
-        k_d = SEED_DEBRIS_STIFFNESS_N_M if k_d is None else k_d
-        k_s = SEED_STRUCTURE_STIFFNESS_N_M if k_s is None else k_s
+                   f"the study's 1:40 container ({STUDY_DEBRIS_STIFFNESS_N_M:.4g} N/m, the default)"}
+        k_d = STUDY_DEBRIS_STIFFNESS_N_M if k_d is None else k_d
+        k_s = STUDY_STRUCTURE_STIFFNESS_N_M if k_s is None else k_s
     stiffness_flags = {"debris_stiffness_N_m": "--debris-stiffness", "structure_stiffness_N_m": "--structure-stiffness"}
     if args.stiffness is not None:  # one k, chosen by the user: it governs, there is nothing to compare
         k_d = k_s = args.stiffness
@@ -276,7 +276,7 @@ def _study_impact_inputs(args: argparse.Namespace):
 
 def cmd_impact(args: argparse.Namespace) -> int:
     from analytical.asce7 import asce7_design, check_flow_speed
-    from analytical.study import SEED_DEBRIS_MASS_KG, SEED_DEBRIS_STIFFNESS_N_M
+    from analytical.study import STUDY_DEBRIS_MASS_KG, STUDY_DEBRIS_STIFFNESS_N_M
     from analytical.contact_law import column_impact
 
     check_flow_speed(args.velocity, "--velocity")
@@ -287,7 +287,7 @@ def cmd_impact(args: argparse.Namespace) -> int:
         code = {"asce7_mass_kg": inputs.mass_kg, "asce7_scale": inputs.scale_reason,
                 **{f"asce7_source_{k}": v for k, v in inputs.sources.items() if k in ("m_d", "k_d", "k_s", "I_tsu")}}
     else:
-        asce = asce7_design(args.velocity, body.get("mass_kg", SEED_DEBRIS_MASS_KG), SEED_DEBRIS_STIFFNESS_N_M,
+        asce = asce7_design(args.velocity, body.get("mass_kg", STUDY_DEBRIS_MASS_KG), STUDY_DEBRIS_STIFFNESS_N_M,
                             column.stiffness_N_m)
         code = {"asce7_scale": "the study's laboratory container and column"}
     r = column_impact(law, args.velocity, args.height, column=column, obliquity_deg=args.obliquity, **body)
@@ -475,8 +475,8 @@ def _add_column_args(p: argparse.ArgumentParser) -> None:
 
 def add_analytical_parser(verbs) -> None:
     """The ``analytical`` verb and its sub-verbs, on the top parser's ``verbs``."""
-    from analytical.study import SEED_DEBRIS_STIFFNESS_N_M as SEED_KD
-    from analytical.study import SEED_STRUCTURE_STIFFNESS_N_M as SEED_KS
+    from analytical.study import STUDY_DEBRIS_STIFFNESS_N_M as STUDY_KD
+    from analytical.study import STUDY_STRUCTURE_STIFFNESS_N_M as STUDY_KS
 
     an = verbs.add_parser("analytical", help="analytical models (ASCE 7-22, SDOF, MDOF, fitting, dam break)")
     an_verbs = an.add_subparsers(dest="analytical_verb", required=True, parser_class=ArgParser)
@@ -489,10 +489,10 @@ def add_analytical_parser(verbs) -> None:
                    help="debris mass m_d, kg (required without --scene; with it, the heaviest its design draws)")
     p.add_argument("--debris-stiffness", type=float, default=None, metavar="K_D",
                    help=f"k_d, the debris' effective stiffness, N/m (default: the scene's; without --scene at "
-                        f"laboratory scale {SEED_KD:.4g}, the study's 1:40 container; required at full scale)")
+                        f"laboratory scale {STUDY_KD:.4g}, the study's 1:40 container; required at full scale)")
     p.add_argument("--structure-stiffness", type=float, default=None, metavar="K_S",
                    help=f"k_s, the struck element's lateral stiffness, N/m (default: the scene's column; without "
-                        f"--scene at laboratory scale {SEED_KS:.4g}, the study's column; required at full scale); "
+                        f"--scene at laboratory scale {STUDY_KS:.4g}, the study's column; required at full scale); "
                         "the lesser of k_d and k_s governs")
     p.add_argument("--stiffness", type=float, default=None,
                    help="one stiffness k, N/m, used as it is (instead of the lesser of k_d and k_s)")

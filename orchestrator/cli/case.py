@@ -139,7 +139,7 @@ def _post_lines(summary) -> dict[str, Any]:
             continue
         text = f"{g['arrival_s']:.3f} s"
         errs = ", ".join(f"{ref} {err:+.3f} s" for ref, err in errors.get(gauge, {}).items()
-                         if ref.startswith(("Chanson", "seed")))
+                         if ref.startswith(("Chanson", "study")))
         result[f"arrival {gauge} (x = {g['x_m']:g} m)"] = f"{text}; error vs {errs}" if errs else text
     first = (h.get("impacts") or {}).get("first")
     if first:

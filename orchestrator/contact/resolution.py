@@ -151,7 +151,7 @@ def body_contact_law(contact) -> ContactLaw:
 
 def pair_contact_law(a: ContactLaw, b: ContactLaw) -> ContactLaw:
     """Two bodies' contact springs in series (``1/k = 1/k_a + 1/k_b``) with the mean of their
-    damping ratios: two seed containers give ``k / 2`` and their own damping."""
+    damping ratios: two of the study's containers give ``k / 2`` and their own damping."""
     k = 1.0 / (1.0 / a.stiffness_N_m + 1.0 / b.stiffness_N_m)
     name = a.name if a.name == b.name else f"{a.name} + {b.name}"
     return ContactLaw(k, 0.5 * (a.damping_ratio + b.damping_ratio), f"{name}, body-body")

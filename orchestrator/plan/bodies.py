@@ -208,7 +208,7 @@ def _split_at(segs: tuple[Segment, ...], level_m: float, max_cell_m: float) -> t
     """``segs`` with a plane at ``level_m`` (body coordinates) when it falls inside one of them.
 
     setFields fills whole cells by their centres, so the body mesh's own still water is right only
-    where its surface is a plane of that mesh (as the background's is): without the plane, the seed's
+    where its surface is a plane of that mesh (as the background's is): without the plane, the study's
     container afloat at its draft (the waterline 3.7 mm under a 15 mm cell's top face) had the water
     in its mesh's waterline row filled up to that face, 3.7 mm above the background's, and heaved
     +-1 mm for 2 s (docs/openfoam-notes.md, "A floating body in still water"). A uniform segment is cut

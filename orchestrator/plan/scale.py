@@ -22,7 +22,7 @@ from orchestrator.core.errors import require_positive
 
 __all__ = ["REFERENCE_DEPTH_M", "froude_factor", "length_scale", "time_scale"]
 
-#: The study's impoundment depth (seed 3.1, 4.1.1), at which the tool's absolute constants were set (m).
+#: The study's impoundment depth (study 3.1, 4.1.1), at which the tool's absolute constants were set (m).
 REFERENCE_DEPTH_M = 0.40
 
 

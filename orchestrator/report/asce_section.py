@@ -8,7 +8,7 @@ import math
 import pandas as pd
 
 from analytical.asce7 import asce7_design
-from analytical.study import SEED_DEBRIS_STIFFNESS_N_M
+from analytical.study import STUDY_DEBRIS_STIFFNESS_N_M
 from orchestrator.results.asce_design import SiteFlow
 
 __all__ = ["asce_markdown"]
@@ -29,9 +29,9 @@ def asce_markdown(table: pd.DataFrame, site: SiteFlow | None, heading: str = "##
     flow = site.describe() if site is not None else (
         "not recorded: only a one-way run records the flow at the column; the design force below takes the "
         "body's impact speed in its place, as the study did")
-    cap = asce7_design(1.0, float(first["mass_kg"]), SEED_DEBRIS_STIFFNESS_N_M, float(first["stiffness_N_m"]))
+    cap = asce7_design(1.0, float(first["mass_kg"]), STUDY_DEBRIS_STIFFNESS_N_M, float(first["stiffness_N_m"]))
     out += [f"F_i = I_tsu C_o u_max sqrt(k m_d) (I_tsu = 1.0, risk category II; C_o = 0.65, containers), k the lesser "
-            f"of k_d = {SEED_DEBRIS_STIFFNESS_N_M:.4g} N/m (the study's container) and the column's k_s: here "
+            f"of k_d = {STUDY_DEBRIS_STIFFNESS_N_M:.4g} N/m (the study's container) and the column's k_s: here "
             f"**{names[gov]} governs** ({first['stiffness_N_m']:.4g} N/m), so its F_i is the design value and "
             f"the {other} force is context only.", "",
             f"- u_max, the flow's maximum velocity at the column (what the standard's formula takes): {flow}.",

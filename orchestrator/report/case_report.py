@@ -22,7 +22,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from analytical.study import SEED_ARRIVALS, SEED_IMPACT_HEIGHTS_M
+from analytical.study import STUDY_ARRIVALS, STUDY_IMPACT_HEIGHTS_M
 from orchestrator.core.errors import InputError
 from orchestrator.case.folder import SUMMARY_JSON, CaseFolder
 from orchestrator.core.files import read_json_object, write_text_atomic
@@ -54,7 +54,7 @@ def _within(value, low: float, high: float) -> str:
 def _rows(head: dict, first_impact: dict | None) -> list[tuple[str, str, str, str]]:
     rows = []
     arrivals = head.get("comparisons", {}).get("arrival_errors_s", {})
-    for gauge, experiment, model in SEED_ARRIVALS.values():
+    for gauge, experiment, model in STUDY_ARRIVALS.values():
         g = head.get("gauges", {}).get(gauge, {})
         errors = arrivals.get(gauge, {})
         rows.append((f"bore arrival at {gauge}", _fmt(g.get("arrival_s"), ".3f", " s"),
@@ -68,7 +68,7 @@ def _rows(head: dict, first_impact: dict | None) -> list[tuple[str, str, str, st
         normal, oblique = first_impact.get("normal_velocity_in_m_s"), first_impact.get("obliquity_deg")
         speed = normal / math.cos(math.radians(oblique)) if normal is not None and oblique is not None \
             and oblique < 89 else None
-    low_h, high_h, mean_h = SEED_IMPACT_HEIGHTS_M
+    low_h, high_h, mean_h = STUDY_IMPACT_HEIGHTS_M
     afloat = first_impact.get("afloat")
     rows += [
         ("first impact: time", _fmt(first_impact.get("time_s"), ".3f", " s"), "-", "-"),

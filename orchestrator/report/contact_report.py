@@ -34,8 +34,8 @@ from analytical.contact_calibration import (
     table2_standard_errors,
     unit_figures,
 )
-from analytical.contact_law import ASCE7_KD, CONTAINER, SEED_TABLE1_EVENT, column_impact, study_fit
-from analytical.study import SEED_IMPACT_VELOCITY_M_S, SEED_TABLE2_MDOF
+from analytical.contact_law import ASCE7_KD, CONTAINER, STUDY_TABLE1_EVENT, column_impact, study_fit
+from analytical.study import STUDY_IMPACT_VELOCITY_M_S, STUDY_TABLE2_MDOF
 from analytical.contact_modal import column_modes
 from analytical.pulses import HalfSine
 from orchestrator.core.errors import InputError
@@ -67,7 +67,7 @@ def _scatter_markdown(sc: dict) -> str:
     for name in FIGURES:
         label, unit, scale = _LABELS[name]
         q = " / ".join(f"{v * scale:.3g}" for v in sc["quantiles"][name])
-        mean, std = SEED_TABLE2_MDOF[name]
+        mean, std = STUDY_TABLE2_MDOF[name]
         lines.append(f"| {label} ({unit}) | {sc['means'][name] * scale:.3g} | {sc['stds'][name] * scale:.2g} | {q} "
                      f"| {mean * scale:.3g} | {std * scale:.2g} |")
     return "\n".join(lines) + "\n"
@@ -82,7 +82,7 @@ def _plot(path: Path, check, kd, figures, draws: int = 20_000) -> None:
     fig = plt.figure(figsize=(10.5, 7.0))
     grid = fig.add_gridspec(2, 3, height_ratios=[1.0, 1.0])
     ax = fig.add_subplot(grid[0, :])
-    e = SEED_TABLE1_EVENT
+    e = STUDY_TABLE1_EVENT
     t = np.linspace(0.0, 8e-3, 801)
     ax.plot(t * 1e3, HalfSine(e.peak_force_N, e.duration_s).force(t), "k--", lw=2,
             label=f"Table 1: study's MDOF fit ({e.peak_force_N:.0f} N, {e.duration_s * 1e3:.1f} ms, {e.impulse_Ns} N s)")
@@ -100,7 +100,7 @@ def _plot(path: Path, check, kd, figures, draws: int = 20_000) -> None:
                  fontsize=10)
     ax.legend(fontsize=8, loc="upper right")
     rng = np.random.default_rng(0)
-    speeds = rng.normal(*SEED_IMPACT_VELOCITY_M_S, draws)
+    speeds = rng.normal(*STUDY_IMPACT_VELOCITY_M_S, draws)
     pick = rng.integers(0, len(figures.population), draws)
     unit = {"peak_force_N": figures.fit_peak_force_N, "duration_s": figures.fit_duration_s,
             "impulse_Ns": figures.fit_impulse_Ns}
@@ -110,7 +110,7 @@ def _plot(path: Path, check, kd, figures, draws: int = 20_000) -> None:
         label, unit_label, scale = _LABELS[name]
         values = unit[name][pick] * (speeds if name != "duration_s" else 1.0) * scale
         ax.hist(values, bins=60, density=True, color="C0", alpha=0.6, label="law over the population")
-        mean, std = (v * scale for v in SEED_TABLE2_MDOF[name])
+        mean, std = (v * scale for v in STUDY_TABLE2_MDOF[name])
         x = np.linspace(max(0.0, mean - 3.5 * std), mean + 3.5 * std, 300)
         ax.plot(x, np.exp(-0.5 * ((x - mean) / std) ** 2) / (std * np.sqrt(2 * np.pi)), "k-", lw=1.5,
                 label="Table 2: normal, mean +- std")
@@ -203,7 +203,7 @@ def write_contact_law_report(out_dir: Path, count: int = 32, ensemble: Path | No
     figures = (damped.figures if ensemble is not None
                else unit_figures(law, strike_population(2 * count, seed=_SCATTER_SEED)))
     sc = scatter(figures).to_dict()
-    e = SEED_TABLE1_EVENT
+    e = STUDY_TABLE1_EVENT
     check_strike = column_impact(law, e.velocity_m_s, e.height_m, column=STUDY_COLUMN)
     check_fit = study_fit(check_strike, e.height_m, STUDY_COLUMN)
     kd = column_impact(ASCE7_KD, e.velocity_m_s, e.height_m, column=STUDY_COLUMN)
@@ -257,7 +257,7 @@ def _shipped_on_population(population) -> dict:
     means: nothing is fitted here, so its chi-square has 3 degrees of freedom."""
     means = unit_figures(CONTAINER, population).means()
     se = table2_standard_errors(means)
-    z = {k: (means[k] - SEED_TABLE2_MDOF[k][0]) / se[k] for k in FIGURES}
+    z = {k: (means[k] - STUDY_TABLE2_MDOF[k][0]) / se[k] for k in FIGURES}
     chi2 = float(sum(v * v for v in z.values()))
     return {"law": CONTAINER.to_dict(), "free": [], "stiffness_se_N_m": 0.0, "damping_ratio_se": 0.0,
             "means": means, "standard_errors": se, "z": z, "chi2": chi2, "dof": len(FIGURES),
@@ -442,7 +442,7 @@ point ranges over {spread['effective_mass_kg'][0]:.3f}-{spread['effective_mass_k
 {spread['duration_std_s'] * 1e3:.2f} ms (std). A linear law's duration does not depend on the speed; the study's
 0.5 ms would need an effective mass varying by about 21 % (duration ~ sqrt(m)), or pulses changed by what this
 model does not have (the water cushion, the container's varying wall, the fit's noise on real records). The
-predicted peak-force spread is {sc['stds']['peak_force_N'] / SEED_TABLE2_MDOF['peak_force_N'][1]:.0%} of the study's.
+predicted peak-force spread is {sc['stds']['peak_force_N'] / STUDY_TABLE2_MDOF['peak_force_N'][1]:.0%} of the study's.
 
 ## Table 1's event in the law's scatter
 

@@ -1,15 +1,15 @@
 """The impact figures of a run: the column impacts' pulses against the predicted and fitted
-ones, and the study study's fits to the simulated base shear.
+ones, and the study's fits to the simulated base shear.
 
 ``impacts.png``   per column impact (up to four, a row each): the contact model's pulse
                   against the ASCE 7-22 (k_d, k_s) pulses from the impact velocity, over the
                   band of the study's MDOF pulses (Table 2: magnitude and duration within one
                   standard deviation of the mean), and beside it the SDOF/MDOF pulses fitted to
-                  the base shear that contact pulse caused (seed Fig. 4b), dashed and apart, so
+                  the base shear that contact pulse caused (study Fig. 4b), dashed and apart, so
                   that a fit matching the pulse reads as a check of the fit; a missing pulse
                   says why; below, the peak force of every method at the simulated impact
                   velocity;
-``seed_fits.png`` the simulated base shear of each impact with the SDOF and MDOF fits (seed
+``study_fits.png`` the simulated base shear of each impact with the SDOF and MDOF fits (study
                   Fig. 4a) and every pulse's response on the MDOF column (Fig. 5).
 """
 
@@ -19,11 +19,11 @@ from pathlib import Path
 
 import numpy as np
 
-from analytical.study import SEED_TABLE2_MDOF
+from analytical.study import STUDY_TABLE2_MDOF
 from analytical.mdof import mdof_response
 from orchestrator.report.figures import SMALL, WIDTH_IN, empty, legend, legend_axes, note, pyplot, save_figure
 
-__all__ = ["figure_impacts", "figure_seed_fits", "plot_impacts", "plot_seed_fits"]
+__all__ = ["figure_impacts", "figure_study_fits", "plot_impacts", "plot_study_fits"]
 
 #: The colour of each method's pulse, on both impact figures.
 _METHOD_COLOURS = {
@@ -46,10 +46,10 @@ def _events(comp, limit: int = 4) -> list[int]:
     return sorted(comp.fit_records)[:limit]
 
 
-def _seed_pulse_band(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _study_pulse_band(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The band of half-sines with the study's MDOF magnitudes and durations, each within one
     standard deviation of its Table 2 mean: the lowest and highest such pulse at each time."""
-    (f_mean, f_std), (d_mean, d_std) = SEED_TABLE2_MDOF["peak_force_N"], SEED_TABLE2_MDOF["duration_s"]
+    (f_mean, f_std), (d_mean, d_std) = STUDY_TABLE2_MDOF["peak_force_N"], STUDY_TABLE2_MDOF["duration_s"]
     curves = [f * np.where((t >= 0) & (t <= d), np.sin(np.pi * np.clip(t, 0, None) / d), 0.0)
               for f in (f_mean - f_std, f_mean + f_std) for d in np.linspace(d_mean - d_std, d_mean + d_std, 5)]
     return np.min(curves, axis=0), np.max(curves, axis=0)
@@ -104,9 +104,9 @@ def _pulse_panels(ax, ax_fit, rec, comp, event: int) -> None:
     t0 = contact.start_s
     predicted = {m: p for m, p in pulses.items() if m not in _FITS}
     fitted = {m: p for m, p in pulses.items() if m in _FITS}
-    d_mean, d_std = SEED_TABLE2_MDOF["duration_s"]
+    d_mean, d_std = STUDY_TABLE2_MDOF["duration_s"]
     tt = _pulse_axes(ax, predicted, t0, extra_end_s=d_mean + d_std)
-    low, high = _seed_pulse_band(tt - t0)
+    low, high = _study_pulse_band(tt - t0)
     ax.fill_between((tt - t0) * 1e3, low, high, color="0.85", lw=0,
                     label="study's MDOF pulses (Table 2: mean +- std)")
     for method, pulse in predicted.items():
@@ -191,7 +191,7 @@ def plot_impacts(results, comp, path: Path) -> Path:
     return save_figure(figure_impacts(results, comp), path)
 
 
-def figure_seed_fits(results, comp):
+def figure_study_fits(results, comp):
     """Per impact (up to four, a row each): the fits to the simulated base shear, and every
     pulse's response on the MDOF column, over one shared legend."""
     plt = pyplot()
@@ -244,5 +244,5 @@ def figure_seed_fits(results, comp):
     return fig
 
 
-def plot_seed_fits(results, comp, path: Path) -> Path:
-    return save_figure(figure_seed_fits(results, comp), path)
+def plot_study_fits(results, comp, path: Path) -> Path:
+    return save_figure(figure_study_fits(results, comp), path)

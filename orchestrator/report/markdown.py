@@ -14,7 +14,7 @@ from typing import Any, Sequence
 import numpy as np
 import pandas as pd
 
-from analytical.study import SEED_ARRIVALS
+from analytical.study import STUDY_ARRIVALS
 from orchestrator.core.files import write_text_atomic
 from orchestrator.report.asce_section import asce_markdown
 from orchestrator.results.compare import CONTAINER_MATERIAL, SPREADING_ANGLES_DEG
@@ -103,7 +103,7 @@ def write_report(results, comp, figures: dict, tables: dict[str, Path], plots: d
         "gauge": "gauge", "x_m": "x (m)", "y_m": "y (m)", "initial_level_m": "initial level (m)",
         "initial_level_from": "from", "threshold_m": "threshold (m)", "arrival_s": "arrival (s)",
         "peak_elevation_m": "peak (m)", "time_of_peak_s": "at (s)", "obstructed_samples": "obstructed"}))
-    (x2, (g2, e2, m2)), (x3, (g3, e3, m3)) = SEED_ARRIVALS.items()
+    (x2, (g2, e2, m2)), (x3, (g3, e3, m3)) = STUDY_ARRIVALS.items()
     out += ["### Arrival times against Ritter, Stoker, Chanson and the study", "",
             "Error = simulated - reference. The analytical arrival is the front's tip (zero depth); the "
             "simulated one is the threshold crossing above, so a resolved front reads a little late by "
@@ -138,7 +138,7 @@ def write_report(results, comp, figures: dict, tables: dict[str, Path], plots: d
     if imp.empty:
         out += ["No impact events in this run: nothing to compare with ASCE 7-22, the impact formulas or the "
                 "study's fitting procedure.", ""]
-        out += [f"![{k.replace('_', ' ')}]({plots[k].name})" for k in ("impacts", "seed_fits") if k in plots]
+        out += [f"![{k.replace('_', ' ')}]({plots[k].name})" for k in ("impacts", "study_fits") if k in plots]
         out.append("")
     else:
         out.append(markdown_table(imp, {
@@ -169,14 +169,14 @@ def write_report(results, comp, figures: dict, tables: dict[str, Path], plots: d
         out.append(markdown_table(comp.table1, {
             "event": "event", "method": "method", "magnitude_N": "magnitude (N)", "duration_s": "duration (s)",
             "impulse_Ns": "impulse (N s)", "peak_base_shear_N": "peak base shear (N)", "ratio_to_simulated": "ratio",
-            "seed_magnitude_N": "the study's magnitude (N)", "seed_duration_s": "the study's duration (s)",
-            "seed_impulse_Ns": "the study's impulse (N s)"}))
+            "study_magnitude_N": "the study's magnitude (N)", "study_duration_s": "the study's duration (s)",
+            "study_impulse_Ns": "the study's impulse (N s)"}))
         out.append("")
-        out.append(markdown_table(comp.seed_fits, {
+        out.append(markdown_table(comp.study_fits, {
             "event": "event", "model": "fit", "magnitude_N": "magnitude (N)", "duration_s": "duration (s)",
             "impulse_Ns": "impulse (N s)", "rmse_N": "rmse (N)", "natural_frequency_Hz": "f (Hz)",
             "damping_ratio": "damping"}))
-        out += ["", f"![seed fits]({plots['seed_fits'].name})" if "seed_fits" in plots else "", ""]
+        out += ["", f"![study fits]({plots['study_fits'].name})" if "study_fits" in plots else "", ""]
 
     # ---- transport
     out += ["## Debris transport", "",

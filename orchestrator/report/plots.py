@@ -4,14 +4,14 @@
 the comparisons of :mod:`orchestrator.results.compare`:
 
 ``gauges.png``          elevation at every gauge against Ritter, Stoker and Chanson, with the
-                        simulated, analytical and seed arrival times marked (seed Fig. 10);
+                        simulated, analytical and the study's arrival times marked (study Fig. 10);
 ``column_forces.png``   the hydrodynamic force on the column (pressure, viscous, total) and the base
                         shear it causes, each on a linear axis of its own; below them, when the run
                         has impacts, the impact pulses with the sum, and the base shear from them
                         with the total (tens of newtons and hundreds do not share one axis); then
                         each impact zoomed to milliseconds, its peaks marked and written out;
 ``impacts.png``,        the impact pulses against the predicted and fitted ones, and the study's
-``seed_fits.png``       fits to the simulated base shear (:mod:`orchestrator.report.impact_plots`);
+``study_fits.png``       fits to the simulated base shear (:mod:`orchestrator.report.impact_plots`);
 ``tracks.png``          debris tracks in plan view with the spreading areas, and the bodies'
                         speeds (:mod:`orchestrator.report.track_plots`);
 ``snapshot.png``        a 3D view at the first impact (:mod:`orchestrator.report.snapshot`).
@@ -33,11 +33,11 @@ from pathlib import Path
 import numpy as np
 
 from orchestrator.report.figures import WIDTH_IN, empty, legend, pyplot, save_figure
-from orchestrator.report.impact_plots import figure_impacts, figure_seed_fits, plot_impacts, plot_seed_fits
+from orchestrator.report.impact_plots import figure_impacts, figure_study_fits, plot_impacts, plot_study_fits
 from orchestrator.report.snapshot import snapshot
 from orchestrator.report.track_plots import figure_tracks, plot_tracks
 
-__all__ = ["PLOTS", "figure_column_forces", "figure_gauges", "figure_impacts", "figure_seed_fits", "figure_tracks",
+__all__ = ["PLOTS", "figure_column_forces", "figure_gauges", "figure_impacts", "figure_study_fits", "figure_tracks",
            "make_plots", "snapshot"]
 
 #: The PNGs make_plots writes (name -> file).
@@ -45,7 +45,7 @@ PLOTS = {
     "gauges": "gauges.png",
     "column_forces": "column_forces.png",
     "impacts": "impacts.png",
-    "seed_fits": "seed_fits.png",
+    "study_fits": "study_fits.png",
     "tracks": "tracks.png",
     "snapshot": "snapshot.png",
 }
@@ -82,7 +82,7 @@ def figure_gauges(results, comp):
             ax.axvline(r.arrival_s, color="k", lw=0.8, alpha=0.6, label="simulated arrival")
         arr = comp.arrivals[comp.arrivals["gauge"] == r.gauge]
         for a in arr.itertuples():
-            if a.reference.startswith("seed"):
+            if a.reference.startswith("study"):
                 marker = "v" if "experiment" in a.reference else "^"
                 ax.plot([a.reference_arrival_s], [0.0], marker=marker, ms=8, ls="none",
                         color="#7b3294" if "experiment" in a.reference else "#c2a5cf", label=a.reference)
@@ -262,7 +262,7 @@ def make_plots(results, comp, out_dir: str | Path, snapshot_3d: bool = True) -> 
         "gauges": plot_gauges(results, comp, out / PLOTS["gauges"]),
         "column_forces": plot_column_forces(results, out / PLOTS["column_forces"]),
         "impacts": plot_impacts(results, comp, out / PLOTS["impacts"]),
-        "seed_fits": plot_seed_fits(results, comp, out / PLOTS["seed_fits"]),
+        "study_fits": plot_study_fits(results, comp, out / PLOTS["study_fits"]),
         "tracks": plot_tracks(results, comp, out / PLOTS["tracks"]),
     }
     if snapshot_3d:

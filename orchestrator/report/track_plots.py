@@ -1,6 +1,6 @@
 """The tracks figure of a run (``tracks.png``): debris tracks in plan view with the column,
 the gauges and the spreading areas of Naito et al. (2014) and Nistor et al. (2017b) cut at the
-flume walls (seed Fig. 14), and below them the bodies' speeds; the plan's height follows the
+flume walls (study Fig. 14), and below them the bodies' speeds; the plan's height follows the
 framed region's aspect.
 """
 

@@ -32,7 +32,7 @@ import numpy as np
 import pandas as pd
 
 from analytical.asce7 import asce7_design
-from analytical.study import SEED_DEBRIS_STIFFNESS_N_M
+from analytical.study import STUDY_DEBRIS_STIFFNESS_N_M
 from orchestrator.transport.flow import FlowField
 from orchestrator.transport.flow_record import FLOW_RECORD_NPZ
 
@@ -155,8 +155,8 @@ def asce_design_table(impacts: pd.DataFrame, masses_kg: dict[str, float], struct
             continue
         basis = "u_max of the flow at the column" if site is not None else \
             "the body's impact speed (this run recorded no flow velocity at the column)"
-        design = asce7_design(u, mass, SEED_DEBRIS_STIFFNESS_N_M, structure_stiffness_N_m)
-        at_speed = asce7_design(speed, mass, SEED_DEBRIS_STIFFNESS_N_M, structure_stiffness_N_m) \
+        design = asce7_design(u, mass, STUDY_DEBRIS_STIFFNESS_N_M, structure_stiffness_N_m)
+        at_speed = asce7_design(speed, mass, STUDY_DEBRIS_STIFFNESS_N_M, structure_stiffness_N_m) \
             if np.isfinite(speed) and speed > 0 else None
         d = design.to_dict()
         rows.append({"event": row.get("event"), "time_s": row.get("time_s"), "body": row.get("body"), "mass_kg": mass,

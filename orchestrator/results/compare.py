@@ -1,4 +1,4 @@
-"""Comparisons of a run with the analytical models and with the study study.
+"""Comparisons of a run with the analytical models and with the study.
 
 :func:`compare` takes the tables of :func:`orchestrator.results.tables.tables` and returns a
 :class:`Comparison`; :func:`write_tables` writes its tables to ``DIR/results/``:
@@ -8,7 +8,7 @@
     frictionless), Stoker (the scene's wet-bed depth, frictionless; only with a wet bed),
     Chanson (dry bed, the scene's Darcy f; only with friction), and, at the study's gauge
     positions, the study's measured arrival and its LS-DYNA model's
-    (:data:`analytical.study.SEED_ARRIVALS`); error = simulated - reference (s and %). The
+    (:data:`analytical.study.STUDY_ARRIVALS`); error = simulated - reference (s and %). The
     analytical arrival is the front's tip; the simulated one is the threshold crossing of
     :mod:`orchestrator.results.metrics` (2 % of h0 above the initial level), so a resolved front
     arrives a little after the tip by construction.
@@ -18,7 +18,7 @@
     and Ikeno, all at the simulated impact velocity (the body's centre-of-mass velocity along
     the contact normal) and the body's mass; peak force, duration and impulse where the
     method gives them, and the peak over the simulated (contact model) peak.
-``seed_fits.csv``, ``table1.csv``
+``study_fits.csv``, ``table1.csv``
     The study's procedure (its section 3.3) turned on our own output: for each impact on the
     column, the base shear it caused (impact part only: by linearity this is exactly what
     the study's EEMD filtering tried to extract from its records) is fitted with an SDOF and
@@ -26,7 +26,7 @@
     (ASCE k_d, ASCE k_s, SDOF fit, MDOF fit and the contact model's own) is applied to the
     MDOF column at the impact height; ``table1.csv`` is the study's Table 1 regenerated for
     the simulated impact (magnitude, duration, impulse) beside the study's printed rows, with
-    the peak base shear each pulse causes and its ratio to the simulated one (seed Fig. 7).
+    the peak base shear each pulse causes and its ratio to the simulated one (study Fig. 7).
 ``spreading.csv``
     Debris transport against the spreading areas of Naito et al. (2014) and Nistor et al.
     (2017b), started, as the study describes (its 4.2.2, following ASCE 7-22 6.11.5.1), from a
@@ -70,7 +70,7 @@ import numpy as np
 import pandas as pd
 
 from analytical.asce7 import asce7_impact
-from analytical.study import SEED_ARRIVALS, SEED_DEBRIS_STIFFNESS_N_M, SEED_TABLE1
+from analytical.study import STUDY_ARRIVALS, STUDY_DEBRIS_STIFFNESS_N_M, STUDY_TABLE1
 from analytical.dambreak import dam_break
 from orchestrator.core.errors import DebrisfoamError
 from analytical.fitting import fit_mdof, fit_sdof
@@ -92,8 +92,8 @@ __all__ = [
     "write_tables",
 ]
 
-#: How close (m) a gauge must be to a seed gauge position to be compared with it.
-SEED_GAUGE_TOLERANCE_M = 0.02
+#: How close (m) a gauge must be to one of the study's gauge positions to be compared with it.
+STUDY_GAUGE_TOLERANCE_M = 0.02
 #: Spreading half-angles (degrees either side of the flow) and their sources; see the module notes.
 SPREADING_ANGLES_DEG = {
     "Naito et al. (2014)": {"half_angle_deg": 22.5, "verified": True,
@@ -108,7 +108,7 @@ CONTAINER_MATERIAL = {"youngs_modulus_Pa": 1.0e9, "poisson_ratio": 0.42, "yield_
                       "added_mass_coefficient": 1.7}
 #: Fits are made for at most this many column impacts (the largest).
 MAX_FITTED_IMPACTS = 6
-#: The seed-procedure record around an impact: from PRE before to POST after it, sampled at RATE.
+#: The record of an impact that the study's procedure fits: from PRE before to POST after it, sampled at RATE.
 RECORD_PRE_S, RECORD_POST_S, RECORD_RATE_HZ = 0.010, 0.040, 10_000.0
 
 
@@ -119,7 +119,7 @@ class Comparison:
     arrivals: pd.DataFrame
     gauge_models: dict[str, pd.DataFrame]
     impact_formulas: pd.DataFrame
-    seed_fits: pd.DataFrame
+    study_fits: pd.DataFrame
     table1: pd.DataFrame
     spreading: pd.DataFrame
     areas: dict[str, np.ndarray]
@@ -209,9 +209,9 @@ def arrival_table(scene, gauge_summary: pd.DataFrame) -> pd.DataFrame:
         refs: list[tuple[str, float]] = []
         if np.isfinite(r.x_m) and r.x_m > 0:
             refs += [(name, float(sol.arrival_time_s(r.x_m))) for name, sol in solutions.items()]
-        for x_seed, (seed_name, experiment, model) in SEED_ARRIVALS.items():
-            if np.isfinite(r.x_m) and abs(r.x_m - x_seed) <= SEED_GAUGE_TOLERANCE_M:
-                refs += [(f"seed experiment ({seed_name})", experiment), (f"seed model ({seed_name})", model)]
+        for x_study, (study_name, experiment, model) in STUDY_ARRIVALS.items():
+            if np.isfinite(r.x_m) and abs(r.x_m - x_study) <= STUDY_GAUGE_TOLERANCE_M:
+                refs += [(f"study experiment ({study_name})", experiment), (f"study model ({study_name})", model)]
         for ref, value in refs:
             sim = float(r.arrival_s)
             err = sim - value
@@ -246,7 +246,7 @@ def _formula_rows(results, column) -> pd.DataFrame:
             u = float(r.normal_velocity_in_m_s)
         if not (np.isfinite(u) and u > 0):
             continue
-        k_d = SEED_DEBRIS_STIFFNESS_N_M
+        k_d = STUDY_DEBRIS_STIFFNESS_N_M
         # the structure's stiffness only for impacts on the column (walls are rigid here)
         k_s = float(column.stiffness_N_m) if column is not None and r.kind == "column" else None
         diameter = math.sqrt(4.0 * width * height / math.pi)
@@ -298,7 +298,7 @@ def _impact_record(results, column, event: int, t: np.ndarray, direction: np.nda
     return total
 
 
-def _seed_procedure(results, column, notes: list[str]):
+def _study_procedure(results, column, notes: list[str]):
 
     impacts = results.impacts
     on_column = impacts[impacts["kind"] == "column"] if len(impacts) else impacts
@@ -331,7 +331,7 @@ def _seed_procedure(results, column, notes: list[str]):
         u = float(r.impact_velocity_m_s) if r.impact_velocity_m_s > 0 else float(r.normal_velocity_in_m_s)
         pulses: dict[str, Any] = {"contact model (simulated)": contact}
         if mass is not None and u > 0:
-            pulses["ASCE 7-22, k_d"] = asce7_impact(u, mass[0], SEED_DEBRIS_STIFFNESS_N_M).pulse.shifted(times[0])
+            pulses["ASCE 7-22, k_d"] = asce7_impact(u, mass[0], STUDY_DEBRIS_STIFFNESS_N_M).pulse.shifted(times[0])
             pulses["ASCE 7-22, k_s"] = asce7_impact(u, mass[0], column.stiffness_N_m).pulse.shifted(times[0])
         fits = {}
         for name, fitter in (("SDOF fit", lambda: fit_sdof(t, record, column=sdof_column)),
@@ -356,12 +356,12 @@ def _seed_procedure(results, column, notes: list[str]):
                 continue
             pulse = pulses[method]
             peak_shear = float(np.max(mdof_response(pulse, column, height, t_fine).response_N))
-            seed = SEED_TABLE1.get(method, (np.nan, np.nan, np.nan))
+            study = STUDY_TABLE1.get(method, (np.nan, np.nan, np.nan))
             table_rows.append({
                 "event": event, "method": method, "magnitude_N": float(pulse.peak_N),
                 "duration_s": float(pulse.duration_s), "impulse_Ns": float(pulse.impulse_Ns),
                 "peak_base_shear_N": peak_shear, "ratio_to_simulated": peak_shear / sim_peak if sim_peak > 0 else np.nan,
-                "seed_magnitude_N": seed[0], "seed_duration_s": seed[1], "seed_impulse_Ns": seed[2],
+                "study_magnitude_N": study[0], "study_duration_s": study[1], "study_impulse_Ns": study[2],
                 "impact_velocity_m_s": u, "height_m": height,
             })
         records[event] = {"time_s": t, "record_N": record, "height_m": height, "pulses": pulses,
@@ -373,7 +373,7 @@ def _seed_procedure(results, column, notes: list[str]):
     fit_cols = ["event", "model", "magnitude_N", "duration_s", "start_s", "impulse_Ns", "rmse_N", "peak_record_N",
                 "peak_model_N", "natural_frequency_Hz", "damping_ratio", "height_m"]
     table_cols = ["event", "method", "magnitude_N", "duration_s", "impulse_Ns", "peak_base_shear_N",
-                  "ratio_to_simulated", "seed_magnitude_N", "seed_duration_s", "seed_impulse_Ns",
+                  "ratio_to_simulated", "study_magnitude_N", "study_duration_s", "study_impulse_Ns",
                   "impact_velocity_m_s", "height_m"]
     return pd.DataFrame(fit_rows, columns=fit_cols), pd.DataFrame(table_rows, columns=table_cols), records
 
@@ -463,18 +463,18 @@ def compare(results) -> Comparison:
     if len(results.impacts) == 0:
         notes.append("no impacts: no comparison with ASCE 7-22 and the impact formulas, no SDOF/MDOF fits, "
                      "no Table 1")
-    seed_fits, table1, records = _seed_procedure(results, column, notes)
+    study_fits, table1, records = _study_procedure(results, column, notes)
     spreading, areas = _spreading(results)
     site = site_flow_speed(data.case, scene)
     asce = asce_design_table(results.impacts, data.body_masses_kg, float(column.stiffness_N_m), site) \
         if column is not None and len(results.impacts) else pd.DataFrame()
-    return Comparison(arrivals, models, formulas, seed_fits, table1, spreading, areas, records, notes, asce, site)
+    return Comparison(arrivals, models, formulas, study_fits, table1, spreading, areas, records, notes, asce, site)
 
 
 def write_tables(comp: Comparison, out_dir: str | Path) -> dict[str, Path]:
-    """arrivals.csv, impact_formulas.csv, seed_fits.csv, table1.csv, spreading.csv, asce.csv in out_dir."""
+    """arrivals.csv, impact_formulas.csv, study_fits.csv, table1.csv, spreading.csv, asce.csv in out_dir."""
     out = Path(out_dir)
     written = {}
-    for name in ("arrivals", "impact_formulas", "seed_fits", "table1", "spreading", "asce"):
+    for name in ("arrivals", "impact_formulas", "study_fits", "table1", "spreading", "asce"):
         written[name] = write_table(getattr(comp, name), out / f"{name}.csv")
     return written

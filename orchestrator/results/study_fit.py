@@ -4,7 +4,7 @@ The contact law gives each column strike a pulse at the contact point
 (``peak_force_N``, ``duration_s``, ``impulse_Ns`` of impacts.csv) and the column's base shear
 under it (``contacts/eventNNNN-base-shear.csv``). The study never saw its pulses: it fitted a
 half-sine on its MDOF column, loaded at the water level at the column's face, to each measured
-base-shear record (the seed, section 3.2.2), and Table 2 is the statistics of those fits. So
+base-shear record (its section 3.2.2), and Table 2 is the statistics of those fits. So
 each strike's base-shear history is fitted the same way
 (:func:`analytical.study_comparison.fit_like_the_study`) and the fitted pulse is what is set
 against Table 2 (:data:`STUDY_FIT_COLUMNS`):

@@ -61,7 +61,7 @@ ellipsoidal approximation: Goyal, Ruina & Papadopoulos 1991, Wear 143; Howe & Cu
 15). A body on the bed slower than `STICK_SPEED_M_S` (at its centre and at r) whose load is inside
 the surface sticks again. Without it a resting body turns in still water: v1912's overset
 interpolation around a body standing in 7.5 mm of water puts a spurious 1-8e-4 N m yaw moment on it
-(measured: the seed's container on the 1-debris scene's wet bed yawed 58 degrees in its first 0.2 s,
+(measured: the study's container on the 1-debris scene's wet bed yawed 58 degrees in its first 0.2 s,
 about 1 s before the bore came; friction can bear about 0.02 N m). Sliding, the yaw is resisted by
 a `sphericalAngularDamper` sized like the linear one: mu N r at the yaw rate of the restart (at
 least `FRICTION_FLOOR_M_S` / r), the two resisting separately (Coulomb's coupling of sliding and

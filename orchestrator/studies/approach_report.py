@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from analytical.study import SEED_IMPACT_VELOCITY_M_S
+from analytical.study import STUDY_IMPACT_VELOCITY_M_S
 from orchestrator.case.folder import CaseFolder
 from orchestrator.core.errors import InputError
 from orchestrator.core.files import write_bytes_atomic, write_text_atomic
@@ -264,7 +264,7 @@ def _plots(carries: list[ApproachRun], budget: pd.DataFrame) -> tuple[bytes, byt
         coupled = run.forcing.startswith("two-way")
         ax.plot(near["gap_m"], near["speed_m_s"], label=run.label, color="k" if coupled else None,
                 linestyle="--" if coupled else "-", linewidth=2 if coupled else 1.5)
-    mean, std = SEED_IMPACT_VELOCITY_M_S
+    mean, std = STUDY_IMPACT_VELOCITY_M_S
     ax.axhspan(mean - std, mean + std, color="0.85", label=f"study: {mean:.2f} +- {std:.2f} m/s")
     ax.invert_xaxis()
     ax.set_xlabel("nose's distance to the column's face (m)")

@@ -35,9 +35,9 @@ import numpy as np
 import pandas as pd
 from scipy.stats import norm
 
-from analytical.contact_law import SEED_TABLE2_MDOF
+from analytical.contact_law import STUDY_TABLE2_MDOF
 from analytical.exceedance import exceedance
-from analytical.study_comparison import SEED_IMPACT_COUNT
+from analytical.study_comparison import STUDY_IMPACT_COUNT
 from orchestrator.studies.design_strikes import FACES
 from orchestrator.studies.design_table import DEMANDS
 
@@ -49,7 +49,7 @@ RECOMMENDED = ("P90", 0.90)
 
 #: The contact law's calibration: the relative standard error of the mean peak force it was
 #: fitted to (the study's Table 2 MDOF row over its 22 impacts).
-LAW_FORCE_SE = SEED_TABLE2_MDOF["peak_force_N"][1] / math.sqrt(SEED_IMPACT_COUNT) / SEED_TABLE2_MDOF["peak_force_N"][0]
+LAW_FORCE_SE = STUDY_TABLE2_MDOF["peak_force_N"][1] / math.sqrt(STUDY_IMPACT_COUNT) / STUDY_TABLE2_MDOF["peak_force_N"][0]
 
 #: A strike faster than this times the fastest water its body came in with is one the water does
 #: not explain (counted on the page).

@@ -8,7 +8,7 @@ the same scene and speed give the same F_i whichever verb is asked:
 * ``m_d``: the heaviest mass the design section draws for the bodies (``design.mass_kg``'s upper
   end; else a catalogued container family's loaded mass; else the body's own mass);
 * ``k_d``: ``design.debris_stiffness_N_m``; else, at laboratory scale only, the study's 1:40
-  container's (:data:`analytical.asce7.SEED_DEBRIS_STIFFNESS_N_M`);
+  container's (:data:`analytical.asce7.STUDY_DEBRIS_STIFFNESS_N_M`);
 * ``k_s``: the member's stiffness along the flow where the debris strikes (:func:`struck_stiffness`:
   its MDOF model with its ``column.ends``, at :func:`strike_point`, turned by ``column.heading_deg``);
 * ``I_tsu`` from ``design.risk_category`` (Table 6.8-1), ``C_o`` from ``design.orientation_coefficient``;
@@ -36,8 +36,8 @@ import math
 from analytical.contact_law import contact_law
 from analytical.asce7 import (
     FULL_SCALE_MIN_MASS_KG,
-    SEED_DEBRIS_STIFFNESS_N_M,
-    SEED_STRUCTURE_STIFFNESS_N_M,
+    STUDY_DEBRIS_STIFFNESS_N_M,
+    STUDY_STRUCTURE_STIFFNESS_N_M,
     AsceDesign,
     asce7_design,
     importance_factor,
@@ -190,19 +190,19 @@ def scene_asce_inputs(scene: Scene, bodies=None, source: str | None = None, spec
     elif prototype:
         raise InputError("design.debris_stiffness_N_m", f"the scene is at full scale ({reason}): give the debris' "
                          "stiffness k_d (N/m) and its source: no full-scale k_d was found (ASCE 7-22 Table 6.11-2 is not "
-                         f"in the tool, docs/fullscale-sources.md), and the laboratory's, {SEED_DEBRIS_STIFFNESS_N_M:.3g} "
+                         f"in the tool, docs/fullscale-sources.md), and the laboratory's, {STUDY_DEBRIS_STIFFNESS_N_M:.3g} "
                          "N/m, is the study's 1:40 polyethylene box", source)
     elif typed and not untyped:
         e = max(typed, key=lambda t: t.kd_N_m)
         k_d, kd_src = float(e.kd_N_m), f"the debris catalogue's for {e.name} (the study's 1:40 container)"
     else:
-        k_d = SEED_DEBRIS_STIFFNESS_N_M
-        kd_src = f"the study's 1:40 container's k_d, {SEED_DEBRIS_STIFFNESS_N_M:.3g} N/m (analytical/asce7.py)"
+        k_d = STUDY_DEBRIS_STIFFNESS_N_M
+        kd_src = f"the study's 1:40 container's k_d, {STUDY_DEBRIS_STIFFNESS_N_M:.3g} N/m (analytical/asce7.py)"
     col = scene.column
     if col.section is None and "stiffness_N_m" not in col.model_fields_set and prototype:
         raise InputError("column.stiffness_N_m", f"the scene is at full scale ({reason}): give the column's lateral "
                          "stiffness k_s (N/m), or column.section to have it from the section (the default, "
-                         f"{SEED_STRUCTURE_STIFFNESS_N_M:.4g} N/m, is the study's 0.2 m acrylic laboratory column)",
+                         f"{STUDY_STRUCTURE_STIFFNESS_N_M:.4g} N/m, is the study's 0.2 m acrylic laboratory column)",
                          source)
     height, where = strike_point(scene)
     section = col.section
@@ -212,7 +212,7 @@ def scene_asce_inputs(scene: Scene, bodies=None, source: str | None = None, spec
                          "from its model: leave it out (or give column.section)", source)
     member = (f"its catalogued section ({section.kind} {'x'.join(f'{v:g}' for v in section.size_m)} m, "
               "docs/catalogue.md)" if section is not None else "the scene's column.stiffness_N_m" if stated_k
-              else f"the study's laboratory column ({SEED_STRUCTURE_STIFFNESS_N_M:.4g} N/m at its top)")
+              else f"the study's laboratory column ({STUDY_STRUCTURE_STIFFNESS_N_M:.4g} N/m at its top)")
     if height is None and col.heading_deg == 0.0:
         k_s = float(column_for_analysis(scene).stiffness_N_m)
         ks_src = f"the cantilever's lateral stiffness at its top, from {member}; {where}"

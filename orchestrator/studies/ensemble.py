@@ -81,7 +81,7 @@ from typing import Any, Callable, Sequence
 import numpy as np
 import pandas as pd
 
-from analytical.study import SEED_IMPACT_COUNT, SEED_IMPACT_VELOCITY_M_S, SEED_TABLE2_MDOF
+from analytical.study import STUDY_IMPACT_COUNT, STUDY_IMPACT_VELOCITY_M_S, STUDY_TABLE2_MDOF
 from analytical.contact_modal import column_modes
 from analytical.impact_bodies import ColumnTarget
 from orchestrator.core.errors import DebrisfoamError, InputError
@@ -508,9 +508,9 @@ def summarise(table: pd.DataFrame, realisations: int, wall_time_s: float) -> dic
     walls = table.drop_duplicates("realisation")["wall_time_s"] if len(table) else pd.Series(dtype=float)
     out["realisation_wall_time_s"] = _stats(walls)
     out["transport_wall_time_s"] = round(float(walls.sum()), 2)
-    out["seed_study"] = {"impact_velocity_m_s": dict(zip(("mean", "std"), SEED_IMPACT_VELOCITY_M_S)),
-                         **{k: dict(zip(("mean", "std"), v)) for k, v in SEED_TABLE2_MDOF.items()},
-                         "impacts": SEED_IMPACT_COUNT,
+    out["study"] = {"impact_velocity_m_s": dict(zip(("mean", "std"), STUDY_IMPACT_VELOCITY_M_S)),
+                         **{k: dict(zip(("mean", "std"), v)) for k, v in STUDY_TABLE2_MDOF.items()},
+                         "impacts": STUDY_IMPACT_COUNT,
                          "source": "the study's 22 single-container impacts; Table 2's MDOF row"}
     out["comparison"] = {k: c.to_dict() for k, c in compare_strikes(struck).items()}
     out["study_fit_wall_s"] = _stats(struck["study_fit_wall_s"] if len(struck) and "study_fit_wall_s" in struck

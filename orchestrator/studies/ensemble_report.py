@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 from matplotlib.patches import Rectangle
 
-from analytical.study import SEED_IMPACT_HEIGHTS_M
+from analytical.study import STUDY_IMPACT_HEIGHTS_M
 from orchestrator.core.files import write_text_atomic
 from orchestrator.report.figures import SMALL, WIDTH_IN, empty, legend, note, pyplot, save_figure
 from orchestrator.report.study_table import comparison_markdown, comparison_note
@@ -49,8 +49,8 @@ def figure_histograms(table, summary: dict[str, Any]):
     plt = pyplot()
     fig, axes = plt.subplots(2, 3, figsize=(WIDTH_IN, 6.2), layout="constrained")
     struck = table[table["struck"].astype(bool)] if len(table) else table
-    seed = summary.get("seed_study", {})
-    for ax, (column, label, seed_key, law) in zip(axes.ravel(), HISTOGRAMS):
+    study = summary.get("study", {})
+    for ax, (column, label, study_key, law) in zip(axes.ravel(), HISTOGRAMS):
         values = struck[column].dropna().to_numpy(float) if len(struck) and column in struck else np.array([])
         if not values.size:
             empty(ax, "no column strike")
@@ -66,13 +66,13 @@ def figure_histograms(table, summary: dict[str, Any]):
         if beside.size:
             ax.hist(beside, bins=bins, histtype="step", color="0.25", lw=1.2,
                     label="contact point" if law == "impact_height_m" else "the contact law's pulse")
-        ref = seed.get(seed_key) if seed_key else None
+        ref = study.get(study_key) if study_key else None
         if ref:
             lo, hi = ref["mean"] - ref["std"], ref["mean"] + ref["std"]
             ax.axvspan(lo, hi, color="#d7191c", alpha=0.15, label="study mean +- 1 std")
             ax.axvline(ref["mean"], color="#d7191c", lw=1.6, label="study mean")
         if column == "study_fit_height_m":
-            ax.axvspan(SEED_IMPACT_HEIGHTS_M[0], SEED_IMPACT_HEIGHTS_M[1], color="#d7191c", alpha=0.12,
+            ax.axvspan(STUDY_IMPACT_HEIGHTS_M[0], STUDY_IMPACT_HEIGHTS_M[1], color="#d7191c", alpha=0.12,
                        label="the study's impact heights")
         ax.set_xlabel(label)
         ax.set_ylabel("strikes")
@@ -163,7 +163,7 @@ def _figure(stats: dict[str, Any] | None, digits: int = 3) -> str:
 def markdown(summary: dict[str, Any], figures: dict[str, Path]) -> str:
     """report.md's text."""
     p = summary.get("perturbation", {})
-    seed = summary.get("seed_study", {})
+    study = summary.get("study", {})
     lines = [
         f"# Ensemble of {summary['realisations']} realisations: {Path(summary.get('scene', '')).name}", "",
         f"One recorded flow ({summary.get('flow_case')}), {summary['realisations']} perturbed starts of "
@@ -196,9 +196,9 @@ def markdown(summary: dict[str, Any], figures: dict[str, Path]) -> str:
                        ("time_since_front_s", "time since the front reached the face (s; negative: ahead of it)"),
                        ("obliquity_deg", "obliquity (deg)"), ("peak_base_shear_N", "peak base shear (N)"),
                        ("effective_mass_kg", "effective mass at the contact, added mass included (kg)")):
-        ref = seed.get(key) if key in ("peak_force_N", "duration_s", "impulse_Ns") else None
-        seed_text = _figure(ref) if ref else ("0.16-0.50, mean 0.40" if key == "face_water_level_m" else "-")
-        lines.append(f"| {label} | {_figure(summary.get(key))} | {seed_text} |")
+        ref = study.get(key) if key in ("peak_force_N", "duration_s", "impulse_Ns") else None
+        study_text = _figure(ref) if ref else ("0.16-0.50, mean 0.40" if key == "face_water_level_m" else "-")
+        lines.append(f"| {label} | {_figure(summary.get(key))} | {study_text} |")
     lines += [
         "", "The study's figures are its 22 single-container releases: speeds backed out of Table 2's ASCE "
         "rows, loads from Table 2's MDOF row (the study's fits of its measured base shear, which the law's pulse "

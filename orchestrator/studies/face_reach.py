@@ -6,7 +6,7 @@ level over time, two ways: its elevation (the alpha.water integral along its lin
 above 0.5, from the raw profiles in ``postProcessing/gauges/``; a sheet of water thrown up the face
 counts there but hardly in the integral). Each is read at its peak over the run and at
 :data:`AFTER_ARRIVAL_S` after the front reached the face (the gauge's arrival), to set beside the
-study's load points: the water surface at the face at impact (``SEED_IMPACT_HEIGHTS_M``).
+study's load points: the water surface at the face at impact (``STUDY_IMPACT_HEIGHTS_M``).
 
 The reaches (``reach_speeds``): the centreline gauges (y = 0) between the gate and the face other
 than the study's (their arrivals have their own columns), in x order; the front's speed over each

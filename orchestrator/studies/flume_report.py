@@ -7,7 +7,7 @@ points and the front's speed over successive reaches of the centreline. The same
 sweep of the flume (``cases/sweeps/face-splash.yaml``: finer cells at the face).
 
 Arrivals are the post-processor's (``results/gauge_summary.csv``: the first rise of the level above
-its start by the gauge's threshold); the measured ones are the study's (``SEED_ARRIVALS``).
+its start by the gauge's threshold); the measured ones are the study's (``STUDY_ARRIVALS``).
 """
 
 from __future__ import annotations
@@ -27,16 +27,16 @@ from orchestrator.scene.flume import Bed
 from orchestrator.scene.schema import Mesh
 from orchestrator.studies.sweep.store import member_dirs
 from analytical.dambreak import stoker_state
-from analytical.study import SEED_ARRIVALS, SEED_IMPACT_HEIGHTS_M
+from analytical.study import STUDY_ARRIVALS, STUDY_IMPACT_HEIGHTS_M
 
 __all__ = ["FlumeMember", "flume_members", "write_flume_report"]
 
 #: The study's gauges this page reads, by name: (x m, measured arrival s).
-MEASURED = {name: (x, measured) for x, (name, measured, _model) in SEED_ARRIVALS.items()}
+MEASURED = {name: (x, measured) for x, (name, measured, _model) in STUDY_ARRIVALS.items()}
 #: The gauge at the column's upstream face in the shipped scenes.
 FACE_GAUGE = "WG4"
 #: The study's gauges by name: left out of the centreline reaches (their arrivals have their own columns).
-MEASURED_NAMES = (*(name for name, _, _ in SEED_ARRIVALS.values()), FACE_GAUGE)
+MEASURED_NAMES = (*(name for name, _, _ in STUDY_ARRIVALS.values()), FACE_GAUGE)
 
 
 @dataclass(frozen=True)
@@ -211,7 +211,7 @@ def _face_plot(members: list[FlumeMember], flows: list[MemberFlow], out: Path) -
     """WG4's elevation (solid) and highest wet point (dashed) against the time since the front reached the
     face, one colour a member, over the study's load points."""
     plt = pyplot()
-    lo, hi, mean = SEED_IMPACT_HEIGHTS_M
+    lo, hi, mean = STUDY_IMPACT_HEIGHTS_M
     fig, ax = plt.subplots(figsize=(7.5, 4.2))
     ax.axhspan(lo, hi, color="0.85", label=f"the study's load points {lo:g}-{hi:g} m")
     ax.axhline(mean, color="0.4", lw=1, label=f"their mean {mean:g} m")
@@ -234,7 +234,7 @@ def _span(values: list[float]) -> str:
 
 
 def _face_lines(members: list[FlumeMember], flows: list[MemberFlow], figure: str) -> list[str]:
-    lo, hi, mean = SEED_IMPACT_HEIGHTS_M
+    lo, hi, mean = STUDY_IMPACT_HEIGHTS_M
     after = " and ".join(f"{d:g}" for d in AFTER_ARRIVAL_S)
     ends = [f.face.record_end_s - m.face_s for m, f in zip(members, flows) if f.face is not None]
     lines = [

@@ -22,7 +22,7 @@ every finished member:
   face), from Chanson's arrival at the gauge to the end of the run (before it Chanson's
   bed is dry while the run's wet bed holds still water);
 * **errors against the study's figures**: arrival at WG2 and WG3 against the experiment and
-  the study's LS-DYNA model (:data:`analytical.study.SEED_ARRIVALS`).
+  the study's LS-DYNA model (:data:`analytical.study.STUDY_ARRIVALS`).
 
 It then marks the Pareto front (no other member is both cheaper and closer), works out
 the planner's speed-up over each baseline member (at the same cell size, and at equal
@@ -89,7 +89,7 @@ TIME_LABELS = {"solver_wall_s": "solver wall time (s)", "wall_time_s": "member w
 #: A gauge is compared with Chanson only if it lies this many column widths (x) upstream of the column's face.
 COLUMN_CLEARANCE = 5.0
 #: The study's gauges (the store's arrival-error columns are named after the reference).
-SEED_REFS = {"seed_experiment": "experiment", "seed_model": "seed model"}
+STUDY_REFS = {"study_experiment": "experiment", "study_model": "study model"}
 _EXEC_RE = re.compile(r"^ExecutionTime = ([0-9.eE+-]+) s\s+ClockTime = ([0-9.eE+-]+) s", re.M)
 
 
@@ -289,7 +289,7 @@ class SpeedError:
     def headline(self) -> dict[str, Any]:
         cols = ["label", "setup", "sweep", "member_id", "status", "cell_size_m", "cells", "time_steps", "wall_time_s",
                 "solver_wall_s", "solver_cpu_s", "gauge_rmse_vs_finest_m", "peak_force_error_vs_finest_percent",
-                "chanson_arrival_mae_s", "seed_experiment_arrival_mae_s", "pareto_vs_finest", "pareto_vs_chanson"]
+                "chanson_arrival_mae_s", "study_experiment_arrival_mae_s", "pareto_vs_finest", "pareto_vs_chanson"]
         rows = self.table[[c for c in cols if c in self.table]].to_dict("records")
         return {
             "sweep_dir": str(self.sweep_dir), "time": self.time_column, "reference": self.reference,
@@ -391,10 +391,10 @@ def _vs_analytical(row: dict, scene, positions: dict[str, float], gauges: pd.Dat
     return out
 
 
-def _vs_seed(row: dict, positions: dict[str, float]) -> dict[str, Any]:
+def _vs_study(row: dict, positions: dict[str, float]) -> dict[str, Any]:
     """Arrivals against the study's experiment and model."""
     out: dict[str, Any] = {}
-    for key in SEED_REFS:
+    for key in STUDY_REFS:
         errs = []
         for name in positions:
             e = finite_or_none(row.get(f"{name}_arrival_error_{key}_s"))
@@ -415,7 +415,7 @@ def _member_row(m: dict, ref: dict | None, ref_gauges: pd.DataFrame | None) -> d
     if ref is not None:
         out.update(_vs_finest(m["row"], positions, gauges, ref, ref_gauges))
     out.update(_vs_analytical(m["row"], m["scene"], positions, gauges))
-    out.update(_vs_seed(m["row"], positions))
+    out.update(_vs_study(m["row"], positions))
     return out
 
 

@@ -19,7 +19,7 @@ import math
 from pathlib import Path
 from typing import Any
 
-from analytical.study import SEED_ARRIVALS
+from analytical.study import STUDY_ARRIVALS
 from orchestrator.core.files import write_bytes_atomic, write_json_atomic, write_text_atomic
 from orchestrator.core.numbers import finite_or_none
 from orchestrator.studies.speed_error import COLUMN_CLEARANCE, REPORT_DIR, TIME_LABELS, SpeedError
@@ -67,11 +67,11 @@ def markdown(study: SpeedError) -> str:
     t = study.table
     tcol = study.time_column
     ref = study.reference
-    seed_gauges = [g for g in ("WG2", "WG3") if f"{g}_arrival_s" in t]
+    study_gauges = [g for g in ("WG2", "WG3") if f"{g}_arrival_s" in t]
     impacts = "first_impact_time_s" in t and t["first_impact_time_s"].notna().any()
     head = ["member", "cell", "cells", "steps", "cell-steps (M)", "wall", "solver", "solver CPU",
-            "gauge RMSE vs finest (mm)", "peak force vs finest", *[f"{g} arrival (s)" for g in seed_gauges],
-            *[f"{g} vs Chanson (s)" for g in seed_gauges], *[f"{g} vs experiment (s)" for g in seed_gauges],
+            "gauge RMSE vs finest (mm)", "peak force vs finest", *[f"{g} arrival (s)" for g in study_gauges],
+            *[f"{g} vs Chanson (s)" for g in study_gauges], *[f"{g} vs experiment (s)" for g in study_gauges],
             "depth RMSE vs Chanson (mm)",
             *(["first impact (s)", "vs finest (s)", "impact velocity (m/s)", "vs finest"] if impacts else []),
             "Pareto"]
@@ -90,9 +90,9 @@ def markdown(study: SpeedError) -> str:
             "reference" if r.get("reference") else (_fmt(r.get("peak_force_error_vs_finest_percent"), "+.1f") + " %"
                                                     if finite_or_none(r.get("peak_force_error_vs_finest_percent")) is not None
                                                     else "-"),
-            *[_fmt(r.get(f"{g}_arrival_s"), ".3f") for g in seed_gauges],
-            *[_fmt(r.get(f"{g}_arrival_error_chanson_s"), "+.3f") for g in seed_gauges],
-            *[_fmt(r.get(f"{g}_arrival_error_seed_experiment_s"), "+.3f") for g in seed_gauges],
+            *[_fmt(r.get(f"{g}_arrival_s"), ".3f") for g in study_gauges],
+            *[_fmt(r.get(f"{g}_arrival_error_chanson_s"), "+.3f") for g in study_gauges],
+            *[_fmt(r.get(f"{g}_arrival_error_study_experiment_s"), "+.3f") for g in study_gauges],
             _fmt(1e3 * r["depth_rmse_vs_chanson_m"], ".1f") if finite_or_none(r.get("depth_rmse_vs_chanson_m")) is not None else "-",
             *(_impact_cells(r) if impacts else []),
             pareto or "-",
@@ -113,7 +113,7 @@ def markdown(study: SpeedError) -> str:
         "the gauges; *peak force*: the peak column force along the flume against the reference's.",
         "- *vs Chanson*: simulated minus Chanson's (f = the scene's) arrival time; *vs experiment*: minus the "
         "study's measured arrivals ("
-        + ", ".join(f"{measured:.2f} s at {gauge}" for gauge, measured, _ in SEED_ARRIVALS.values())
+        + ", ".join(f"{measured:.2f} s at {gauge}" for gauge, measured, _ in STUDY_ARRIVALS.values())
         + "). Arrival = the level rising 2 % of h0 above its initial value.",
         f"- *depth RMSE vs Chanson*: gauges downstream of the gate and more than {COLUMN_CLEARANCE:g} column widths "
         "upstream of the column, from Chanson's arrival to the end of the run.",

@@ -24,7 +24,7 @@ from analytical.column_fem import column_model
 from analytical.mdof import mdof_response
 from analytical.synthetic import (
     METHODS,
-    SEED_EQUIVALENT,
+    STUDY_EQUIVALENT,
     RecordAnalysis,
     analyse_record,
     make_records,
@@ -33,7 +33,7 @@ from analytical.synthetic import (
     sdof_start_rules,
     table1_sdof_check,
 )
-from analytical.study import SEED_FIG7_RATIOS, SEED_TABLE1, SEED_TABLE2
+from analytical.study import STUDY_FIG7_RATIOS, STUDY_TABLE1, STUDY_TABLE2
 from orchestrator.core.files import write_json_atomic
 
 LABELS = {
@@ -91,7 +91,7 @@ def _agreement(ratios: dict) -> dict[str, str]:
     out = {}
     for method in METHODS:
         lo, hi, mean = ratios[method]
-        s_lo, s_hi, s_mean = SEED_FIG7_RATIOS[SEED_EQUIVALENT.get(method, method)]
+        s_lo, s_hi, s_mean = STUDY_FIG7_RATIOS[STUDY_EQUIVALENT.get(method, method)]
         overlap = min(hi, s_hi) - max(lo, s_lo)
         if lo >= s_lo - 0.05 and hi <= s_hi + 0.05:
             verdict = "agrees (inside the study's range)"
@@ -99,9 +99,9 @@ def _agreement(ratios: dict) -> dict[str, str]:
             verdict = "partly agrees (ranges overlap)"
         else:
             verdict = "disagrees (ranges do not overlap)"
-        seed_mean = f", mean {s_mean}" if s_mean is not None else ""
+        study_mean = f", mean {s_mean}" if s_mean is not None else ""
         out[method] = (f"{LABELS[method]}: ratio {lo:.2f}-{hi:.2f} (mean {mean:.2f}); the study {s_lo}-{s_hi}"
-                       f"{seed_mean}: {verdict}")
+                       f"{study_mean}: {verdict}")
     return out
 
 
@@ -135,17 +135,17 @@ def table2_markdown(stats: dict) -> str:
     ]
     for method in METHODS + ("true",):
         s = stats[method]
-        seed = SEED_TABLE2.get(SEED_EQUIVALENT.get(method, method))
-        seed_cols = (
-            f"{seed['magnitude_N'][0]:.1f} +- {seed['magnitude_N'][1]:.1f} | "
-            f"{1e3 * seed['duration_s'][0]:.1f} +- {1e3 * seed['duration_s'][1]:.1f} | "
-            f"{seed['impulse_Ns'][0]:.2f} +- {seed['impulse_Ns'][1]:.2f}"
-            if seed else "- | - | -"
+        study = STUDY_TABLE2.get(STUDY_EQUIVALENT.get(method, method))
+        study_cols = (
+            f"{study['magnitude_N'][0]:.1f} +- {study['magnitude_N'][1]:.1f} | "
+            f"{1e3 * study['duration_s'][0]:.1f} +- {1e3 * study['duration_s'][1]:.1f} | "
+            f"{study['impulse_Ns'][0]:.2f} +- {study['impulse_Ns'][1]:.2f}"
+            if study else "- | - | -"
         )
         lines.append(
             f"| {LABELS[method]} | {s['magnitude_N'][0]:.1f} | {s['magnitude_N'][1]:.1f} | "
             f"{1e3 * s['duration_s'][0]:.2f} | {1e3 * s['duration_s'][1]:.2f} | "
-            f"{s['impulse_Ns'][0]:.3f} | {s['impulse_Ns'][1]:.3f} | {seed_cols} |"
+            f"{s['impulse_Ns'][0]:.3f} | {s['impulse_Ns'][1]:.3f} | {study_cols} |"
         )
     return "\n".join(lines) + "\n"
 
@@ -334,7 +334,7 @@ def run_synthetic_study(out_dir: Path, seed: int = 2019, n_records: int = 22, co
 
 def sdof_explanation(rules: dict, table1: dict, ident: dict, primary: str) -> list[str]:
     """The page's section on why the SDOF row differs from the study's, in numbers."""
-    seed_mag, seed_dur, seed_imp = (SEED_TABLE2["sdof"][k] for k in ("magnitude_N", "duration_s", "impulse_Ns"))
+    study_mag, study_dur, study_imp = (STUDY_TABLE2["sdof"][k] for k in ("magnitude_N", "duration_s", "impulse_Ns"))
     lines = ["## Why the SDOF row differs from the study's", "",
              "The records here are synthetic: the MDOF column's base shear (all its modes, sampled at 10 kHz) to a "
              "known half-sine, with 2.5 % white noise and an offset; the study's were measured. An SDOF has no "
@@ -352,9 +352,9 @@ def sdof_explanation(rules: dict, table1: dict, ident: dict, primary: str) -> li
                          f"{r.impulse_Ns[0]:.3f} +- {r.impulse_Ns[1]:.3f} | {r.ratio[0]:.2f}-{r.ratio[1]:.2f} "
                          f"({r.ratio[2]:.2f}) | {1e3 * r.start_minus_true_s[0]:+.2f} ({1e3 * r.start_minus_true_s[1]:+.2f}) | "
                          f"{r.rmse_N:.1f} |")
-    lines.append(f"| the study (measured) | - | {seed_mag[0]:.0f} +- {seed_mag[1]:.0f} | {1e3 * seed_dur[0]:.1f} +- "
-                 f"{1e3 * seed_dur[1]:.1f} | {seed_imp[0]:.2f} +- {seed_imp[1]:.2f} | "
-                 f"{SEED_FIG7_RATIOS['sdof'][0]}-{SEED_FIG7_RATIOS['sdof'][1]} ({SEED_FIG7_RATIOS['sdof'][2]}) | - | - |")
+    lines.append(f"| the study (measured) | - | {study_mag[0]:.0f} +- {study_mag[1]:.0f} | {1e3 * study_dur[0]:.1f} +- "
+                 f"{1e3 * study_dur[1]:.1f} | {study_imp[0]:.2f} +- {study_imp[1]:.2f} | "
+                 f"{STUDY_FIG7_RATIOS['sdof'][0]}-{STUDY_FIG7_RATIOS['sdof'][1]} ({STUDY_FIG7_RATIOS['sdof'][2]}) | - | - |")
     lines += ["", "- Free to start up to 10 ms before the onset, the SDOF puts a long, weak pulse milliseconds before "
               "the impact (its slow rise hides in the quiet stretch): twice the true duration, a third of the "
               "magnitude, a Fig. 7 ratio below 1. That is not the study's fit, whose pulses were short.",
@@ -368,7 +368,7 @@ def sdof_explanation(rules: dict, table1: dict, ident: dict, primary: str) -> li
               "eq. [6] read with k, m_s and omega as separate inputs) the same fit scales up by m_s omega^2 / k. "
               "On the 70 Hz column that reading with the departure rule gives magnitude, duration and impulse "
               "within the study's SDOF row (above), and a Fig. 7 ratio whose range overlaps the study's.", ""]
-    mdof, sdof = SEED_TABLE1["MDOF fit"], SEED_TABLE1["SDOF fit"]
+    mdof, sdof = STUDY_TABLE1["MDOF fit"], STUDY_TABLE1["SDOF fit"]
     lines += ["### The SDOF fit of the MDOF response to Table 1's MDOF pulse", "",
               f"Table 1's MDOF pulse ({mdof[0]:.2f} N, {mdof[1] * 1e3:.1f} ms) on the MDOF column 0.40 m up, a "
               "noise-free record starting at the impact (t = 0), fitted by the SDOF with its frequency bounds "
