@@ -191,6 +191,18 @@ def test_analytical_impact_with_a_scene_uses_its_body_and_overrides():
     assert lossy["restitution"] < 0.6
 
 
+def test_analytical_impact_strikes_a_scene_at_its_strike_point_unless_told():
+    """A full-scale member is struck where `design` loads it (the inundation depth, 3 m on the
+    street scene), not at the study's 0.40 m; --height wins; without a scene the study's mean."""
+    street = cli_json("analytical", "impact", "--velocity", "3", "--scene", "cases/design-street.yaml")
+    assert street["height_m"] == pytest.approx(3.0)
+    assert "inundation.depth_m" in street["height_source"]
+    told = cli_json("analytical", "impact", "--velocity", "3", "--scene", "cases/design-street.yaml", "--height", "1.5")
+    assert (told["height_m"], told["height_source"]) == (1.5, "--height")
+    assert told["peak_base_shear_N"] != pytest.approx(street["peak_base_shear_N"], rel=1e-3)
+    assert cli_json("analytical", "impact", "--velocity", "1.5")["height_m"] == pytest.approx(0.40)
+
+
 @pytest.mark.parametrize(
     "args, field",
     [

@@ -99,15 +99,13 @@ def asce7_lines(design, prefix: str = "") -> dict[str, Any]:
     return {f"{prefix}{k}": v for k, v in keys.items()}
 
 
-def _scene_asce(scene_path, sets, body: str | None = None, first: bool = False):
+def _scene_asce(scene_path, sets, body: str | None = None):
     """(ASCE inputs, scene) of a scene (:func:`~orchestrator.studies.design_asce.scene_asce_inputs`):
-    what `design` reads, for ``body`` (None: every body, or with ``first`` the scene's first)."""
+    what `design` reads, for ``body`` (None: every body)."""
     from orchestrator.scene.scenefile import load_scene
     from orchestrator.studies.design_asce import scene_asce_inputs
 
     scene = load_scene(scene_path, list(sets or []))
-    if body is None and first and scene.debris:
-        body = scene.debris[0].name
     if body is not None and body not in {b.name for b in scene.debris}:
         raise InputError("--body", f"no debris body {body!r} in the scene (bodies: "
                                    f"{', '.join(b.name for b in scene.debris)})")
@@ -210,8 +208,8 @@ def cmd_asce7(args: argparse.Namespace) -> int:
 
 
 def impact_inputs(args: argparse.Namespace):
-    """(contact law, column, body keywords) for `analytical impact`: the scene's first (or
-    --body) debris body and column, or the study's container and column; --set changes
+    """(contact law, column, body keywords, scene or None) for `analytical impact`: the scene's first
+    (or --body) debris body and column, or the study's container and column; --set changes
     scene keys, or without --scene column.<field> and contact.<field>."""
     if getattr(args, "scene", None):
         return _scene_impact_inputs(args)
@@ -237,7 +235,7 @@ def _scene_impact_inputs(args: argparse.Namespace):
         raise InputError("--body", f"no debris body {args.body!r} in the scene (bodies: {', '.join(bodies)})")
     keywords = {"mass_kg": body.mass_kg, "size_m": body.size_m, "wall_thickness_m": body.wall_thickness_m,
                 "friction_coefficient": body.contact.friction_coefficient}
-    return body_contact_law(body.contact), column_for_analysis(scene), keywords
+    return body_contact_law(body.contact), column_for_analysis(scene), keywords, scene
 
 
 def _study_impact_inputs(args: argparse.Namespace):
@@ -271,18 +269,23 @@ def _study_impact_inputs(args: argparse.Namespace):
         field = "contact." + ".".join(str(x) for x in errors[0]["loc"]) if errors else "contact"
         raise InputError(field, errors[0]["msg"] if errors else str(exc)) from None
     column = replace(Column(), **column_changes) if column_changes else Column()
-    return body_contact_law(contact), column, {"friction_coefficient": contact.friction_coefficient}
+    return body_contact_law(contact), column, {"friction_coefficient": contact.friction_coefficient}, None
 
 
 def cmd_impact(args: argparse.Namespace) -> int:
     from analytical.asce7 import asce7_design, check_flow_speed
-    from analytical.study import STUDY_DEBRIS_MASS_KG, STUDY_DEBRIS_STIFFNESS_N_M
+    from analytical.study import STUDY_DEBRIS_MASS_KG, STUDY_DEBRIS_STIFFNESS_N_M, STUDY_MEAN_HEIGHT_M
     from analytical.contact_law import column_impact
 
     check_flow_speed(args.velocity, "--velocity")
-    law, column, body = impact_inputs(args)
-    if args.scene:  # the scene's ASCE inputs, as `design` and `analytical asce7 --scene` read them
-        inputs, _ = _scene_asce(args.scene, args.set, args.body, first=True)
+    law, column, body, scene = impact_inputs(args)
+    height, height_source = (args.height, "--height") if args.height is not None else (None, "")
+    if scene is not None:  # the scene's ASCE inputs and strike point, as `design` and `analytical asce7 --scene` read them
+        from orchestrator.studies.design_asce import scene_asce_inputs, strike_point
+
+        inputs = scene_asce_inputs(scene, [args.body or scene.debris[0].name], str(args.scene))
+        if height is None:
+            height, height_source = strike_point(scene)
         asce = inputs.design(args.velocity)
         code = {"asce7_mass_kg": inputs.mass_kg, "asce7_scale": inputs.scale_reason,
                 **{f"asce7_source_{k}": v for k, v in inputs.sources.items() if k in ("m_d", "k_d", "k_s", "I_tsu")}}
@@ -290,7 +293,9 @@ def cmd_impact(args: argparse.Namespace) -> int:
         asce = asce7_design(args.velocity, body.get("mass_kg", STUDY_DEBRIS_MASS_KG), STUDY_DEBRIS_STIFFNESS_N_M,
                             column.stiffness_N_m)
         code = {"asce7_scale": "the study's laboratory container and column"}
-    r = column_impact(law, args.velocity, args.height, column=column, obliquity_deg=args.obliquity, **body)
+    if height is None:
+        height, height_source = STUDY_MEAN_HEIGHT_M, f"the study's mean contact height ({STUDY_MEAN_HEIGHT_M:g} m)"
+    r = column_impact(law, args.velocity, height, column=column, obliquity_deg=args.obliquity, **body)
     emit(
         {
             "peak_force_N": r.peak_force_N,
@@ -301,7 +306,8 @@ def cmd_impact(args: argparse.Namespace) -> int:
             "contact_law": law.name,
             "stiffness_N_m": law.stiffness_N_m,
             "damping_ratio": law.damping_ratio,
-            "height_m": args.height,
+            "height_m": height,
+            "height_source": height_source,
             "obliquity_deg": args.obliquity,
             **asce7_lines(asce, "asce7_"),
             **code,
@@ -514,8 +520,9 @@ def add_analytical_parser(verbs) -> None:
     p = an_verbs.add_parser("impact", help="one debris strike on the column by the contact law: pulse, rebound, "
                                            "base shear (docs/contact-law.md)")
     p.add_argument("--velocity", type=float, required=True, help="the body's speed at the strike, m/s")
-    p.add_argument("--height", type=float, default=0.40,
-                   help="contact height above the column's base, m (default 0.40, the study's mean)")
+    p.add_argument("--height", type=float, default=None,
+                   help="contact height above the column's base, m (default: with --scene its "
+                        "column.strike_height_m or inundation.depth_m, as `design` reads them; else 0.40, the study's mean)")
     p.add_argument("--obliquity", type=float, default=0.0,
                    help="angle of the body's velocity from the face's normal, degrees (default 0, head on)")
     p.add_argument("--scene", type=resolve_scene, help="scene YAML (or a shipped scene's name) whose debris body and "

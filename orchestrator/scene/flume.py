@@ -26,7 +26,7 @@ class Flume(SceneSection):
 
 class Reservoir(SceneSection):
     """The impoundment at the upstream end, from the upstream wall to the gate at x = 0, and the
-    gate's sill and posts where the flume has them (docs/bed-friction.md, "The flume as built")."""
+    gate's sill and posts where the flume has them (docs/bed-friction.md, "The study's flume")."""
 
     length_m: float = Field(gt=0, description="from the upstream wall to the gate (m)")
     depth_m: float = Field(gt=0, description="impoundment level h0 above the bed downstream (m)")

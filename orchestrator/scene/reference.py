@@ -89,6 +89,8 @@ def _default(field) -> str:
         return "(section defaults)"
     if value is None:
         return "null"
+    if isinstance(value, tuple) and value and isinstance(value[0], BaseModel):
+        return f"{len(value)} x (section defaults)"
     if isinstance(value, tuple):
         return "[" + ", ".join(f"{v:g}" if isinstance(v, float) else str(v) for v in value) + "]"
     if isinstance(value, float):
@@ -113,9 +115,11 @@ def schema_rows(model: type[BaseModel] = Scene, prefix: str = "") -> list[Schema
             rows += schema_rows(DebrisLayout, "debris[N] (layout).")
             continue
         if sub is not None:
-            rows.append(SchemaRow(key, "section", _default(field), "", field.description or _first_line(sub.__doc__),
+            is_list = typing.get_origin(field.annotation) in (tuple, list)
+            rows.append(SchemaRow(f"{key}[N]" if is_list else key, "list of sections" if is_list else "section",
+                                  _default(field), "", field.description or _first_line(sub.__doc__),
                                   _first_line(sub.__doc__)))
-            rows += schema_rows(sub, f"{key}.")
+            rows += schema_rows(sub, f"{key}[N]." if is_list else f"{key}.")
             continue
         rows.append(SchemaRow(key, _type_name(field.annotation), _default(field), _range(field),
                               " ".join((field.description or "").split())))
@@ -148,7 +152,7 @@ def markdown(rows: list[SchemaRow]) -> str:
              "z up from the floor. Lengths in m, masses in kg, times in s, angles in degrees.", "",
              "| key | type | default | allowed | meaning |", "|---|---|---|---|---|"]
     for r in rows:
-        key = f"**{r.key}**" if r.type == "section" else f"`{r.key}`"
+        key = f"**{r.key}**" if r.type in ("section", "list of sections") else f"`{r.key}`"
         lines.append(f"| {key} | {r.type.replace('|', '/')} | {r.default.replace('|', '/')} | {r.range} | "
                      f"{r.description.replace('|', '/')} |")
     return "\n".join(lines) + "\n"

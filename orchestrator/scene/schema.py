@@ -236,7 +236,7 @@ class DebrisTemplate(SceneSection):
         (0.0, 0.0, 0.0), description="initial velocity [u, v, w] of the centre of mass (m/s); default at rest"
     )
     contact: DebrisContact = Field(
-        DebrisContact(), description="contact law, its energy loss and friction (see DebrisContact)")
+        DebrisContact(), description="contact law, its energy loss and friction (docs/contact-law.md)")
     upright: bool | None = Field(
         None,
         description="keep the body upright (it yaws, it does not pitch or roll): v1912 has no bed contact, so a "
@@ -546,7 +546,7 @@ class Scene(SceneSection):
     design: Design = Design()
     inundation: Inundation | None = Field(
         None, description="the bore wanted at the column (depth, speed); the reservoir and wet bed are then sized "
-        "for it (see Inundation); null: the reservoir as given")
+        "for it (docs/prototype.md, 'Scenes that state their bore'); null: the reservoir as given")
 
 
 # ------------------------------------------------------------------------ the column
