@@ -192,7 +192,7 @@ def _wanted_planes(scene: Scene, domain: Domain, gap: BedGap | None, warnings: l
     thinnest = min([bed_layer or h] + ([gap.layer_m] if gap else []))
     if thinnest < 0.2 * h:
         warnings.append(
-            f"bed layer {thinnest:.3g} m thick under {h:g} m cells (aspect ratio {h / thinnest:.0f}): "
+            f"bed layer {thinnest:.3g} m thick under {h:g} m cells ({h / thinnest:.0f} times thinner): "
             + (f"the {gap.layers} layers of the gap under resting bodies" if gap else "the wet bed's own layer")
             + (" (kept in a one-way flow, which has no bodies, so that its mesh is a two-way run's cell for cell)"
                if gap and one_way else "")
